@@ -1,0 +1,1 @@
+"""obturator: ball obturator opening dynamics (Bloomer 1980)."""

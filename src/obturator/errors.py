@@ -1,0 +1,70 @@
+"""Exceptions raised for non-physical or malformed input.
+
+Every check names the offending field and the allowed range, so that the
+command line can print it as one readable line.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["InputError", "check_range"]
+
+
+class InputError(ValueError):
+    """A parameter, config entry or data file is outside its allowed domain.
+
+    Parameters
+    ----------
+    field : str
+        Name of the offending field (as the user spelled it, e.g. ``hole_radius``).
+    message : str
+        What is wrong, including the allowed range.
+    """
+
+    def __init__(self, field: str, message: str) -> None:
+        self.field = field
+        super().__init__(f"{field}: {message}")
+
+
+def _fmt_interval(lo: float, hi: float, lo_open: bool, hi_open: bool) -> str:
+    left = "(" if lo_open else "["
+    right = ")" if hi_open else "]"
+    return f"{left}{lo:g}, {hi:g}{right}"
+
+
+def check_range(
+    field: str,
+    value: float,
+    lo: float = -math.inf,
+    hi: float = math.inf,
+    *,
+    lo_open: bool = False,
+    hi_open: bool = False,
+    unit: str = "",
+) -> float:
+    """Return ``float(value)`` if it lies in the interval, else raise :class:`InputError`.
+
+    Parameters
+    ----------
+    field : str
+        Field name used in the message.
+    value : float
+        Value to check; NaN and non-numbers are always rejected.
+    lo, hi : float
+        Interval bounds (in the same unit as `value`).
+    lo_open, hi_open : bool
+        Whether the bound itself is excluded.
+    unit : str
+        Unit shown in the message, e.g. ``"m"``.
+    """
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InputError(field, f"expected a number, got {value!r}") from None
+    interval = _fmt_interval(lo, hi, lo_open, hi_open)
+    suffix = f" {unit}" if unit else ""
+    ok = math.isfinite(x) and (x > lo if lo_open else x >= lo) and (x < hi if hi_open else x <= hi)
+    if not ok:
+        raise InputError(field, f"{x:g}{suffix} is outside the allowed range {interval}{suffix}")
+    return x
