@@ -1,0 +1,195 @@
+"""The thesis's built-in cases (Table 1, rig and flight columns; Figs. 9-10 Couette).
+
+Factories return a :class:`~obturator.solve.Case`; every argument is SI (angles
+in degrees where the name says ``_deg``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from .errors import InputError, check_range
+from .geometry import BoredBall
+from .solve import TABLE1_PROJECTILE_INERTIA, Case, SpinMode
+from .torques import (
+    CoulombContactFriction,
+    CouetteViscous,
+    NakabayashiViscous,
+    ThesisFlightFriction,
+    ThesisRigFriction,
+    TorqueModel,
+)
+
+__all__ = [
+    "TABLE1",
+    "table1_ball",
+    "rig_case",
+    "flight_case",
+    "couette_case",
+    "CASE_NAMES",
+    "TORQUE_MODELS",
+]
+
+#: Thesis Table 1 ("common values"), SI units.
+TABLE1: dict[str, float] = {
+    "theta0_deg": 87.25,
+    "density": 7669.6,
+    "ball_radius": 7.899e-3,
+    "hole_radius": 4.72e-3,
+    "bore_radius": 4.72e-3,
+    "viscosity": 1.917e-5,
+    "mu_s": 0.35,
+    "gap": 5.08e-5,
+    "shear_constant": 12.38e-9,
+    # flight (aerodynamic model)
+    "projectile_radius": 9.96e-3,
+    "projectile_length": 76.2e-3,
+    "projectile_mass": 0.141,
+    "projectile_inertia": TABLE1_PROJECTILE_INERTIA,
+    "mach": 3.0,
+    "gamma": 1.4,
+    "p1": 0.099e6,
+    "flight_spin_rate": 12042.0,
+    # rig (gravitational model)
+    "rig_weight": 0.07987,
+    "rig_spin_rate": 200.0,
+}
+
+CASE_NAMES = ("spin-rig", "flight")
+TORQUE_MODELS = ("thesis", "coulomb")
+TorqueName = Literal["thesis", "coulomb"]
+
+
+def table1_ball(
+    *, density: float | None = None, hole_radius: float | None = None,
+    radius: float | None = None,
+) -> BoredBall:
+    """The Table 1 ball (R_s = 7.899 mm, r_s = 4.72 mm, rho = 7669.6 kg/m^3), optionally modified."""
+    return BoredBall(
+        radius=TABLE1["ball_radius"] if radius is None else radius,
+        hole_radius=TABLE1["hole_radius"] if hole_radius is None else hole_radius,
+        density=TABLE1["density"] if density is None else density,
+    )
+
+
+def _theta0(theta0_deg: float) -> float:
+    return math.radians(check_range("theta0_deg", theta0_deg, 0.0, 90.0, lo_open=True, unit="deg"))
+
+
+def _check_model(torque_model: str) -> None:
+    if torque_model not in TORQUE_MODELS:
+        raise InputError("torque_model", f"{torque_model!r}; allowed: {', '.join(TORQUE_MODELS)}")
+
+
+def rig_case(
+    spin_rate: float = TABLE1["rig_spin_rate"],
+    mu_s: float = TABLE1["mu_s"],
+    *,
+    theta0_deg: float = TABLE1["theta0_deg"],
+    torque_model: TorqueName = "thesis",
+    spin_mode: SpinMode = "constant",
+    weight: float | None = TABLE1["rig_weight"],
+    ball: BoredBall | None = None,
+    gap: float = TABLE1["gap"],
+    viscosity: float = TABLE1["viscosity"],
+    t_max: float = 10.0,
+) -> Case:
+    """Spin-rig case (Table 1 "gravitational model", thesis Eqs. 56-61, 64).
+
+    Parameters
+    ----------
+    spin_rate : float
+        omega_p [rad/s].
+    mu_s : float
+        Sliding friction coefficient [-].
+    theta0_deg : float
+        theta_0 [deg].
+    torque_model : {"thesis", "coulomb"}
+        Eq. (61) or exact Coulomb friction at the single bottom contact.
+    spin_mode : {"constant", "free", "thesis-energy"}
+        The rig is driven: "constant" is the physical choice.
+    weight : float or None
+        Normal load W [N]; Table 1's measured 0.07987 N by default, None for
+        the ball's computed weight (which is what density/hole studies vary).
+    ball : BoredBall, optional
+        Defaults to :func:`table1_ball`.
+    gap, viscosity : float
+        Gap h [m] and mu_f [Pa s] of the Nakabayashi viscous torque (Eq. 42).
+    t_max : float
+        Integration limit [s].
+    """
+    _check_model(torque_model)
+    ball = ball or table1_ball()
+    w = ball.weight if weight is None else weight
+    friction = (
+        ThesisRigFriction(mu_s, w, ball.radius)
+        if torque_model == "thesis"
+        else CoulombContactFriction(mu_s, w, ball.radius)
+    )
+    torque = TorqueModel(NakabayashiViscous(ball.radius, gap, viscosity), friction)
+    return Case(ball, torque, spin_rate, _theta0(theta0_deg), spin_mode=spin_mode,
+                t_max=t_max, name="spin-rig")
+
+
+def flight_case(
+    spin_rate: float = TABLE1["flight_spin_rate"],
+    mu_s: float = TABLE1["mu_s"],
+    *,
+    theta0_deg: float = TABLE1["theta0_deg"],
+    torque_model: TorqueName = "thesis",
+    spin_mode: SpinMode = "constant",
+    mach: float = TABLE1["mach"],
+    p1: float | None = TABLE1["p1"],
+    altitude_m: float | None = None,
+    gamma: float = TABLE1["gamma"],
+    pressure_force: float | None = None,
+    n_contacts: int = 2,
+    ball: BoredBall | None = None,
+    bore_radius: float = TABLE1["bore_radius"],
+    gap: float = TABLE1["gap"],
+    viscosity: float = TABLE1["viscosity"],
+    t_max: float = 0.5,
+) -> Case:
+    """Flight case (Table 1 "aerodynamic model", thesis Eqs. 43-55, 63).
+
+    The ball is pressed on the bore ring by F_p = pi r_p^2 (P_2 - P_1) behind the
+    normal bow shock (Eqs. 1, 3, 43). Give either ``p1`` [Pa] or
+    ``altitude_m`` [m] (standard atmosphere), or ``pressure_force`` [N] directly.
+
+    Parameters
+    ----------
+    torque_model : {"thesis", "coulomb"}
+        Appendix A's two-point arm, or exact Coulomb friction at ``n_contacts``
+        ring points.
+    """
+    _check_model(torque_model)
+    from .gasdynamics import flight_pressure_force
+
+    ball = ball or table1_ball()
+    if pressure_force is None:
+        if altitude_m is not None:
+            p1 = None
+        pressure_force = float(flight_pressure_force(mach, altitude_m=altitude_m, p1=p1,
+                                                     bore_radius=bore_radius, gamma=gamma))
+    beta = math.asin(check_range("bore_radius", bore_radius, 0.0, ball.radius, lo_open=True,
+                                 hi_open=True, unit="m") / ball.radius)
+    if torque_model == "thesis":
+        friction = ThesisFlightFriction(mu_s, pressure_force, ball.radius, beta)
+    else:
+        friction = CoulombContactFriction(mu_s, pressure_force, ball.radius, beta, n_contacts)
+    torque = TorqueModel(NakabayashiViscous(ball.radius, gap, viscosity), friction)
+    return Case(ball, torque, spin_rate, _theta0(theta0_deg), spin_mode=spin_mode,
+                t_max=t_max, name="flight")
+
+
+def couette_case(scale: float = 1.0, *, t_max: float = 0.1) -> Case:
+    """Viscous-only flight case of Figs. 9-10 (Couette S of Eq. 34, times `scale`).
+
+    Inputs from the thesis p. 52: R_s = 7.62 mm, r_s = 4.7625 mm, h = 0.0254 mm,
+    rho = 7800 kg/m^3, mu = 1.92e-5 Pa s, omega_p = 12042.77 rad/s.
+    """
+    ball = BoredBall(7.62e-3, 4.7625e-3, 7800.0)
+    torque = TorqueModel(CouetteViscous(ball.radius, 0.0254e-3, 1.92e-5, scale), None)
+    return Case(ball, torque, 12042.77, math.radians(TABLE1["theta0_deg"]), t_max=t_max,
+                name=f"couette-x{scale:g}")

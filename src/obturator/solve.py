@@ -1,0 +1,450 @@
+"""Solving the equations of motion: the only place integrators live.
+
+:func:`simulate` integrates one :class:`Case` to the opening event
+theta = theta_cr (thesis: theta_cr = beta_s) and returns a
+:class:`NutationResult`; :func:`opening_time` returns t_cr alone (no time
+series stored), which is what sweeps and fits call.
+
+Numerics (SPEC section 4): at release the ball co-rotates, omega_r = 0, and the
+Coulomb direction is 0/0; near sticking the friction torque is extremely stiff.
+The friction law is regularised with a width delta [rad/s] (see
+:func:`obturator.dynamics.applied_torque`) and integrated with a compiled
+L-stable Rosenbrock method; the event is located by re-stepping to 1e-12 s.
+Tests show t_cr moves by less than 1e-3 relative when delta shrinks tenfold and
+when the tolerances tighten tenfold.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Literal
+
+import numpy as np
+
+from . import _rosenbrock as ros
+from .dynamics import (
+    FORM_EULER,
+    FORM_QUATERNION,
+    N_PARAM,
+    N_STATE,
+    SPIN_CONSTANT,
+    SPIN_FREE,
+    SPIN_THESIS_ENERGY,
+    observables,
+)
+from .errors import InputError, check_range
+from .geometry import BoredBall
+from .torques import TorqueModel
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray
+
+__all__ = [
+    "Case",
+    "SolverOptions",
+    "NutationResult",
+    "simulate",
+    "opening_time",
+    "initial_state",
+    "pack_parameters",
+    "TABLE1_PROJECTILE_INERTIA",
+]
+
+#: Projectile moment of inertia about its axis I_p [kg m^2], thesis Table 1.
+TABLE1_PROJECTILE_INERTIA = 8.58e-6
+
+SpinMode = Literal["constant", "free", "thesis-energy"]
+_SPIN_CODES = {"constant": SPIN_CONSTANT, "free": SPIN_FREE, "thesis-energy": SPIN_THESIS_ENERGY}
+_FORMS = {"quaternion": FORM_QUATERNION, "euler": FORM_EULER}
+
+
+@dataclass(frozen=True)
+class Case:
+    """One obturator opening problem: ball, torques, projectile spin, release state.
+
+    Parameters
+    ----------
+    ball : BoredBall
+        Mass properties (A, C, beta_s).
+    torque : TorqueModel
+        Applied torques (viscous + sliding friction).
+    spin_rate : float
+        Projectile spin at release omega_p [rad/s], > 0.
+    theta0 : float
+        Initial nutation angle theta_0 [rad], in (0, pi/2].
+    spin_mode : {"constant", "free", "thesis-energy"}
+        Projectile spin held constant (driven rig), free with the total axial
+        angular momentum conserved (needs I_p), or Appendix A's energy form.
+    projectile_inertia : float
+        I_p [kg m^2] (Table 1: 8.58e-6).
+    theta_cr : float or None
+        Opening angle [rad]; None uses beta_s = asin(r_s/R_s).
+    t_max : float
+        Give up (status 0) if the bore has not opened by this time [s].
+    name : str
+        Label carried into results.
+    """
+
+    ball: BoredBall
+    torque: TorqueModel
+    spin_rate: float
+    theta0: float
+    spin_mode: SpinMode = "constant"
+    projectile_inertia: float = TABLE1_PROJECTILE_INERTIA
+    theta_cr: float | None = None
+    t_max: float = 5.0
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        check_range("spin_rate", self.spin_rate, 0.0, math.inf, lo_open=True, unit="rad/s")
+        check_range("theta0", math.degrees(self.theta0), 0.0, 90.0, lo_open=True, unit="deg")
+        if self.spin_mode not in _SPIN_CODES:
+            raise InputError("spin_mode", f"{self.spin_mode!r}; allowed: {', '.join(_SPIN_CODES)}")
+        check_range("projectile_inertia", self.projectile_inertia, 0.0, math.inf, lo_open=True,
+                    unit="kg m^2")
+        if self.theta_cr is not None:
+            check_range("theta_cr", math.degrees(self.theta_cr), 0.0, math.degrees(self.theta0),
+                        hi_open=True, unit="deg")
+        elif self.ball.opening_angle >= self.theta0:
+            raise InputError("theta0", f"{math.degrees(self.theta0):g} deg must exceed the "
+                             f"opening angle beta_s = {math.degrees(self.ball.opening_angle):g} deg")
+        check_range("t_max", self.t_max, 0.0, math.inf, lo_open=True, unit="s")
+
+    @property
+    def opening_angle(self) -> float:
+        """theta_cr [rad] (beta_s unless overridden)."""
+        return self.ball.opening_angle if self.theta_cr is None else float(self.theta_cr)
+
+    def with_(self, **changes: object) -> Case:
+        """Return a copy with fields replaced (dataclasses.replace)."""
+        return replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Integrator settings.
+
+    Parameters
+    ----------
+    rtol : float
+        Relative tolerance, in (0, 0.1).
+    atol : float
+        Absolute tolerance on the quaternion components and on rates measured
+        in units of the initial spin omega_p0 (so it is scale-free).
+    friction_width : float
+        Regularisation width of the Coulomb direction, relative to the initial
+        spin: delta = friction_width * omega_p0 [rad/s]. Default 1e-5.
+    formulation : {"quaternion", "euler"}
+        Singularity-free quaternion form (default) or the thesis's Euler angles.
+    max_steps : int
+        Step limit (status 2 when reached).
+    event_tol : float
+        Bracket width at which the opening time is accepted [s].
+    max_step : float or None
+        Largest step [s]; default a tenth of a spin period.
+    """
+
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    friction_width: float = 1e-5
+    formulation: Literal["quaternion", "euler"] = "quaternion"
+    max_steps: int = 20_000_000
+    event_tol: float = 1e-12
+    max_step: float | None = None
+
+    def __post_init__(self) -> None:
+        check_range("rtol", self.rtol, 0.0, 0.1, lo_open=True, hi_open=True)
+        check_range("atol", self.atol, 0.0, 1.0, lo_open=True)
+        check_range("friction_width", self.friction_width, 0.0, 1.0, lo_open=True)
+        if self.formulation not in _FORMS:
+            raise InputError("formulation", f"{self.formulation!r}; allowed: quaternion, euler")
+        if int(self.max_steps) < 1:
+            raise InputError("max_steps", f"{self.max_steps} is outside the allowed range >= 1")
+        check_range("event_tol", self.event_tol, 0.0, 1e-3, lo_open=True, unit="s")
+        if self.max_step is not None:
+            check_range("max_step", self.max_step, 0.0, math.inf, lo_open=True, unit="s")
+
+    def tighter(self, factor: float = 10.0) -> SolverOptions:
+        """Both tolerances divided by `factor` (for convergence studies)."""
+        return replace(self, rtol=self.rtol / factor, atol=self.atol / factor)
+
+
+def initial_state(
+    theta0: float,
+    spin_rate: float,
+    *,
+    formulation: str = "quaternion",
+    psi_dot: float | None = None,
+    phi_dot: float = 0.0,
+    theta_dot: float = 0.0,
+    psi0: float = 0.0,
+    phi0: float = 0.0,
+) -> np.ndarray:
+    """State vector at release (thesis p. 45: theta_dot = phi_dot = 0, psi_dot = omega_p).
+
+    Parameters
+    ----------
+    theta0 : float
+        Initial nutation theta_0 [rad].
+    spin_rate : float
+        Projectile spin omega_p [rad/s] (stored as the spin state).
+    formulation : {"quaternion", "euler"}
+    psi_dot, phi_dot, theta_dot : float
+        Euler-angle rates [rad/s]; psi_dot defaults to omega_p (co-rotation).
+    psi0, phi0 : float
+        Initial precession and spin angles [rad] (arbitrary by symmetry).
+
+    Returns
+    -------
+    ndarray, shape (8,)
+    """
+    psd = spin_rate if psi_dot is None else psi_dot
+    y = np.zeros(N_STATE)
+    if formulation == "euler":
+        y[:7] = (theta0, theta_dot, psi0, psd, phi0, phi_dot, spin_rate)
+        return y
+    # q = qz(psi) qx(theta) qz(phi), the z-x-z sequence of Fig. 7
+    a, b, c = 0.5 * psi0, 0.5 * theta0, 0.5 * phi0
+    y[0] = math.cos(b) * math.cos(a + c)
+    y[1] = math.sin(b) * math.cos(a - c)
+    y[2] = math.sin(b) * math.sin(a - c)
+    y[3] = math.cos(b) * math.sin(a + c)
+    st, ct = math.sin(theta0), math.cos(theta0)
+    sp, cp = math.sin(phi0), math.cos(phi0)
+    y[4] = psd * st * sp + theta_dot * cp  # Eq. (13a)
+    y[5] = psd * st * cp - theta_dot * sp  # Eq. (13b)
+    y[6] = phi_dot + psd * ct  # Eq. (13c)
+    y[7] = spin_rate
+    return y
+
+
+def pack_parameters(case: Case, options: SolverOptions, y0: np.ndarray | None = None) -> np.ndarray:
+    """Flat float parameter vector for the compiled right-hand side."""
+    ball = case.ball
+    a, c = ball.transverse_inertia, ball.axial_inertia
+    form = _FORMS[options.formulation]
+    if y0 is None:
+        y0 = initial_state(case.theta0, case.spin_rate, formulation=options.formulation)
+    p = np.zeros(N_PARAM)
+    p[0], p[1], p[2] = a, c, case.projectile_inertia
+    p[3] = _SPIN_CODES[case.spin_mode]
+    p[5] = form
+    p[6] = options.friction_width * case.spin_rate
+    p[7] = case.opening_angle
+    p[8:18] = case.torque.pack()
+    # total kinetic energy for the thesis's energy form (Appendix A, C(4))
+    p[4] = 0.0
+    obs = observables(y0[None, :], p)
+    p[4] = obs[0, 5] + 0.5 * case.projectile_inertia * case.spin_rate**2
+    return p
+
+
+def _scale(case: Case, formulation: str) -> np.ndarray:
+    w = case.spin_rate
+    if formulation == "euler":
+        return np.array([1.0, w, 1.0, w, 1.0, w, w, 1.0])
+    return np.array([1.0, 1.0, 1.0, 1.0, w, w, w, w])
+
+
+_STATUS_MESSAGES = {
+    ros.STATUS_OPENED: "The bore opened: theta reached theta_cr.",
+    ros.STATUS_T_MAX: "Reached t_max before the bore opened.",
+    ros.STATUS_MAX_STEPS: "Step limit reached before the bore opened or t_max.",
+    ros.STATUS_FAILED: "Integration failed: step size underflow or non-finite state.",
+}
+
+
+@dataclass(frozen=True)
+class NutationResult:
+    """Time history of one run and its opening time.
+
+    Attributes
+    ----------
+    t : ndarray
+        Times [s].
+    theta, psi, phi : ndarray
+        Euler angles (z-x-z, Fig. 7) [rad]; psi and phi unwrapped.
+    omega_r : ndarray
+        |omega_r|, relative angular speed ball vs projectile [rad/s] (Eq. 35).
+    torque : ndarray
+        |G|, magnitude of the applied torque [N m] (Eq. 62).
+    kinetic_energy : ndarray
+        Kinetic energy of the ball [J].
+    spin_rate : ndarray
+        Projectile spin omega_p(t) [rad/s].
+    axial_momentum : ndarray
+        Ball angular momentum about Z, H_Z [kg m^2/s].
+    power : ndarray
+        omega_r . G [W]; never positive for dissipative torques.
+    opening_time : float
+        t_cr [s]; NaN if the bore did not open.
+    status : int
+        1 opened, 0 reached t_max, 2 step limit, -1 failure.
+    message : str
+        Readable status.
+    nfev, njev, n_steps, n_rejected : int
+        Right-hand-side and Jacobian evaluations, accepted and rejected steps.
+    case : Case
+    options : SolverOptions
+    state : ndarray
+        Raw state rows (layout per formulation).
+    """
+
+    t: np.ndarray
+    theta: np.ndarray
+    psi: np.ndarray
+    phi: np.ndarray
+    omega_r: np.ndarray
+    torque: np.ndarray
+    kinetic_energy: np.ndarray
+    spin_rate: np.ndarray
+    axial_momentum: np.ndarray
+    power: np.ndarray
+    opening_time: float
+    status: int
+    message: str
+    nfev: int
+    njev: int
+    n_steps: int
+    n_rejected: int
+    case: Case = field(repr=False)
+    options: SolverOptions = field(repr=False)
+    state: np.ndarray = field(repr=False)
+
+    @property
+    def success(self) -> bool:
+        """True unless the integrator failed or hit its step limit."""
+        return self.status in (ros.STATUS_OPENED, ros.STATUS_T_MAX)
+
+    @property
+    def opened(self) -> bool:
+        """True when theta reached theta_cr."""
+        return math.isfinite(self.opening_time)
+
+    @property
+    def jacobi_energy(self) -> np.ndarray:
+        """T - omega_p H_Z [J]: non-increasing under dissipative torques at constant spin."""
+        return self.kinetic_energy - self.spin_rate * self.axial_momentum
+
+    def summary(self) -> dict[str, object]:
+        """Scalar results as a JSON-ready dict."""
+        c = self.case
+        fr = c.torque.friction
+        return {
+            "case": c.name,
+            "t_cr_s": self.opening_time if self.opened else None,
+            "theta_cr_deg": math.degrees(c.opening_angle),
+            "theta0_deg": math.degrees(c.theta0),
+            "spin_rate_rad_s": c.spin_rate,
+            "mu_s": None if fr is None else fr.mu_s,
+            "spin_mode": c.spin_mode,
+            "formulation": self.options.formulation,
+            "rtol": self.options.rtol,
+            "atol": self.options.atol,
+            "friction_width": self.options.friction_width,
+            "status": self.status,
+            "message": self.message,
+            "nfev": self.nfev,
+            "n_steps": self.n_steps,
+        }
+
+    def to_xarray(self) -> xarray.Dataset:
+        """Time series as an :class:`xarray.Dataset` with units in attributes."""
+        import xarray as xr
+
+        units = {
+            "theta": "rad", "psi": "rad", "phi": "rad", "omega_r": "rad/s", "torque": "N m",
+            "kinetic_energy": "J", "spin_rate": "rad/s", "axial_momentum": "kg m^2/s",
+            "power": "W",
+        }
+        data = {k: ("t", getattr(self, k), {"units": u}) for k, u in units.items()}
+        attrs = {k: ("" if v is None else v) for k, v in self.summary().items()}
+        attrs["t_cr_s"] = self.opening_time
+        return xr.Dataset(data, coords={"t": ("t", self.t, {"units": "s"})}, attrs=attrs)
+
+    def to_csv(self, path: str) -> None:
+        """Write the time series as CSV (SI units in the header)."""
+        cols = ["t", "theta", "psi", "phi", "omega_r", "torque", "kinetic_energy", "spin_rate",
+                "axial_momentum", "power"]
+        units = ["s", "rad", "rad", "rad", "rad/s", "N m", "J", "rad/s", "kg m^2/s", "W"]
+        header = ",".join(f"{c} [{u}]" for c, u in zip(cols, units, strict=True))
+        data = np.column_stack([getattr(self, c) for c in cols])
+        np.savetxt(path, data, delimiter=",", header=header, comments="", fmt="%.10g")
+
+
+def _run(case: Case, options: SolverOptions, y0: np.ndarray | None, record: bool,
+         t_eval: np.ndarray | None, terminal: bool):
+    if y0 is None:
+        y0 = initial_state(case.theta0, case.spin_rate, formulation=options.formulation)
+    y0 = np.asarray(y0, dtype=float)
+    if y0.shape != (N_STATE,):
+        raise InputError("y0", f"expected shape ({N_STATE},), got {y0.shape}")
+    p = pack_parameters(case, options, y0)
+    period = 2.0 * math.pi / case.spin_rate
+    h_max = options.max_step if options.max_step is not None else 0.1 * period
+    h0 = 1e-4 * period
+    te = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)
+    if te.size and (np.any(np.diff(te) < 0) or te[0] < 0):
+        raise InputError("t_eval", "times must be non-negative and increasing")
+    out = ros.integrate(y0, p, float(case.t_max), options.rtol, options.atol,
+                        _scale(case, options.formulation), h0, h_max, int(options.max_steps),
+                        te, record, terminal, options.event_tol)
+    return p, out
+
+
+def simulate(
+    case: Case,
+    options: SolverOptions | None = None,
+    *,
+    y0: np.ndarray | None = None,
+    t_eval: np.ndarray | None = None,
+    terminal: bool = True,
+) -> NutationResult:
+    """Integrate one case and return its time history and opening time t_cr.
+
+    Parameters
+    ----------
+    case : Case
+    options : SolverOptions, optional
+    y0 : ndarray, optional
+        Initial state (see :func:`initial_state`); default: co-rotating release.
+    t_eval : array_like, optional
+        Output times [s] (dense output); default: every accepted step.
+    terminal : bool
+        Stop at the opening event (default) or continue to ``case.t_max``.
+
+    Returns
+    -------
+    NutationResult
+    """
+    options = options or SolverOptions()
+    p, out = _run(case, options, y0, True, t_eval, terminal)
+    status, t_event, _, ts, ys, nfev, njev, n_steps, n_rej, _, _ = out
+    obs = observables(ys, p) if len(ts) else np.empty((0, 11))
+    return NutationResult(
+        t=ts, theta=obs[:, 0], psi=np.unwrap(obs[:, 1]), phi=np.unwrap(obs[:, 2]),
+        omega_r=obs[:, 3], torque=obs[:, 4], kinetic_energy=obs[:, 5], spin_rate=obs[:, 6],
+        axial_momentum=obs[:, 7], power=obs[:, 8], opening_time=float(t_event),
+        status=int(status), message=_STATUS_MESSAGES[int(status)], nfev=int(nfev),
+        njev=int(njev), n_steps=int(n_steps), n_rejected=int(n_rej), case=case,
+        options=options, state=ys,
+    )
+
+
+def opening_time(case: Case, options: SolverOptions | None = None) -> float:
+    """Opening time t_cr [s] of a case (NaN if it does not open by ``case.t_max``).
+
+    Stores no time series; this is the call sweeps and fits make.
+
+    Raises
+    ------
+    RuntimeError
+        If the integrator fails or reaches its step limit.
+    """
+    options = options or SolverOptions()
+    _, out = _run(case, options, None, False, None, True)
+    status = int(out[0])
+    if status in (ros.STATUS_FAILED, ros.STATUS_MAX_STEPS):
+        raise RuntimeError(f"{case.name or 'case'}: {_STATUS_MESSAGES[status]}")
+    return float(out[1])

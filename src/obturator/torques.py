@@ -1,0 +1,350 @@
+"""Torque models acting on the ball (thesis chapter II.B).
+
+Each model is a small frozen dataclass in plain SI units. They are combined in
+a :class:`TorqueModel` (one viscous part plus one sliding-friction part, thesis
+Eqs. 62-64) which packs itself into a flat float array consumed by the compiled
+right-hand side in :mod:`obturator.dynamics`. Nothing here integrates.
+
+Sign convention: every torque opposes the relative angular velocity
+omega_r = omega_ball - omega_p Z (thesis Eqs. 35-36, 69), so the power
+omega_r . G is never positive.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .errors import InputError, check_range
+
+__all__ = [
+    "AIR_DYNAMIC_VISCOSITY",
+    "AIR_DENSITY",
+    "CouetteViscous",
+    "NakabayashiViscous",
+    "ThesisRigFriction",
+    "ThesisFlightFriction",
+    "CoulombContactFriction",
+    "TorqueModel",
+    "ViscousTorque",
+    "FrictionTorque",
+]
+
+#: Table 1 gap-fluid viscosity mu_f [Pa s].
+AIR_DYNAMIC_VISCOSITY = 1.917e-5
+#: Air density at sea level [kg/m^3] (for the Reynolds number, Eq. 40).
+AIR_DENSITY = 1.225
+
+# Codes shared with obturator.dynamics (the compiled kernel dispatches on them).
+VISC_NONE, VISC_LINEAR = 0, 1
+FRIC_NONE, FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT, FRIC_COULOMB = 0, 1, 2, 3
+
+
+@dataclass(frozen=True)
+class CouetteViscous:
+    """Viscous torque of plane Couette flow in the gap, thesis Eqs. (32)-(34).
+
+    Q = -S omega_r with S = (8/3) pi R_s^4 mu_f / h.
+
+    Parameters
+    ----------
+    ball_radius : float
+        R_s [m].
+    gap : float
+        Radial clearance h between ball and socket [m].
+    viscosity : float
+        Dynamic viscosity of the gap fluid mu_f [Pa s].
+    scale : float
+        Multiplier on S (the thesis's Fig. 10 runs S x 1, 10, 100, 1000) [-].
+    """
+
+    ball_radius: float
+    gap: float
+    viscosity: float = AIR_DYNAMIC_VISCOSITY
+    scale: float = 1.0
+
+    def __post_init__(self) -> None:
+        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+        check_range("gap", self.gap, 0.0, math.inf, lo_open=True, unit="m")
+        check_range("viscosity", self.viscosity, 0.0, unit="Pa s")
+        check_range("scale", self.scale, 0.0)
+
+    @property
+    def coefficient(self) -> float:
+        """Shear constant S [N m s], thesis Eq. (34) (times `scale`)."""
+        return self.scale * 8.0 / 3.0 * math.pi * self.ball_radius**4 * self.viscosity / self.gap
+
+    def pack(self) -> tuple[float, float, float, float]:
+        """(code, S, K_turb, omega_transition) for the compiled kernel."""
+        return (VISC_LINEAR, self.coefficient, 0.0, math.inf)
+
+
+@dataclass(frozen=True)
+class NakabayashiViscous:
+    """Spherical-Couette viscous torque after Nakabayashi, thesis Eqs. (37)-(42).
+
+    Laminar branch (Eq. 42): M_v = (8/3) pi ((1 + eps)/eps) mu_f R_s^3 omega_r,
+    eps = h / R_s; Table 1 gives S = 12.38e-9 N m s. Turbulent branch (Eq. 39),
+    used when Re = R_s^2 omega_r / nu exceeds Re_t = 70 eps^-1.6 (Eq. 41):
+    M_v = C_m rho_f R_s^5 omega_r^2 with
+    C_m = (0.053/eps) (1 + 7 eps/4)/(1 - 3 eps/2) Re^-1/4.
+    Eq. (37) is garbled in the print ("omega_r^5"); the omega_r^2 scaling is the
+    one for which the laminar C_m reduces to Eq. (42), so the laminar C_m here is
+    (8 pi/3)((1+eps)/eps) Re^-1. As printed, the two branches do not join at
+    Re_t (the turbulent moment is larger); the thesis never reaches Re_t.
+
+    Parameters
+    ----------
+    ball_radius : float
+        R_s [m].
+    gap : float
+        h [m].
+    viscosity : float
+        mu_f [Pa s].
+    fluid_density : float
+        rho_f of the gap fluid [kg/m^3] (enters only the turbulent branch).
+    turbulent : bool
+        Whether to switch to Eq. (39) above Re_t.
+    scale : float
+        Multiplier on the moment [-].
+    """
+
+    ball_radius: float
+    gap: float
+    viscosity: float = AIR_DYNAMIC_VISCOSITY
+    fluid_density: float = AIR_DENSITY
+    turbulent: bool = True
+    scale: float = 1.0
+
+    def __post_init__(self) -> None:
+        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+        check_range("gap", self.gap, 0.0, self.ball_radius, lo_open=True, hi_open=True, unit="m")
+        check_range("viscosity", self.viscosity, 0.0, unit="Pa s")
+        check_range("fluid_density", self.fluid_density, 0.0, math.inf, lo_open=True, unit="kg/m^3")
+        check_range("scale", self.scale, 0.0)
+
+    @property
+    def gap_ratio(self) -> float:
+        """eps = h / R_s [-]."""
+        return self.gap / self.ball_radius
+
+    @property
+    def coefficient(self) -> float:
+        """Laminar shear constant S [N m s], Eq. (42)."""
+        e = self.gap_ratio
+        return self.scale * 8.0 / 3.0 * math.pi * (1.0 + e) / e * self.viscosity * self.ball_radius**3
+
+    @property
+    def transition_reynolds(self) -> float:
+        """Re_t = 70 eps^-1.6 [-], Eq. (41)."""
+        return 70.0 * self.gap_ratio**-1.6
+
+    @property
+    def transition_rate(self) -> float:
+        """|omega_r| at which Re = Re_t [rad/s]."""
+        nu = self.viscosity / self.fluid_density
+        return self.transition_reynolds * nu / self.ball_radius**2 if nu > 0 else math.inf
+
+    @property
+    def turbulent_coefficient(self) -> float:
+        """K in M_v = K |omega_r|^1.75 on the turbulent branch [N m s^1.75], Eq. (39)."""
+        e = self.gap_ratio
+        nu = self.viscosity / self.fluid_density
+        g = (1.0 + 1.75 * e) / (1.0 - 1.5 * e)
+        return self.scale * 0.053 / e * g * self.fluid_density * self.ball_radius**4.5 * nu**0.25
+
+    def pack(self) -> tuple[float, float, float, float]:
+        """(code, S, K_turb, omega_transition) for the compiled kernel."""
+        w_t = self.transition_rate if self.turbulent else math.inf
+        return (VISC_LINEAR, self.coefficient, self.turbulent_coefficient, w_t)
+
+
+ViscousTorque = CouetteViscous | NakabayashiViscous
+
+
+def _check_mu(mu_s: float) -> float:
+    return check_range("mu_s", mu_s, 0.0, math.inf)
+
+
+@dataclass(frozen=True)
+class ThesisRigFriction:
+    """Sliding friction on the spin rig, thesis Eqs. (56)-(61).
+
+    One contact at the bottom of the socket, P_G = -R_s X (gravity along -X,
+    fixed in the laboratory). Torque magnitude mu_s W R_s sqrt(1 - (w_X/w_r)^2),
+    direction -omega_r/|omega_r| (Eq. 61), as in Appendix A with C(1) = 1.
+
+    Parameters
+    ----------
+    mu_s : float
+        Sliding friction coefficient [-], >= 0.
+    weight : float
+        Normal load W [N] (the ball's weight on the rig).
+    ball_radius : float
+        R_s [m].
+    """
+
+    mu_s: float
+    weight: float
+    ball_radius: float
+
+    def __post_init__(self) -> None:
+        _check_mu(self.mu_s)
+        check_range("weight", self.weight, 0.0, unit="N")
+        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+
+    @property
+    def moment_scale(self) -> float:
+        """mu_s W R_s [N m]."""
+        return self.mu_s * self.weight * self.ball_radius
+
+    def pack(self) -> tuple[float, float, float, float, float, float]:
+        """(code, moment scale, R_s, beta, n_contacts, normal-load mode)."""
+        return (FRIC_THESIS_RIG, self.moment_scale, self.ball_radius, math.pi / 2.0, 1.0, 0.0)
+
+
+@dataclass(frozen=True)
+class ThesisFlightFriction:
+    """Sliding friction in flight, thesis Eqs. (43)-(55) with Appendix A's arm.
+
+    The pressure force F_p = pi r_p^2 (P_2 - P_1) (Eq. 43) presses the ball on
+    the ring where the bore meets the socket, at beta from Z. Torque magnitude
+    mu_s F_p cos(beta) R_s ARM with
+    ARM = sqrt(1 - sin^2(beta)(w_X/w_r)^2 - cos^2(beta)(w_Z/w_r)^2)
+    (Appendix A; Eq. 55's printed sqrt(2)/2 factor is not used), direction
+    -omega_r/|omega_r|.
+
+    Parameters
+    ----------
+    mu_s : float
+        Sliding friction coefficient [-].
+    pressure_force : float
+        F_p [N].
+    ball_radius : float
+        R_s [m].
+    contact_angle : float
+        beta [rad], in (0, pi/2); the thesis uses beta_s = asin(r_p/R_s).
+    """
+
+    mu_s: float
+    pressure_force: float
+    ball_radius: float
+    contact_angle: float
+
+    def __post_init__(self) -> None:
+        _check_mu(self.mu_s)
+        check_range("pressure_force", self.pressure_force, 0.0, unit="N")
+        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+        check_range("contact_angle", self.contact_angle, 0.0, math.pi / 2, lo_open=True,
+                    hi_open=True, unit="rad")
+
+    @property
+    def moment_scale(self) -> float:
+        """mu_s F_p cos(beta) R_s [N m]."""
+        return self.mu_s * self.pressure_force * math.cos(self.contact_angle) * self.ball_radius
+
+    def pack(self) -> tuple[float, float, float, float, float, float]:
+        """(code, moment scale, R_s, beta, n_contacts, normal-load mode)."""
+        return (FRIC_THESIS_FLIGHT, self.moment_scale, self.ball_radius, self.contact_angle,
+                2.0, 0.0)
+
+
+@dataclass(frozen=True)
+class CoulombContactFriction:
+    """Physically exact Coulomb friction at point contacts.
+
+    At each contact point P_k (fixed in the inertial frame, on the sphere of
+    radius R_s) the socket surface slips past the ball with velocity
+    v_k = omega_r x P_k; the friction force F_k = -mu_s N_k v_k/|v_k| acts there
+    and the torque on the ball is sum_k P_k x F_k. Unlike the thesis's form,
+    the torque is perpendicular to each P_k, not along omega_r; both dissipate.
+
+    Rig (``n_contacts=1, contact_angle=pi/2``): one contact at P = -R_s X with
+    N = W. Flight: a ring of ``n_contacts`` points at polar angle beta from Z,
+    equally spaced in azimuth from the X-Z plane (``n_contacts=2`` are the
+    thesis's P_1, P_2 of Eq. 47).
+
+    Parameters
+    ----------
+    mu_s : float
+        Sliding friction coefficient [-].
+    normal_force : float
+        Load that presses the ball into its seat [N]: W on the rig, F_p in flight.
+    ball_radius : float
+        R_s [m].
+    contact_angle : float
+        beta [rad] from +Z; pi/2 selects the rig's single bottom contact.
+    n_contacts : int
+        Number of contact points N (>= 1).
+    normal_load : {"thesis", "radial"}
+        How the load is shared: "thesis" gives each point F cos(beta)/N as the
+        thesis's Eq. (45b) does; "radial" gives F/(N cos(beta)), the radial
+        reaction that balances an axial load on a spherical seat.
+    """
+
+    mu_s: float
+    normal_force: float
+    ball_radius: float
+    contact_angle: float = math.pi / 2
+    n_contacts: int = 1
+    normal_load: str = "thesis"
+
+    def __post_init__(self) -> None:
+        _check_mu(self.mu_s)
+        check_range("normal_force", self.normal_force, 0.0, unit="N")
+        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+        check_range("contact_angle", self.contact_angle, 0.0, math.pi / 2, lo_open=True,
+                    unit="rad")
+        if not isinstance(self.n_contacts, int) or not 1 <= self.n_contacts <= 1000:
+            raise InputError("n_contacts", f"{self.n_contacts!r} is outside the allowed range "
+                             "1..1000 (an integer)")
+        if self.normal_load not in ("thesis", "radial"):
+            raise InputError("normal_load", f"{self.normal_load!r}; allowed: 'thesis', 'radial'")
+        if self.normal_load == "radial" and self.contact_angle >= math.pi / 2:
+            raise InputError("normal_load", "'radial' needs contact_angle < pi/2 rad")
+
+    @property
+    def load_per_contact(self) -> float:
+        """N_k [N]."""
+        c = math.cos(self.contact_angle)
+        if self.contact_angle >= math.pi / 2:  # rig: the full weight at one point
+            return self.normal_force / self.n_contacts
+        if self.normal_load == "thesis":
+            return self.normal_force * c / self.n_contacts
+        return self.normal_force / (self.n_contacts * c)
+
+    def pack(self) -> tuple[float, float, float, float, float, float]:
+        """(code, mu_s N_k, R_s, beta, n_contacts, normal-load mode)."""
+        return (FRIC_COULOMB, self.mu_s * self.load_per_contact, self.ball_radius,
+                self.contact_angle, float(self.n_contacts), 0.0)
+
+
+FrictionTorque = ThesisRigFriction | ThesisFlightFriction | CoulombContactFriction
+
+
+@dataclass(frozen=True)
+class TorqueModel:
+    """Total applied torque G = viscous + sliding friction (thesis Eqs. 62-64).
+
+    Parameters
+    ----------
+    viscous : CouetteViscous or NakabayashiViscous or None
+        Viscous gap torque; None for none.
+    friction : ThesisRigFriction or ThesisFlightFriction or CoulombContactFriction or None
+        Sliding-friction torque; None for none.
+    """
+
+    viscous: ViscousTorque | None = None
+    friction: FrictionTorque | None = None
+
+    def pack(self) -> tuple[float, ...]:
+        """Flat parameter tuple: viscous (4 values) then friction (6 values)."""
+        v = self.viscous.pack() if self.viscous is not None else (VISC_NONE, 0.0, 0.0, math.inf)
+        f = (self.friction.pack() if self.friction is not None
+             else (FRIC_NONE, 0.0, 1.0, math.pi / 2, 1.0, 0.0))
+        return tuple(float(x) for x in (*v, *f))
+
+    @property
+    def is_regularised(self) -> bool:
+        """Whether a Coulomb-type (set-valued) term is present and needs a width."""
+        return self.friction is not None and self.friction.mu_s > 0
