@@ -57,6 +57,15 @@ TABLE1_PROJECTILE_INERTIA = 8.58e-6
 SpinMode = Literal["constant", "free", "thesis-energy"]
 _SPIN_CODES = {"constant": SPIN_CONSTANT, "free": SPIN_FREE, "thesis-energy": SPIN_THESIS_ENERGY}
 _FORMS = {"quaternion": FORM_QUATERNION, "euler": FORM_EULER}
+_METHODS = ("rosenbrock", "radau")
+
+
+def _integrator(method: str):
+    if method == "radau":
+        from . import _radau
+
+        return _radau.integrate
+    return ros.integrate
 
 
 @dataclass(frozen=True)
@@ -143,6 +152,9 @@ class SolverOptions:
         Bracket width at which the opening time is accepted [s].
     max_step : float or None
         Largest step [s]; default a tenth of a spin period.
+    method : {"rosenbrock", "radau"}
+        Compiled integrator: the L-stable Rosenbrock pair of Shampine (ode23s)
+        or the fifth-order Radau IIA collocation method (when available).
     """
 
     rtol: float = 1e-8
@@ -152,6 +164,7 @@ class SolverOptions:
     max_steps: int = 20_000_000
     event_tol: float = 1e-12
     max_step: float | None = None
+    method: Literal["rosenbrock", "radau"] = "rosenbrock"
 
     def __post_init__(self) -> None:
         check_range("rtol", self.rtol, 0.0, 0.1, lo_open=True, hi_open=True)
@@ -162,6 +175,8 @@ class SolverOptions:
         if int(self.max_steps) < 1:
             raise InputError("max_steps", f"{self.max_steps} is outside the allowed range >= 1")
         check_range("event_tol", self.event_tol, 0.0, 1e-3, lo_open=True, unit="s")
+        if self.method not in _METHODS:
+            raise InputError("method", f"{self.method!r}; allowed: {', '.join(_METHODS)}")
         if self.max_step is not None:
             check_range("max_step", self.max_step, 0.0, math.inf, lo_open=True, unit="s")
 
@@ -387,7 +402,7 @@ def _run(case: Case, options: SolverOptions, y0: np.ndarray | None, record: bool
     te = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)
     if te.size and (np.any(np.diff(te) < 0) or te[0] < 0):
         raise InputError("t_eval", "times must be non-negative and increasing")
-    out = ros.integrate(y0, p, float(case.t_max), options.rtol, options.atol,
+    out = _integrator(options.method)(y0, p, float(case.t_max), options.rtol, options.atol,
                         _scale(case, options.formulation), h0, h_max, int(options.max_steps),
                         te, record, terminal, options.event_tol)
     return p, out
