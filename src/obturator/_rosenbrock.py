@@ -129,8 +129,9 @@ def _step(t, y, h, f0, jac, p, lu, piv, k1, k2, k3, f1, f2, ynew, work) -> bool:
 
 
 @njit(cache=True)
-def integrate(y0, p, t_max, rtol, atol, scale, h0, h_max, max_steps, t_eval, record, terminal,
-              event_tol):
+def integrate(
+    y0, p, t_max, rtol, atol, scale, h0, h_max, max_steps, t_eval, record, terminal, event_tol
+):
     """Integrate from t = 0 until theta = theta_cr (event) or t_max.
 
     Returns

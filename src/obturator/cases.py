@@ -13,8 +13,8 @@ from .errors import InputError, check_range
 from .geometry import BoredBall
 from .solve import TABLE1_PROJECTILE_INERTIA, Case, SpinMode
 from .torques import (
-    CoulombContactFriction,
     CouetteViscous,
+    CoulombContactFriction,
     NakabayashiViscous,
     ThesisFlightFriction,
     ThesisRigFriction,
@@ -62,10 +62,12 @@ TorqueName = Literal["thesis", "coulomb"]
 
 
 def table1_ball(
-    *, density: float | None = None, hole_radius: float | None = None,
+    *,
+    density: float | None = None,
+    hole_radius: float | None = None,
     radius: float | None = None,
 ) -> BoredBall:
-    """The Table 1 ball (R_s = 7.899 mm, r_s = 4.72 mm, rho = 7669.6 kg/m^3), optionally modified."""
+    """The Table 1 ball (R_s = 7.899 mm, r_s = 4.72 mm, rho = 7669.6 kg/m^3), or a variant."""
     return BoredBall(
         radius=TABLE1["ball_radius"] if radius is None else radius,
         hole_radius=TABLE1["hole_radius"] if hole_radius is None else hole_radius,
@@ -128,8 +130,15 @@ def rig_case(
         else CoulombContactFriction(mu_s, w, ball.radius)
     )
     torque = TorqueModel(NakabayashiViscous(ball.radius, gap, viscosity), friction)
-    return Case(ball, torque, spin_rate, _theta0(theta0_deg), spin_mode=spin_mode,
-                t_max=t_max, name="spin-rig")
+    return Case(
+        ball,
+        torque,
+        spin_rate,
+        _theta0(theta0_deg),
+        spin_mode=spin_mode,
+        t_max=t_max,
+        name="spin-rig",
+    )
 
 
 def flight_case(
@@ -170,17 +179,31 @@ def flight_case(
     if pressure_force is None:
         if altitude_m is not None:
             p1 = None
-        pressure_force = float(flight_pressure_force(mach, altitude_m=altitude_m, p1=p1,
-                                                     bore_radius=bore_radius, gamma=gamma))
-    beta = math.asin(check_range("bore_radius", bore_radius, 0.0, ball.radius, lo_open=True,
-                                 hi_open=True, unit="m") / ball.radius)
+        pressure_force = float(
+            flight_pressure_force(
+                mach, altitude_m=altitude_m, p1=p1, bore_radius=bore_radius, gamma=gamma
+            )
+        )
+    beta = math.asin(
+        check_range(
+            "bore_radius", bore_radius, 0.0, ball.radius, lo_open=True, hi_open=True, unit="m"
+        )
+        / ball.radius
+    )
     if torque_model == "thesis":
         friction = ThesisFlightFriction(mu_s, pressure_force, ball.radius, beta)
     else:
         friction = CoulombContactFriction(mu_s, pressure_force, ball.radius, beta, n_contacts)
     torque = TorqueModel(NakabayashiViscous(ball.radius, gap, viscosity), friction)
-    return Case(ball, torque, spin_rate, _theta0(theta0_deg), spin_mode=spin_mode,
-                t_max=t_max, name="flight")
+    return Case(
+        ball,
+        torque,
+        spin_rate,
+        _theta0(theta0_deg),
+        spin_mode=spin_mode,
+        t_max=t_max,
+        name="flight",
+    )
 
 
 def couette_case(scale: float = 1.0, *, t_max: float = 0.1) -> Case:
@@ -191,5 +214,11 @@ def couette_case(scale: float = 1.0, *, t_max: float = 0.1) -> Case:
     """
     ball = BoredBall(7.62e-3, 4.7625e-3, 7800.0)
     torque = TorqueModel(CouetteViscous(ball.radius, 0.0254e-3, 1.92e-5, scale), None)
-    return Case(ball, torque, 12042.77, math.radians(TABLE1["theta0_deg"]), t_max=t_max,
-                name=f"couette-x{scale:g}")
+    return Case(
+        ball,
+        torque,
+        12042.77,
+        math.radians(TABLE1["theta0_deg"]),
+        t_max=t_max,
+        name=f"couette-x{scale:g}",
+    )

@@ -76,7 +76,10 @@ class BoredBall:
 
     @property
     def volume(self) -> float:
-        """Volume V [m^3]; equals the thesis's 2 pi R_s cos(beta)[R_s^2(1 - cos^2(beta)/3) - r_p^2]."""
+        """Volume V [m^3].
+
+        Equals the thesis's 2 pi R_s cos(beta) [R_s^2 (1 - cos^2(beta)/3) - r_p^2] (p. 77).
+        """
         return 4.0 / 3.0 * math.pi * self._u**1.5
 
     @property

@@ -35,7 +35,7 @@ from .dynamics import (
 )
 from .errors import InputError, check_range
 from .geometry import BoredBall
-from .torques import TorqueModel
+from .torques import CoulombContactFriction, TorqueModel
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray
@@ -110,14 +110,29 @@ class Case:
         check_range("theta0", math.degrees(self.theta0), 0.0, 90.0, lo_open=True, unit="deg")
         if self.spin_mode not in _SPIN_CODES:
             raise InputError("spin_mode", f"{self.spin_mode!r}; allowed: {', '.join(_SPIN_CODES)}")
-        check_range("projectile_inertia", self.projectile_inertia, 0.0, math.inf, lo_open=True,
-                    unit="kg m^2")
+        check_range(
+            "projectile_inertia",
+            self.projectile_inertia,
+            0.0,
+            math.inf,
+            lo_open=True,
+            unit="kg m^2",
+        )
         if self.theta_cr is not None:
-            check_range("theta_cr", math.degrees(self.theta_cr), 0.0, math.degrees(self.theta0),
-                        hi_open=True, unit="deg")
+            check_range(
+                "theta_cr",
+                math.degrees(self.theta_cr),
+                0.0,
+                math.degrees(self.theta0),
+                hi_open=True,
+                unit="deg",
+            )
         elif self.ball.opening_angle >= self.theta0:
-            raise InputError("theta0", f"{math.degrees(self.theta0):g} deg must exceed the "
-                             f"opening angle beta_s = {math.degrees(self.ball.opening_angle):g} deg")
+            raise InputError(
+                "theta0",
+                f"{math.degrees(self.theta0):g} deg must exceed the "
+                f"opening angle beta_s = {math.degrees(self.ball.opening_angle):g} deg",
+            )
         check_range("t_max", self.t_max, 0.0, math.inf, lo_open=True, unit="s")
 
     @property
@@ -143,7 +158,9 @@ class SolverOptions:
         in units of the initial spin omega_p0 (so it is scale-free).
     friction_width : float
         Regularisation width of the Coulomb direction, relative to the initial
-        spin: delta = friction_width * omega_p0 [rad/s]. Default 1e-5.
+        spin: delta = friction_width * omega_p0 [rad/s]. Default 1e-6: on the
+        rig at 200 rad/s t_cr moves 5e-4 relative from 1e-6 to 1e-7 (and 6e-3
+        from 1e-5 to 1e-6), see tests/test_convergence.py.
     formulation : {"quaternion", "euler"}
         Singularity-free quaternion form (default) or the thesis's Euler angles.
     max_steps : int
@@ -159,7 +176,7 @@ class SolverOptions:
 
     rtol: float = 1e-8
     atol: float = 1e-10
-    friction_width: float = 1e-5
+    friction_width: float = 1e-6
     formulation: Literal["quaternion", "euler"] = "quaternion"
     max_steps: int = 20_000_000
     event_tol: float = 1e-12
@@ -353,6 +370,13 @@ class NutationResult:
             "theta0_deg": math.degrees(c.theta0),
             "spin_rate_rad_s": c.spin_rate,
             "mu_s": None if fr is None else fr.mu_s,
+            "torque_model": (
+                "none"
+                if fr is None
+                else "coulomb"
+                if isinstance(fr, CoulombContactFriction)
+                else "thesis"
+            ),
             "spin_mode": c.spin_mode,
             "formulation": self.options.formulation,
             "rtol": self.options.rtol,
@@ -369,8 +393,14 @@ class NutationResult:
         import xarray as xr
 
         units = {
-            "theta": "rad", "psi": "rad", "phi": "rad", "omega_r": "rad/s", "torque": "N m",
-            "kinetic_energy": "J", "spin_rate": "rad/s", "axial_momentum": "kg m^2/s",
+            "theta": "rad",
+            "psi": "rad",
+            "phi": "rad",
+            "omega_r": "rad/s",
+            "torque": "N m",
+            "kinetic_energy": "J",
+            "spin_rate": "rad/s",
+            "axial_momentum": "kg m^2/s",
             "power": "W",
         }
         data = {k: ("t", getattr(self, k), {"units": u}) for k, u in units.items()}
@@ -380,16 +410,32 @@ class NutationResult:
 
     def to_csv(self, path: str) -> None:
         """Write the time series as CSV (SI units in the header)."""
-        cols = ["t", "theta", "psi", "phi", "omega_r", "torque", "kinetic_energy", "spin_rate",
-                "axial_momentum", "power"]
+        cols = [
+            "t",
+            "theta",
+            "psi",
+            "phi",
+            "omega_r",
+            "torque",
+            "kinetic_energy",
+            "spin_rate",
+            "axial_momentum",
+            "power",
+        ]
         units = ["s", "rad", "rad", "rad", "rad/s", "N m", "J", "rad/s", "kg m^2/s", "W"]
         header = ",".join(f"{c} [{u}]" for c, u in zip(cols, units, strict=True))
         data = np.column_stack([getattr(self, c) for c in cols])
         np.savetxt(path, data, delimiter=",", header=header, comments="", fmt="%.10g")
 
 
-def _run(case: Case, options: SolverOptions, y0: np.ndarray | None, record: bool,
-         t_eval: np.ndarray | None, terminal: bool):
+def _run(
+    case: Case,
+    options: SolverOptions,
+    y0: np.ndarray | None,
+    record: bool,
+    t_eval: np.ndarray | None,
+    terminal: bool,
+):
     if y0 is None:
         y0 = initial_state(case.theta0, case.spin_rate, formulation=options.formulation)
     y0 = np.asarray(y0, dtype=float)
@@ -402,9 +448,21 @@ def _run(case: Case, options: SolverOptions, y0: np.ndarray | None, record: bool
     te = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)
     if te.size and (np.any(np.diff(te) < 0) or te[0] < 0):
         raise InputError("t_eval", "times must be non-negative and increasing")
-    out = _integrator(options.method)(y0, p, float(case.t_max), options.rtol, options.atol,
-                        _scale(case, options.formulation), h0, h_max, int(options.max_steps),
-                        te, record, terminal, options.event_tol)
+    out = _integrator(options.method)(
+        y0,
+        p,
+        float(case.t_max),
+        options.rtol,
+        options.atol,
+        _scale(case, options.formulation),
+        h0,
+        h_max,
+        int(options.max_steps),
+        te,
+        record,
+        terminal,
+        options.event_tol,
+    )
     return p, out
 
 
@@ -438,12 +496,26 @@ def simulate(
     status, t_event, _, ts, ys, nfev, njev, n_steps, n_rej, _, _ = out
     obs = observables(ys, p) if len(ts) else np.empty((0, 11))
     return NutationResult(
-        t=ts, theta=obs[:, 0], psi=np.unwrap(obs[:, 1]), phi=np.unwrap(obs[:, 2]),
-        omega_r=obs[:, 3], torque=obs[:, 4], kinetic_energy=obs[:, 5], spin_rate=obs[:, 6],
-        axial_momentum=obs[:, 7], power=obs[:, 8], opening_time=float(t_event),
-        status=int(status), message=_STATUS_MESSAGES[int(status)], nfev=int(nfev),
-        njev=int(njev), n_steps=int(n_steps), n_rejected=int(n_rej), case=case,
-        options=options, state=ys,
+        t=ts,
+        theta=obs[:, 0],
+        psi=np.unwrap(obs[:, 1]),
+        phi=np.unwrap(obs[:, 2]),
+        omega_r=obs[:, 3],
+        torque=obs[:, 4],
+        kinetic_energy=obs[:, 5],
+        spin_rate=obs[:, 6],
+        axial_momentum=obs[:, 7],
+        power=obs[:, 8],
+        opening_time=float(t_event),
+        status=int(status),
+        message=_STATUS_MESSAGES[int(status)],
+        nfev=int(nfev),
+        njev=int(njev),
+        n_steps=int(n_steps),
+        n_rejected=int(n_rej),
+        case=case,
+        options=options,
+        state=ys,
     )
 
 

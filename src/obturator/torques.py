@@ -132,7 +132,9 @@ class NakabayashiViscous:
     def coefficient(self) -> float:
         """Laminar shear constant S [N m s], Eq. (42)."""
         e = self.gap_ratio
-        return self.scale * 8.0 / 3.0 * math.pi * (1.0 + e) / e * self.viscosity * self.ball_radius**3
+        return (
+            self.scale * 8.0 / 3.0 * math.pi * (1.0 + e) / e * self.viscosity * self.ball_radius**3
+        )
 
     @property
     def transition_reynolds(self) -> float:
@@ -235,8 +237,15 @@ class ThesisFlightFriction:
         _check_mu(self.mu_s)
         check_range("pressure_force", self.pressure_force, 0.0, unit="N")
         check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
-        check_range("contact_angle", self.contact_angle, 0.0, math.pi / 2, lo_open=True,
-                    hi_open=True, unit="rad")
+        check_range(
+            "contact_angle",
+            self.contact_angle,
+            0.0,
+            math.pi / 2,
+            lo_open=True,
+            hi_open=True,
+            unit="rad",
+        )
 
     @property
     def moment_scale(self) -> float:
@@ -245,8 +254,14 @@ class ThesisFlightFriction:
 
     def pack(self) -> tuple[float, float, float, float, float, float]:
         """(code, moment scale, R_s, beta, n_contacts, normal-load mode)."""
-        return (FRIC_THESIS_FLIGHT, self.moment_scale, self.ball_radius, self.contact_angle,
-                2.0, 0.0)
+        return (
+            FRIC_THESIS_FLIGHT,
+            self.moment_scale,
+            self.ball_radius,
+            self.contact_angle,
+            2.0,
+            0.0,
+        )
 
 
 @dataclass(frozen=True)
@@ -293,11 +308,12 @@ class CoulombContactFriction:
         _check_mu(self.mu_s)
         check_range("normal_force", self.normal_force, 0.0, unit="N")
         check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
-        check_range("contact_angle", self.contact_angle, 0.0, math.pi / 2, lo_open=True,
-                    unit="rad")
+        check_range("contact_angle", self.contact_angle, 0.0, math.pi / 2, lo_open=True, unit="rad")
         if not isinstance(self.n_contacts, int) or not 1 <= self.n_contacts <= 1000:
-            raise InputError("n_contacts", f"{self.n_contacts!r} is outside the allowed range "
-                             "1..1000 (an integer)")
+            raise InputError(
+                "n_contacts",
+                f"{self.n_contacts!r} is outside the allowed range 1..1000 (an integer)",
+            )
         if self.normal_load not in ("thesis", "radial"):
             raise InputError("normal_load", f"{self.normal_load!r}; allowed: 'thesis', 'radial'")
         if self.normal_load == "radial" and self.contact_angle >= math.pi / 2:
@@ -315,8 +331,14 @@ class CoulombContactFriction:
 
     def pack(self) -> tuple[float, float, float, float, float, float]:
         """(code, mu_s N_k, R_s, beta, n_contacts, normal-load mode)."""
-        return (FRIC_COULOMB, self.mu_s * self.load_per_contact, self.ball_radius,
-                self.contact_angle, float(self.n_contacts), 0.0)
+        return (
+            FRIC_COULOMB,
+            self.mu_s * self.load_per_contact,
+            self.ball_radius,
+            self.contact_angle,
+            float(self.n_contacts),
+            0.0,
+        )
 
 
 FrictionTorque = ThesisRigFriction | ThesisFlightFriction | CoulombContactFriction
@@ -340,8 +362,11 @@ class TorqueModel:
     def pack(self) -> tuple[float, ...]:
         """Flat parameter tuple: viscous (4 values) then friction (6 values)."""
         v = self.viscous.pack() if self.viscous is not None else (VISC_NONE, 0.0, 0.0, math.inf)
-        f = (self.friction.pack() if self.friction is not None
-             else (FRIC_NONE, 0.0, 1.0, math.pi / 2, 1.0, 0.0))
+        f = (
+            self.friction.pack()
+            if self.friction is not None
+            else (FRIC_NONE, 0.0, 1.0, math.pi / 2, 1.0, 0.0)
+        )
         return tuple(float(x) for x in (*v, *f))
 
     @property

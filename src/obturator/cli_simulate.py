@@ -1,0 +1,197 @@
+"""``obturator simulate``: one run of a built-in case, optionally from a config file."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from typing import Any
+
+from .cases import CASE_NAMES, TORQUE_MODELS, flight_case, rig_case, table1_ball
+from .errors import InputError
+from .io import load_config, parse_quantity
+from .solve import Case, NutationResult, SolverOptions, simulate
+
+__all__ = ["register", "case_from_settings", "options_from_settings"]
+
+_SPIN_MODES = ("constant", "free", "thesis-energy")
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``simulate`` sub-command."""
+    p = subparsers.add_parser(
+        "simulate",
+        help="integrate one case to the opening time t_cr",
+        description="Integrate the ball's nutation to the opening event theta = beta_s. "
+        "Quantities accept units, e.g. --spin-rate '115000 rpm'.",
+    )
+    p.add_argument(
+        "--case",
+        choices=CASE_NAMES,
+        default=None,
+        help="Table 1 column (default spin-rig, or the config's case)",
+    )
+    p.add_argument("--spin-rate", metavar="RAD_S", help="projectile spin omega_p [rad/s]")
+    p.add_argument("--mu-s", metavar="X", help="sliding friction coefficient [-]")
+    p.add_argument("--theta0-deg", metavar="X", help="initial nutation theta_0 [deg]")
+    p.add_argument("--torque-model", choices=TORQUE_MODELS, default=None)
+    p.add_argument("--spin-mode", choices=_SPIN_MODES, default=None)
+    p.add_argument("--mach", metavar="M", help="flight Mach number (normal bow shock, Eq. 1)")
+    p.add_argument("--altitude-m", metavar="H", help="flight altitude [m] (US 1976 atmosphere)")
+    p.add_argument("--config", metavar="FILE.toml", help="run configuration (units allowed)")
+    p.add_argument("--rtol", metavar="X", help="relative tolerance (default 1e-8)")
+    p.add_argument(
+        "--friction-width",
+        metavar="X",
+        help="Coulomb regularisation width / omega_p (default 1e-6)",
+    )
+    p.add_argument("--formulation", choices=("quaternion", "euler"), default=None)
+    p.add_argument("--t-max", metavar="S", help="give up after this time [s]")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--plot", metavar="FILE.png", help="write theta(t) as a figure")
+    p.add_argument("--csv", metavar="FILE.csv", help="write the time series as CSV")
+    p.set_defaults(func=_run)
+
+
+def _merge(args: argparse.Namespace) -> dict[str, Any]:
+    s: dict[str, Any] = load_config(args.config) if args.config else {}
+    flags = {
+        "spin_rate": ("--spin-rate", "rad/s"),
+        "mu_s": ("--mu-s", ""),
+        "theta0_deg": ("--theta0-deg", "deg"),
+        "mach": ("--mach", ""),
+        "altitude_m": ("--altitude-m", "m"),
+        "rtol": ("--rtol", ""),
+        "friction_width": ("--friction-width", ""),
+        "t_max": ("--t-max", "s"),
+    }
+    for key, (flag, unit) in flags.items():
+        value = getattr(args, key)
+        if value is not None:
+            s[key] = parse_quantity(flag, value, unit)
+    for key in ("case", "torque_model", "spin_mode", "formulation"):
+        if getattr(args, key) is not None:
+            s[key] = getattr(args, key)
+    return s
+
+
+def case_from_settings(s: dict[str, Any]) -> Case:
+    """Build a :class:`Case` from merged settings (SI floats; see :mod:`obturator.io`)."""
+    name = s.get("case", "spin-rig")
+    if name not in CASE_NAMES:
+        raise InputError("case", f"{name!r}; allowed: {', '.join(CASE_NAMES)}")
+    if s.get("torque_model", "thesis") not in TORQUE_MODELS:
+        raise InputError("torque_model", f"{s['torque_model']!r}; allowed: thesis, coulomb")
+    if s.get("spin_mode", "constant") not in _SPIN_MODES:
+        raise InputError("spin_mode", f"{s['spin_mode']!r}; allowed: {', '.join(_SPIN_MODES)}")
+    geometry_changed = any(k in s for k in ("ball_radius", "hole_radius", "density"))
+    ball = table1_ball(
+        radius=s.get("ball_radius"), hole_radius=s.get("hole_radius"), density=s.get("density")
+    )
+    common: dict[str, Any] = {
+        "ball": ball,
+        "torque_model": s.get("torque_model", "thesis"),
+        "spin_mode": s.get("spin_mode", "constant"),
+    }
+    for key in ("theta0_deg", "gap", "viscosity", "t_max"):
+        if key in s:
+            common[key] = s[key]
+    for key in ("spin_rate", "mu_s"):
+        if key in s:
+            common[key] = s[key]
+    if name == "spin-rig":
+        extra = sorted(k for k in ("mach", "altitude_m", "p1", "n_contacts") if k in s)
+        if extra:
+            raise InputError(extra[0], "applies to --case flight only")
+        if "weight" in s:
+            common["weight"] = s["weight"]
+        elif geometry_changed:
+            common["weight"] = None  # the weight follows the modified ball
+        return rig_case(**common)
+    if "weight" in s:
+        raise InputError("weight", "applies to --case spin-rig only")
+    for key in ("mach", "n_contacts", "bore_radius"):
+        if key in s:
+            common[key] = s[key]
+    if "altitude_m" in s:
+        common["altitude_m"] = s["altitude_m"]
+        common["p1"] = None
+    elif "p1" in s:
+        common["p1"] = s["p1"]
+    return flight_case(**common)
+
+
+def options_from_settings(s: dict[str, Any]) -> SolverOptions:
+    """Solver options from merged settings (defaults for anything not given)."""
+    kw = {k: s[k] for k in ("rtol", "atol", "friction_width", "method", "formulation") if k in s}
+    if "rtol" in kw and "atol" not in kw:
+        kw["atol"] = kw["rtol"] * 1e-2
+    return SolverOptions(**kw)
+
+
+def _print_table(res: NutationResult) -> None:
+    s = res.summary()
+    t_cr = res.opening_time
+    rows = [
+        ("case", str(s["case"]), ""),
+        ("torque model", str(s["torque_model"]), ""),
+        ("spin rate omega_p", f"{s['spin_rate_rad_s']:.6g}", "rad/s"),
+        ("mu_s", f"{s['mu_s']}", "-"),
+        ("theta_0", f"{s['theta0_deg']:.6g}", "deg"),
+        ("theta_cr = beta_s", f"{s['theta_cr_deg']:.6g}", "deg"),
+        ("opening time t_cr", f"{t_cr:.6g}" if res.opened else "not opened", "s"),
+        ("status", f"{res.status}: {res.message}", ""),
+        ("steps / RHS evaluations", f"{res.n_steps} / {res.nfev}", ""),
+    ]
+    width = max(len(r[0]) for r in rows)
+    for label, value, unit in rows:
+        print(f"{label:<{width}}  {value} {unit}".rstrip())
+
+
+def _plot(res: NutationResult, path: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
+    ax.plot(res.t, [math.degrees(x) for x in res.theta], lw=1.0, label=r"$\theta(t)$")
+    ax.axhline(
+        math.degrees(res.case.opening_angle),
+        color="k",
+        ls="--",
+        lw=0.8,
+        label=r"$\theta_{cr}=\beta_s$",
+    )
+    if res.opened:
+        ax.axvline(
+            res.opening_time,
+            color="C3",
+            ls=":",
+            lw=0.8,
+            label=f"$t_{{cr}}$ = {res.opening_time:.4g} s",
+        )
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel(r"nutation angle $\theta$ [deg]")
+    ax.set_title(f"{res.case.name}, $\\omega_p$ = {res.case.spin_rate:g} rad/s")
+    ax.legend()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def _run(args: argparse.Namespace) -> int:
+    settings = _merge(args)
+    case = case_from_settings(settings)
+    options = options_from_settings(settings)
+    res = simulate(case, options)
+    if not res.success:
+        raise InputError("solver", res.message)
+    if args.csv:
+        res.to_csv(args.csv)
+    if args.plot:
+        _plot(res, args.plot)
+    if args.json:
+        print(json.dumps(res.summary()))
+    else:
+        _print_table(res)
+    return 0
