@@ -28,8 +28,9 @@ class InputError(ValueError):
 
 
 def _fmt_interval(lo: float, hi: float, lo_open: bool, hi_open: bool) -> str:
-    left = "(" if lo_open else "["
-    right = ")" if hi_open else "]"
+    # infinite bounds are never attained: only finite values pass check_range
+    left = "(" if lo_open or math.isinf(lo) else "["
+    right = ")" if hi_open or math.isinf(hi) else "]"
     return f"{left}{lo:g}, {hi:g}{right}"
 
 

@@ -1,0 +1,152 @@
+"""Torque models (thesis Eqs. 32-34, 39-42, 55, 61, Appendix A) and the exact Coulomb contact."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from obturator import (
+    CoulombContactFriction,
+    CouetteViscous,
+    InputError,
+    NakabayashiViscous,
+    ThesisFlightFriction,
+    ThesisRigFriction,
+    TorqueModel,
+)
+from obturator.dynamics import N_PARAM, applied_torque
+
+R_S, H, MU_F = 7.899e-3, 5.08e-5, 1.917e-5
+
+
+def torque(model: TorqueModel, w, width=0.0):
+    p = np.zeros(N_PARAM)
+    p[6] = width
+    p[8:18] = model.pack()
+    return np.array(applied_torque(w[0], w[1], w[2], p))
+
+
+def test_nakabayashi_reproduces_table1_shear_constant():
+    # Table 1: S = 12.38e-9 N m s is Eq. (42) with eps = h/R_s (SPEC section 2)
+    assert NakabayashiViscous(R_S, H, MU_F).coefficient == pytest.approx(12.38e-9, rel=1e-3)
+
+
+def test_couette_eq34_and_small_gap_limit():
+    # Eq. (34) closed form; Eq. (42) -> Eq. (34) as eps -> 0 ("identical for small eps", p. 57)
+    s34 = 8 / 3 * math.pi * R_S**4 * MU_F / H
+    assert CouetteViscous(R_S, H, MU_F).coefficient == pytest.approx(s34, rel=1e-14)
+    tiny = 1e-9
+    ratio = NakabayashiViscous(R_S, tiny, MU_F).coefficient / CouetteViscous(R_S, tiny, MU_F).coefficient
+    assert ratio == pytest.approx(1.0, rel=1e-6)
+
+
+def test_turbulent_branch_switches_at_eq41():
+    v = NakabayashiViscous(R_S, H, MU_F, fluid_density=1.225)
+    nu = MU_F / 1.225
+    eps = H / R_S
+    assert v.transition_reynolds == pytest.approx(70 * eps**-1.6)
+    model = TorqueModel(v, None)
+    w_lo = 0.99 * v.transition_rate
+    w_hi = 1.01 * v.transition_rate
+    assert torque(model, (w_lo, 0, 0))[0] == pytest.approx(-v.coefficient * w_lo)
+    # Eq. (39) evaluated by hand: M = C_m rho R^5 w^2, C_m = 0.053/eps g Re^-1/4
+    re = R_S**2 * w_hi / nu
+    cm = 0.053 / eps * (1 + 1.75 * eps) / (1 - 1.5 * eps) * re**-0.25
+    assert torque(model, (w_hi, 0, 0))[0] == pytest.approx(-cm * 1.225 * R_S**5 * w_hi**2, rel=1e-9)
+
+
+def test_thesis_rig_friction_eq61():
+    # |M_sg| = mu W R_s sqrt(1 - (w_X/w_r)^2), along -w_r (Eq. 61); exact at zero width
+    f = ThesisRigFriction(0.5, 0.08, R_S)
+    w = np.array([3.0, -4.0, 12.0])
+    g = torque(TorqueModel(None, f), w)
+    wn = np.linalg.norm(w)
+    expected = -0.5 * 0.08 * R_S * math.sqrt(1 - (w[0] / wn) ** 2) * w / wn
+    np.testing.assert_allclose(g, expected, rtol=1e-13)
+
+
+def test_thesis_flight_friction_appendix_a_arm():
+    beta = math.asin(4.72 / 7.899)
+    f = ThesisFlightFriction(0.35, 64.67, R_S, beta)
+    w = np.array([1.0, 2.0, -2.0])
+    wn = 3.0
+    arm = math.sqrt(1 - math.sin(beta) ** 2 * (1 / wn) ** 2 - math.cos(beta) ** 2 * (2 / wn) ** 2)
+    expected = -0.35 * 64.67 * math.cos(beta) * R_S * arm * w / wn
+    np.testing.assert_allclose(torque(TorqueModel(None, f), w), expected, rtol=1e-13)
+
+
+def test_coulomb_single_contact_is_perpendicular_projection():
+    # Exact point contact at P = -R X: G = P x F, F = -mu N v/|v|, v = w x P. Worked by hand:
+    # G = -mu N R w_perp/|w_perp| with w_perp the part of w normal to X.
+    f = CoulombContactFriction(0.5, 0.08, R_S)
+    w = np.array([2.0, 1.0, -2.0])
+    wp = np.array([0.0, 1.0, -2.0])
+    expected = -0.5 * 0.08 * R_S * wp / np.linalg.norm(wp)
+    np.testing.assert_allclose(torque(TorqueModel(None, f), w), expected, rtol=1e-13)
+
+
+@given(st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 1e-3))
+def test_thesis_and_coulomb_rig_dissipate_the_same_power(w):
+    # Both laws dissipate mu N |v| (the slip speed at the contact), a consequence of the
+    # thesis's arm sqrt(1 - (w_X/w)^2) = |w x X|/|w|. Independent of either implementation.
+    w = np.asarray(w)
+    th = torque(TorqueModel(None, ThesisRigFriction(0.4, 0.1, R_S)), w)
+    co = torque(TorqueModel(None, CoulombContactFriction(0.4, 0.1, R_S)), w)
+    slip = R_S * np.linalg.norm(np.cross(w, [-1.0, 0, 0]))
+    assert th @ w == pytest.approx(-0.4 * 0.1 * slip, rel=1e-9, abs=1e-15)
+    assert co @ w == pytest.approx(-0.4 * 0.1 * slip, rel=1e-9, abs=1e-15)
+
+
+MODELS = [
+    TorqueModel(NakabayashiViscous(R_S, H), ThesisRigFriction(0.5, 0.08, R_S)),
+    TorqueModel(CouetteViscous(R_S, H), ThesisFlightFriction(0.35, 60.0, R_S, 0.64)),
+    TorqueModel(None, CoulombContactFriction(0.35, 60.0, R_S, 0.64, 7)),
+    TorqueModel(None, CoulombContactFriction(0.35, 60.0, R_S, 0.64, 3, "radial")),
+]
+
+
+@pytest.mark.parametrize("model", MODELS)
+@given(
+    w=st.lists(st.floats(-1e4, 1e4), min_size=3, max_size=3),
+    width=st.sampled_from([0.0, 1e-6, 1e-2, 10.0]),
+)
+def test_every_torque_is_dissipative(model, w, width):
+    g = torque(model, np.asarray(w), width)
+    assert np.all(np.isfinite(g))
+    assert g @ np.asarray(w) <= 1e-12 * (1 + np.linalg.norm(g) * np.linalg.norm(w))
+
+
+def test_regularised_torque_vanishes_at_corotation():
+    # SPEC section 4: at release omega_r = 0 and the Coulomb direction is 0/0
+    for model in MODELS:
+        assert np.all(torque(model, np.zeros(3), width=1e-3) == 0.0)
+
+
+def test_ring_of_many_contacts_is_axisymmetric():
+    # A ring of N >> 1 points gives the same torque for w rotated about Z (symmetry check)
+    f = CoulombContactFriction(0.35, 60.0, R_S, 0.64, 360)
+    m = TorqueModel(None, f)
+    w = np.array([3.0, 0.0, 1.0])
+    a = 0.7
+    rot = np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]])
+    np.testing.assert_allclose(torque(m, rot @ w), rot @ torque(m, w), rtol=1e-6, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("factory", "field"),
+    [
+        (lambda: ThesisRigFriction(-0.1, 0.08, R_S), "mu_s"),
+        (lambda: ThesisFlightFriction(0.3, -1.0, R_S, 0.6), "pressure_force"),
+        (lambda: ThesisFlightFriction(0.3, 1.0, R_S, 2.0), "contact_angle"),
+        (lambda: CoulombContactFriction(0.3, 1.0, R_S, 0.6, 0), "n_contacts"),
+        (lambda: CoulombContactFriction(0.3, 1.0, R_S, 0.6, 2, "bogus"), "normal_load"),
+        (lambda: NakabayashiViscous(R_S, -1e-5), "gap"),
+        (lambda: CouetteViscous(R_S, 1e-5, -1.0), "viscosity"),
+    ],
+)
+def test_bad_torque_parameters(factory, field):
+    with pytest.raises(InputError) as err:
+        factory()
+    assert err.value.field == field
