@@ -142,3 +142,16 @@ def test_thesis_energy_mode_keeps_total_kinetic_energy():
     res = simulate(case, SolverOptions(rtol=1e-9, atol=1e-11), terminal=False)
     total = res.kinetic_energy + 0.5 * case.projectile_inertia * res.spin_rate**2
     assert np.max(np.abs(total - total[0])) / total[0] < 1e-12
+
+
+def test_result_exports(tmp_path):
+    res = simulate(rig_case(450.0, 0.5473))
+    ds = res.to_xarray()
+    assert ds["theta"].attrs["units"] == "rad" and ds["t"].attrs["units"] == "s"
+    assert ds.attrs["t_cr_s"] == res.opening_time
+    assert ds.sizes["t"] == res.t.size
+    path = tmp_path / "run.csv"
+    res.to_csv(str(path))
+    data = np.loadtxt(path, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(data[:, 1], res.theta, rtol=1e-9)
+    assert res.nfev > res.n_steps > 0 and res.success and res.opened
