@@ -82,14 +82,22 @@ def _jacobian(t, y, f0, p, scale, jac, work, fwork) -> None:
     # scale of the regularisation width delta, so increments on the rate-like
     # components must be far below delta or the Jacobian error (~increment /
     # delta) spoils the L-stability the stiff phase relies on.
+    # Attitude components move omega_r by about omega_p per unit, so their
+    # increments are capped at 1e-4 delta / omega_p.
     eps = math.sqrt(2.220446049250313e-16)
     delta = p[6]
+    w_ref = 1.0
+    for j in range(N_STATE):
+        w_ref = max(w_ref, scale[j])
     for j in range(N_STATE):
         for i in range(N_STATE):
             work[i] = y[i]
         dj = eps * max(abs(y[j]), scale[j])
-        if scale[j] != 1.0 and delta > 0.0:
-            dj = min(dj, 1e-4 * delta)
+        if delta > 0.0:
+            if scale[j] != 1.0:
+                dj = min(dj, 1e-4 * delta)
+            elif p[5] == 0.0:  # quaternion components (Euler angles fare better uncapped)
+                dj = min(dj, 1e-4 * delta / w_ref)
         work[j] = y[j] + dj
         dj = work[j] - y[j]
         rhs(t, work, p, fwork)
