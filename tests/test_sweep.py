@@ -1,0 +1,401 @@
+"""Parameter sweeps: axis parsing, grid evaluation, parallel and resumable runs, CLI."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+import obturator.studies_sweep as ss
+from obturator.cases import TABLE1, flight_case, rig_case, table1_ball
+from obturator.cli import main
+from obturator.errors import InputError
+from obturator.solve import SolverOptions, opening_time
+from obturator.studies_sweep import (
+    STATUS_OPENED,
+    SweepSpec,
+    execute_sweep,
+    parse_axis,
+    run_sweep,
+    sidecar_path,
+    sweep_summary,
+)
+
+FAST = SolverOptions(rtol=1e-6, atol=1e-8)
+
+
+def small_spec(**kw: object) -> SweepSpec:
+    axes = kw.pop("axes", {"spin_rate": [300.0, 450.0, 600.0], "mu_s": [0.5, 0.6]})
+    return SweepSpec("spin-rig", axes, kw.pop("fixed", {}), options=FAST, **kw)  # type: ignore[arg-type]
+
+
+# --------------------------------------------------------------------------- parse_axis
+
+
+def test_parse_axis_range_and_list() -> None:
+    a = parse_axis("200:700:20", "--spin-rate")
+    assert a.size == 20 and a[0] == 200.0 and a[-1] == 700.0
+    assert np.allclose(np.diff(a), 500.0 / 19)
+    assert parse_axis("700:200:3").tolist() == [700.0, 450.0, 200.0]
+    assert parse_axis(" 0.5, 0.6 ,0.55").tolist() == [0.5, 0.6, 0.55]
+    assert parse_axis("0.5473").tolist() == [0.5473]
+    assert parse_axis("5:5:1").tolist() == [5.0]
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "",
+        "200:700",
+        "200:700:20:3",
+        "a:700:20",
+        "200:700:0",
+        "200:700:-3",
+        "200:700:2.5",
+        "200:700:1",
+        "5:5:3",
+        "1,1",
+        "1,,2",
+        "nan",
+        "inf:3:4",
+        "x",
+    ],
+)
+def test_parse_axis_rejects(text: str) -> None:
+    with pytest.raises(InputError) as exc:
+        parse_axis(text, "--spin-rate")
+    assert exc.value.field == "--spin-rate"
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    start=st.floats(-1e6, 1e6, allow_nan=False),
+    stop=st.floats(-1e6, 1e6, allow_nan=False),
+    count=st.integers(2, 400),
+)
+def test_parse_axis_properties(start: float, stop: float, count: int) -> None:
+    assume(abs(stop - start) > 1e-6 * max(1.0, abs(start), abs(stop)))
+    a = parse_axis(f"{start!r}:{stop!r}:{count}", "x")
+    assert a.shape == (count,)
+    assert a[0] == start and a[-1] == stop  # both ends included exactly
+    d = np.diff(a)
+    assert np.all(d > 0) if stop > start else np.all(d < 0)  # strictly monotone
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.lists(st.floats(-1e9, 1e9, allow_nan=False), min_size=1, max_size=20, unique=True))
+def test_parse_axis_list_roundtrip(values: list[float]) -> None:
+    text = ",".join(repr(v) for v in values)
+    assert parse_axis(text).tolist() == values
+
+
+# --------------------------------------------------------------------------- SweepSpec
+
+
+def test_spec_validation() -> None:
+    with pytest.raises(InputError, match="unknown parameter"):
+        SweepSpec("spin-rig", {"spin": [1.0, 2.0]})
+    with pytest.raises(InputError, match="flight case only"):
+        SweepSpec("spin-rig", {"mach": [2.0, 3.0]})
+    with pytest.raises(InputError, match="both swept and fixed"):
+        SweepSpec("spin-rig", {"mu_s": [0.5, 0.6]}, {"mu_s": 0.5})
+    with pytest.raises(InputError, match="case"):
+        SweepSpec("rig", {})
+    with pytest.raises(InputError, match="torque_model"):
+        SweepSpec("spin-rig", {}, torque_model="magic")
+    # every grid corner is checked before anything runs
+    with pytest.raises(InputError, match="theta0"):
+        SweepSpec("spin-rig", {"theta0_deg": [80.0, 95.0]})
+    with pytest.raises(InputError, match="hole_radius"):
+        SweepSpec("spin-rig", {"hole_radius": [3e-3, 6e-3]})
+    with pytest.raises(InputError, match="distinct"):
+        SweepSpec("spin-rig", {"mu_s": [0.5, 0.5]})
+
+
+def test_spec_identity_and_shape() -> None:
+    a, b = small_spec(), small_spec()
+    assert a == b and a.digest() == b.digest() and hash(a) == hash(b)
+    c = small_spec(fixed={"theta0_deg": 87.0})
+    assert a != c and a.digest() != c.digest()
+    assert a.dims == ("spin_rate", "mu_s") and a.shape == (3, 2) and a.n_points == 6
+    rows = a.rows(np.arange(6))
+    assert rows[:, 0].tolist() == [300.0, 300.0, 450.0, 450.0, 600.0, 600.0]
+    assert rows[:, 1].tolist() == [0.5, 0.6] * 3
+
+
+def test_weight_follows_ball_only_when_geometry_varies() -> None:
+    plain = SweepSpec("spin-rig", {"mu_s": [0.5, 0.6]})
+    assert not plain.weight_from_ball
+    case = plain.build_case({"mu_s": 0.5})
+    assert case.torque.friction.weight == TABLE1["rig_weight"]  # type: ignore[union-attr]
+    geo = SweepSpec("spin-rig", {"density": [6000.0, 10000.0]})
+    assert geo.weight_from_ball
+    case = geo.build_case({"density": 6000.0})
+    ball = table1_ball(density=6000.0)
+    assert case.ball == ball
+    assert case.torque.friction.weight == pytest.approx(ball.weight)  # type: ignore[union-attr]
+    assert "computed" in geo.weight_model
+
+
+def test_flight_spec_builds_factory_case() -> None:
+    spec = SweepSpec(
+        "flight", {"mach": [2.5, 3.0], "altitude_m": [0.0, 3000.0]}, {"mu_s": 0.5}, options=FAST
+    )
+    got = spec.build_case({"mach": 2.5, "altitude_m": 3000.0})
+    want = flight_case(mu_s=0.5, mach=2.5, altitude_m=3000.0)
+    assert got == want
+
+
+# --------------------------------------------------------------------------- evaluation
+
+
+def reference(spec: SweepSpec) -> np.ndarray:
+    """Independent plain loop over opening_time with the case factories."""
+    out = np.empty(spec.shape)
+    for i, w in enumerate(spec.axes["spin_rate"]):
+        for j, mu in enumerate(spec.axes["mu_s"]):
+            out[i, j] = opening_time(rig_case(float(w), float(mu)), FAST)
+    return out
+
+
+def test_sweep_equals_plain_loop() -> None:
+    spec = small_spec()
+    ds = run_sweep(spec, workers=1, progress=False)
+    assert ds["t_cr"].dims == ("spin_rate", "mu_s")
+    np.testing.assert_array_equal(ds["t_cr"].values, reference(spec))
+    assert np.all(ds["status"].values == STATUS_OPENED)
+    assert ds["spin_rate"].attrs["units"] == "rad/s"
+    assert ds["t_cr"].attrs["units"] == "s"
+    assert ds.attrs["torque_model"] == "thesis"
+    assert ds.attrs["solver_rtol"] == 1e-6
+    assert "obturator_version" in ds.attrs
+    # scalar coordinates record what was not swept
+    assert float(ds["theta0_deg"]) == TABLE1["theta0_deg"]
+    # t_cr rises with spin and falls with friction at these spins
+    t = ds["t_cr"].values
+    assert np.all(np.diff(t, axis=0) > 0) and np.all(np.diff(t, axis=1) < 0)
+
+
+def test_process_pool_equals_in_process() -> None:
+    spec = small_spec()
+    one = run_sweep(spec, workers=1, progress=False)
+    run = execute_sweep(spec, workers=2, chunk_size=1, progress=False)
+    assert run.workers == 2 and run.n_computed == 6
+    xr.testing.assert_identical(one, run.dataset)
+
+
+def test_spawned_pool_equals_in_process(monkeypatch: pytest.MonkeyPatch) -> None:
+    import multiprocessing
+
+    spec = small_spec(axes={"spin_rate": [300.0, 500.0], "mu_s": [0.55]})
+    one = run_sweep(spec, workers=1, progress=False)
+    monkeypatch.setattr(ss, "_mp_context", lambda: multiprocessing.get_context("spawn"))
+    xr.testing.assert_identical(one, run_sweep(spec, workers=2, chunk_size=1, progress=False))
+
+
+def test_not_opened_is_nan_with_status() -> None:
+    spec = small_spec(axes={"spin_rate": [300.0, 600.0]}, fixed={"mu_s": 0.55}, t_max=0.3)
+    ds = run_sweep(spec, workers=1, progress=False)
+    assert ds["status"].values.tolist() == [1, 0]
+    assert np.isfinite(ds["t_cr"].values[0]) and np.isnan(ds["t_cr"].values[1])
+    s = sweep_summary(ds)
+    assert s["n_opened"] == 1 and s["n_not_opened"] == 1
+    assert s["argmin"] == {"spin_rate": 300.0}
+
+
+def test_solver_failure_is_recorded(monkeypatch: pytest.MonkeyPatch) -> None:
+    def fail(case: object, options: object) -> float:
+        raise RuntimeError("step limit")
+
+    monkeypatch.setattr(ss, "opening_time", fail)
+    ds = run_sweep(small_spec(axes={"spin_rate": [300.0, 400.0]}), workers=1, progress=False)
+    assert ds["status"].values.tolist() == [ss.STATUS_FAILED] * 2
+    assert np.all(np.isnan(ds["t_cr"].values))
+
+
+# --------------------------------------------------------------------------- resuming
+
+
+class Boom(Exception):
+    pass
+
+
+def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    spec = small_spec(axes={"spin_rate": [300.0, 350.0, 400.0, 450.0, 500.0], "mu_s": [0.5, 0.6]})
+    store = tmp_path / "s.nc"
+    original = ss._evaluate_point
+    calls: list[tuple[float, float]] = []
+
+    def exploding(sp: SweepSpec, values: dict[str, float]) -> tuple[float, int]:
+        if len(calls) == 5:
+            raise Boom
+        calls.append((values["spin_rate"], values["mu_s"]))
+        return original(sp, values)
+
+    monkeypatch.setattr(ss, "_evaluate_point", exploding)
+    with pytest.raises(Boom):
+        run_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
+    side = sidecar_path(store)
+    assert side.exists() and not store.exists()
+    lines = side.read_text().splitlines()
+    assert json.loads(lines[0])["spec_hash"] == spec.digest()
+    assert len(lines) == 1 + 2  # two finished chunks of two points; the third was cut
+    done = {(r[0], r[1]) for line in lines[1:] for r in spec.rows(json.loads(line)["index"])}
+    assert len(done) == 4
+
+    recomputed: list[tuple[float, float]] = []
+
+    def counting(sp: SweepSpec, values: dict[str, float]) -> tuple[float, int]:
+        recomputed.append((values["spin_rate"], values["mu_s"]))
+        return original(sp, values)
+
+    monkeypatch.setattr(ss, "_evaluate_point", counting)
+    run = execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
+    assert run.n_resumed == 4 and run.n_computed == 6
+    assert len(recomputed) == 6 and not done & set(recomputed)
+    assert store.exists() and not side.exists()
+    monkeypatch.setattr(ss, "_evaluate_point", original)
+    full = run_sweep(spec, workers=1, progress=False)
+    xr.testing.assert_identical(full, run.dataset)
+    with xr.open_dataset(store) as on_disk:
+        xr.testing.assert_equal(on_disk.load(), full)
+
+
+def test_resume_ignores_cut_line_and_refuses_other_spec(tmp_path: Path) -> None:
+    spec = small_spec(axes={"spin_rate": [300.0, 400.0]}, fixed={"mu_s": 0.55})
+    store = tmp_path / "r.nc"
+    side = sidecar_path(store)
+    header = {"format": ss._SIDECAR_FORMAT, "spec_hash": spec.digest(), "n_points": 2}
+    t0 = opening_time(spec.build_case({"spin_rate": 300.0}), FAST)
+    side.write_text(
+        json.dumps(header)
+        + "\n"
+        + json.dumps({"index": [0], "t_cr": [t0], "status": [1]})
+        + '\n{"index": [1], "t_c'  # interrupted mid-write
+    )
+    run = execute_sweep(spec, workers=1, store=store, progress=False)
+    assert run.n_resumed == 1 and run.n_computed == 1
+    assert run.dataset["t_cr"].values[0] == t0
+
+    other = small_spec(axes={"spin_rate": [300.0, 500.0]}, fixed={"mu_s": 0.55})
+    side.write_text(json.dumps(header) + "\n")
+    with pytest.raises(InputError, match="different study"):
+        run_sweep(other, workers=1, store=store, progress=False)
+    ds = run_sweep(other, workers=1, store=store, progress=False, restart=True)
+    assert ds["spin_rate"].values.tolist() == [300.0, 500.0] and not side.exists()
+
+
+def test_bad_worker_count_and_directory(tmp_path: Path) -> None:
+    spec = small_spec(axes={"spin_rate": [300.0, 400.0]})
+    with pytest.raises(InputError, match="workers"):
+        run_sweep(spec, workers=0, progress=False)
+    with pytest.raises(InputError, match="does not exist"):
+        run_sweep(spec, workers=1, store=tmp_path / "no" / "x.nc", progress=False)
+
+
+# --------------------------------------------------------------------------- dask
+
+
+def test_dask_distributed_equals_local() -> None:
+    distributed = pytest.importorskip("distributed")
+    spec = small_spec()
+    local = run_sweep(spec, workers=1, progress=False)
+    with distributed.LocalCluster(
+        n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None
+    ) as cluster:
+        with distributed.Client(cluster) as client:
+            run = execute_sweep(spec, scheduler=client, chunk_size=2, progress=False)
+            assert run.backend == "dask.distributed"
+            xr.testing.assert_identical(local, run.dataset)
+        by_address = run_sweep(spec, scheduler=cluster.scheduler_address, progress=False)
+    xr.testing.assert_identical(local, by_address)
+
+
+# --------------------------------------------------------------------------- CLI
+
+
+def test_cli_sweep_writes_netcdf_and_csv(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "sweep.nc"
+    argv = ["sweep", "--case", "spin-rig", "--spin-rate", "300:600:3", "--mu-s", "0.5473"]
+    argv += ["--rtol", "1e-6", "--workers", "1", "--no-progress", "--out", str(out)]
+    assert main(argv) == 0
+    line = capsys.readouterr().out.strip()
+    assert line.count("\n") == 0 and "3 points" in line and "3 opened" in line
+    with xr.open_dataset(out) as ds:
+        assert ds["t_cr"].dims == ("spin_rate",)
+        assert float(ds["mu_s"]) == 0.5473
+        want = [opening_time(rig_case(w, 0.5473), FAST) for w in (300.0, 450.0, 600.0)]
+        np.testing.assert_array_equal(ds["t_cr"].values, want)
+    rows = (tmp_path / "sweep.csv").read_text().splitlines()
+    assert rows[0] == "spin_rate [rad/s],t_cr [s],status" and len(rows) == 4
+    assert float(rows[1].split(",")[1]) == pytest.approx(want[0], rel=1e-11)
+
+
+def test_cli_sweep_json_and_flight(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "f.nc"
+    argv = ["sweep", "--case", "flight", "--mach", "2.5,3", "--altitude-m", "1000"]
+    argv += ["--spin-rate", "12042", "--rtol", "1e-6", "--workers", "1", "--no-progress"]
+    argv += ["--out", str(out), "--no-csv", "--json"]
+    assert main(argv) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["n_points"] == 2 and d["n_opened"] == 2 and d["csv"] is None
+    assert 0.0 < d["t_cr_min_s"] < 0.1  # flight opens well within 0.1 s
+    assert not (tmp_path / "f.csv").exists()
+
+
+@pytest.mark.parametrize(
+    ("argv", "field"),
+    [
+        (["--spin-rate", "200:700"], "--spin-rate"),
+        (["--spin-rate", "200:700:zero"], "--spin-rate"),
+        (["--mu-s", "0.5,abc"], "--mu-s"),
+        (["--mach", "2,3"], "mach"),
+        (["--theta0-deg", "80:95:3"], "theta0"),
+        (["--workers", "0"], "--workers"),
+        (["--rtol", "big"], "--rtol"),
+    ],
+)
+def test_cli_sweep_bad_input(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str], field: str
+) -> None:
+    code = main(["sweep", "--case", "spin-rig", *argv, "--out", str(tmp_path / "x.nc")])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("obturator: error:") and err.count("\n") == 1
+    assert field in err
+    assert not list(tmp_path.iterdir())
+
+
+def test_cli_sweep_missing_directory(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["sweep", "--spin-rate", "300,400", "--out", str(tmp_path / "a" / "b.nc")])
+    assert code == 2
+    assert "does not exist" in capsys.readouterr().err
+
+
+def test_cli_subprocess(tmp_path: Path) -> None:
+    out = tmp_path / "p.nc"
+    cmd = [sys.executable, "-m", "obturator", "sweep", "--case", "spin-rig"]
+    cmd += ["--spin-rate", "400,500", "--mu-s", "0.5473", "--rtol", "1e-6", "--workers", "2"]
+    cmd += ["--out", str(out)]
+    res = subprocess.run(cmd, capture_output=True, text=True, timeout=300, cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    assert "2 points" in res.stdout and "2 opened" in res.stdout
+    with xr.open_dataset(out) as ds:
+        assert np.all(np.isfinite(ds["t_cr"].values))
+    bad = subprocess.run(
+        [*cmd[:6], "--spin-rate", "400:500:x", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert bad.returncode == 2
+    assert bad.stderr.startswith("obturator: error:") and bad.stderr.count("\n") == 1
