@@ -169,9 +169,13 @@ class SolverOptions:
         Bracket width at which the opening time is accepted [s].
     max_step : float or None
         Largest step [s]; default a tenth of a spin period.
-    method : {"rosenbrock", "radau"}
-        Compiled integrator: the L-stable Rosenbrock pair of Shampine (ode23s)
-        or the fifth-order Radau IIA collocation method (when available).
+    method : {"radau", "rosenbrock"}
+        Compiled integrator: the fifth-order Radau IIA collocation method
+        (default; Newton iterations follow the nonlinear stiffness of sticking,
+        8-15x faster than Rosenbrock on the thesis cases and ~1e2-1e4x fewer
+        steps in long sticking phases) or the L-stable Rosenbrock pair of
+        Shampine (ode23s). Radau transforms rtol as RADAU5 does
+        (0.1 rtol^(2/3)); t_cr errors stay below ~3e-7 relative at rtol 1e-8.
     """
 
     rtol: float = 1e-8
@@ -181,7 +185,7 @@ class SolverOptions:
     max_steps: int = 20_000_000
     event_tol: float = 1e-12
     max_step: float | None = None
-    method: Literal["rosenbrock", "radau"] = "rosenbrock"
+    method: Literal["rosenbrock", "radau"] = "radau"
 
     def __post_init__(self) -> None:
         check_range("rtol", self.rtol, 0.0, 0.1, lo_open=True, hi_open=True)

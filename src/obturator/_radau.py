@@ -1,0 +1,825 @@
+"""Compiled stiff integrator: fifth-order Radau IIA collocation (3 stages).
+
+Only :mod:`obturator.solve` calls into this module; :func:`integrate` has the
+signature and return tuple of :func:`obturator._rosenbrock.integrate`.
+
+Why a fully implicit method: the regularised Coulomb friction saturates over a
+width delta, so near sticking the stiffness is strongly *nonlinear*. A
+linearly-implicit (Rosenbrock) step trusts the Jacobian at the step start over
+the whole step and is forced to steps of order 1e-7 s there; Radau IIA solves
+its stage equations by (simplified) Newton iterations, follows the
+nonlinearity and takes steps limited by accuracy only.
+
+The method is the one of Hairer & Wanner, *Solving Ordinary Differential
+Equations II*, 2nd ed., Sec. IV.8 (the scheme behind their RADAU5 code); the
+published data used here are the Butcher tableau (nodes (4 -+ sqrt 6)/10, 1),
+the embedded error estimate (gamma0 = 1/(3 + 3^(2/3) - 3^(1/3)), weights
+(-13 - 7 sqrt 6, -13 + 7 sqrt 6, -1)/3), the Newton stopping and step-size
+rules, and the collocation polynomial as dense output. Implementation notes:
+
+* Newton system: A^-1 is brought to block-diagonal form gamma (+) [alpha,
+  -beta; beta, alpha] by a real similarity computed once at import (from the
+  eigenvectors of A^-1), so each simplified-Newton iteration solves one real
+  and one complex 8x8 system instead of the 24x24 one. The LU routines are
+  those of :mod:`obturator._rosenbrock` specialised to the fixed size (and to
+  split real/imaginary storage for the complex one): a factorisation is made
+  nearly every step and it is a quarter of the cost of a step.
+* Tolerances are transformed as in RADAU5 (rtol' = 0.1 rtol^(2/3)): the error
+  estimate is that of an embedded order-3 solution while the solution kept is
+  of order 5, so the raw estimate would over-resolve. With this the t_cr error
+  stays below about 3e-7 relative at rtol = 1e-8 on the thesis cases.
+* The Jacobian (forward differences, :func:`obturator._rosenbrock._jacobian`,
+  increments capped below delta on purpose) is kept across steps while Newton
+  contracts fast (RADAU5's rule, threshold tuned for an 8-equation system whose
+  Jacobian costs 8 evaluations); the LU and the step are kept when the
+  controller asks for a change of less than 20 %.
+* Newton-limited steps: with Coulomb point contacts the stiff subspace is
+  fixed in the laboratory while the state is in body axes, so a frozen
+  Jacobian fails beyond some step size however accurate the step is. After a
+  Newton failure the step is capped below the failed size and the cap relaxes
+  by 20 % per accepted step, instead of letting the error controller retry
+  8x longer steps that fail again.
+* The opening event theta = theta_cr (downward crossing) is looked for at the
+  collocation nodes of every step, so a dip below theta_cr inside a step is
+  not missed, and located by re-solving the step from its start with a
+  shorter step (Illinois false position on g(s) = theta(y(t + s h)) -
+  theta_cr), so the event state is as accurate as any accepted step.
+* Dense output (t_eval) is the collocation polynomial (order 3 between nodes).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ._rosenbrock import (
+    STATUS_FAILED,
+    STATUS_MAX_STEPS,
+    STATUS_OPENED,
+    STATUS_T_MAX,
+    _jacobian,
+)
+from .dynamics import FORM_EULER, N_STATE, P_FORM, nutation_angle_of_state, rhs
+
+__all__ = [
+    "STATUS_FAILED",
+    "STATUS_MAX_STEPS",
+    "STATUS_OPENED",
+    "STATUS_T_MAX",
+    "integrate",
+    "RADAU_A",
+    "RADAU_C",
+    "TRANSFORM",
+    "TRANSFORM_INV",
+    "EIGENVALUES",
+]
+
+
+def _tableau() -> tuple[np.ndarray, np.ndarray]:
+    """Radau IIA (s = 3) Butcher matrix A and nodes c (Hairer & Wanner, Table IV.5.6)."""
+    s6 = math.sqrt(6.0)
+    a = np.array(
+        [
+            [(88.0 - 7.0 * s6) / 360.0, (296.0 - 169.0 * s6) / 1800.0, (-2.0 + 3.0 * s6) / 225.0],
+            [(296.0 + 169.0 * s6) / 1800.0, (88.0 + 7.0 * s6) / 360.0, (-2.0 - 3.0 * s6) / 225.0],
+            [(16.0 - s6) / 36.0, (16.0 + s6) / 36.0, 1.0 / 9.0],
+        ]
+    )
+    c = np.array([(4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0])
+    return a, c
+
+
+def _block_transform(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, float, float]:
+    """Real T with T^-1 A^-1 T = [[gamma, 0, 0], [0, alpha, -beta], [0, beta, alpha]]."""
+    ainv = np.linalg.inv(a)
+    lam, vec = np.linalg.eig(ainv)
+    i_real = int(np.argmin(np.abs(lam.imag)))
+    i_cplx = int(np.argmax(lam.imag))  # alpha + i beta with beta > 0
+    v = vec[:, i_real].real
+    x = vec[:, i_cplx]
+    # A^-1 (u + i w) = (alpha + i beta)(u + i w) gives A^-1 [u, -w] = [u, -w] [[alpha, -beta],
+    # [beta, alpha]]; scale so that the last row of T is (1, 1, 0) (Z3 = W1 + W2).
+    t = np.column_stack([v / v[2], x.real, -x.imag])
+    # make t[2, 1] = 1, t[2, 2] = 0 by a rotation within the complex pair (commutes with the block)
+    ang = math.atan2(t[2, 2], t[2, 1])
+    rot = np.array([[math.cos(ang), math.sin(ang)], [-math.sin(ang), math.cos(ang)]])
+    t[:, 1:] = t[:, 1:] @ rot
+    t[:, 1:] /= t[2, 1]
+    ti = np.linalg.inv(t)
+    return t, ti, float(lam[i_real].real), float(lam[i_cplx].real), float(lam[i_cplx].imag)
+
+
+RADAU_A, RADAU_C = _tableau()
+TRANSFORM, TRANSFORM_INV, _GAMMA, _ALPHA, _BETA = _block_transform(RADAU_A)
+#: gamma, alpha, beta: the eigenvalues of A^-1 are gamma and alpha +- i beta.
+EIGENVALUES = (_GAMMA, _ALPHA, _BETA)
+
+_S6 = math.sqrt(6.0)
+_C1 = float(RADAU_C[0])
+_C2 = float(RADAU_C[1])
+# Embedded error estimate weights, already divided by gamma0 = 1/gamma (H&W IV.8, Eq. 8.20).
+_E1 = (-13.0 - 7.0 * _S6) / 3.0
+_E2 = (-13.0 + 7.0 * _S6) / 3.0
+_E3 = -1.0 / 3.0
+# Lagrange denominators on the collocation nodes {0, c1, c2, 1}; the polynomial vanishes at 0.
+_D1 = _C1 * (_C1 - _C2) * (_C1 - 1.0)
+_D2 = _C2 * (_C2 - _C1) * (_C2 - 1.0)
+_D3 = 1.0 * (1.0 - _C1) * (1.0 - _C2)
+
+_T00, _T01, _T02 = (float(x) for x in TRANSFORM[0])
+_T10, _T11, _T12 = (float(x) for x in TRANSFORM[1])
+_T20, _T21, _T22 = (float(x) for x in TRANSFORM[2])
+_TI00, _TI01, _TI02 = (float(x) for x in TRANSFORM_INV[0])
+_TI10, _TI11, _TI12 = (float(x) for x in TRANSFORM_INV[1])
+_TI20, _TI21, _TI22 = (float(x) for x in TRANSFORM_INV[2])
+
+_UROUND = 2.220446049250313e-16
+_NIT = 7  # Newton iterations per step before the step is cut (RADAU5 default)
+_THET = 0.01  # keep the Jacobian while Newton contracts faster than this (RADAU5: 0.001)
+_QUOT1 = 1.0  # keep h, J and the LU when h_new / h falls in [_QUOT1, _QUOT2] (RADAU5)
+_QUOT2 = 1.2
+_SAFE = 0.9
+_FAC_MIN = 0.2  # h_new / h bounds
+_FAC_MAX = 8.0
+# Newton-limited regime (Coulomb sticking): after a Newton failure at h, cap the
+# step at _LIM_SHRINK h and let the cap grow by _LIM_GROW per accepted step, so
+# the error-based controller does not keep proposing steps that fail again.
+_LIM_SHRINK = 0.7
+_LIM_GROW = 1.2
+
+
+@njit(cache=True)
+def _colloc_weights(s: float) -> tuple[float, float, float]:
+    """Weights of Z1, Z2, Z3 in the collocation polynomial at t0 + s h (s may exceed 1)."""
+    l1 = s * (s - _C2) * (s - 1.0) / _D1
+    l2 = s * (s - _C1) * (s - 1.0) / _D2
+    l3 = s * (s - _C1) * (s - _C2) / _D3
+    return l1, l2, l3
+
+
+# The LU routines below are those of obturator._rosenbrock specialised to the
+# fixed size N_STATE (loops with compile-time trip counts, which LLVM unrolls):
+# about half the time per factorisation, and a factorisation is made nearly
+# every step.
+@njit(cache=True)
+def _lu_factor_r(m, piv) -> bool:
+    """In-place LU with partial pivoting of the real N_STATE x N_STATE matrix m."""
+    for k in range(N_STATE):
+        imax = k
+        vmax = abs(m[k, k])
+        for i in range(k + 1, N_STATE):
+            if abs(m[i, k]) > vmax:
+                vmax = abs(m[i, k])
+                imax = i
+        piv[k] = imax
+        if vmax == 0.0:
+            return False
+        if imax != k:
+            for j in range(N_STATE):
+                tmp = m[k, j]
+                m[k, j] = m[imax, j]
+                m[imax, j] = tmp
+        inv = 1.0 / m[k, k]
+        for i in range(k + 1, N_STATE):
+            f = m[i, k] * inv
+            m[i, k] = f
+            for j in range(k + 1, N_STATE):
+                m[i, j] -= f * m[k, j]
+    return True
+
+
+@njit(cache=True)
+def _lu_solve_r(lu, piv, b) -> None:
+    """Solve lu x = b in place with the factors of _lu_factor_r."""
+    for k in range(N_STATE):
+        j = piv[k]
+        if j != k:
+            tmp = b[k]
+            b[k] = b[j]
+            b[j] = tmp
+    for i in range(N_STATE):
+        s = b[i]
+        for j in range(i):
+            s -= lu[i, j] * b[j]
+        b[i] = s
+    for i in range(N_STATE - 1, -1, -1):
+        s = b[i]
+        for j in range(i + 1, N_STATE):
+            s -= lu[i, j] * b[j]
+        b[i] = s / lu[i, i]
+
+
+@njit(cache=True)
+def _lu_factor_c(ar, ai, piv) -> bool:
+    """In-place LU with partial pivoting of the complex matrix ar + i ai.
+
+    Split real/imaginary storage and a |re| + |im| pivot measure (no hypot).
+    """
+    for k in range(N_STATE):
+        imax = k
+        vmax = abs(ar[k, k]) + abs(ai[k, k])
+        for i in range(k + 1, N_STATE):
+            v = abs(ar[i, k]) + abs(ai[i, k])
+            if v > vmax:
+                vmax = v
+                imax = i
+        piv[k] = imax
+        if vmax == 0.0:
+            return False
+        if imax != k:
+            for j in range(N_STATE):
+                tr = ar[k, j]
+                ar[k, j] = ar[imax, j]
+                ar[imax, j] = tr
+                ti = ai[k, j]
+                ai[k, j] = ai[imax, j]
+                ai[imax, j] = ti
+        d = ar[k, k] * ar[k, k] + ai[k, k] * ai[k, k]
+        ir = ar[k, k] / d
+        ii = -ai[k, k] / d
+        for i in range(k + 1, N_STATE):
+            fr = ar[i, k] * ir - ai[i, k] * ii
+            fi = ar[i, k] * ii + ai[i, k] * ir
+            ar[i, k] = fr
+            ai[i, k] = fi
+            for j in range(k + 1, N_STATE):
+                ar[i, j] -= fr * ar[k, j] - fi * ai[k, j]
+                ai[i, j] -= fr * ai[k, j] + fi * ar[k, j]
+    return True
+
+
+@njit(cache=True)
+def _lu_solve_c(ar, ai, piv, br, bi) -> None:
+    """Solve (ar + i ai) x = br + i bi in place with the factors of _lu_factor_c."""
+    for k in range(N_STATE):
+        j = piv[k]
+        if j != k:
+            tmp = br[k]
+            br[k] = br[j]
+            br[j] = tmp
+            tmp = bi[k]
+            bi[k] = bi[j]
+            bi[j] = tmp
+    for i in range(N_STATE):
+        sr = br[i]
+        si = bi[i]
+        for j in range(i):
+            sr -= ar[i, j] * br[j] - ai[i, j] * bi[j]
+            si -= ar[i, j] * bi[j] + ai[i, j] * br[j]
+        br[i] = sr
+        bi[i] = si
+    for i in range(N_STATE - 1, -1, -1):
+        sr = br[i]
+        si = bi[i]
+        for j in range(i + 1, N_STATE):
+            sr -= ar[i, j] * br[j] - ai[i, j] * bi[j]
+            si -= ar[i, j] * bi[j] + ai[i, j] * br[j]
+        d = ar[i, i] * ar[i, i] + ai[i, i] * ai[i, i]
+        br[i] = (sr * ar[i, i] + si * ai[i, i]) / d
+        bi[i] = (si * ar[i, i] - sr * ai[i, i]) / d
+
+
+@njit(cache=True)
+def _factor(h, jac, lu_r, piv_r, lu_cr, lu_ci, piv_c) -> bool:
+    """LU of gamma/h I - J (real) and (alpha + i beta)/h I - J (complex, split storage)."""
+    n = N_STATE
+    fr = _GAMMA / h
+    ar = _ALPHA / h
+    br = _BETA / h
+    for i in range(n):
+        for j in range(n):
+            lu_r[i, j] = -jac[i, j]
+            lu_cr[i, j] = -jac[i, j]
+            lu_ci[i, j] = 0.0
+        lu_r[i, i] += fr
+        lu_cr[i, i] += ar
+        lu_ci[i, i] = br
+    if not _lu_factor_r(lu_r, piv_r):
+        return False
+    return _lu_factor_c(lu_cr, lu_ci, piv_c)
+
+
+@njit(cache=True)
+def _newton(
+    t, y, h, p, scal, z, w, f, work, lu_r, piv_r, lu_cr, lu_ci, piv_c, cbr, cbi, faccon0, fnewt
+):
+    """Simplified Newton iterations for the stage increments Z (initial guess in z).
+
+    Returns
+    -------
+    tuple
+        (converged, n_iter, theta, faccon, h_factor): theta is the observed
+        contraction rate (_THET when one iteration sufficed), h_factor the step
+        reduction to apply when not converged.
+    """
+    n = N_STATE
+    for i in range(n):  # W = (T^-1 x I) Z
+        w[0, i] = _TI00 * z[0, i] + _TI01 * z[1, i] + _TI02 * z[2, i]
+        w[1, i] = _TI10 * z[0, i] + _TI11 * z[1, i] + _TI12 * z[2, i]
+        w[2, i] = _TI20 * z[0, i] + _TI21 * z[1, i] + _TI22 * z[2, i]
+    faccon = max(faccon0, _UROUND) ** 0.8
+    theta = _THET
+    dynold = 1.0
+    thqold = 1.0
+    fr = _GAMMA / h
+    ar = _ALPHA / h
+    br = _BETA / h
+    newt = 0
+    while True:
+        if newt >= _NIT:
+            return False, newt, theta, faccon, 0.5
+        for k in range(3):
+            ck = _C1 if k == 0 else (_C2 if k == 1 else 1.0)
+            for i in range(n):
+                work[i] = y[i] + z[k, i]
+            rhs(t + ck * h, work, p, f[k])
+        newt += 1
+        finite = True
+        for i in range(n):
+            # residual G - (Lambda/h) W in the transformed variables
+            g1 = _TI00 * f[0, i] + _TI01 * f[1, i] + _TI02 * f[2, i]
+            g2 = _TI10 * f[0, i] + _TI11 * f[1, i] + _TI12 * f[2, i]
+            g3 = _TI20 * f[0, i] + _TI21 * f[1, i] + _TI22 * f[2, i]
+            r1 = g1 - fr * w[0, i]
+            r2 = g2 - (ar * w[1, i] - br * w[2, i])
+            r3 = g3 - (br * w[1, i] + ar * w[2, i])
+            if not (r1 == r1 and r2 == r2 and r3 == r3):
+                finite = False
+            work[i] = r1
+            cbr[i] = r2
+            cbi[i] = r3
+        if not finite:
+            return False, newt, theta, faccon, 0.5
+        _lu_solve_r(lu_r, piv_r, work)
+        _lu_solve_c(lu_cr, lu_ci, piv_c, cbr, cbi)
+        dyno = 0.0
+        for i in range(n):
+            d1 = work[i] / scal[i]
+            d2 = cbr[i] / scal[i]
+            d3 = cbi[i] / scal[i]
+            dyno += d1 * d1 + d2 * d2 + d3 * d3
+        dyno = math.sqrt(dyno / (3 * n))
+        if newt > 1 and newt < _NIT:
+            thq = dyno / dynold
+            theta = thq if newt == 2 else math.sqrt(thq * thqold)
+            thqold = thq
+            if theta < 0.99:
+                faccon = theta / (1.0 - theta)
+                # predicted size of the last iterate after _NIT iterations
+                dyth = faccon * dyno * theta ** (_NIT - 1 - newt) / fnewt
+                if dyth >= 1.0:
+                    qnewt = max(1e-4, min(20.0, dyth))
+                    return False, newt, theta, faccon, 0.8 * qnewt ** (-1.0 / (4 + _NIT - 1 - newt))
+            else:
+                return False, newt, theta, faccon, 0.5
+        dynold = max(dyno, _UROUND)
+        for i in range(n):
+            w[0, i] += work[i]
+            w[1, i] += cbr[i]
+            w[2, i] += cbi[i]
+            z[0, i] = _T00 * w[0, i] + _T01 * w[1, i] + _T02 * w[2, i]
+            z[1, i] = _T10 * w[0, i] + _T11 * w[1, i] + _T12 * w[2, i]
+            z[2, i] = _T20 * w[0, i] + _T21 * w[1, i] + _T22 * w[2, i]
+        if faccon * dyno <= fnewt:
+            return True, newt, theta, faccon, 1.0
+
+
+@njit(cache=True)
+def _cos_nutation(y, p) -> float:
+    """cos(theta) of a state, without the atan2 of nutation_angle_of_state."""
+    if p[P_FORM] == FORM_EULER:
+        return math.cos(y[0])
+    q2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]
+    return 1.0 - 2.0 * (y[1] * y[1] + y[2] * y[2]) / q2
+
+
+@njit(cache=True)
+def _error_norm(e, y, ynew, rtol, atol, scale) -> float:
+    n = N_STATE
+    s = 0.0
+    for i in range(n):
+        sc = atol * scale[i] + rtol * max(abs(y[i]), abs(ynew[i]))
+        q = e[i] / sc
+        s += q * q
+    return math.sqrt(s / n)
+
+
+@njit(cache=True)
+def _dense(y, z, s, out) -> None:
+    """Collocation polynomial of the step (y, z) at t0 + s h, written into out."""
+    l1, l2, l3 = _colloc_weights(s)
+    for i in range(N_STATE):
+        out[i] = y[i] + l1 * z[0, i] + l2 * z[1, i] + l3 * z[2, i]
+
+
+@njit(cache=True)
+def _restep(
+    t,
+    y,
+    h,
+    s,
+    p,
+    scal,
+    jac,
+    zacc,
+    z,
+    w,
+    f,
+    work,
+    lu_r,
+    piv_r,
+    lu_cr,
+    lu_ci,
+    piv_c,
+    cbr,
+    cbi,
+    fnewt,
+    ytry,
+) -> int:
+    """Re-solve the step from (t, y) with length s h (event location); result in ytry.
+
+    The stage guess comes from the accepted step's collocation polynomial
+    (zacc); if Newton does not converge the polynomial value itself is used.
+    Returns the number of right-hand-side evaluations spent.
+    """
+    n = N_STATE
+    hs = s * h
+    for k in range(3):
+        ck = _C1 if k == 0 else (_C2 if k == 1 else 1.0)
+        l1, l2, l3 = _colloc_weights(s * ck)
+        for i in range(n):
+            z[k, i] = l1 * zacc[0, i] + l2 * zacc[1, i] + l3 * zacc[2, i]
+    nfev = 0
+    ok = _factor(hs, jac, lu_r, piv_r, lu_cr, lu_ci, piv_c)
+    if ok:
+        ok, newt, _, _, _ = _newton(
+            t, y, hs, p, scal, z, w, f, work, lu_r, piv_r, lu_cr, lu_ci, piv_c, cbr, cbi, 1.0, fnewt
+        )
+        nfev = 3 * newt
+    if ok:
+        for i in range(n):
+            ytry[i] = y[i] + z[2, i]
+    else:
+        _dense(y, zacc, s, ytry)
+    return nfev
+
+
+@njit(cache=True)
+def _grow(ts, ys, cap):
+    ts2 = np.empty(2 * cap)
+    ys2 = np.empty((2 * cap, ys.shape[1]))
+    ts2[:cap] = ts[:cap]
+    ys2[:cap] = ys[:cap]
+    return ts2, ys2, 2 * cap
+
+
+@njit(cache=True)
+def integrate(
+    y0, p, t_max, rtol, atol, scale, h0, h_max, max_steps, t_eval, record, terminal, event_tol
+):
+    """Integrate from t = 0 until theta = theta_cr (event) or t_max.
+
+    Same interface as :func:`obturator._rosenbrock.integrate`.
+
+    Parameters
+    ----------
+    y0 : ndarray, shape (8,)
+        Initial state.
+    p : ndarray
+        Packed parameters (``p[7]`` = theta_cr [rad]).
+    t_max : float
+        End time [s].
+    rtol, atol : float
+        Tolerances; the error weight of component i is atol * scale[i] + rtol * |y_i|.
+    scale : ndarray, shape (8,)
+        Component scales (1 for angles/quaternions, omega_p0 for rates).
+    h0, h_max : float
+        Initial and largest step [s].
+    max_steps : int
+        Accepted-step limit.
+    t_eval : ndarray
+        Output times [s] (dense output); empty for none.
+    record : bool
+        Store every accepted step when t_eval is empty.
+    terminal : bool
+        Stop at the first theta = theta_cr crossing (downwards).
+    event_tol : float
+        Bracket width at which the event time is accepted [s].
+
+    Returns
+    -------
+    tuple
+        (status, t_event, y_event, ts, ys, nfev, njev, n_steps, n_rejected, t_end, y_end)
+    """
+    n = N_STATE
+    theta_cr = p[7]
+    y = y0.copy()
+    t = 0.0
+    f0 = np.empty(n)
+    ynew = np.empty(n)
+    ytry = np.empty(n)
+    ybest = np.empty(n)
+    work = np.empty(n)
+    fwork = np.empty(n)
+    scal = np.empty(n)
+    err_v = np.empty(n)
+    z = np.zeros((3, n))
+    w = np.zeros((3, n))
+    f = np.empty((3, n))
+    zacc = np.zeros((3, n))  # stage increments of the last accepted step
+    zev = np.zeros((3, n))
+    wev = np.zeros((3, n))
+    jac = np.empty((n, n))
+    lu_r = np.empty((n, n))
+    lu_cr = np.empty((n, n))
+    lu_ci = np.empty((n, n))
+    piv_r = np.empty(n, dtype=np.int64)
+    piv_c = np.empty(n, dtype=np.int64)
+    cbr = np.empty(n)
+    cbi = np.empty(n)
+    n_eval = t_eval.shape[0]
+    use_eval = n_eval > 0
+    cap = n_eval if use_eval else (1024 if record else 1)
+    ts = np.empty(max(cap, 1))
+    ys = np.empty((max(cap, 1), n))
+    n_out = 0
+    i_eval = 0
+    if record and not use_eval:
+        ts[0] = 0.0
+        ys[0, :] = y
+        n_out = 1
+    nfev = 0
+    njev = 0
+    n_steps = 0
+    n_rej = 0
+    status = STATUS_T_MAX
+    t_event = math.nan
+    y_event = np.full(n, math.nan)
+    # RADAU5's tolerance transformation: the embedded estimate is of order 3 while
+    # the solution is of order 5, so the estimate is compared with a looser
+    # tolerance; this keeps the achieved accuracy roughly proportional to rtol.
+    quot_tol = atol / rtol
+    rtol = 0.1 * rtol ** (2.0 / 3.0)
+    atol = rtol * quot_tol
+    # Newton stopping tolerance relative to the error weights (RADAU5's FNEWT)
+    fnewt = max(10.0 * _UROUND / rtol, min(0.03, math.sqrt(rtol)))
+    rhs(t, y, p, f0)
+    nfev += 1
+    h = min(h0, h_max, t_max)
+    h_lu = math.nan  # step size the LU factors belong to
+    need_jac = True
+    jac_fresh = False
+    have_poly = False
+    h_acc = 0.0  # length of the last accepted step (for the stage predictor)
+    first = True
+    rejected = False
+    faccon = 1.0
+    h_gus = 0.0  # previous accepted step and error (predictive controller)
+    err_gus = 1.0
+    g_old = nutation_angle_of_state(y, p) - theta_cr
+    cos_cr = math.cos(theta_cr)
+    h_lim = math.inf
+    while t < t_max:
+        if n_steps >= max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        if need_jac:
+            _jacobian(t, y, f0, p, scale, jac, work, fwork)
+            nfev += n
+            njev += 1
+            need_jac = False
+            jac_fresh = True
+            h_lu = math.nan
+        if t + 1.01 * h >= t_max:
+            h = t_max - t
+        if h != h_lu:
+            if not _factor(h, jac, lu_r, piv_r, lu_cr, lu_ci, piv_c):
+                n_rej += 1
+                h *= 0.5
+                h_lu = math.nan
+                if h < 1e-14 * max(t, 1e-6):
+                    status = STATUS_FAILED
+                    break
+                continue
+            h_lu = h
+        for i in range(n):
+            scal[i] = atol * scale[i] + rtol * abs(y[i])
+        # stage guess: extrapolate the last collocation polynomial
+        if have_poly:
+            for k in range(3):
+                ck = _C1 if k == 0 else (_C2 if k == 1 else 1.0)
+                l1, l2, l3 = _colloc_weights(1.0 + ck * h / h_acc)
+                for i in range(n):
+                    z[k, i] = l1 * zacc[0, i] + l2 * zacc[1, i] + l3 * zacc[2, i] - zacc[2, i]
+        else:
+            z[:, :] = 0.0
+        ok, newt, theta, faccon, hfac = _newton(
+            t,
+            y,
+            h,
+            p,
+            scal,
+            z,
+            w,
+            f,
+            work,
+            lu_r,
+            piv_r,
+            lu_cr,
+            lu_ci,
+            piv_c,
+            cbr,
+            cbi,
+            faccon,
+            fnewt,
+        )
+        nfev += 3 * newt
+        if not ok:
+            # Newton failed: shorter step, and a Jacobian at this point if it was stale
+            h_lim = min(h_lim, h * _LIM_SHRINK)
+            n_rej += 1
+            rejected = True
+            h *= hfac
+            if not jac_fresh:
+                need_jac = True
+            if h < 1e-14 * max(t, 1e-6):
+                status = STATUS_FAILED
+                break
+            continue
+        # embedded error estimate (H&W IV.8): (gamma/h - J)^-1 (f0 + sum e_k Z_k / h)
+        for i in range(n):
+            ynew[i] = y[i] + z[2, i]
+            err_v[i] = f0[i] + (_E1 * z[0, i] + _E2 * z[1, i] + _E3 * z[2, i]) / h
+        for i in range(n):
+            work[i] = err_v[i]
+        _lu_solve_r(lu_r, piv_r, work)
+        err = _error_norm(work, y, ynew, rtol, atol, scale)
+        if err >= 1.0 and (first or rejected):
+            # the estimate is unreliable for very stiff components: filter once more
+            for i in range(n):
+                ytry[i] = y[i] + work[i]
+            rhs(t, ytry, p, fwork)
+            nfev += 1
+            for i in range(n):
+                work[i] = fwork[i] + err_v[i] - f0[i]
+            _lu_solve_r(lu_r, piv_r, work)
+            err = _error_norm(work, y, ynew, rtol, atol, scale)
+        if not (err == err):
+            err = 1e10
+        fac = min(_SAFE, (2 * _NIT + 1.0) / (2 * _NIT + newt))
+        quot = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, math.sqrt(math.sqrt(err)) / fac))
+        h_new = h / quot
+        if err >= 1.0:
+            n_rej += 1
+            rejected = True
+            h = h * 0.1 if first else h_new
+            if not jac_fresh:
+                need_jac = True
+            if h < 1e-14 * max(t, 1e-6):
+                status = STATUS_FAILED
+                break
+            continue
+        # ---- accepted ----
+        if not first:  # Gustafsson's predictive controller (H&W IV.8, Eq. 8.21)
+            facgus = (h_gus / h) * math.sqrt(math.sqrt(err * err / err_gus)) / fac
+            facgus = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, facgus))
+            quot = max(quot, facgus)
+            h_new = h / quot
+        h_gus = h
+        err_gus = max(1e-2, err)
+        t_new = t + h
+        t_stop = t_new
+        g_new = nutation_angle_of_state(ynew, p) - theta_cr
+        if g_old > 0.0 and t_event != t_event:
+            # first node (c1, c2, 1) at which the collocation solution is past theta_cr
+            s_hi = 0.0
+            g_hi = 0.0
+            for k in range(2):
+                for i in range(n):
+                    ytry[i] = y[i] + z[k, i]
+                if _cos_nutation(ytry, p) >= cos_cr:  # cheap pre-test, then the angle
+                    gk = nutation_angle_of_state(ytry, p) - theta_cr
+                    if gk <= 0.0:
+                        s_hi = _C1 if k == 0 else _C2
+                        g_hi = gk
+                        break
+            if s_hi == 0.0 and g_new <= 0.0:
+                s_hi = 1.0
+                g_hi = g_new
+                for i in range(n):
+                    ytry[i] = ynew[i]
+            if s_hi > 0.0:
+                # Illinois false position on g(s) = theta(step(y, s h)) - theta_cr
+                for k in range(3):
+                    for i in range(n):
+                        zacc[k, i] = z[k, i]
+                for i in range(n):
+                    ybest[i] = ytry[i]
+                s_lo = 0.0
+                g_lo = g_old
+                side = 0
+                for _ in range(200):
+                    if (s_hi - s_lo) * h <= event_tol:
+                        break
+                    s = (s_lo * g_hi - s_hi * g_lo) / (g_hi - g_lo)
+                    if not (s_lo < s < s_hi):
+                        s = 0.5 * (s_lo + s_hi)
+                    nfev += _restep(
+                        t,
+                        y,
+                        h,
+                        s,
+                        p,
+                        scal,
+                        jac,
+                        zacc,
+                        zev,
+                        wev,
+                        f,
+                        work,
+                        lu_r,
+                        piv_r,
+                        lu_cr,
+                        lu_ci,
+                        piv_c,
+                        cbr,
+                        cbi,
+                        fnewt,
+                        ytry,
+                    )
+                    g = nutation_angle_of_state(ytry, p) - theta_cr
+                    if g > 0.0:
+                        s_lo, g_lo = s, g
+                        if side == -1:
+                            g_hi *= 0.5
+                        side = -1
+                    else:
+                        s_hi, g_hi = s, g
+                        for i in range(n):
+                            ybest[i] = ytry[i]
+                        if side == 1:
+                            g_lo *= 0.5
+                        side = 1
+                h_lu = math.nan  # the LU now belongs to a trial step
+                t_event = t + s_hi * h
+                for i in range(n):
+                    y_event[i] = ybest[i]
+                if terminal:
+                    status = STATUS_OPENED
+                    t_stop = t_event
+        # dense output on t_eval inside (t, t_stop]
+        if use_eval:
+            while i_eval < n_eval and t_eval[i_eval] <= t_stop:
+                _dense(y, z, (t_eval[i_eval] - t) / h, ytry)
+                ts[n_out] = t_eval[i_eval]
+                ys[n_out, :] = ytry
+                n_out += 1
+                i_eval += 1
+        if status == STATUS_OPENED:
+            if record and not use_eval:
+                if n_out >= cap:
+                    ts, ys, cap = _grow(ts, ys, cap)
+                ts[n_out] = t_event
+                ys[n_out, :] = y_event
+                n_out += 1
+            y[:] = y_event
+            t = t_event
+            break
+        g_old = g_new
+        for k in range(3):
+            for i in range(n):
+                zacc[k, i] = z[k, i]
+        h_acc = h
+        have_poly = True
+        t = t_new
+        for i in range(n):
+            y[i] = ynew[i]
+        rhs(t, y, p, f0)
+        nfev += 1
+        n_steps += 1
+        if record and not use_eval:
+            if n_out >= cap:
+                ts, ys, cap = _grow(ts, ys, cap)
+            ts[n_out] = t
+            ys[n_out, :] = y
+            n_out += 1
+        if not (y[0] == y[0]):
+            status = STATUS_FAILED
+            break
+        h_new = min(h_new, h_lim, h_max)
+        h_lim *= _LIM_GROW
+        if rejected:
+            h_new = min(h_new, h)  # no growth right after a rejection
+        first = False
+        rejected = False
+        jac_fresh = False
+        qt = h_new / h
+        if theta <= _THET and _QUOT1 <= qt <= _QUOT2:
+            pass  # keep h, the Jacobian and the LU factors
+        else:
+            h = h_new
+            if theta > _THET:
+                need_jac = True
+    return (status, t_event, y_event, ts[:n_out], ys[:n_out], nfev, njev, n_steps, n_rej, t, y)
