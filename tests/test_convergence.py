@@ -72,3 +72,18 @@ def test_flight_opens_well_inside_0p1_s_but_viscous_alone_does_not():
     res = simulate(couette_case(1.0), terminal=True)
     assert res.status == 0 and not res.opened
     assert np.min(res.theta) > math.radians(80.0)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [BASE, BASE.tighter(10.0), SolverOptions(friction_width=BASE.friction_width / 10.0)],
+    ids=["default", "tighter", "narrower"],
+)
+def test_rig_150_sticks_and_never_opens(options):
+    # At 150 rad/s and mu_s = 0.5473 the sliding friction can supply the torque
+    # (C - A) omega_p^2 sin(theta) cos(theta) needed to keep the ball co-rotating for
+    # most of each turn, so theta barely moves: a converged "does not open".
+    case = rig_case(150.0, 0.5473, t_max=10.0)
+    res = simulate(case, options, t_eval=np.linspace(0.0, 10.0, 101))
+    assert res.status == 0 and not res.opened
+    assert np.min(res.theta) > math.radians(86.0)
