@@ -11,6 +11,7 @@ import pytest
 from obturator import calibration as cal
 from obturator.errors import InputError
 from obturator.experiment import SpinRigData, printed_thesis_sums
+from obturator.solve import SolverOptions
 
 PRINTED = printed_thesis_sums()
 # cheap bootstrap settings: the tests are about plumbing and recovery
@@ -137,6 +138,15 @@ def test_exact_fit_thesis_data():
     assert len(d["runs"]) == 28 and "bootstrap" in d
     text = fit.report()
     assert "mu_s" in text and "95% CI" in text and "Bootstrap" in text
+
+
+def test_exact_fit_converged_in_tolerance_and_width():
+    base = cal.fit_exact(bootstrap=0)
+    tight = cal.fit_exact(
+        bootstrap=0, options=SolverOptions(rtol=1e-10, atol=1e-12, friction_width=1e-7)
+    )
+    # measured 6e-6; the stderr is 0.013
+    assert abs(tight.mu_s - base.mu_s) < 5e-5
 
 
 # ---------------------------------------------------------------------------

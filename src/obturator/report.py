@@ -18,7 +18,7 @@ import platform
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
@@ -226,11 +226,22 @@ def _tasks(quick: bool, options: SolverOptions | None) -> list[tuple[str, str, C
         ),
         ("fit", "exact-model calibration", lambda: cal.fit_exact(options=options, **s["fit"])),
         (
+            "fit_converged",
+            "calibration, tighter solver",
+            lambda: cal.fit_exact(options=_tighter(options), bootstrap=0).mu_s,
+        ),
+        (
             "exact_vs_eq92",
             "exact vs Eq. 92 at 500, 700 rad/s",
             lambda: _exact_vs_eq92((500.0, 700.0), options),
         ),
     ]
+
+
+def _tighter(options: SolverOptions | None) -> SolverOptions:
+    """rtol, atol / 100 and friction width / 10: the convergence check of the fit."""
+    o = (options or SolverOptions()).tighter(100.0)
+    return replace(o, friction_width=o.friction_width / 10.0)
 
 
 def _exact_vs_eq92(spins: tuple[float, ...], options: SolverOptions | None) -> dict[float, tuple]:
@@ -539,6 +550,16 @@ def checkable_rows(res: dict[str, Any]) -> list[Row]:
             "large-spin line, which runs ~3.5 % below the exact t_cr",
         ),
     ]
+    rows.append(
+        Row(
+            "mu_s fit change, rtol/100 and width/10",
+            None,
+            res["fit_converged"] - fit.mu_s,
+            "1",
+            "—",
+            "convergence of the exact-model fit (SPEC section 4)",
+        )
+    )
     for w, (ex, ap) in res["exact_vs_eq92"].items():
         rows.append(
             Row(
