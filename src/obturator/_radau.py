@@ -165,7 +165,11 @@ def _colloc_weights(s: float) -> tuple[float, float, float]:
 # every step.
 @njit(cache=True)
 def _lu_factor_r(m, piv) -> bool:
-    """In-place LU with partial pivoting of the real N_STATE x N_STATE matrix m."""
+    """In-place LU with partial pivoting of the real N_STATE x N_STATE matrix m.
+
+    The diagonal of U is stored as its reciprocal, so the solve multiplies
+    (a division per row would lengthen the solve's dependency chain).
+    """
     for k in range(N_STATE):
         imax = k
         vmax = abs(m[k, k])
@@ -182,6 +186,7 @@ def _lu_factor_r(m, piv) -> bool:
                 m[k, j] = m[imax, j]
                 m[imax, j] = tmp
         inv = 1.0 / m[k, k]
+        m[k, k] = inv
         for i in range(k + 1, N_STATE):
             f = m[i, k] * inv
             m[i, k] = f
@@ -208,14 +213,15 @@ def _lu_solve_r(lu, piv, b) -> None:
         s = b[i]
         for j in range(i + 1, N_STATE):
             s -= lu[i, j] * b[j]
-        b[i] = s / lu[i, i]
+        b[i] = s * lu[i, i]  # reciprocal pivot
 
 
 @njit(cache=True)
 def _lu_factor_c(ar, ai, piv) -> bool:
     """In-place LU with partial pivoting of the complex matrix ar + i ai.
 
-    Split real/imaginary storage and a |re| + |im| pivot measure (no hypot).
+    Split real/imaginary storage, a |re| + |im| pivot measure (no hypot), and
+    the reciprocal of each pivot stored on the diagonal (see _lu_factor_r).
     """
     for k in range(N_STATE):
         imax = k
@@ -239,6 +245,8 @@ def _lu_factor_c(ar, ai, piv) -> bool:
         d = ar[k, k] * ar[k, k] + ai[k, k] * ai[k, k]
         ir = ar[k, k] / d
         ii = -ai[k, k] / d
+        ar[k, k] = ir
+        ai[k, k] = ii
         for i in range(k + 1, N_STATE):
             fr = ar[i, k] * ir - ai[i, k] * ii
             fi = ar[i, k] * ii + ai[i, k] * ir
@@ -276,9 +284,8 @@ def _lu_solve_c(ar, ai, piv, br, bi) -> None:
         for j in range(i + 1, N_STATE):
             sr -= ar[i, j] * br[j] - ai[i, j] * bi[j]
             si -= ar[i, j] * bi[j] + ai[i, j] * br[j]
-        d = ar[i, i] * ar[i, i] + ai[i, i] * ai[i, i]
-        br[i] = (sr * ar[i, i] + si * ai[i, i]) / d
-        bi[i] = (si * ar[i, i] - sr * ai[i, i]) / d
+        br[i] = sr * ar[i, i] - si * ai[i, i]  # times the reciprocal pivot
+        bi[i] = sr * ai[i, i] + si * ar[i, i]
 
 
 @njit(cache=True)

@@ -1,0 +1,15 @@
+"""Performance benchmarks of :mod:`obturator` against a plain-Python baseline.
+
+Run from the repository root::
+
+    python -m benchmarks                 # full run (about 10 minutes)
+    python -m benchmarks --quick         # small sweep, for CI smoke runs
+    python -m benchmarks --big           # adds a 10,000-point rig sweep
+    python -m benchmarks --json out.json
+
+Every number is measured in the same run, against a baseline measured in that
+run: ``scipy.integrate.solve_ivp(method="LSODA", rtol=1e-6, atol=1e-9)`` on
+the plain NumPy right-hand side of :mod:`benchmarks.baseline` (same model,
+torques, regularisation and parameters as the package). Nothing asserts on
+timings; the benchmark reports.
+"""
