@@ -2,9 +2,9 @@
 
 Run from the repository root::
 
-    python -m benchmarks                 # full run (about 10 minutes)
+    python -m benchmarks                 # full run (about 6 minutes; the baseline sweep dominates)
     python -m benchmarks --quick         # small sweep, for CI smoke runs
-    python -m benchmarks --big           # adds a 10,000-point rig sweep
+    python -m benchmarks --big           # adds a 10,000-point rig sweep (about 2 minutes)
     python -m benchmarks --json out.json
 
 Every number is measured in the same run, against a baseline measured in that
