@@ -60,6 +60,7 @@ from ._rosenbrock import (
     STATUS_OPENED,
     STATUS_T_MAX,
     _jacobian,
+    append_row,
 )
 from .dynamics import FORM_EULER, N_STATE, P_FORM, nutation_angle_of_state, rhs
 
@@ -474,15 +475,6 @@ def _restep(
 
 
 @njit(cache=True)
-def _grow(ts, ys, cap):
-    ts2 = np.empty(2 * cap)
-    ys2 = np.empty((2 * cap, ys.shape[1]))
-    ts2[:cap] = ts[:cap]
-    ys2[:cap] = ys[:cap]
-    return ts2, ys2, 2 * cap
-
-
-@njit(cache=True)
 def integrate(
     y0, p, t_max, rtol, atol, scale, h0, h_max, max_steps, t_eval, record, terminal, event_tol
 ):
@@ -786,11 +778,7 @@ def integrate(
                 i_eval += 1
         if status == STATUS_OPENED:
             if record and not use_eval:
-                if n_out >= cap:
-                    ts, ys, cap = _grow(ts, ys, cap)
-                ts[n_out] = t_event
-                ys[n_out, :] = y_event
-                n_out += 1
+                ts, ys, n_out = append_row(ts, ys, n_out, t_event, y_event)
             y[:] = y_event
             t = t_event
             break
@@ -807,11 +795,7 @@ def integrate(
         nfev += 1
         n_steps += 1
         if record and not use_eval:
-            if n_out >= cap:
-                ts, ys, cap = _grow(ts, ys, cap)
-            ts[n_out] = t
-            ys[n_out, :] = y
-            n_out += 1
+            ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         if not (y[0] == y[0]):
             status = STATUS_FAILED
             break

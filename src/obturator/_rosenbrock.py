@@ -77,6 +77,22 @@ def _lu_solve(lu: np.ndarray, piv: np.ndarray, b: np.ndarray) -> None:
 
 
 @njit(cache=True)
+def append_row(ts, ys, n_out, t, y):
+    """Store (t, y) as row `n_out`, doubling the buffers when full; return them and n_out + 1."""
+    if n_out >= ts.shape[0]:
+        cap = 2 * ts.shape[0]
+        ts2 = np.empty(cap)
+        ys2 = np.empty((cap, ys.shape[1]))
+        ts2[:n_out] = ts[:n_out]
+        ys2[:n_out] = ys[:n_out]
+        ts = ts2
+        ys = ys2
+    ts[n_out] = t
+    ys[n_out, :] = y
+    return ts, ys, n_out + 1
+
+
+@njit(cache=True)
 def _jacobian(t, y, f0, p, scale, jac, work, fwork) -> None:
     # Forward differences. Near sticking the friction torque varies on the
     # scale of the regularisation width delta, so increments on the rate-like
@@ -259,17 +275,7 @@ def integrate(
             if terminal:
                 status = STATUS_OPENED
                 if record and not use_eval:
-                    if n_out >= cap:
-                        cap *= 2
-                        ts2 = np.empty(cap)
-                        ys2 = np.empty((cap, n))
-                        ts2[:n_out] = ts[:n_out]
-                        ys2[:n_out] = ys[:n_out]
-                        ts = ts2
-                        ys = ys2
-                    ts[n_out] = t_event
-                    ys[n_out, :] = y_event
-                    n_out += 1
+                    ts, ys, n_out = append_row(ts, ys, n_out, t_event, y_event)
                 y[:] = y_event
                 t = t_event
                 break
@@ -284,17 +290,7 @@ def integrate(
         jac_fresh = False
         n_steps += 1
         if record and not use_eval:
-            if n_out >= cap:
-                cap *= 2
-                ts2 = np.empty(cap)
-                ys2 = np.empty((cap, n))
-                ts2[:n_out] = ts[:n_out]
-                ys2[:n_out] = ys[:n_out]
-                ts = ts2
-                ys = ys2
-            ts[n_out] = t
-            ys[n_out, :] = y
-            n_out += 1
+            ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         h = min(h * min(5.0, max(0.2, 0.9 * err ** (-1.0 / 3.0))) if err > 0 else 5.0 * h, h_max)
         if not (y[0] == y[0]):
             status = STATUS_FAILED

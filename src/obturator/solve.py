@@ -9,7 +9,10 @@ Numerics (SPEC section 4): at release the ball co-rotates, omega_r = 0, and the
 Coulomb direction is 0/0; near sticking the friction torque is extremely stiff.
 The friction law is regularised with a width delta [rad/s] (see
 :func:`obturator.dynamics.applied_torque`) and integrated with a compiled
-L-stable Rosenbrock method; the event is located by re-stepping to 1e-12 s.
+fifth-order Radau IIA method (default; its Newton iterations cope with the
+strongly nonlinear stiffness of sticking, where a linearly implicit method needs
+steps of ~1e-7 s) or an L-stable Rosenbrock pair; the event is located by
+re-stepping to 1e-12 s.
 Tests show t_cr moves by less than 1e-3 relative when delta shrinks tenfold and
 when the tolerances tighten tenfold.
 """
