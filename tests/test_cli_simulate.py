@@ -135,3 +135,20 @@ def test_console_script_subprocess():
     assert bad.returncode == 2
     assert bad.stderr.strip().splitlines() == [bad.stderr.strip()]
     assert "Traceback" not in bad.stderr
+
+
+def test_json_reports_a_passing_convergence_check(capsys):
+    out = run_json(capsys, "--spin-rate", "300", "--mu-s", "0.5473")
+    conv = out["convergence"]
+    assert conv["converged"] is True
+    assert conv["tolerance_rel_change"] < 1e-3 and conv["width_rel_change"] < 1e-3
+    assert conv["t_cr_narrower_width_s"] == pytest.approx(out["t_cr_s"], rel=1e-3)
+
+
+def test_unconverged_case_near_sticking_boundary_is_flagged(capsys):
+    # Just above the spin where friction holds the ball (about 196.5 rad/s at mu_s = 0.5473)
+    # t_cr depends on the regularisation width: the CLI must say so, not hide it.
+    assert main(["simulate", "--spin-rate", "199", "--mu-s", "0.5473", "--json"]) == 0
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["convergence"]["converged"] is False
+    assert "warning: t_cr is not converged" in captured.err

@@ -5,12 +5,20 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from typing import Any
 
 from .cases import CASE_NAMES, TORQUE_MODELS, flight_case, rig_case, table1_ball
 from .errors import InputError
 from .io import load_config, parse_quantity
-from .solve import Case, NutationResult, SolverOptions, simulate
+from .solve import (
+    Case,
+    ConvergenceCheck,
+    NutationResult,
+    SolverOptions,
+    convergence_check,
+    simulate,
+)
 
 __all__ = ["register", "case_from_settings", "options_from_settings"]
 
@@ -48,6 +56,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--formulation", choices=("quaternion", "euler"), default=None)
     p.add_argument("--t-max", metavar="S", help="give up after this time [s]")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument(
+        "--no-check",
+        action="store_true",
+        help="skip the convergence check (rerun with tolerances and friction width / 10)",
+    )
     p.add_argument("--plot", metavar="FILE.png", help="write theta(t) as a figure")
     p.add_argument("--csv", metavar="FILE.csv", help="write the time series as CSV")
     p.set_defaults(func=_run)
@@ -129,7 +142,7 @@ def options_from_settings(s: dict[str, Any]) -> SolverOptions:
     return SolverOptions(**kw)
 
 
-def _print_table(res: NutationResult) -> None:
+def _print_table(res: NutationResult, check: ConvergenceCheck | None) -> None:
     s = res.summary()
     t_cr = res.opening_time
     rows = [
@@ -139,10 +152,20 @@ def _print_table(res: NutationResult) -> None:
         ("mu_s", f"{s['mu_s']}", "-"),
         ("theta_0", f"{s['theta0_deg']:.6g}", "deg"),
         ("theta_cr = beta_s", f"{s['theta_cr_deg']:.6g}", "deg"),
-        ("opening time t_cr", f"{t_cr:.6g}" if res.opened else "not opened", "s"),
+        ("opening time t_cr", f"{t_cr:.6g} s" if res.opened else "not opened by t_max", ""),
         ("status", f"{res.status}: {res.message}", ""),
         ("steps / RHS evaluations", f"{res.n_steps} / {res.nfev}", ""),
     ]
+    if check is not None:
+        verdict = "converged" if check.converged else "NOT converged"
+        rows.append(
+            (
+                "convergence (tol, width / 10)",
+                f"{verdict}: relative change {check.tolerance_change:.1e}, "
+                f"{check.width_change:.1e}",
+                "",
+            )
+        )
     width = max(len(r[0]) for r in rows)
     for label, value, unit in rows:
         print(f"{label:<{width}}  {value} {unit}".rstrip())
@@ -190,8 +213,21 @@ def _run(args: argparse.Namespace) -> int:
         res.to_csv(args.csv)
     if args.plot:
         _plot(res, args.plot)
+    check = (
+        None if args.no_check else convergence_check(case, options, opening_time_s=res.opening_time)
+    )
     if args.json:
-        print(json.dumps(res.summary()))
+        out = res.summary()
+        if check is not None:
+            out["convergence"] = check.to_dict()
+        print(json.dumps(out))
     else:
-        _print_table(res)
+        _print_table(res, check)
+    if check is not None and not check.converged:
+        print(
+            "obturator: warning: t_cr is not converged (it changes by more than "
+            f"{check.threshold:g} when tolerances or the friction width shrink tenfold); "
+            "the case is probably near the sticking boundary",
+            file=sys.stderr,
+        )
     return 0

@@ -49,6 +49,8 @@ __all__ = [
     "NutationResult",
     "simulate",
     "opening_time",
+    "convergence_check",
+    "ConvergenceCheck",
     "initial_state",
     "pack_parameters",
     "TABLE1_PROJECTILE_INERTIA",
@@ -542,3 +544,101 @@ def opening_time(case: Case, options: SolverOptions | None = None) -> float:
     if status in (ros.STATUS_FAILED, ros.STATUS_MAX_STEPS):
         raise RuntimeError(f"{case.name or 'case'}: {_STATUS_MESSAGES[status]}")
     return float(out[1])
+
+
+@dataclass(frozen=True)
+class ConvergenceCheck:
+    """t_cr re-computed with tighter tolerances and a narrower friction width.
+
+    Attributes
+    ----------
+    opening_time : float
+        t_cr with the given options [s] (NaN if it did not open).
+    tighter_tolerance : float
+        t_cr with rtol and atol divided by `factor` [s].
+    narrower_width : float
+        t_cr with ``friction_width`` divided by `factor` [s].
+    factor : float
+        Refinement factor (10 by default).
+    threshold : float
+        Largest relative change accepted as converged.
+    """
+
+    opening_time: float
+    tighter_tolerance: float
+    narrower_width: float
+    factor: float
+    threshold: float
+
+    @staticmethod
+    def _rel(a: float, b: float) -> float:
+        if math.isnan(a) and math.isnan(b):
+            return 0.0  # both "did not open by t_max"
+        if math.isnan(a) or math.isnan(b):
+            return math.inf
+        return abs(b - a) / abs(a)
+
+    @property
+    def tolerance_change(self) -> float:
+        """|t_tight - t| / t [-] (0 when neither run opened, inf when only one did)."""
+        return self._rel(self.opening_time, self.tighter_tolerance)
+
+    @property
+    def width_change(self) -> float:
+        """|t_narrow - t| / t [-]."""
+        return self._rel(self.opening_time, self.narrower_width)
+
+    @property
+    def converged(self) -> bool:
+        """Both changes below the threshold."""
+        return max(self.tolerance_change, self.width_change) < self.threshold
+
+    def to_dict(self) -> dict[str, object]:
+        """JSON-ready summary (None for NaN/inf)."""
+
+        def clean(x: float) -> float | None:
+            return x if math.isfinite(x) else None
+
+        return {
+            "converged": self.converged,
+            "tolerance_rel_change": clean(self.tolerance_change),
+            "width_rel_change": clean(self.width_change),
+            "t_cr_tighter_tolerance_s": clean(self.tighter_tolerance),
+            "t_cr_narrower_width_s": clean(self.narrower_width),
+            "factor": self.factor,
+            "threshold": self.threshold,
+        }
+
+
+def convergence_check(
+    case: Case,
+    options: SolverOptions | None = None,
+    *,
+    factor: float = 10.0,
+    threshold: float = 1e-3,
+    opening_time_s: float | None = None,
+) -> ConvergenceCheck:
+    """Recompute t_cr with tolerances and friction width refined by `factor`.
+
+    Near the boundary where friction holds the ball co-rotating (e.g. the
+    thesis rig just below 200 rad/s at mu_s = 0.5473) t_cr depends on the
+    regularisation width; this check says so instead of reporting a number
+    that is not converged.
+
+    Parameters
+    ----------
+    case : Case
+    options : SolverOptions, optional
+        The options whose result is being checked.
+    factor : float
+        Refinement factor for (rtol, atol) and for ``friction_width``.
+    threshold : float
+        Relative change below which t_cr counts as converged.
+    opening_time_s : float, optional
+        t_cr already computed with `options` [s] (saves one run).
+    """
+    options = options or SolverOptions()
+    t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
+    t1 = opening_time(case, options.tighter(factor))
+    t2 = opening_time(case, replace(options, friction_width=options.friction_width / factor))
+    return ConvergenceCheck(t0, t1, t2, factor, threshold)
