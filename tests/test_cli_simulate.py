@@ -94,7 +94,10 @@ def test_bad_input_is_one_readable_line(args, fragment, capsys):
 @pytest.mark.parametrize(
     ("text", "fragment"),
     [
-        ('[ball]\ndensity = "-7800 kg/m^3"\n', "density: -7800 kg/m^3 is outside the allowed range"),
+        (
+            '[ball]\ndensity = "-7800 kg/m^3"\n',
+            "density: -7800 kg/m^3 is outside the allowed range",
+        ),
         ('[ball]\nhole_radius = "6 mm"\n', "hole_radius: 0.006 m is outside the allowed range"),
         ('[ball]\nradius = "7.9 kg"\n', "ball.radius: '7.9 kg' cannot be converted to m"),
         ("spin_rate = \n", "malformed TOML"),
@@ -125,12 +128,15 @@ def test_parse_quantity_rpm():
 def test_console_script_subprocess():
     out = subprocess.run(
         [sys.executable, "-m", "obturator", "simulate", "--spin-rate", "450", "--json"],
-        capture_output=True, text=True, check=True,
+        capture_output=True,
+        text=True,
+        check=True,
     )
     assert json.loads(out.stdout)["status"] == 1
     bad = subprocess.run(
         [sys.executable, "-m", "obturator", "simulate", "--mu-s", "-1"],
-        capture_output=True, text=True,
+        capture_output=True,
+        text=True,
     )
     assert bad.returncode == 2
     assert bad.stderr.strip().splitlines() == [bad.stderr.strip()]

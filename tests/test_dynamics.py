@@ -43,8 +43,9 @@ def test_torque_free_body_rates_match_closed_form(rtol):
     # Released co-rotating: w = omega_p (0, sin th0, cos th0) (Eq. 36 with phi = 0).
     spin = 300.0
     t = np.linspace(0.0, 0.1, 201)
-    res = simulate(torque_free(spin), SolverOptions(rtol=rtol, atol=rtol * 1e-2), t_eval=t,
-                   terminal=False)
+    res = simulate(
+        torque_free(spin), SolverOptions(rtol=rtol, atol=rtol * 1e-2), t_eval=t, terminal=False
+    )
     w3 = spin * math.cos(THETA0)
     wt = spin * math.sin(THETA0)
     om = LAM * w3
@@ -56,8 +57,9 @@ def test_torque_free_body_rates_match_closed_form(rtol):
 
 
 def test_torque_free_conserves_energy_and_angular_momentum():
-    res = simulate(torque_free(12042.0, t_max=0.01), SolverOptions(rtol=1e-9, atol=1e-11),
-                   terminal=False)
+    res = simulate(
+        torque_free(12042.0, t_max=0.01), SolverOptions(rtol=1e-9, atol=1e-11), terminal=False
+    )
     e = res.kinetic_energy
     assert np.max(np.abs(e - e[0])) / e[0] < 1e-7
     h = inertial_momentum(res)
@@ -88,10 +90,26 @@ def test_euler_angle_rhs_matches_quaternion_rhs_pointwise():
     for _ in range(20):
         th, ps, ph = rng.uniform(0.2, 1.5), rng.uniform(-3, 3), rng.uniform(-3, 3)
         thd, psd, phd = rng.normal(0, 50, 3) + (0, 300, 0)
-        ye = initial_state(th, 300.0, formulation="euler", psi_dot=psd, phi_dot=phd,
-                           theta_dot=thd, psi0=ps, phi0=ph)
-        yq = initial_state(th, 300.0, formulation="quaternion", psi_dot=psd, phi_dot=phd,
-                           theta_dot=thd, psi0=ps, phi0=ph)
+        ye = initial_state(
+            th,
+            300.0,
+            formulation="euler",
+            psi_dot=psd,
+            phi_dot=phd,
+            theta_dot=thd,
+            psi0=ps,
+            phi0=ph,
+        )
+        yq = initial_state(
+            th,
+            300.0,
+            formulation="quaternion",
+            psi_dot=psd,
+            phi_dot=phd,
+            theta_dot=thd,
+            psi0=ps,
+            phi0=ph,
+        )
         pe = pack_parameters(case, SolverOptions(formulation="euler"), ye)
         pq = pack_parameters(case, SolverOptions(formulation="quaternion"), yq)
         de, dq = np.empty(N_STATE), np.empty(N_STATE)
@@ -100,8 +118,18 @@ def test_euler_angle_rhs_matches_quaternion_rhs_pointwise():
         # body angular acceleration from the Euler form, via the derivative of Eq. (13)
         sth, cth, sph, cph = math.sin(th), math.cos(th), math.sin(ph), math.cos(ph)
         thdd, psdd, phdd = de[1], de[3], de[5]
-        w1d = psdd * sth * sph + psd * (thd * cth * sph + phd * sth * cph) + thdd * cph - thd * phd * sph
-        w2d = psdd * sth * cph + psd * (thd * cth * cph - phd * sth * sph) - thdd * sph - thd * phd * cph
+        w1d = (
+            psdd * sth * sph
+            + psd * (thd * cth * sph + phd * sth * cph)
+            + thdd * cph
+            - thd * phd * sph
+        )
+        w2d = (
+            psdd * sth * cph
+            + psd * (thd * cth * cph - phd * sth * sph)
+            - thdd * sph
+            - thd * phd * cph
+        )
         w3d = phdd + psdd * cth - psd * thd * sth
         np.testing.assert_allclose([w1d, w2d, w3d], dq[4:7], rtol=1e-9, atol=1e-9 * 300**2)
 

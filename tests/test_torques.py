@@ -8,8 +8,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from obturator import (
-    CoulombContactFriction,
     CouetteViscous,
+    CoulombContactFriction,
     InputError,
     NakabayashiViscous,
     ThesisFlightFriction,
@@ -38,7 +38,10 @@ def test_couette_eq34_and_small_gap_limit():
     s34 = 8 / 3 * math.pi * R_S**4 * MU_F / H
     assert CouetteViscous(R_S, H, MU_F).coefficient == pytest.approx(s34, rel=1e-14)
     tiny = 1e-9
-    ratio = NakabayashiViscous(R_S, tiny, MU_F).coefficient / CouetteViscous(R_S, tiny, MU_F).coefficient
+    ratio = (
+        NakabayashiViscous(R_S, tiny, MU_F).coefficient
+        / CouetteViscous(R_S, tiny, MU_F).coefficient
+    )
     assert ratio == pytest.approx(1.0, rel=1e-6)
 
 
@@ -87,7 +90,11 @@ def test_coulomb_single_contact_is_perpendicular_projection():
     np.testing.assert_allclose(torque(TorqueModel(None, f), w), expected, rtol=1e-13)
 
 
-@given(st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=3).filter(lambda v: np.linalg.norm(v) > 1e-3))
+@given(
+    st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=3).filter(
+        lambda v: np.linalg.norm(v) > 1e-3
+    )
+)
 def test_thesis_and_coulomb_rig_dissipate_the_same_power(w):
     # Both laws dissipate mu N |v| (the slip speed at the contact), a consequence of the
     # thesis's arm sqrt(1 - (w_X/w)^2) = |w x X|/|w|. Independent of either implementation.
