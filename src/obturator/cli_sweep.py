@@ -110,6 +110,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         )
     _add_common(p)
     p.add_argument("--out", metavar="FILE.nc", required=True, help="NetCDF output")
+    p.add_argument(
+        "--check-convergence",
+        action="store_true",
+        help="re-run each opened point with tolerances and friction width / 10 and mark "
+        "points whose t_cr moves by more than 1e-3 (status 2; 3x the cost)",
+    )
     p.add_argument("--csv", metavar="FILE.csv", help="also write a CSV table")
     p.add_argument(
         "--no-csv",
@@ -231,6 +237,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         spin_mode=args.spin_mode,
         options=_options(args),
         t_max=_t_max(args),
+        check_convergence=args.check_convergence,
     )
     workers = _integer("--workers", args.workers, 1)
     chunk = _integer("--chunk-size", args.chunk_size, 1)
@@ -290,7 +297,9 @@ def _run_sweep(args: argparse.Namespace) -> int:
     print(
         f"sweep {spec.case}: {summ['n_points']} points ({dims or 'single point'}{resumed}) "
         f"in {run.elapsed_s:.3g} s on {where} ({rate:.3g} points/s); "
-        f"{summ['n_opened']} opened, {summ['n_not_opened']} not opened by t_max, "
+        f"{summ['n_opened'] + summ['n_unconverged']} opened"
+        + (f" ({summ['n_unconverged']} not converged)" if spec.check_convergence else "")
+        + f", {summ['n_not_opened']} not opened by t_max, "
         f"{summ['n_failed'] + summ['n_invalid']} failed; {trange}; wrote {files}"
     )
     return 0

@@ -71,7 +71,7 @@ import numpy as np
 
 from .cases import CASE_NAMES, TABLE1, TORQUE_MODELS, flight_case, rig_case, table1_ball
 from .errors import InputError, check_range
-from .solve import Case, SolverOptions, opening_time
+from .solve import Case, SolverOptions, convergence_check, opening_time
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray
@@ -82,6 +82,7 @@ __all__ = [
     "STATUS_NOT_OPENED",
     "STATUS_FAILED",
     "STATUS_INVALID",
+    "STATUS_UNCONVERGED",
     "SweepSpec",
     "SweepRun",
     "Distribution",
@@ -107,11 +108,15 @@ STATUS_OPENED = 1
 STATUS_NOT_OPENED = 0
 STATUS_FAILED = -1
 STATUS_INVALID = -2
+#: Opened, but t_cr moved by more than 1e-3 (relative) when the tolerances or the
+#: friction width were divided by 10 (only with ``check_convergence=True``).
+STATUS_UNCONVERGED = 2
 _STATUS_FLAGS = {
     STATUS_INVALID: "invalid_input",
     STATUS_FAILED: "solver_failed_or_step_limit",
     STATUS_NOT_OPENED: "not_opened_by_t_max",
     STATUS_OPENED: "opened",
+    STATUS_UNCONVERGED: "opened_not_converged",
 }
 
 
@@ -313,6 +318,11 @@ class SweepSpec:
     options : SolverOptions
     t_max : float or None
         Give-up time [s]; None keeps the factory default (10 s rig, 0.5 s flight).
+    check_convergence : bool
+        Re-run every opened point with the tolerances and the friction width
+        divided by 10 (three times the cost) and mark points whose t_cr moves
+        by more than 1e-3 with status ``STATUS_UNCONVERGED`` (typical just
+        above the spin at which friction holds the ball co-rotating).
 
     Notes
     -----
@@ -338,6 +348,7 @@ class SweepSpec:
     spin_mode: str = "constant"
     options: SolverOptions = field(default_factory=SolverOptions)
     t_max: float | None = None
+    check_convergence: bool = False
 
     def __post_init__(self) -> None:
         if self.case not in CASE_NAMES:
@@ -486,6 +497,7 @@ class SweepSpec:
             "spin_mode": self.spin_mode,
             "options": opts,
             "t_max": self.t_max,
+            "check_convergence": self.check_convergence,
             "obturator_version": _version(),
         }
 
@@ -514,6 +526,9 @@ def _evaluate_point(spec: SweepSpec, values: Mapping[str, float]) -> tuple[float
         return math.nan, STATUS_INVALID
     try:
         t = opening_time(case, spec.options)
+        if spec.check_convergence and math.isfinite(t):
+            if not convergence_check(case, spec.options, opening_time_s=t).converged:
+                return t, STATUS_UNCONVERGED
     except RuntimeError:
         return math.nan, STATUS_FAILED
     return (t, STATUS_OPENED) if math.isfinite(t) else (math.nan, STATUS_NOT_OPENED)
@@ -1086,6 +1101,7 @@ def sweep_summary(ds: xarray.Dataset) -> dict[str, Any]:
     res: dict[str, Any] = {
         "n_points": int(t.size),
         "n_opened": int(np.sum(s == STATUS_OPENED)),
+        "n_unconverged": int(np.sum(s == STATUS_UNCONVERGED)),
         "n_not_opened": int(np.sum(s == STATUS_NOT_OPENED)),
         "n_failed": int(np.sum(s == STATUS_FAILED)),
         "n_invalid": int(np.sum(s == STATUS_INVALID)),
