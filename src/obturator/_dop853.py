@@ -41,7 +41,13 @@ import math
 import numpy as np
 from numba import njit
 
-from ._rosenbrock import STATUS_MAX_STEPS, STATUS_OPENED, STATUS_T_MAX, append_row
+from ._rosenbrock import (
+    STATUS_MAX_STEPS,
+    STATUS_OPENED,
+    STATUS_T_MAX,
+    append_row,
+    output_buffers,
+)
 from .dynamics import N_STATE, nutation_angle_of_state, rhs
 
 __all__ = ["STATUS_STIFF", "STEPS_PER_PERIOD", "STEP_ALLOWANCE", "TOL_FACTOR", "integrate"]
@@ -238,15 +244,8 @@ def integrate(
     work = np.empty(n)
     n_eval = t_eval.shape[0]
     use_eval = n_eval > 0
-    cap = n_eval if use_eval else (1024 if record else 1)
-    ts = np.empty(max(cap, 1))
-    ys = np.empty((max(cap, 1), n))
-    n_out = 0
+    ts, ys, n_out = output_buffers(t_eval, record, y)
     i_eval = 0
-    if record and not use_eval:
-        ts[0] = 0.0
-        ys[0, :] = y
-        n_out = 1
     nfev = 0
     n_steps = 0
     n_rej = 0

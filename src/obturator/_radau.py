@@ -63,6 +63,7 @@ from ._rosenbrock import (
     STATUS_T_MAX,
     _jacobian,
     append_row,
+    output_buffers,
 )
 from .dynamics import FORM_EULER, N_STATE, P_FORM, nutation_angle_of_state, rhs
 
@@ -560,15 +561,8 @@ def integrate(
     cbi = np.empty(n)
     n_eval = t_eval.shape[0]
     use_eval = n_eval > 0
-    cap = n_eval if use_eval else (1024 if record else 1)
-    ts = np.empty(max(cap, 1))
-    ys = np.empty((max(cap, 1), n))
-    n_out = 0
+    ts, ys, n_out = output_buffers(t_eval, record, y)
     i_eval = 0
-    if record and not use_eval:
-        ts[0] = 0.0
-        ys[0, :] = y
-        n_out = 1
     nfev = 0
     njev = 0
     n_steps = 0

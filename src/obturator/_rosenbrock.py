@@ -77,6 +77,21 @@ def _lu_solve(lu: np.ndarray, piv: np.ndarray, b: np.ndarray) -> None:
 
 
 @njit(cache=True)
+def output_buffers(t_eval, record, y0):
+    """Output arrays sized for t_eval (or growing per step), holding y0 first when recording."""
+    n_eval = t_eval.shape[0]
+    cap = max(n_eval if n_eval > 0 else (1024 if record else 1), 1)
+    ts = np.empty(cap)
+    ys = np.empty((cap, y0.shape[0]))
+    n_out = 0
+    if record and n_eval == 0:
+        ts[0] = 0.0
+        ys[0, :] = y0
+        n_out = 1
+    return ts, ys, n_out
+
+
+@njit(cache=True)
 def append_row(ts, ys, n_out, t, y):
     """Store (t, y) as row `n_out`, doubling the buffers when full; return them and n_out + 1."""
     if n_out >= ts.shape[0]:
@@ -182,15 +197,8 @@ def integrate(
     piv = np.empty(n, dtype=np.int64)
     n_eval = t_eval.shape[0]
     use_eval = n_eval > 0
-    cap = n_eval if use_eval else (1024 if record else 1)
-    ts = np.empty(cap)
-    ys = np.empty((cap, n))
-    n_out = 0
+    ts, ys, n_out = output_buffers(t_eval, record, y)
     i_eval = 0
-    if record and not use_eval:
-        ts[0] = 0.0
-        ys[0, :] = y
-        n_out = 1
     nfev = 0
     njev = 0
     n_steps = 0
