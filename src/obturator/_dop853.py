@@ -46,6 +46,8 @@ from ._rosenbrock import (
     STATUS_OPENED,
     STATUS_T_MAX,
     append_row,
+    illinois_trial,
+    illinois_update,
     output_buffers,
 )
 from .dynamics import N_STATE, nutation_angle_of_state, rhs
@@ -309,24 +311,14 @@ def integrate(
             for _ in range(200):
                 if (s_hi - s_lo) * h <= event_tol:
                     break
-                s = (s_lo * g_hi - s_hi * g_lo) / (g_hi - g_lo)
-                if not (s_lo < s < s_hi):
-                    s = 0.5 * (s_lo + s_hi)
+                s = illinois_trial(s_lo, g_lo, s_hi, g_hi)
                 _stages(t, y, s * h, p, k, ytry, work)
                 nfev += 11
                 g = nutation_angle_of_state(ytry, p) - theta_cr
-                if g > 0.0:
-                    s_lo, g_lo = s, g
-                    if side == -1:
-                        g_hi *= 0.5
-                    side = -1
-                else:
-                    s_hi, g_hi = s, g
+                s_lo, g_lo, s_hi, g_hi, side = illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side)
+                if not g > 0.0:  # same branch as illinois_update (NaN included)
                     for i in range(n):
                         y_event[i] = ytry[i]
-                    if side == 1:
-                        g_lo *= 0.5
-                    side = 1
             t_event = t + s_hi * h
             if terminal:
                 status = STATUS_OPENED

@@ -92,6 +92,31 @@ def output_buffers(t_eval, record, y0):
 
 
 @njit(cache=True)
+def illinois_trial(s_lo, g_lo, s_hi, g_hi):
+    """Next trial point of Illinois false position on the bracket [s_lo, s_hi]."""
+    s = (s_lo * g_hi - s_hi * g_lo) / (g_hi - g_lo)
+    if not (s_lo < s < s_hi):
+        s = 0.5 * (s_lo + s_hi)
+    return s
+
+
+@njit(cache=True)
+def illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side):
+    """Shrink the bracket with the trial (s, g); halve the stale end's g (Illinois)."""
+    if g > 0.0:
+        s_lo, g_lo = s, g
+        if side == -1:
+            g_hi *= 0.5
+        side = -1
+    else:
+        s_hi, g_hi = s, g
+        if side == 1:
+            g_lo *= 0.5
+        side = 1
+    return s_lo, g_lo, s_hi, g_hi, side
+
+
+@njit(cache=True)
 def append_row(ts, ys, n_out, t, y):
     """Store (t, y) as row `n_out`, doubling the buffers when full; return them and n_out + 1."""
     if n_out >= ts.shape[0]:
@@ -261,22 +286,11 @@ def integrate(
             for _ in range(200):
                 if (s_hi - s_lo) * h <= event_tol:
                     break
-                s = (s_lo * g_hi - s_hi * g_lo) / (g_hi - g_lo)
-                if not (s_lo < s < s_hi):
-                    s = 0.5 * (s_lo + s_hi)
+                s = illinois_trial(s_lo, g_lo, s_hi, g_hi)
                 _step(t, y, s * h, f0, jac, p, lu, piv, k1, k2, k3, f1, f2, ytry, work)
                 nfev += 2
                 g = nutation_angle_of_state(ytry, p) - theta_cr
-                if g > 0.0:
-                    s_lo, g_lo = s, g
-                    if side == -1:
-                        g_hi *= 0.5
-                    side = -1
-                else:
-                    s_hi, g_hi = s, g
-                    if side == 1:
-                        g_lo *= 0.5
-                    side = 1
+                s_lo, g_lo, s_hi, g_hi, side = illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side)
             _step(t, y, s_hi * h, f0, jac, p, lu, piv, k1, k2, k3, f1, f2, y_event, work)
             nfev += 2
             t_event = t + s_hi * h
