@@ -16,6 +16,7 @@ from .torques import (
     CouetteViscous,
     CoulombContactFriction,
     NakabayashiViscous,
+    hertz_patch_radius,
     ThesisFlightFriction,
     ThesisRigFriction,
     TorqueModel,
@@ -95,7 +96,8 @@ def rig_case(
     ball: BoredBall | None = None,
     gap: float = TABLE1["gap"],
     viscosity: float = TABLE1["viscosity"],
-    t_max: float = 10.0,
+    patch_radius: float | None = None,
+    t_max: float = 100.0,
 ) -> Case:
     """Spin-rig case (Table 1 "gravitational model", thesis Eqs. 56-61, 64).
 
@@ -118,17 +120,27 @@ def rig_case(
         Defaults to :func:`table1_ball`.
     gap, viscosity : float
         Gap h [m] and mu_f [Pa s] of the Nakabayashi viscous torque (Eq. 42).
+    patch_radius : float or None
+        Contact patch radius of the "coulomb" model [m]; None: the Hertz
+        radius of the steel ball in the rig's lucite housing (chapter III,
+        Fig. 22) under W, 0.279 mm for Table 1; 0: a point contact (not well
+        posed: its t_cr does not converge in the width). Ignored by "thesis".
     t_max : float
-        Integration limit [s].
+        Integration limit [s]. Default 100 s: near-stick runs at low spin open
+        late (about 43 s at 40 rad/s, mu_s = 0.5473).
     """
     _check_model(torque_model)
     ball = ball or table1_ball()
     w = ball.weight if weight is None else weight
-    friction = (
-        ThesisRigFriction(mu_s, w, ball.radius)
-        if torque_model == "thesis"
-        else CoulombContactFriction(mu_s, w, ball.radius)
-    )
+    if torque_model == "thesis":
+        friction = ThesisRigFriction(mu_s, w, ball.radius)
+    else:
+        a = (
+            hertz_patch_radius(w, ball.radius, gap, seat_material="lucite")
+            if patch_radius is None
+            else patch_radius
+        )
+        friction = CoulombContactFriction(mu_s, w, ball.radius, patch_radius=a)
     torque = TorqueModel(NakabayashiViscous(ball.radius, gap, viscosity), friction)
     return Case(
         ball,
@@ -158,6 +170,7 @@ def flight_case(
     bore_radius: float = TABLE1["bore_radius"],
     gap: float = TABLE1["gap"],
     viscosity: float = TABLE1["viscosity"],
+    patch_radius: float | None = None,
     t_max: float = 0.5,
 ) -> Case:
     """Flight case (Table 1 "aerodynamic model", thesis Eqs. 43-55, 63).
@@ -171,6 +184,10 @@ def flight_case(
     torque_model : {"thesis", "coulomb"}
         Appendix A's two-point arm, or exact Coulomb friction at ``n_contacts``
         ring points.
+    patch_radius : float or None
+        Contact patch radius of the "coulomb" model [m]; None: the Hertz
+        radius of the steel ball in a steel socket under each contact's load;
+        0: point contacts. Ignored by "thesis".
     """
     _check_model(torque_model)
     from .gasdynamics import flight_pressure_force
@@ -193,7 +210,15 @@ def flight_case(
     if torque_model == "thesis":
         friction = ThesisFlightFriction(mu_s, pressure_force, ball.radius, beta)
     else:
-        friction = CoulombContactFriction(mu_s, pressure_force, ball.radius, beta, n_contacts)
+        point = CoulombContactFriction(mu_s, pressure_force, ball.radius, beta, n_contacts)
+        a = (
+            hertz_patch_radius(point.load_per_contact, ball.radius, gap)
+            if patch_radius is None
+            else patch_radius
+        )
+        friction = CoulombContactFriction(
+            mu_s, pressure_force, ball.radius, beta, n_contacts, patch_radius=a
+        )
     torque = TorqueModel(NakabayashiViscous(ball.radius, gap, viscosity), friction)
     return Case(
         ball,

@@ -12,6 +12,7 @@ from .cases import CASE_NAMES, TORQUE_MODELS, flight_case, rig_case, table1_ball
 from .errors import InputError
 from .io import load_config, parse_quantity
 from .solve import (
+    FRICTION_FAMILIES,
     Case,
     ConvergenceCheck,
     NutationResult,
@@ -51,7 +52,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--friction-width",
         metavar="X",
-        help="Coulomb regularisation width / omega_p (default 1e-6)",
+        help="Coulomb regularisation width / omega_p (default 1e-7)",
+    )
+    p.add_argument(
+        "--friction-family",
+        choices=tuple(FRICTION_FAMILIES),
+        default=None,
+        help="shape of the regularised friction magnitude (default algebraic); "
+        "the convergence check reruns with another family",
+    )
+    p.add_argument(
+        "--patch-radius",
+        metavar="M",
+        help="contact patch radius of --torque-model coulomb [m] "
+        "(default: Hertz radius; 0: point contact)",
     )
     p.add_argument("--formulation", choices=("quaternion", "euler"), default=None)
     p.add_argument("--t-max", metavar="S", help="give up after this time [s]")
@@ -59,7 +73,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--no-check",
         action="store_true",
-        help="skip the convergence check (rerun with tolerances and friction width / 10)",
+        help="skip the convergence check (reruns with tolerances / 10, friction width / 10 "
+        "and another regularisation family)",
     )
     p.add_argument("--plot", metavar="FILE.png", help="write theta(t) as a figure")
     p.add_argument("--csv", metavar="FILE.csv", help="write the time series as CSV")
@@ -76,13 +91,14 @@ def _merge(args: argparse.Namespace) -> dict[str, Any]:
         "altitude_m": ("--altitude-m", "m"),
         "rtol": ("--rtol", ""),
         "friction_width": ("--friction-width", ""),
+        "patch_radius": ("--patch-radius", "m"),
         "t_max": ("--t-max", "s"),
     }
     for key, (flag, unit) in flags.items():
         value = getattr(args, key)
         if value is not None:
             s[key] = parse_quantity(flag, value, unit)
-    for key in ("case", "torque_model", "spin_mode", "formulation"):
+    for key in ("case", "torque_model", "spin_mode", "formulation", "friction_family"):
         if getattr(args, key) is not None:
             s[key] = getattr(args, key)
     return s
@@ -109,6 +125,10 @@ def case_from_settings(s: dict[str, Any]) -> Case:
     for key in ("theta0_deg", "gap", "viscosity", "t_max"):
         if key in s:
             common[key] = s[key]
+    if "patch_radius" in s:
+        if common["torque_model"] != "coulomb":
+            raise InputError("patch_radius", "applies to torque_model 'coulomb' only")
+        common["patch_radius"] = s["patch_radius"]
     for key in ("spin_rate", "mu_s"):
         if key in s:
             common[key] = s[key]
@@ -136,7 +156,8 @@ def case_from_settings(s: dict[str, Any]) -> Case:
 
 def options_from_settings(s: dict[str, Any]) -> SolverOptions:
     """Solver options from merged settings (defaults for anything not given)."""
-    kw = {k: s[k] for k in ("rtol", "atol", "friction_width", "method", "formulation") if k in s}
+    keys = ("rtol", "atol", "friction_width", "friction_family", "method", "formulation")
+    kw = {k: s[k] for k in keys if k in s}
     if "rtol" in kw and "atol" not in kw:
         kw["atol"] = kw["rtol"] * 1e-2
     return SolverOptions(**kw)
@@ -153,6 +174,11 @@ def _print_table(res: NutationResult, check: ConvergenceCheck | None) -> None:
         ("theta_0", f"{s['theta0_deg']:.6g}", "deg"),
         ("theta_cr = beta_s", f"{s['theta_cr_deg']:.6g}", "deg"),
         ("opening time t_cr", f"{t_cr:.6g} s" if res.opened else "not opened by t_max", ""),
+        (
+            "friction regularisation",
+            f"{s['friction_family']}, width {s['friction_width']:g}",
+            "omega_p",
+        ),
         ("status", f"{res.status}: {res.message}", ""),
         ("steps / RHS evaluations", f"{res.n_steps} / {res.nfev}", ""),
     ]
@@ -160,9 +186,9 @@ def _print_table(res: NutationResult, check: ConvergenceCheck | None) -> None:
         verdict = "converged" if check.converged else "NOT converged"
         rows.append(
             (
-                "convergence (tol, width / 10)",
+                f"convergence (tol / 10, width / 10, {check.family})",
                 f"{verdict}: relative change {check.tolerance_change:.1e}, "
-                f"{check.width_change:.1e}",
+                f"{check.width_change:.1e}, {check.family_change:.1e}",
                 "",
             )
         )
@@ -226,8 +252,8 @@ def _run(args: argparse.Namespace) -> int:
     if check is not None and not check.converged:
         print(
             "obturator: warning: t_cr is not converged (it changes by more than "
-            f"{check.threshold:g} when tolerances or the friction width shrink tenfold); "
-            "the case is probably near the sticking boundary",
+            f"{check.threshold:g} when tolerances or the friction width shrink tenfold or "
+            "the regularisation family changes); tighten --rtol and --friction-width",
             file=sys.stderr,
         )
     return 0

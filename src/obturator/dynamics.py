@@ -37,9 +37,13 @@ __all__ = [
     "SPIN_CONSTANT",
     "SPIN_FREE",
     "SPIN_THESIS_ENERGY",
+    "FAMILY_ALGEBRAIC",
+    "FAMILY_TANH",
+    "FAMILY_LINEAR",
     "N_STATE",
     "N_PARAM",
     "applied_torque",
+    "slip_saturation",
     "rhs",
     "nutation_angle_of_state",
     "observables",
@@ -47,13 +51,40 @@ __all__ = [
 
 FORM_QUATERNION, FORM_EULER = 0, 1
 SPIN_CONSTANT, SPIN_FREE, SPIN_THESIS_ENERGY = 0, 1, 2
+FAMILY_ALGEBRAIC, FAMILY_TANH, FAMILY_LINEAR = 0, 1, 2
 N_STATE = 8
 
 # Layout of the parameter vector p (see pack_parameters in obturator.solve).
 P_A, P_C, P_IP, P_SPIN_MODE, P_KE0, P_FORM, P_WIDTH, P_THETA_CR = range(8)
 P_VISC = 8  # code, S, K_turb, omega_transition
-P_FRIC = 12  # code, moment scale, R_s, beta, n_contacts, spare
-N_PARAM = 18
+P_FRIC = 12  # code, moment scale, R_s, beta, n_contacts, pivot arm eps
+P_FAMILY = 18  # regularisation family of the Coulomb magnitude
+N_PARAM = 19
+
+
+@njit(cache=True)
+def slip_saturation(x: float, family: float) -> float:
+    """Regularised magnitude factor s(x) of a Coulomb term, x = |slip| / width [-].
+
+    Every family rises from s(0) = 0 to s -> 1 for x >> 1, so as the width
+    shrinks each converges to the set-valued law's magnitude (1 while slipping,
+    anything in [0, 1] at stick). They differ in shape, which is the point of
+    having several: a t_cr that is the same for all of them is a property of
+    the set-valued law, not of one smoothing.
+
+    Parameters
+    ----------
+    x : float
+        Slip magnitude over the regularisation width, >= 0 [-].
+    family : float
+        ``FAMILY_ALGEBRAIC`` x/sqrt(1 + x^2), ``FAMILY_TANH`` tanh(x) or
+        ``FAMILY_LINEAR`` min(x, 1) (linear saturation).
+    """
+    if family == FAMILY_TANH:
+        return math.tanh(x)
+    if family == FAMILY_LINEAR:
+        return x if x < 1.0 else 1.0
+    return x / math.sqrt(1.0 + x * x)
 
 
 @njit(cache=True)
@@ -74,17 +105,35 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
 
     Notes
     -----
-    The Coulomb direction omega_r/|omega_r| is 0/0 at omega_r = 0 (co-rotating
-    release). It is regularised as omega_r/sqrt(|omega_r|^2 + delta^2), delta =
-    ``p[P_WIDTH]`` [rad/s] (slip speeds likewise with delta R_s); delta -> 0
-    recovers the set-valued law and tests show t_cr does not depend on it.
+    Thesis friction laws (rig Eq. 61, flight Appendix A): the moment arm is a
+    function of the *true* slip direction u = omega_r/|omega_r|, as Appendix A
+    computes it (``ARM = SQRT(1.-C(1)*(OMXR/OMR)**2-...)``); only the magnitude
+    is regularised, G_f = -M ARM(u) s(|omega_r|/delta) u with s one of the
+    :func:`slip_saturation` families and delta = ``p[P_WIDTH]`` [rad/s]. At
+    omega_r = 0 exactly the friction torque is zero. The limit delta -> 0 is
+    the set-valued law whose stick set is {-M s ARM(u) u : |u| = 1, 0 <= s <= 1}
+    (every torque the law can exert in some slip direction, scaled down): on
+    the rig ARM = 0 along X, so no torque about the gravity axis X can be held
+    by the single bottom contact, in slip or at stick. Regularising the
+    direction instead (omega_r/sqrt(|omega_r|^2 + delta^2) inside ARM) would
+    give the near-stick ball an arm close to 1 in every direction, a different
+    limit.
+
+    Coulomb contacts (Contensou-type sliding + pivoting, elliptic form of Leine
+    and Glocker 2003): at contact k (point P_k, unit normal n_k = P_k/R_s, load
+    N_k) the generalised slip is g = sqrt(|v_k|^2 + (eps w_n)^2) with
+    v_k = omega_r x P_k, w_n = omega_r . n_k and eps the pivot arm of the
+    patch ``p[P_FRIC + 5]`` [m]; friction force -mu N_k s v_k/g and pivot
+    torque -mu N_k s eps^2 w_n/g n_k with s = s(g/(delta R_s)). The dissipation
+    mu N_k g is a norm of omega_r when eps > 0 (a well-posed, monotone law);
+    eps = 0 is the point contact, which holds no torque about n_k.
     """
     tx = 0.0
     ty = 0.0
     tz = 0.0
     wn2 = wx * wx + wy * wy + wz * wz
+    wn = math.sqrt(wn2)
     if p[P_VISC] != 0.0:
-        wn = math.sqrt(wn2)
         k = p[P_VISC + 1]
         if wn >= p[P_VISC + 3]:  # turbulent branch, Eq. (39): M ~ |w|^1.75
             k = p[P_VISC + 2] * wn**0.75
@@ -96,28 +145,30 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
         return tx, ty, tz
     m = p[P_FRIC + 1]
     delta = p[P_WIDTH]
+    family = p[P_FAMILY]
     if code == 1.0 or code == 2.0:
-        d = math.sqrt(wn2 + delta * delta)
-        if d == 0.0:
+        if wn == 0.0:
             return tx, ty, tz
-        ex = wx / d
-        ey = wy / d
-        ez = wz / d
+        ux = wx / wn
+        uy = wy / wn
+        uz = wz / wn
         if code == 1.0:  # rig, Eq. (61): arm sqrt(1 - (w_X/w_r)^2)
-            arm2 = 1.0 - ex * ex
+            arm2 = 1.0 - ux * ux
         else:  # flight, Appendix A arm
             sb = math.sin(p[P_FRIC + 3])
             cb = math.cos(p[P_FRIC + 3])
-            arm2 = 1.0 - sb * sb * ex * ex - cb * cb * ez * ez
+            arm2 = 1.0 - sb * sb * ux * ux - cb * cb * uz * uz
         arm = math.sqrt(arm2) if arm2 > 0.0 else 0.0
-        tx -= m * arm * ex
-        ty -= m * arm * ey
-        tz -= m * arm * ez
+        f = m * arm * slip_saturation(wn / delta, family)
+        tx -= f * ux
+        ty -= f * uy
+        tz -= f * uz
         return tx, ty, tz
-    # Coulomb point contacts: F_k = -mu N_k v_k/|v_k|, v_k = w x P_k, G = sum P_k x F_k.
+    # Coulomb contacts: F_k = -mu N_k s v_k/g, pivot -mu N_k s eps^2 w_n/g n_k, G = sum P_k x F_k + pivot.
     r = p[P_FRIC + 2]
     beta = p[P_FRIC + 3]
     n = int(p[P_FRIC + 4])
+    eps = p[P_FRIC + 5]
     sb = math.sin(beta)
     cb = math.cos(beta)
     rig = beta >= 0.5 * math.pi - 1e-12
@@ -130,15 +181,18 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
         vx = wy * pz - wz * py
         vy = wz * px - wx * pz
         vz = wx * py - wy * px
-        dv = math.sqrt(vx * vx + vy * vy + vz * vz + (delta * r) ** 2)
-        if dv == 0.0:
+        wnorm = (wx * px + wy * py + wz * pz) / r  # drilling rate about n_k
+        g = math.sqrt(vx * vx + vy * vy + vz * vz + (eps * wnorm) ** 2)
+        if g == 0.0:
             continue
-        fx = -m * vx / dv
-        fy = -m * vy / dv
-        fz = -m * vz / dv
-        tx += py * fz - pz * fy
-        ty += pz * fx - px * fz
-        tz += px * fy - py * fx
+        f = m * slip_saturation(g / (delta * r), family) / g
+        fx = -f * vx
+        fy = -f * vy
+        fz = -f * vz
+        mp = -f * eps * eps * wnorm / r  # pivot torque along n_k = P_k / r
+        tx += py * fz - pz * fy + mp * px
+        ty += pz * fx - px * fz + mp * py
+        tz += px * fy - py * fx + mp * pz
     return tx, ty, tz
 
 

@@ -27,6 +27,9 @@ Config file layout (every key optional; bare numbers are in the SI unit shown)::
     [rig]
     weight = "0.07987 N"         # N
 
+    [contact]                    # torque_model = "coulomb" only
+    patch_radius = "0.279 mm"    # m (default: Hertz radius)
+
     [flight]
     mach = 3.0
     p1 = "0.099 MPa"             # Pa (or altitude = "1 km")
@@ -35,8 +38,9 @@ Config file layout (every key optional; bare numbers are in the SI unit shown)::
     [solver]
     rtol = 1e-8
     atol = 1e-10
-    friction_width = 1e-6
-    method = "rosenbrock"
+    friction_width = 1e-7
+    friction_family = "algebraic"  # or "tanh", "linear"
+    method = "auto"
     formulation = "quaternion"
 """
 
@@ -70,6 +74,7 @@ CONFIG_SCHEMA: dict[str, dict[str, tuple[str, str | None]]] = {
     },
     "gap": {"width": ("gap", "m"), "viscosity": ("viscosity", "Pa*s")},
     "rig": {"weight": ("weight", "N")},
+    "contact": {"patch_radius": ("patch_radius", "m")},
     "flight": {
         "mach": ("mach", ""),
         "p1": ("p1", "Pa"),
@@ -81,6 +86,7 @@ CONFIG_SCHEMA: dict[str, dict[str, tuple[str, str | None]]] = {
         "rtol": ("rtol", ""),
         "atol": ("atol", ""),
         "friction_width": ("friction_width", ""),
+        "friction_family": ("friction_family", None),
         "method": ("method", None),
         "formulation": ("formulation", None),
     },

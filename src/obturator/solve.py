@@ -29,10 +29,14 @@ import numpy as np
 
 from . import _rosenbrock as ros
 from .dynamics import (
+    FAMILY_ALGEBRAIC,
+    FAMILY_LINEAR,
+    FAMILY_TANH,
     FORM_EULER,
     FORM_QUATERNION,
     N_PARAM,
     N_STATE,
+    P_FAMILY,
     SPIN_CONSTANT,
     SPIN_FREE,
     SPIN_THESIS_ENERGY,
@@ -53,6 +57,8 @@ __all__ = [
     "opening_time",
     "convergence_check",
     "ConvergenceCheck",
+    "FRICTION_FAMILIES",
+    "alternative_family",
     "initial_state",
     "pack_parameters",
     "TABLE1_PROJECTILE_INERTIA",
@@ -65,6 +71,13 @@ SpinMode = Literal["constant", "free", "thesis-energy"]
 _SPIN_CODES = {"constant": SPIN_CONSTANT, "free": SPIN_FREE, "thesis-energy": SPIN_THESIS_ENERGY}
 _FORMS = {"quaternion": FORM_QUATERNION, "euler": FORM_EULER}
 _METHODS = ("auto", "radau", "rosenbrock")
+FrictionFamily = Literal["algebraic", "tanh", "linear"]
+#: Regularisation families of the Coulomb magnitude (see dynamics.slip_saturation).
+FRICTION_FAMILIES: dict[str, int] = {
+    "algebraic": FAMILY_ALGEBRAIC,
+    "tanh": FAMILY_TANH,
+    "linear": FAMILY_LINEAR,
+}
 
 
 def _auto_integrate(*args):
@@ -177,10 +190,18 @@ class SolverOptions:
         Absolute tolerance on the quaternion components and on rates measured
         in units of the initial spin omega_p0 (so it is scale-free).
     friction_width : float
-        Regularisation width of the Coulomb direction, relative to the initial
-        spin: delta = friction_width * omega_p0 [rad/s]. Default 1e-6: on the
-        rig at 200 rad/s t_cr moves 5e-4 relative from 1e-6 to 1e-7 (and 6e-3
-        from 1e-5 to 1e-6), see tests/test_convergence.py.
+        Regularisation width of the Coulomb magnitude, relative to the initial
+        spin: delta = friction_width * omega_p0 [rad/s]. Default 1e-7: t_cr
+        converges about linearly in delta, and at low spin (long near-stick
+        phases, e.g. 40-100 rad/s on the rig) 1e-6 still leaves ~1e-3
+        relative; 1e-7 leaves <= 2e-4 there (tests/test_convergence.py). Keep
+        ``atol`` well below the width (both are in units of omega_p0): the
+        integrator must resolve slip speeds of order delta.
+    friction_family : {"algebraic", "tanh", "linear"}
+        Shape of the regularised magnitude s(|omega_r|/delta):
+        x/sqrt(1+x^2) (default), tanh(x) or min(x, 1). Only the magnitude is
+        regularised; the thesis's moment arm always uses the true slip
+        direction. :func:`convergence_check` reruns with another family.
     formulation : {"quaternion", "euler"}
         Singularity-free quaternion form (default) or the thesis's Euler angles.
     max_steps : int
@@ -205,7 +226,8 @@ class SolverOptions:
 
     rtol: float = 1e-8
     atol: float = 1e-10
-    friction_width: float = 1e-6
+    friction_width: float = 1e-7
+    friction_family: FrictionFamily = "algebraic"
     formulation: Literal["quaternion", "euler"] = "quaternion"
     max_steps: int = 20_000_000
     event_tol: float = 1e-12
@@ -216,6 +238,11 @@ class SolverOptions:
         check_range("rtol", self.rtol, 0.0, 0.1, lo_open=True, hi_open=True)
         check_range("atol", self.atol, 0.0, 1.0, lo_open=True)
         check_range("friction_width", self.friction_width, 0.0, 1.0, lo_open=True)
+        if self.friction_family not in FRICTION_FAMILIES:
+            raise InputError(
+                "friction_family",
+                f"{self.friction_family!r}; allowed: {', '.join(FRICTION_FAMILIES)}",
+            )
         if self.formulation not in _FORMS:
             raise InputError("formulation", f"{self.formulation!r}; allowed: quaternion, euler")
         if int(self.max_steps) < 1:
@@ -294,6 +321,7 @@ def pack_parameters(case: Case, options: SolverOptions, y0: np.ndarray | None = 
     p[6] = options.friction_width * case.spin_rate
     p[7] = case.opening_angle
     p[8:18] = case.torque.pack()
+    p[P_FAMILY] = FRICTION_FAMILIES[options.friction_family]
     # total kinetic energy for the thesis's energy form (Appendix A, C(4))
     p[4] = 0.0
     obs = observables(y0[None, :], p)
@@ -411,6 +439,7 @@ class NutationResult:
             "rtol": self.options.rtol,
             "atol": self.options.atol,
             "friction_width": self.options.friction_width,
+            "friction_family": self.options.friction_family,
             "status": self.status,
             "message": self.message,
             "nfev": self.nfev,
@@ -566,9 +595,21 @@ def opening_time(case: Case, options: SolverOptions | None = None) -> float:
     return float(out[1])
 
 
+def alternative_family(family: str) -> str:
+    """The family a convergence check compares with: "linear" for the smooth
+    families (the most different shape: it reaches full friction at a finite
+    slip), "algebraic" for "linear"."""
+    return "algebraic" if family == "linear" else "linear"
+
+
 @dataclass(frozen=True)
 class ConvergenceCheck:
-    """t_cr re-computed with tighter tolerances and a narrower friction width.
+    """t_cr re-computed with tighter tolerances, a narrower width and another family.
+
+    A width study alone cannot reveal a regularisation that converges to the
+    wrong limit (each family looks converged as its own width shrinks); a
+    second family with a different shape can. t_cr counts as converged only
+    when all three reruns agree with it.
 
     Attributes
     ----------
@@ -577,7 +618,12 @@ class ConvergenceCheck:
     tighter_tolerance : float
         t_cr with rtol and atol divided by `factor` [s].
     narrower_width : float
-        t_cr with ``friction_width`` divided by `factor` [s].
+        t_cr with ``friction_width`` divided by `factor` [s] (tolerances
+        divided by `factor` too, so slip speeds of order delta stay resolved).
+    other_family : float
+        t_cr with ``friction_family`` replaced by `family` [s].
+    family : str
+        The family of that rerun.
     factor : float
         Refinement factor (10 by default).
     threshold : float
@@ -587,6 +633,8 @@ class ConvergenceCheck:
     opening_time: float
     tighter_tolerance: float
     narrower_width: float
+    other_family: float
+    family: str
     factor: float
     threshold: float
 
@@ -609,9 +657,14 @@ class ConvergenceCheck:
         return self._rel(self.opening_time, self.narrower_width)
 
     @property
+    def family_change(self) -> float:
+        """|t_family - t| / t [-]."""
+        return self._rel(self.opening_time, self.other_family)
+
+    @property
     def converged(self) -> bool:
-        """Both changes below the threshold."""
-        return max(self.tolerance_change, self.width_change) < self.threshold
+        """All three changes below the threshold."""
+        return max(self.tolerance_change, self.width_change, self.family_change) < self.threshold
 
     def to_dict(self) -> dict[str, object]:
         """JSON-ready summary (None for NaN/inf)."""
@@ -623,8 +676,11 @@ class ConvergenceCheck:
             "converged": self.converged,
             "tolerance_rel_change": clean(self.tolerance_change),
             "width_rel_change": clean(self.width_change),
+            "family_rel_change": clean(self.family_change),
             "t_cr_tighter_tolerance_s": clean(self.tighter_tolerance),
             "t_cr_narrower_width_s": clean(self.narrower_width),
+            "t_cr_other_family_s": clean(self.other_family),
+            "other_family": self.family,
             "factor": self.factor,
             "threshold": self.threshold,
         }
@@ -637,13 +693,9 @@ def convergence_check(
     factor: float = 10.0,
     threshold: float = 1e-3,
     opening_time_s: float | None = None,
+    family: str | None = None,
 ) -> ConvergenceCheck:
-    """Recompute t_cr with tolerances and friction width refined by `factor`.
-
-    Near the boundary where friction holds the ball co-rotating (e.g. the
-    thesis rig just below 200 rad/s at mu_s = 0.5473) t_cr depends on the
-    regularisation width; this check says so instead of reporting a number
-    that is not converged.
+    """Recompute t_cr with tighter tolerances, a narrower width and another family.
 
     Parameters
     ----------
@@ -656,9 +708,17 @@ def convergence_check(
         Relative change below which t_cr counts as converged.
     opening_time_s : float, optional
         t_cr already computed with `options` [s] (saves one run).
+    family : str, optional
+        Regularisation family of the third rerun; default
+        :func:`alternative_family` of ``options.friction_family``.
     """
     options = options or SolverOptions()
+    family = alternative_family(options.friction_family) if family is None else family
+    if family not in FRICTION_FAMILIES:
+        raise InputError("family", f"{family!r}; allowed: {', '.join(FRICTION_FAMILIES)}")
     t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
     t1 = opening_time(case, options.tighter(factor))
-    t2 = opening_time(case, replace(options, friction_width=options.friction_width / factor))
-    return ConvergenceCheck(t0, t1, t2, factor, threshold)
+    narrow = replace(options.tighter(factor), friction_width=options.friction_width / factor)
+    t2 = opening_time(case, narrow)
+    t3 = opening_time(case, replace(options, friction_family=family))
+    return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)

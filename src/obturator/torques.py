@@ -25,6 +25,8 @@ __all__ = [
     "ThesisRigFriction",
     "ThesisFlightFriction",
     "CoulombContactFriction",
+    "MATERIALS",
+    "hertz_patch_radius",
     "TorqueModel",
     "ViscousTorque",
     "FrictionTorque",
@@ -201,7 +203,7 @@ class ThesisRigFriction:
         return self.mu_s * self.weight * self.ball_radius
 
     def pack(self) -> tuple[float, float, float, float, float, float]:
-        """(code, moment scale, R_s, beta, n_contacts, normal-load mode)."""
+        """(code, moment scale, R_s, beta, n_contacts, pivot arm (unused))."""
         return (FRIC_THESIS_RIG, self.moment_scale, self.ball_radius, math.pi / 2.0, 1.0, 0.0)
 
 
@@ -253,7 +255,7 @@ class ThesisFlightFriction:
         return self.mu_s * self.pressure_force * math.cos(self.contact_angle) * self.ball_radius
 
     def pack(self) -> tuple[float, float, float, float, float, float]:
-        """(code, moment scale, R_s, beta, n_contacts, normal-load mode)."""
+        """(code, moment scale, R_s, beta, n_contacts, pivot arm (unused))."""
         return (
             FRIC_THESIS_FLIGHT,
             self.moment_scale,
@@ -295,6 +297,20 @@ class CoulombContactFriction:
         How the load is shared: "thesis" gives each point F cos(beta)/N as the
         thesis's Eq. (45b) does; "radial" gives F/(N cos(beta)), the radial
         reaction that balances an axial load on a spherical seat.
+    patch_radius : float
+        Radius a of each contact's circular patch [m], >= 0. A patch resists
+        pivoting (drilling) about the contact normal with up to mu N eps,
+        eps = 3 pi a / 16 (Hertzian pressure), coupled to sliding in
+        Contensou's way (elliptic approximation, Leine and Glocker 2003). With
+        a = 0 (a point contact) nothing resists pivoting and, on the rig, t_cr
+        does not converge as the regularisation width shrinks; see
+        :func:`hertz_patch_radius` for a physically argued value.
+
+    Notes
+    -----
+    The point-contact idealisation is the thesis's own (p. 34: "a point
+    contact at the bottom of the housing is assumed"); the patch is the
+    smallest physical addition that makes the exact law well posed.
     """
 
     mu_s: float
@@ -303,6 +319,7 @@ class CoulombContactFriction:
     contact_angle: float = math.pi / 2
     n_contacts: int = 1
     normal_load: str = "thesis"
+    patch_radius: float = 0.0
 
     def __post_init__(self) -> None:
         _check_mu(self.mu_s)
@@ -318,6 +335,12 @@ class CoulombContactFriction:
             raise InputError("normal_load", f"{self.normal_load!r}; allowed: 'thesis', 'radial'")
         if self.normal_load == "radial" and self.contact_angle >= math.pi / 2:
             raise InputError("normal_load", "'radial' needs contact_angle < pi/2 rad")
+        check_range("patch_radius", self.patch_radius, 0.0, self.ball_radius, unit="m")
+
+    @property
+    def pivot_arm(self) -> float:
+        """eps = 3 pi a / 16 [m]: pivot torque limit over mu N for a Hertzian patch."""
+        return 3.0 * math.pi * self.patch_radius / 16.0
 
     @property
     def load_per_contact(self) -> float:
@@ -330,15 +353,65 @@ class CoulombContactFriction:
         return self.normal_force / (self.n_contacts * c)
 
     def pack(self) -> tuple[float, float, float, float, float, float]:
-        """(code, mu_s N_k, R_s, beta, n_contacts, normal-load mode)."""
+        """(code, mu_s N_k, R_s, beta, n_contacts, pivot arm eps)."""
         return (
             FRIC_COULOMB,
             self.mu_s * self.load_per_contact,
             self.ball_radius,
             self.contact_angle,
             float(self.n_contacts),
-            0.0,
+            self.pivot_arm,
         )
+
+
+#: Young's modulus and Poisson ratio of the contacting materials (handbook values).
+MATERIALS: dict[str, tuple[float, float]] = {
+    "steel": (200e9, 0.29),
+    "lucite": (3.0e9, 0.37),  # PMMA: the thesis rig's housing (Fig. 22)
+}
+
+
+def hertz_patch_radius(
+    load: float,
+    ball_radius: float,
+    gap: float,
+    *,
+    ball_material: str = "steel",
+    seat_material: str = "steel",
+) -> float:
+    """Hertz contact radius a of a ball in a conforming spherical seat [m].
+
+    a = (3 N R* / (4 E*))^(1/3) with R* = R_s (R_s + h) / h for a seat of
+    radius R_s + h, and 1/E* = (1 - nu_1^2)/E_1 + (1 - nu_2^2)/E_2.
+
+    Parameters
+    ----------
+    load : float
+        Normal load N [N] (W on the rig, F_p split over the contacts in flight).
+    ball_radius : float
+        R_s [m].
+    gap : float
+        Radial clearance h [m] (seat radius R_s + h).
+    ball_material, seat_material : {"steel", "lucite"}
+        Keys of :data:`MATERIALS`. The thesis rig: steel ball in a lucite
+        housing (chapter III, Fig. 22); in flight: a steel socket.
+
+    Returns
+    -------
+    float
+        a [m]. Table 1 rig (W = 0.07987 N, h = 50.8 um, lucite): 0.279 mm.
+    """
+    check_range("load", load, 0.0, unit="N")
+    check_range("ball_radius", ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+    check_range("gap", gap, 0.0, math.inf, lo_open=True, unit="m")
+    for field, name in (("ball_material", ball_material), ("seat_material", seat_material)):
+        if name not in MATERIALS:
+            raise InputError(field, f"{name!r}; allowed: {', '.join(MATERIALS)}")
+    inv_e = sum(
+        (1.0 - nu * nu) / e for e, nu in (MATERIALS[ball_material], MATERIALS[seat_material])
+    )
+    r_eff = ball_radius * (ball_radius + gap) / gap
+    return (3.0 * load * r_eff * inv_e / 4.0) ** (1.0 / 3.0)
 
 
 FrictionTorque = ThesisRigFriction | ThesisFlightFriction | CoulombContactFriction
