@@ -16,10 +16,10 @@ from .torques import (
     CouetteViscous,
     CoulombContactFriction,
     NakabayashiViscous,
-    hertz_patch_radius,
     ThesisFlightFriction,
     ThesisRigFriction,
     TorqueModel,
+    hertz_patch_radius,
 )
 
 __all__ = [

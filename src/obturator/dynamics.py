@@ -164,7 +164,8 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
         ty -= f * uy
         tz -= f * uz
         return tx, ty, tz
-    # Coulomb contacts: F_k = -mu N_k s v_k/g, pivot -mu N_k s eps^2 w_n/g n_k, G = sum P_k x F_k + pivot.
+    # Coulomb contacts: F_k = -mu N_k s v_k/g, pivot -mu N_k s eps^2 w_n/g n_k;
+    # G = sum P_k x F_k + pivot.
     r = p[P_FRIC + 2]
     beta = p[P_FRIC + 3]
     n = int(p[P_FRIC + 4])
