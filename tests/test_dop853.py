@@ -20,7 +20,9 @@ THETA0 = math.radians(87.25)
 MU = 0.5473
 
 
-def raw(case: Case, options: SolverOptions, *, t_max=None, terminal=True, t_eval=None):
+def raw(
+    case: Case, options: SolverOptions, *, t_max=None, terminal=True, t_eval=None, record=False
+):
     """Call the compiled DOP853 integrator directly (the tuple solve.py unpacks)."""
     y0 = initial_state(case.theta0, case.spin_rate, formulation=options.formulation)
     p = pack_parameters(case, options, y0)
@@ -37,7 +39,7 @@ def raw(case: Case, options: SolverOptions, *, t_max=None, terminal=True, t_eval
         0.1 * period,
         int(options.max_steps),
         te,
-        False,
+        record,
         terminal,
         options.event_tol,
     )
@@ -79,10 +81,14 @@ CASES = {
 
 @pytest.mark.parametrize("name", list(CASES))
 def test_auto_agrees_with_radau(name):
-    """t_cr of "auto" equals Radau's at the default tolerances to 1e-6 relative."""
+    """t_cr of "auto" equals Radau's at the default tolerances to 1e-6 relative.
+
+    Both at width 1e-6 omega_p: at the default 1e-7 Radau's default-tolerance error is
+    ~4e-6 (see tests/test_radau.py), DOP853's ~1e-9.
+    """
     case = CASES[name]
-    t_rad = opening_time(case, SolverOptions(method="radau"))
-    t_auto = opening_time(case, SolverOptions())
+    t_rad = opening_time(case, SolverOptions(method="radau", friction_width=1e-6))
+    t_auto = opening_time(case, SolverOptions(friction_width=1e-6))
     assert math.isfinite(t_rad)
     assert t_auto == pytest.approx(t_rad, rel=1e-6)
 
@@ -101,11 +107,11 @@ def test_dop853_runs_without_fallback_and_agrees_with_tight_radau(name):
 
 @pytest.mark.parametrize(
     "case",
-    [rig_case(150, MU, t_max=2.0), rig_case(198, MU)],
-    ids=["rig150_sticking", "rig198_sticking"],
+    [rig_case(78, MU, t_max=1.0), rig_case(150, MU)],
+    ids=["rig78_near_stick", "rig150_near_stick"],
 )
 def test_auto_falls_back_to_radau_on_sticking(case):
-    out, _ = raw(case, SolverOptions())
+    out, _ = raw(case, SolverOptions(), record=True)  # as simulate() records
     assert out[0] == _dop853.STATUS_STIFF
     auto = simulate(case)
     rad = simulate(case, SolverOptions(method="radau"))

@@ -16,15 +16,33 @@ from obturator import (
     ThesisRigFriction,
     TorqueModel,
 )
-from obturator.dynamics import N_PARAM, applied_torque
+from obturator.dynamics import (
+    FAMILY_ALGEBRAIC,
+    FAMILY_LINEAR,
+    FAMILY_TANH,
+    N_PARAM,
+    P_FAMILY,
+    P_WIDTH,
+    applied_torque,
+    slip_saturation,
+)
+from obturator.torques import hertz_patch_radius
 
 R_S, H, MU_F = 7.899e-3, 5.08e-5, 1.917e-5
+FAMILIES = {"algebraic": FAMILY_ALGEBRAIC, "tanh": FAMILY_TANH, "linear": FAMILY_LINEAR}
+# The three magnitude shapes written out independently of the compiled kernel.
+SHAPES = {
+    "algebraic": lambda x: x / math.sqrt(1 + x * x),
+    "tanh": math.tanh,
+    "linear": lambda x: min(x, 1.0),
+}
 
 
-def torque(model: TorqueModel, w, width=0.0):
+def torque(model: TorqueModel, w, width=0.0, family="algebraic"):
     p = np.zeros(N_PARAM)
-    p[6] = width
+    p[P_WIDTH] = width
     p[8:18] = model.pack()
+    p[P_FAMILY] = FAMILIES[family]
     return np.array(applied_torque(w[0], w[1], w[2], p))
 
 
@@ -113,6 +131,7 @@ MODELS = [
     TorqueModel(CouetteViscous(R_S, H), ThesisFlightFriction(0.35, 60.0, R_S, 0.64)),
     TorqueModel(None, CoulombContactFriction(0.35, 60.0, R_S, 0.64, 7)),
     TorqueModel(None, CoulombContactFriction(0.35, 60.0, R_S, 0.64, 3, "radial")),
+    TorqueModel(None, CoulombContactFriction(0.5, 0.08, R_S, patch_radius=2.8e-4)),
 ]
 
 
@@ -125,6 +144,87 @@ def test_every_torque_is_dissipative(model, w, width):
     g = torque(model, np.asarray(w), width)
     assert np.all(np.isfinite(g))
     assert g @ np.asarray(w) <= 1e-12 * (1 + np.linalg.norm(g) * np.linalg.norm(w))
+
+
+@pytest.mark.parametrize("family", list(FAMILIES))
+def test_saturation_families_closed_forms(family):
+    for x in (0.0, 1e-3, 0.5, 1.0, 2.0, 30.0):
+        assert slip_saturation(x, FAMILIES[family]) == pytest.approx(SHAPES[family](x), rel=1e-14)
+    assert slip_saturation(math.inf, FAMILIES[family]) == 1.0  # zero width: the bare law
+
+
+@pytest.mark.parametrize("family", list(FAMILIES))
+@pytest.mark.parametrize("width", [0.0, 1e-6, 1e-2])
+@pytest.mark.parametrize("speed", [1e-9, 1e-6, 1e-4, 1e-2, 1.0, 1e3])
+def test_rig_arm_is_zero_for_slip_along_x(family, width, speed):
+    # Eq. (61) / Appendix A with C(1) = 1: ARM = sqrt(1 - (w_X/w_r)^2) = 0 for w_r along X,
+    # whatever |w_r| is relative to the width: the single bottom contact (P = -R_s X)
+    # cannot hold a torque about the gravity axis X, at stick or in slip. (Regularising
+    # the direction instead gave up to 0.5 mu W R_s here when |w_r| ~ width.)
+    m = TorqueModel(None, ThesisRigFriction(0.5473, 0.07987, R_S))
+    for sign in (1.0, -1.0):
+        assert np.all(torque(m, (sign * speed, 0.0, 0.0), width, family) == 0.0)
+
+
+@pytest.mark.parametrize("family", list(FAMILIES))
+@given(
+    u=st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3).filter(
+        lambda v: np.linalg.norm(v) > 1e-3
+    ),
+    x=st.floats(1e-4, 1e2),
+)
+def test_near_stick_rig_torque_uses_true_direction(family, u, x):
+    # |w_r| = x * width: the torque is -M ARM(u) s(x) u with u = w_r/|w_r| (true direction);
+    # its X component therefore vanishes as u -> X, however small the slip is.
+    width = 2e-5
+    u = np.asarray(u) / np.linalg.norm(u)
+    f = ThesisRigFriction(0.5473, 0.07987, R_S)
+    g = torque(TorqueModel(None, f), x * width * u, width, family)
+    expected = -f.moment_scale * math.sqrt(max(1 - u[0] ** 2, 0.0)) * SHAPES[family](x) * u
+    np.testing.assert_allclose(g, expected, rtol=1e-9, atol=1e-12 * f.moment_scale)
+    bound = f.moment_scale * abs(u[0]) * math.sqrt(max(1 - u[0] ** 2, 0.0))
+    assert abs(g[0]) <= bound * (1 + 1e-9) + 1e-18
+
+
+def test_coulomb_patch_resists_pivoting_about_the_contact_normal():
+    # Pure drilling about the rig contact normal X: v = w x P = 0 at P = -R_s X, so a point
+    # contact exerts nothing; a patch of radius a gives -mu N eps sign(w_X) X with
+    # eps = 3 pi a / 16 (Hertzian pressure; Leine and Glocker 2003). Hand-worked.
+    a = 2.79e-4
+    w = np.array([5.0, 0.0, 0.0])
+    point = TorqueModel(None, CoulombContactFriction(0.5, 0.08, R_S))
+    patch = TorqueModel(None, CoulombContactFriction(0.5, 0.08, R_S, patch_radius=a))
+    np.testing.assert_array_equal(torque(point, w), 0.0)
+    np.testing.assert_allclose(torque(patch, w), [-0.5 * 0.08 * 3 * math.pi * a / 16, 0, 0])
+    np.testing.assert_allclose(torque(patch, -w), [0.5 * 0.08 * 3 * math.pi * a / 16, 0, 0])
+
+
+@given(
+    st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=3).filter(
+        lambda v: np.linalg.norm(v) > 1e-3
+    )
+)
+def test_coulomb_patch_dissipates_the_contensou_norm(w):
+    # Dissipation mu N sqrt(|v|^2 + eps^2 w_n^2): a norm of w_r, hence a monotone law.
+    a = 3e-4
+    eps = 3 * math.pi * a / 16
+    w = np.asarray(w)
+    g = torque(TorqueModel(None, CoulombContactFriction(0.4, 0.1, R_S, patch_radius=a)), w)
+    v = np.cross(w, [-R_S, 0.0, 0.0])
+    expected = -0.4 * 0.1 * math.sqrt(v @ v + (eps * w[0]) ** 2)
+    assert g @ w == pytest.approx(expected, rel=1e-9)
+
+
+def test_hertz_patch_radius_closed_form():
+    # a = (3 N R* / (4 E*))^(1/3), R* = R (R + h) / h; steel on lucite (E 200/3.0 GPa,
+    # nu 0.29/0.37), evaluated by hand for the Table 1 rig: 0.2787 mm.
+    e_star = 1 / ((1 - 0.29**2) / 200e9 + (1 - 0.37**2) / 3.0e9)
+    r_star = R_S * (R_S + H) / H
+    a = (3 * 0.07987 * r_star / (4 * e_star)) ** (1 / 3)
+    assert hertz_patch_radius(0.07987, R_S, H, seat_material="lucite") == pytest.approx(a)
+    assert a == pytest.approx(2.787e-4, rel=1e-3)
+    with pytest.raises(InputError, match="seat_material"):
+        hertz_patch_radius(0.08, R_S, H, seat_material="wood")
 
 
 def test_regularised_torque_vanishes_at_corotation():
@@ -151,6 +251,7 @@ def test_ring_of_many_contacts_is_axisymmetric():
         (lambda: ThesisFlightFriction(0.3, 1.0, R_S, 2.0), "contact_angle"),
         (lambda: CoulombContactFriction(0.3, 1.0, R_S, 0.6, 0), "n_contacts"),
         (lambda: CoulombContactFriction(0.3, 1.0, R_S, 0.6, 2, "bogus"), "normal_load"),
+        (lambda: CoulombContactFriction(0.3, 1.0, R_S, patch_radius=-1e-4), "patch_radius"),
         (lambda: NakabayashiViscous(R_S, -1e-5), "gap"),
         (lambda: CouetteViscous(R_S, 1e-5, -1.0), "viscosity"),
     ],

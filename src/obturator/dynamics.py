@@ -84,6 +84,8 @@ def slip_saturation(x: float, family: float) -> float:
         return math.tanh(x)
     if family == FAMILY_LINEAR:
         return x if x < 1.0 else 1.0
+    if x > 1e150:  # zero width (x = inf): the unregularised law
+        return 1.0
     return x / math.sqrt(1.0 + x * x)
 
 
@@ -159,7 +161,7 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
             cb = math.cos(p[P_FRIC + 3])
             arm2 = 1.0 - sb * sb * ux * ux - cb * cb * uz * uz
         arm = math.sqrt(arm2) if arm2 > 0.0 else 0.0
-        f = m * arm * slip_saturation(wn / delta, family)
+        f = m * arm * slip_saturation(wn / delta if delta > 0.0 else math.inf, family)
         tx -= f * ux
         ty -= f * uy
         tz -= f * uz
@@ -186,7 +188,8 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
         g = math.sqrt(vx * vx + vy * vy + vz * vz + (eps * wnorm) ** 2)
         if g == 0.0:
             continue
-        f = m * slip_saturation(g / (delta * r), family) / g
+        x = g / (delta * r) if delta > 0.0 else math.inf
+        f = m * slip_saturation(x, family) / g
         fx = -f * vx
         fy = -f * vy
         fz = -f * vz
