@@ -401,20 +401,26 @@ def test_cli_subprocess(tmp_path: Path) -> None:
     assert bad.stderr.startswith("obturator: error:") and bad.stderr.count("\n") == 1
 
 
-def test_convergence_check_marks_points_near_the_sticking_boundary():
-    # 198 rad/s sits just above the spin at which friction holds the ball (about
-    # 196.5 rad/s at mu_s = 0.5473): t_cr there depends on the friction width and must be
-    # flagged; 200 rad/s is converged (tests/test_convergence.py).
+def test_convergence_check_marks_unconverged_points():
+    # With a too-wide friction width (1e-5 omega_p) t_cr at 78 rad/s moves ~1 % against
+    # width / 10 and another regularisation family (long near-stick phase) and must be
+    # flagged; at 200 rad/s the same width is converged (changes ~1e-4).
     from obturator.studies_sweep import STATUS_OPENED, STATUS_UNCONVERGED, SweepSpec, run_sweep
 
     spec = SweepSpec(
         "spin-rig",
-        {"spin_rate": np.array([198.0, 200.0])},
+        {"spin_rate": np.array([78.0, 200.0])},
         {"mu_s": 0.5473},
+        options=SolverOptions(friction_width=1e-5),
         check_convergence=True,
     )
     ds = run_sweep(spec, workers=1, progress=False)
     assert ds["status"].values.tolist() == [STATUS_UNCONVERGED, STATUS_OPENED]
     assert np.all(np.isfinite(ds["t_cr"].values))
-    plain = SweepSpec("spin-rig", {"spin_rate": np.array([198.0, 200.0])}, {"mu_s": 0.5473})
+    plain = SweepSpec(
+        "spin-rig",
+        {"spin_rate": np.array([78.0, 200.0])},
+        {"mu_s": 0.5473},
+        options=SolverOptions(friction_width=1e-5),
+    )
     assert plain.digest() != spec.digest()  # a resumed run cannot mix the two

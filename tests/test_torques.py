@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from obturator import (
@@ -136,6 +136,7 @@ MODELS = [
 
 
 @pytest.mark.parametrize("model", MODELS)
+@settings(deadline=None)  # the first call of a new model may compile
 @given(
     w=st.lists(st.floats(-1e4, 1e4), min_size=3, max_size=3),
     width=st.sampled_from([0.0, 1e-6, 1e-2, 10.0]),
@@ -181,9 +182,10 @@ def test_near_stick_rig_torque_uses_true_direction(family, u, x):
     f = ThesisRigFriction(0.5473, 0.07987, R_S)
     g = torque(TorqueModel(None, f), x * width * u, width, family)
     expected = -f.moment_scale * math.sqrt(max(1 - u[0] ** 2, 0.0)) * SHAPES[family](x) * u
-    np.testing.assert_allclose(g, expected, rtol=1e-9, atol=1e-12 * f.moment_scale)
+    # sqrt(1 - u_X^2) cancels as u -> X: an absolute arm error of ~sqrt(machine eps)
+    np.testing.assert_allclose(g, expected, rtol=1e-9, atol=1e-7 * f.moment_scale)
     bound = f.moment_scale * abs(u[0]) * math.sqrt(max(1 - u[0] ** 2, 0.0))
-    assert abs(g[0]) <= bound * (1 + 1e-9) + 1e-18
+    assert abs(g[0]) <= bound * (1 + 1e-9) + 1e-7 * f.moment_scale * abs(u[0])
 
 
 def test_coulomb_patch_resists_pivoting_about_the_contact_normal():

@@ -34,9 +34,10 @@ Convergence: on the thesis data the fitted mu_s moves by < 1e-5 when rtol is
 divided by 100, the friction regularisation width by 10, or the integrator
 is switched to Rosenbrock.
 
-A run that does not open (the rig sticks below about 199 rad/s at
-mu_s = 0.55) has no t_cr; its model value is replaced by the integration
-horizon ``t_max`` so the optimiser is pushed away from sticking parameters.
+The exact rig model opens at every spin (40 rad/s at mu_s = 0.55: 43 s), but
+a run that has not opened within the integration horizon ``t_max`` has no
+t_cr; its model value is replaced by ``t_max``, which pushes the optimiser
+away from parameters that open too late.
 """
 
 from __future__ import annotations

@@ -109,7 +109,8 @@ STATUS_NOT_OPENED = 0
 STATUS_FAILED = -1
 STATUS_INVALID = -2
 #: Opened, but t_cr moved by more than 1e-3 (relative) when the tolerances or the
-#: friction width were divided by 10 (only with ``check_convergence=True``).
+#: friction width were divided by 10 or the regularisation family was changed
+#: (only with ``check_convergence=True``).
 STATUS_UNCONVERGED = 2
 _STATUS_FLAGS = {
     STATUS_INVALID: "invalid_input",
@@ -317,12 +318,13 @@ class SweepSpec:
     spin_mode : {"constant", "free", "thesis-energy"}
     options : SolverOptions
     t_max : float or None
-        Give-up time [s]; None keeps the factory default (10 s rig, 0.5 s flight).
+        Give-up time [s]; None keeps the factory default (100 s rig, 0.5 s flight).
     check_convergence : bool
-        Re-run every opened point with the tolerances and the friction width
-        divided by 10 (three times the cost) and mark points whose t_cr moves
-        by more than 1e-3 with status ``STATUS_UNCONVERGED`` (typical just
-        above the spin at which friction holds the ball co-rotating).
+        Re-run every opened point with the tolerances divided by 10, with the
+        friction width divided by 10 and with another regularisation family
+        (four times the cost) and mark points whose t_cr moves by more than
+        1e-3 with status ``STATUS_UNCONVERGED`` (typical at low spin, where
+        long near-stick phases need a small width).
 
     Notes
     -----
