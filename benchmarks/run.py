@@ -19,6 +19,9 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
   ``opening_time``, and :func:`obturator.studies_sweep.run_sweep` when that
   module is present). ``--quick`` shrinks the sweep; ``--big`` adds a
   10,000-point package-only sweep.
+* Low spin (40-200 rad/s, long near-stick phases): t_cr, nfev, steps and wall
+  time per trajectory for "auto" and "radau" and for each regularisation
+  family, with the "auto" fallbacks to Radau.
 """
 
 from __future__ import annotations
@@ -303,6 +306,42 @@ def sweep(n_points: int, *, baseline: bool, workers: Sequence[int]) -> dict[str,
 # ---------------------------------------------------------------- report
 
 
+LOW_SPINS = (40.0, 60.0, 78.0, 100.0, 125.0, 150.0, 175.0, 200.0)
+LOW_SPINS_QUICK = (78.0, 150.0, 200.0)
+
+
+def low_spin_cost(spins: Sequence[float], repeat: int) -> list[dict[str, Any]]:
+    """Cost of one rig trajectory at low spin (long near-stick phases), mu_s = 0.5473.
+
+    For each spin: "auto" and "radau" with the default (algebraic) family, and
+    "auto" with the tanh and linear families; t_cr, nfev, steps, best wall time, and
+    whether "auto" fell back to Radau (njev > 0).
+    """
+    from dataclasses import replace
+
+    rows = []
+    runs = [("auto", "algebraic"), ("radau", "algebraic"), ("auto", "tanh"), ("auto", "linear")]
+    for w in spins:
+        case = rig_case(w, MU_S)
+        for method, family in runs:
+            opts = replace(SolverOptions(), method=method, friction_family=family)
+            best, _, res = _best_of(lambda c=case, o=opts: simulate(c, o), repeat)
+            rows.append(
+                {
+                    "spin_rad_s": w,
+                    "method": method,
+                    "family": family,
+                    "t_cr_s": res.opening_time,
+                    "status": res.status,
+                    "nfev": res.nfev,
+                    "n_steps": res.n_steps,
+                    "radau_fallback": method == "auto" and res.njev > 0,
+                    "wall_s": best,
+                }
+            )
+    return rows
+
+
 def _fmt(x: float, unit: str = "", digits: int = 3) -> str:
     if x is None or (isinstance(x, float) and not math.isfinite(x)):
         return "-"
@@ -406,6 +445,27 @@ def _print_report(rec: dict[str, Any]) -> None:
             )
 
 
+def _print_low_spin(rows: list[dict[str, Any]]) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=f"rig trajectories at low spin (mu_s {MU_S}, default tolerances and width)")
+    for col in ("omega_p", "method", "family", "t_cr", "nfev", "steps", "fallback", "wall"):
+        t.add_column(col, justify="right")
+    for r in rows:
+        t.add_row(
+            f"{r['spin_rad_s']:g}",
+            r["method"],
+            r["family"],
+            _fmt(r["t_cr_s"], " s", 6),
+            str(r["nfev"]),
+            str(r["n_steps"]),
+            "yes" if r["radau_fallback"] else "",
+            _fmt(r["wall_s"] * 1e3, " ms"),
+        )
+    Console().print(t)
+
+
 def _meta() -> dict[str, Any]:
     import numba
     import scipy
@@ -467,10 +527,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         trajectory("flight (Table 1)", flight_case(), repeat, repeat_base),
     ]
     rec["compile"] = {} if args.no_compile else compile_times()
+    rec["low_spin"] = low_spin_cost(LOW_SPINS_QUICK if args.quick else LOW_SPINS, repeat)
     rec["sweep"] = sweep(n_sweep, baseline=True, workers=(1, 2))
     if args.big:
         rec["big_sweep"] = sweep(10_000, baseline=False, workers=(2,))
     _print_report(rec)
+    _print_low_spin(rec["low_spin"])
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(rec, fh, indent=2, default=float)
