@@ -31,6 +31,10 @@ import math
 import numpy as np
 from numba import njit
 
+from ._jit_cache import configure_cache
+
+configure_cache()  # before any @njit(cache=True) below or in the integrators
+
 __all__ = [
     "FORM_QUATERNION",
     "FORM_EULER",

@@ -1,0 +1,37 @@
+"""The compiled core's cache is keyed by the source of every jitted module."""
+
+import shutil
+
+import numba
+
+from obturator import _jit_cache
+from obturator._jit_cache import CORE_MODULES, core_digest
+
+
+def test_digest_changes_when_any_core_module_changes(tmp_path):
+    src = _jit_cache.__file__.rsplit("/", 1)[0]
+    for name in CORE_MODULES:
+        shutil.copy(f"{src}/{name}", tmp_path / name)
+    before = core_digest(tmp_path)
+    assert before == core_digest()  # same bytes, same digest
+    for name in CORE_MODULES:
+        path = tmp_path / name
+        text = path.read_text()
+        path.write_text(text + "\n# edit\n")
+        assert core_digest(tmp_path) != before, name
+        path.write_text(text)
+    assert core_digest(tmp_path) == before
+
+
+def test_cache_dir_follows_digest_unless_user_sets_one(monkeypatch, tmp_path):
+    old = numba.config.CACHE_DIR
+    try:
+        monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+        monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+        path = _jit_cache.configure_cache()
+        assert path == str(tmp_path / "obturator" / "numba" / core_digest())
+        assert numba.config.CACHE_DIR == path
+        monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "mine"))
+        assert _jit_cache.configure_cache() is None
+    finally:
+        numba.config.CACHE_DIR = old
