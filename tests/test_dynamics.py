@@ -5,7 +5,15 @@ import math
 import numpy as np
 import pytest
 
-from obturator import Case, SolverOptions, TorqueModel, initial_state, rig_case, simulate
+from obturator import (
+    Case,
+    InputError,
+    SolverOptions,
+    TorqueModel,
+    initial_state,
+    rig_case,
+    simulate,
+)
 from obturator.cases import table1_ball
 from obturator.dynamics import N_STATE, rhs
 from obturator.solve import pack_parameters
@@ -183,3 +191,22 @@ def test_result_exports(tmp_path):
     data = np.loadtxt(path, delimiter=",", skiprows=1)
     np.testing.assert_allclose(data[:, 1], res.theta, rtol=1e-9)
     assert res.nfev > res.n_steps > 0 and res.success and res.opened
+
+
+def test_release_state_body_rates_follow_eq13():
+    # Eq. (13) written out: w1 = psi' s_th s_ph + th' c_ph, w2 = psi' s_th c_ph - th' s_ph,
+    # w3 = phi' + psi' c_th; with phi_0 = 0 and the release rates of the Case.
+
+    thd, phd, dpsi = 0.3, -0.2, 0.5
+    case = rig_case(150.0, 0.5, release_rate=(thd, phd, dpsi), release_phase=1.1)
+    y = case.initial_state()
+    psd = 150.0 + dpsi
+    th = case.theta0
+    np.testing.assert_allclose(y[4:7], [thd, psd * math.sin(th), phd + psd * math.cos(th)])
+    # psi_0 = 1.1 rad: the hole axis z = R[:, 2] lies at azimuth psi_0 - 90 deg (Fig. 7)
+    q0, q1, q2, q3 = y[:4]
+    zx = 2 * (q1 * q3 + q0 * q2)
+    zy = 2 * (q2 * q3 - q0 * q1)
+    assert math.atan2(zx, -zy) == pytest.approx(1.1)
+    with pytest.raises(InputError):
+        rig_case(150.0, 0.5, release_rate=(0.0, 0.0, 1e3))

@@ -22,11 +22,15 @@ from obturator.dynamics import (
     FAMILY_TANH,
     N_PARAM,
     P_FAMILY,
+    P_SPEED,
     P_WIDTH,
+    SPEED_STRENGTHENING,
+    SPEED_WEAKENING,
     applied_torque,
+    friction_speed_factor,
     slip_saturation,
 )
-from obturator.torques import hertz_patch_radius
+from obturator.torques import SlipSpeedLaw, hertz_patch_radius
 
 R_S, H, MU_F = 7.899e-3, 5.08e-5, 1.917e-5
 FAMILIES = {"algebraic": FAMILY_ALGEBRAIC, "tanh": FAMILY_TANH, "linear": FAMILY_LINEAR}
@@ -262,3 +266,37 @@ def test_bad_torque_parameters(factory, field):
     with pytest.raises(InputError) as err:
         factory()
     assert err.value.field == field
+
+
+@pytest.mark.parametrize("v", [0.0, 0.01, 0.05, 0.2, 5.0])
+def test_slip_speed_laws_closed_forms(v):
+    # mu(v)/mu_s: Stribeck-type weakening r + (1-r) exp(-(v/v_s)^2) and strengthening
+    # r + (1-r) v/(v+v_s), written out here independently of the kernel.
+    r, vs = 0.4, 0.05
+    weak = r + (1 - r) * math.exp(-((v / vs) ** 2))
+    strong = r + (1 - r) * v / (v + vs)
+    assert friction_speed_factor(v, SPEED_WEAKENING, r, vs) == pytest.approx(weak, rel=1e-14)
+    assert friction_speed_factor(v, SPEED_STRENGTHENING, r, vs) == pytest.approx(strong, rel=1e-14)
+    assert friction_speed_factor(v, 0.0, r, vs) == 1.0
+
+
+def test_slip_speed_law_scales_the_rig_torque():
+    # thesis rig law with mu(v), v = R_s |omega_r|: the torque scales by phi(v) exactly
+    w = np.array([0.0, 3.0, 4.0])  # |w| = 5 rad/s
+    law = SlipSpeedLaw("strengthening", 0.5, 0.02)
+    f = ThesisRigFriction(0.5, 0.08, R_S)
+    base = torque(TorqueModel(None, f), w)
+    p = np.zeros(N_PARAM)
+    p[8:18] = TorqueModel(None, f, law).pack()
+    p[P_SPEED : P_SPEED + 3] = law.pack()
+    g = np.array(applied_torque(*w, p))
+    v = 5.0 * R_S
+    np.testing.assert_allclose(g, base * (0.5 + 0.5 * v / (v + 0.02)), rtol=1e-13)
+    for kw, field in (
+        ({"kind": "bogus"}, "speed_law"),
+        ({"ratio": 0.0}, "speed_ratio"),
+        ({"speed": -1.0}, "slip_speed"),
+    ):
+        with pytest.raises(InputError) as err:
+            SlipSpeedLaw(**kw)
+        assert err.value.field == field

@@ -16,6 +16,7 @@ from .torques import (
     CouetteViscous,
     CoulombContactFriction,
     NakabayashiViscous,
+    SlipSpeedLaw,
     ThesisFlightFriction,
     ThesisRigFriction,
     TorqueModel,
@@ -97,6 +98,9 @@ def rig_case(
     gap: float = TABLE1["gap"],
     viscosity: float = TABLE1["viscosity"],
     patch_radius: float | None = None,
+    speed_law: SlipSpeedLaw | None = None,
+    release_rate: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    release_phase: float = 0.0,
     t_max: float = 100.0,
 ) -> Case:
     """Spin-rig case (Table 1 "gravitational model", thesis Eqs. 56-61, 64).
@@ -125,6 +129,11 @@ def rig_case(
         radius of the steel ball in the rig's lucite housing (chapter III,
         Fig. 22) under W, 0.279 mm for Table 1; 0: a point contact (not well
         posed: its t_cr does not converge in the width). Ignored by "thesis".
+    speed_law : SlipSpeedLaw, optional
+        Slip-speed dependence of mu (default: constant, the thesis's law).
+    release_rate, release_phase
+        Release transient (theta_dot_0, phi_dot_0, psi_dot_0 - omega_p) [rad/s]
+        and psi_0 [rad]; see :class:`~obturator.solve.Case`.
     t_max : float
         Integration limit [s]. Default 100 s: near-stick runs at low spin open
         late (about 43 s at 40 rad/s, mu_s = 0.5473).
@@ -141,7 +150,9 @@ def rig_case(
             else patch_radius
         )
         friction = CoulombContactFriction(mu_s, w, ball.radius, patch_radius=a)
-    torque = TorqueModel(NakabayashiViscous(ball.radius, gap, viscosity), friction)
+    torque = TorqueModel(
+        NakabayashiViscous(ball.radius, gap, viscosity), friction, speed_law or SlipSpeedLaw()
+    )
     return Case(
         ball,
         torque,
@@ -150,6 +161,8 @@ def rig_case(
         spin_mode=spin_mode,
         t_max=t_max,
         name="spin-rig",
+        release_rate=tuple(float(x) for x in release_rate),
+        release_phase=float(release_phase),
     )
 
 

@@ -48,6 +48,10 @@ __all__ = [
     "N_PARAM",
     "applied_torque",
     "slip_saturation",
+    "friction_speed_factor",
+    "SPEED_CONSTANT",
+    "SPEED_WEAKENING",
+    "SPEED_STRENGTHENING",
     "rhs",
     "nutation_angle_of_state",
     "observables",
@@ -63,7 +67,9 @@ P_A, P_C, P_IP, P_SPIN_MODE, P_KE0, P_FORM, P_WIDTH, P_THETA_CR = range(8)
 P_VISC = 8  # code, S, K_turb, omega_transition
 P_FRIC = 12  # code, moment scale, R_s, beta, n_contacts, pivot arm eps
 P_FAMILY = 18  # regularisation family of the Coulomb magnitude
-N_PARAM = 19
+P_SPEED = 19  # slip-speed law of mu: code, ratio r, reference speed v_s [m/s]
+N_PARAM = 22
+SPEED_CONSTANT, SPEED_WEAKENING, SPEED_STRENGTHENING = 0, 1, 2
 
 
 @njit(cache=True)
@@ -91,6 +97,23 @@ def slip_saturation(x: float, family: float) -> float:
     if x > 1e150:  # zero width (x = inf): the unregularised law
         return 1.0
     return x / math.sqrt(1.0 + x * x)
+
+
+@njit(cache=True)
+def friction_speed_factor(v: float, code: float, ratio: float, speed: float) -> float:
+    """mu(v) / mu_s for a slip speed v [m/s] (1 for the thesis's constant mu_s).
+
+    ``SPEED_WEAKENING`` (Stribeck type): r + (1 - r) exp(-(v/v_s)^2), from mu_s at
+    rest to r mu_s in fast slip. ``SPEED_STRENGTHENING`` (polymers such as the
+    rig's lucite housing): r + (1 - r) v / (v + v_s), from r mu_s at rest to
+    mu_s in fast slip. r = `ratio` in (0, 1], v_s = `speed` > 0 [m/s].
+    """
+    if code == SPEED_WEAKENING:
+        x = v / speed
+        return ratio + (1.0 - ratio) * math.exp(-x * x)
+    if code == SPEED_STRENGTHENING:
+        return ratio + (1.0 - ratio) * v / (v + speed)
+    return 1.0
 
 
 @njit(cache=True)
@@ -152,9 +175,14 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
     m = p[P_FRIC + 1]
     delta = p[P_WIDTH]
     family = p[P_FAMILY]
+    speed_code = p[P_SPEED]
     if code == 1.0 or code == 2.0:
         if wn == 0.0:
             return tx, ty, tz
+        if speed_code != SPEED_CONSTANT:  # slip speed scale R_s |omega_r|
+            m = m * friction_speed_factor(
+                wn * p[P_FRIC + 2], speed_code, p[P_SPEED + 1], p[P_SPEED + 2]
+            )
         ux = wx / wn
         uy = wy / wn
         uz = wz / wn
@@ -194,6 +222,8 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
             continue
         x = g / (delta * r) if delta > 0.0 else math.inf
         f = m * slip_saturation(x, family) / g
+        if speed_code != SPEED_CONSTANT:
+            f *= friction_speed_factor(g, speed_code, p[P_SPEED + 1], p[P_SPEED + 2])
         fx = -f * vx
         fy = -f * vy
         fz = -f * vz

@@ -37,6 +37,7 @@ from .dynamics import (
     N_PARAM,
     N_STATE,
     P_FAMILY,
+    P_SPEED,
     SPIN_CONSTANT,
     SPIN_FREE,
     SPIN_THESIS_ENERGY,
@@ -126,6 +127,13 @@ class Case:
         Give up (status 0) if the bore has not opened by this time [s].
     name : str
         Label carried into results.
+    release_rate : (float, float, float)
+        Relative rates at release (theta_dot_0, phi_dot_0, psi_dot_0 - omega_p)
+        [rad/s]; default zero, the thesis's co-rotating release (p. 45). A
+        release transient (plunger, holding jet) is a small non-zero value.
+    release_phase : float
+        psi_0 [rad], the azimuth of the line of nodes at release. It matters on
+        the rig, where gravity (along -X) breaks the symmetry about Z.
     """
 
     ball: BoredBall
@@ -137,6 +145,8 @@ class Case:
     theta_cr: float | None = None
     t_max: float = 5.0
     name: str = ""
+    release_rate: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    release_phase: float = 0.0
 
     def __post_init__(self) -> None:
         check_range("spin_rate", self.spin_rate, 0.0, math.inf, lo_open=True, unit="rad/s")
@@ -167,6 +177,24 @@ class Case:
                 f"opening angle beta_s = {math.degrees(self.ball.opening_angle):g} deg",
             )
         check_range("t_max", self.t_max, 0.0, math.inf, lo_open=True, unit="s")
+        if len(self.release_rate) != 3:
+            raise InputError("release_rate", "expected (theta_dot, phi_dot, psi_dot - omega_p)")
+        for name, x in zip(("theta_dot0", "phi_dot0", "psi_dot0"), self.release_rate, strict=True):
+            check_range(name, x, -self.spin_rate, self.spin_rate, unit="rad/s")
+        check_range("release_phase", self.release_phase, -2 * math.pi, 2 * math.pi, unit="rad")
+
+    def initial_state(self, formulation: str = "quaternion") -> np.ndarray:
+        """State at release (thesis p. 45, plus :attr:`release_rate` and :attr:`release_phase`)."""
+        thd, phd, psd = self.release_rate
+        return initial_state(
+            self.theta0,
+            self.spin_rate,
+            formulation=formulation,
+            psi_dot=self.spin_rate + psd,
+            phi_dot=phd,
+            theta_dot=thd,
+            psi0=self.release_phase,
+        )
 
     @property
     def opening_angle(self) -> float:
@@ -313,7 +341,7 @@ def pack_parameters(case: Case, options: SolverOptions, y0: np.ndarray | None = 
     a, c = ball.transverse_inertia, ball.axial_inertia
     form = _FORMS[options.formulation]
     if y0 is None:
-        y0 = initial_state(case.theta0, case.spin_rate, formulation=options.formulation)
+        y0 = case.initial_state(options.formulation)
     p = np.zeros(N_PARAM)
     p[0], p[1], p[2] = a, c, case.projectile_inertia
     p[3] = _SPIN_CODES[case.spin_mode]
@@ -321,6 +349,7 @@ def pack_parameters(case: Case, options: SolverOptions, y0: np.ndarray | None = 
     p[6] = options.friction_width * case.spin_rate
     p[7] = case.opening_angle
     p[8:18] = case.torque.pack()
+    p[P_SPEED : P_SPEED + 3] = case.torque.speed_law.pack()
     p[P_FAMILY] = FRICTION_FAMILIES[options.friction_family]
     # total kinetic energy for the thesis's energy form (Appendix A, C(4))
     p[4] = 0.0
@@ -495,7 +524,7 @@ def _run(
     terminal: bool,
 ):
     if y0 is None:
-        y0 = initial_state(case.theta0, case.spin_rate, formulation=options.formulation)
+        y0 = case.initial_state(options.formulation)
     y0 = np.asarray(y0, dtype=float)
     if y0.shape != (N_STATE,):
         raise InputError("y0", f"expected shape ({N_STATE},), got {y0.shape}")

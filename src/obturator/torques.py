@@ -28,6 +28,8 @@ __all__ = [
     "MATERIALS",
     "hertz_patch_radius",
     "TorqueModel",
+    "SlipSpeedLaw",
+    "SPEED_LAWS",
     "ViscousTorque",
     "FrictionTorque",
 ]
@@ -417,6 +419,50 @@ def hertz_patch_radius(
 FrictionTorque = ThesisRigFriction | ThesisFlightFriction | CoulombContactFriction
 
 
+SPEED_LAWS = {"constant": 0, "weakening": 1, "strengthening": 2}
+
+
+@dataclass(frozen=True)
+class SlipSpeedLaw:
+    """Dependence of the sliding friction coefficient on the slip speed v.
+
+    mu(v) = mu_s phi(v) with (see :func:`obturator.dynamics.friction_speed_factor`)
+
+    * ``"constant"``: phi = 1, the thesis's law;
+    * ``"weakening"`` (Stribeck type, static > kinetic): phi = r + (1 - r) exp(-(v/v_s)^2),
+      mu_s at rest falling to r mu_s in fast slip;
+    * ``"strengthening"`` (velocity-strengthening, typical of polymers such as the
+      rig's lucite housing, thesis chapter III): phi = r + (1 - r) v/(v + v_s),
+      r mu_s at rest rising to mu_s in fast slip.
+
+    For the thesis laws v = R_s |omega_r|; for Coulomb contacts v is each
+    contact's generalised slip speed.
+
+    Parameters
+    ----------
+    kind : {"constant", "weakening", "strengthening"}
+    ratio : float
+        r in (0, 1] [-].
+    speed : float
+        v_s > 0 [m/s]. Rig slip speeds are 0 at stick and up to about
+        R_s omega_p ~ 1.6 m/s at 200 rad/s.
+    """
+
+    kind: str = "constant"
+    ratio: float = 1.0
+    speed: float = 0.1
+
+    def __post_init__(self) -> None:
+        if self.kind not in SPEED_LAWS:
+            raise InputError("speed_law", f"{self.kind!r}; allowed: {', '.join(SPEED_LAWS)}")
+        check_range("speed_ratio", self.ratio, 0.0, 1.0, lo_open=True)
+        check_range("slip_speed", self.speed, 0.0, math.inf, lo_open=True, unit="m/s")
+
+    def pack(self) -> tuple[float, float, float]:
+        """(code, r, v_s) for the compiled kernel."""
+        return (float(SPEED_LAWS[self.kind]), float(self.ratio), float(self.speed))
+
+
 @dataclass(frozen=True)
 class TorqueModel:
     """Total applied torque G = viscous + sliding friction (thesis Eqs. 62-64).
@@ -427,10 +473,13 @@ class TorqueModel:
         Viscous gap torque; None for none.
     friction : ThesisRigFriction or ThesisFlightFriction or CoulombContactFriction or None
         Sliding-friction torque; None for none.
+    speed_law : SlipSpeedLaw
+        Slip-speed dependence of mu (default constant, as in the thesis).
     """
 
     viscous: ViscousTorque | None = None
     friction: FrictionTorque | None = None
+    speed_law: SlipSpeedLaw = SlipSpeedLaw()
 
     def pack(self) -> tuple[float, ...]:
         """Flat parameter tuple: viscous (4 values) then friction (6 values)."""
