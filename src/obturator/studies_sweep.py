@@ -1185,18 +1185,16 @@ class Distribution:
 
 
 def _truncnormal(mean: float, sd: float, lo: float, hi: float, u: float) -> float:
-    """Inverse-CDF draw of a normal truncated to [lo, hi] from u in [0, 1)."""
-    from scipy.special import ndtr, ndtri
+    """Inverse-CDF draw of a normal truncated to [lo, hi] from u in [0, 1).
+
+    :func:`scipy.stats.truncnorm` works in log space in the tails, so a window many
+    standard deviations away from the mean is sampled correctly (a plain
+    ndtr/ndtri inversion underflows there and returns an end point every time).
+    """
+    from scipy.stats import truncnorm
 
     a, b = (lo - mean) / sd, (hi - mean) / sd
-    flip = a > 0  # work in the lower tail, where ndtr keeps its precision
-    if flip:
-        a, b = -b, -a
-    pa, pb = float(ndtr(a)), float(ndtr(b))
-    z = float(ndtri(pa + u * (pb - pa)))
-    z = min(max(z, a), b)
-    if flip:
-        z = -z
+    z = float(truncnorm.ppf(u, a, b))
     return min(max(mean + sd * z, lo), hi)
 
 
