@@ -132,3 +132,31 @@ def test_console_script_subprocess() -> None:
     )
     assert bad.returncode == 2
     assert bad.stderr.startswith("obturator: error: altitude_m:")
+
+
+def _strict(text: str):
+    def reject(token: str):
+        raise ValueError(f"non-standard JSON token {token}")
+
+    return json.loads(text, parse_constant=reject)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["gasdyn", "normal-shock", "--mach", "3", "--json"],
+        ["gasdyn", "start", "--mach", "2.5", "--json"],
+        ["gasdyn", "atmosphere", "--altitude-m", "86000", "--json"],
+        ["simulate", "--spin-rate", "450", "--json", "--no-check"],
+    ],
+)
+def test_json_outputs_are_strict_rfc8259(args, capsys):
+    # RFC 8259 has no NaN/Infinity: every --json output parses with those rejected
+    assert main(args) == 0
+    _strict(capsys.readouterr().out)
+
+
+def test_huge_mach_is_rejected_not_printed_as_nan(capsys):
+    assert main(["gasdyn", "normal-shock", "--mach", "1e308", "--json"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("obturator: error: mach:") and err.count("\n") == 1

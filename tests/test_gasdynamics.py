@@ -444,7 +444,7 @@ def test_bad_input_raises_input_error(func, args, field: str) -> None:
 def test_array_reports_first_offending_value() -> None:
     with pytest.raises(InputError, match=r"mach: element \[2\]: 0\.5 is outside") as err:
         gd.normal_shock_mach([2.0, 3.0, 0.5, 0.2])
-    assert "[1, inf)" in str(err.value)
+    assert "[1, 1e+06]" in str(err.value)
 
 
 def test_shapes_that_do_not_broadcast() -> None:

@@ -15,9 +15,9 @@ same one-line ``obturator: error:`` message (exit 2) as an out-of-range one.
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
+from . import _json
 from . import gasdynamics as gd
 from .atmosphere import standard_atmosphere
 from .errors import InputError
@@ -60,7 +60,7 @@ def _print_table(rows: list[Row]) -> None:
 
 def _emit(args: argparse.Namespace, data: dict[str, Any], rows: list[Row]) -> int:
     if args.json:
-        print(json.dumps(data))
+        print(_json.dumps(data))
     else:
         _print_table(rows)
     return 0
@@ -220,7 +220,7 @@ def _cmd_choke(args: argparse.Namespace) -> int:
         "mach": steps[-1].mach,
     }
     if args.json:
-        print(json.dumps(data))
+        print(_json.dumps(data))
         return 0
     header = ("iteration", "Re", "f_D", "f_D L/D", "Mach")
     table = [header] + [

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 from typing import Any
 
+from . import _json
 from .cases import CASE_NAMES, TORQUE_MODELS, flight_case, rig_case, table1_ball
 from .errors import InputError
 from .io import load_config, parse_quantity
@@ -246,7 +246,7 @@ def _run(args: argparse.Namespace) -> int:
         out = res.summary()
         if check is not None:
             out["convergence"] = check.to_dict()
-        print(json.dumps(out))
+        print(_json.dumps(out))
     else:
         _print_table(res, check)
     if check is not None and not check.converged:

@@ -35,13 +35,13 @@ confidence intervals are distribution-free order-statistic intervals.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
 from pathlib import Path
 from typing import Any
 
+from . import _json
 from .cases import CASE_NAMES, TORQUE_MODELS
 from .errors import InputError, check_range
 from .solve import SolverOptions
@@ -263,7 +263,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
     rate = run.n_computed / run.elapsed_s if run.elapsed_s > 0 else math.inf
     if args.json:
         print(
-            json.dumps(
+            _json.dumps(
                 {
                     **summ,
                     "out": args.out,
@@ -390,7 +390,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
                 "out": args.out,
             }
         )
-        print(json.dumps(d))
+        print(_json.dumps(d))
         return 0
     header = (
         f"montecarlo {args.case}: {samples} samples, seed {seed}, {ds.attrs['distributions']}"

@@ -84,10 +84,16 @@ _CORRELATIONS = ("colebrook", "haaland")
 # input handling
 
 
+#: Largest Mach number accepted [-]. The perfect-gas relations are physically
+#: meaningless long before (real-gas effects above M ~ 6); at 1e6 every ratio is
+#: at its M -> infinity limit to ~1e-12, and far above it M^2 overflows.
+MACH_MAX = 1e6
+
+
 def _mach(value: ArrayLike, *, supersonic: bool = False, field: str = "mach") -> NDArray:
     if supersonic:
-        return checked_array(field, value, 1.0)
-    return checked_array(field, value, 0.0, lo_open=True)
+        return checked_array(field, value, 1.0, MACH_MAX)
+    return checked_array(field, value, 0.0, MACH_MAX, lo_open=True)
 
 
 def _gamma(value: ArrayLike) -> NDArray:

@@ -213,7 +213,8 @@ class SolverOptions:
     Parameters
     ----------
     rtol : float
-        Relative tolerance, in (0, 0.1).
+        Relative tolerance, in [1e-12, 0.1) (smaller values cannot be honoured
+        in double precision by the integrators' error norms).
     atol : float
         Absolute tolerance on the quaternion components and on rates measured
         in units of the initial spin omega_p0 (so it is scale-free).
@@ -263,7 +264,8 @@ class SolverOptions:
     method: Literal["auto", "radau", "rosenbrock"] = "auto"
 
     def __post_init__(self) -> None:
-        check_range("rtol", self.rtol, 0.0, 0.1, lo_open=True, hi_open=True)
+        # DOP853 works at 0.01 rtol, floored at 1e-14: a smaller rtol would be clamped.
+        check_range("rtol", self.rtol, 1e-12, 0.1, hi_open=True)
         check_range("atol", self.atol, 0.0, 1.0, lo_open=True)
         check_range("friction_width", self.friction_width, 0.0, 1.0, lo_open=True)
         if self.friction_family not in FRICTION_FAMILIES:
