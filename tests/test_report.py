@@ -39,7 +39,7 @@ FIGURES = [
 EXPECTED_FLAGGED = {
     "sum t^2 [all 28 starred runs]",  # the printed sums omit four starred runs
     "t_cr minimum location, Eq. 92 (mu_s = 0.5473)",  # 125 rad/s
-    "t_cr minimum location, exact (mu_s = 0.5473)",  # 178 rad/s: chapter IV's larger mu_s
+    "t_cr minimum location, exact (mu_s = 0.5473)",  # ~185 rad/s: chapter IV's larger mu_s
     "Fig. 9 shear constant S",  # caption 1.2e-6 vs Eq. 34's 2.1e-8
     "mu_s fitted with the exact model",  # 0.588 vs the linearised 0.547
 }
@@ -64,8 +64,10 @@ def test_reproduce_writes_every_figure_and_report(reproduced):
     assert "| quantity | thesis value | computed | difference (%) |" in md
     assert "<th>difference (%)</th>" in html
     for text in (md, html):
-        for must in ("numpy", "scipy", "numba", "rtol", "friction regularisation width"):
+        for must in ("numpy", "scipy", "numba", "pint", "dask", "rtol", "command: obturator"):
             assert must in text
+        assert "friction regularisation width" in text and "family = algebraic" in text
+        assert "Thesis Fig. 43 (p. 113)" in text  # captions quote the thesis
         for name in FIGURES:
             assert name in text
         assert "Bootstrap" in text
@@ -123,15 +125,19 @@ def test_row_difference_and_escaping():
         "rows": [Row("a|b <c>", 1.0, 1.0)],
         "flagged": [],
         "fit_text": "<fit>",
-        "figures": [("f.png", "F")],
+        "figures": [("f.png", "F", "caption <x>")],
         "versions": {"numpy": "1"},
         "solver": ["rtol"],
+        "provenance": ["command: obturator <y>"],
         "mode": "quick",
         "elapsed": 1.0,
+        "images": {},
+        "explorer": "",
     }
     assert "a\\|b <c>" in to_markdown(ctx)
     h = to_html(ctx)
     assert "a|b &lt;c&gt;" in h and "&lt;fit&gt;" in h
+    assert "caption &lt;x&gt;" in h and "obturator &lt;y&gt;" in h
 
 
 # ---------------------------------------------------------------------------

@@ -4,7 +4,7 @@
 calibrations of :mod:`obturator.calibration`, writes one PNG per figure and a
 report in Markdown and HTML. Both report files are rendered from the same
 :class:`Row` list (no Markdown-to-HTML conversion, no extra dependency). The
-table compares every number of SPEC sections 2-3 that the thesis prints (or
+table compares every number of the thesis's Table 1 and chapters II-IV that it prints (or
 states qualitatively) with the computed value; ``difference (%)`` is
 computed / thesis - 1. Rows whose thesis value was not printed show "—" and
 name an independent check in the note.
@@ -12,6 +12,7 @@ name an independent check in the note.
 
 from __future__ import annotations
 
+import base64
 import html
 import math
 import platform
@@ -30,6 +31,7 @@ from . import studies
 from .approx import large_spin_coefficients, mean_moment_arm
 from .cases import TABLE1, rig_case, table1_ball
 from .experiment import PRINTED_SUMS_OMITTED_RUNS, compare_with_thesis, load_thesis_data
+from .explorer import explorer_data
 from .gasdynamics import (
     choking_mach,
     fanno_mach,
@@ -146,6 +148,11 @@ def _settings(quick: bool) -> dict[str, Any]:
             "exact_spins": np.linspace(100.0, 1000.0, 10),
             "fig43_spins": np.linspace(125.0, 700.0, 13),
             "min_grid": 20,
+            "explorer": {
+                "mu_s_values": (0.35, 0.5473),
+                "theta0_deg_values": (87.25,),
+                "spin_rates": np.geomspace(80.0, 700.0, 8),
+            },
             "fit": {
                 "bootstrap": 40,
                 "table_resolution": 1.5,
@@ -159,6 +166,7 @@ def _settings(quick: bool) -> dict[str, Any]:
         "exact_spins": np.linspace(100.0, 1000.0, 46),
         "fig43_spins": np.linspace(125.0, 700.0, 47),
         "min_grid": 60,
+        "explorer": {},
         "fit": {"bootstrap": 200},
     }
 
@@ -226,6 +234,11 @@ def _tasks(quick: bool, options: SolverOptions | None) -> list[tuple[str, str, C
         ),
         ("fit", "exact-model calibration", lambda: cal.fit_exact(options=options, **s["fit"])),
         (
+            "explorer",
+            "interactive explorer",
+            lambda: explorer_data(options=options, **s["explorer"]),
+        ),
+        (
             "fit_converged",
             "calibration, tighter solver",
             lambda: cal.fit_exact(options=_tighter(options), bootstrap=0).mu_s,
@@ -267,7 +280,8 @@ def checkable_rows(res: dict[str, Any]) -> list[Row]:
             ball.axial_inertia,
             "kg m^2",
             "Table 1",
-            "thin-shell integral (SPEC: 3.128e-7); printed Eqs. 9d-11c are garbled",
+            "thin-shell integral dI = (rho_r^2/2 + h^2/3) dm, exact 3.128e-7; the thesis's "
+            "printed Eqs. 9d-11c are garbled",
         ),
         Row(
             "A (transverse inertia)",
@@ -275,7 +289,7 @@ def checkable_rows(res: dict[str, Any]) -> list[Row]:
             ball.transverse_inertia,
             "kg m^2",
             "Table 1",
-            "thin-shell integral (SPEC: 2.219e-7)",
+            "thin-shell integral, exact 2.219e-7",
         ),
         Row("lambda = C/A - 1", 0.41, ball.inertia_ratio, "1", "Table 1"),
         Row(
@@ -563,7 +577,7 @@ def checkable_rows(res: dict[str, Any]) -> list[Row]:
             res["fit_converged"] - fit.mu_s,
             "1",
             "—",
-            "convergence of the exact-model fit (SPEC section 4)",
+            "convergence of the exact-model fit (tolerances / 100, friction width / 10)",
         )
     )
     for w, (ex, ap) in res["exact_vs_eq92"].items():
@@ -641,7 +655,8 @@ def _figures(res: dict[str, Any]) -> list[tuple[str, str, Callable[[], Any]]]:
 
 def _versions() -> dict[str, str]:
     out = {"python": platform.python_version()}
-    for pkg in ("obturator", "numpy", "scipy", "numba", "xarray", "matplotlib"):
+    pkgs = ("obturator", "numpy", "scipy", "numba", "xarray", "matplotlib", "pint", "rich")
+    for pkg in (*pkgs, "dask", "distributed", "netCDF4", "plotly"):
         try:
             out[pkg] = version(pkg)
         except PackageNotFoundError:  # pragma: no cover
@@ -649,11 +664,24 @@ def _versions() -> dict[str, str]:
     return out
 
 
+def _provenance(command: str | None) -> list[str]:
+    import os
+    from datetime import UTC, datetime
+
+    return [
+        f"date: {datetime.now(UTC).isoformat(timespec='seconds')}",
+        f"command: {command or 'obturator.report.reproduce() from Python'}",
+        f"machine: {platform.platform()}, {platform.machine()}, {os.cpu_count()} CPUs",
+    ]
+
+
 def _solver_lines(options: SolverOptions) -> list[str]:
     return [
         f"method = {options.method}",
         f"rtol = {options.rtol:g}, atol = {options.atol:g} (rates in units of omega_p0)",
-        f"friction regularisation width = {options.friction_width:g} omega_p0",
+        f"friction regularisation width = {options.friction_width:g} omega_p0, "
+        f"family = {options.friction_family} (magnitude only; the moment arm uses the "
+        "true slip direction)",
         f"formulation = {options.formulation}",
         f"event location tolerance = {options.event_tol:g} s",
         "projectile spin held constant (driven rig; thesis gravity runs)",
@@ -667,17 +695,24 @@ def _context(
     options: SolverOptions,
     quick: bool,
     elapsed: float,
+    command: str | None = None,
 ) -> dict[str, Any]:
+    from .report_captions import figure_captions
+
     flagged = [r for r in rows if r.difference is not None and abs(r.difference) > 2.0]
+    captions = figure_captions([n for n, _ in figures], res)
     return {
         "rows": rows,
         "flagged": flagged,
         "fit_text": res["fit"].report(),
-        "figures": figures,
+        "figures": [(n, c, captions[n]) for n, c in figures],
         "versions": _versions(),
         "solver": _solver_lines(options),
+        "provenance": _provenance(command),
         "mode": "quick (fewer points, smaller bootstrap)" if quick else "full",
         "elapsed": elapsed,
+        "images": {},
+        "explorer": "",
     }
 
 
@@ -692,7 +727,7 @@ def to_markdown(ctx: dict[str, Any]) -> str:
         "",
         f"Mode: {ctx['mode']}; run time {ctx['elapsed']:.1f} s.",
         "",
-        "## Checkable numbers (SPEC sections 2-3)",
+        "## Checkable numbers (Table 1, chapters II-IV, Appendix B)",
         "",
         "| " + " | ".join(HEADER) + " |",
         "|" + "|".join("---" for _ in HEADER) + "|",
@@ -701,8 +736,10 @@ def to_markdown(ctx: dict[str, Any]) -> str:
     out += ["", f"Rows differing by more than 2 %: {len(ctx['flagged'])}.", ""]
     out += [f"- {r.quantity}: {r.difference:+.1f} % ({r.note})" for r in ctx["flagged"]]
     out += ["", "## Calibration", "", "```", ctx["fit_text"], "```", "", "## Figures", ""]
-    out += [f"### {cap}\n\n![{cap}]({name})\n" for name, cap in ctx["figures"]]
-    out += ["## Versions", ""]
+    out += [f"### {cap}\n\n![{cap}]({name})\n\n{text}\n" for name, cap, text in ctx["figures"]]
+    out += ["## Provenance", ""]
+    out += [f"- {s}" for s in ctx["provenance"]]
+    out += ["", "## Versions", ""]
     out += [f"- {k}: {v}" for k, v in ctx["versions"].items()]
     out += ["", "## Solver settings", ""]
     out += [f"- {s}" for s in ctx["solver"]]
@@ -719,10 +756,17 @@ def to_html(ctx: dict[str, Any]) -> str:
     flagged = "\n".join(
         f"<li>{e(r.quantity)}: {r.difference:+.1f} % ({e(r.note)})</li>" for r in ctx["flagged"]
     )
+
+    def src(name: str) -> str:  # embedded, so the one file carries every figure
+        data = ctx["images"].get(name)
+        return f"data:image/png;base64,{data}" if data else e(name)
+
     figs = "\n".join(
-        f'<figure><img src="{e(n)}" alt="{e(c)}"><figcaption>{e(c)}</figcaption></figure>'
-        for n, c in ctx["figures"]
+        f'<figure><img src="{src(n)}" alt="{e(c)}" data-file="{e(n)}">'
+        f"<figcaption><b>{e(c)}.</b> {e(t)}</figcaption></figure>"
+        for n, c, t in ctx["figures"]
     )
+    provenance = "".join(f"<li>{e(s)}</li>" for s in ctx["provenance"])
     versions = "".join(f"<li>{e(k)}: {e(v)}</li>" for k, v in ctx["versions"].items())
     solver = "".join(f"<li>{e(s)}</li>" for s in ctx["solver"])
     return f"""<!DOCTYPE html>
@@ -733,13 +777,14 @@ body {{ font-family: sans-serif; margin: 2em; }}
 table {{ border-collapse: collapse; font-size: 0.85em; }}
 td, th {{ border: 1px solid #aaa; padding: 2px 6px; vertical-align: top; }}
 th {{ background: #eee; }}
-figure {{ display: inline-block; margin: 0.5em; }}
+figure {{ display: inline-block; margin: 0.5em; max-width: 580px; vertical-align: top; }}
+figcaption {{ font-size: 0.85em; }}
 img {{ max-width: 560px; }}
 pre {{ background: #f6f6f6; padding: 0.5em; font-size: 0.85em; }}
 </style></head><body>
 <h1>obturator: reproduction of Bloomer (1980)</h1>
 <p>Mode: {e(ctx["mode"])}; run time {ctx["elapsed"]:.1f} s.</p>
-<h2>Checkable numbers (SPEC sections 2-3)</h2>
+<h2>Checkable numbers (Table 1, chapters II-IV, Appendix B)</h2>
 <table><thead><tr>{head}</tr></thead><tbody>
 {body}
 </tbody></table>
@@ -751,6 +796,11 @@ pre {{ background: #f6f6f6; padding: 0.5em; font-size: 0.85em; }}
 <pre>{e(ctx["fit_text"])}</pre>
 <h2>Figures</h2>
 {figs}
+<h2>Interactive explorer</h2>
+<p>t_cr of the exact rig model for several mu_s and theta_0 with the 54 measured runs
+(hover a run for its number, spin, measured and model t_cr), and theta(t) of any run.</p>
+{ctx["explorer"]}
+<h2>Provenance</h2><ul>{provenance}</ul>
 <h2>Versions</h2><ul>{versions}</ul>
 <h2>Solver settings</h2><ul>{solver}</ul>
 </body></html>
@@ -794,6 +844,7 @@ def reproduce(
     quick: bool = False,
     progress: bool = True,
     options: SolverOptions | None = None,
+    command: str | None = None,
 ) -> ReproduceResult:
     """Run every study, write the figures (PNG) and report.md / report.html into `out_dir`.
 
@@ -807,10 +858,14 @@ def reproduce(
         Show a rich progress bar on stderr.
     options : SolverOptions, optional
         Solver settings for every exact run (default :class:`SolverOptions`).
+    command : str, optional
+        The command line, recorded in the report's provenance.
 
     Returns
     -------
     ReproduceResult
+        ``report.html`` is self-contained: figures embedded as data URIs and the
+        interactive explorer with plotly.js inline.
     """
     t0 = time.perf_counter()
     out = Path(out_dir)
@@ -826,9 +881,13 @@ def reproduce(
             res[key] = run(label, fn)
         figs = _figures(res)
         run("figures", lambda: paths.extend(save(make(), out / name) for name, _, make in figs))
+    from .explorer import explorer_html
+
     rows = checkable_rows(res)
     elapsed = time.perf_counter() - t0
-    ctx = _context(rows, res, [(n, c) for n, c, _ in figs], opts, quick, elapsed)
+    ctx = _context(rows, res, [(n, c) for n, c, _ in figs], opts, quick, elapsed, command)
+    ctx["images"] = {p.name: base64.b64encode(p.read_bytes()).decode("ascii") for p in paths}
+    ctx["explorer"] = explorer_html(res["explorer"])
     md, hp = out / "report.md", out / "report.html"
     md.write_text(to_markdown(ctx), encoding="utf-8")
     hp.write_text(to_html(ctx), encoding="utf-8")

@@ -5,18 +5,17 @@ theta = theta_cr (thesis: theta_cr = beta_s) and returns a
 :class:`NutationResult`; :func:`opening_time` returns t_cr alone (no time
 series stored), which is what sweeps and fits call.
 
-Numerics (SPEC section 4): at release the ball co-rotates, omega_r = 0, and the
-Coulomb direction is 0/0; near sticking the friction torque is extremely stiff.
-The friction law is regularised with a width delta [rad/s] (see
-:func:`obturator.dynamics.applied_torque`) and integrated with a compiled
+Numerics: at release the ball co-rotates, omega_r = 0, and the sliding-friction
+direction is 0/0; near sticking the friction torque is extremely stiff. Only
+the magnitude of the friction torque is regularised (width delta [rad/s], one
+of three families; see :func:`obturator.dynamics.applied_torque`); the thesis's
+moment arm always uses the true slip direction. Integration is compiled: an
 explicit Dormand-Prince 8(5,3) pair by default, which hands the run to a
 fifth-order Radau IIA method when it detects stiffness (Radau's Newton
-iterations cope with the strongly nonlinear stiffness of sticking, where a
-linearly implicit method needs steps of ~1e-7 s); Radau alone or an L-stable
-Rosenbrock pair can be chosen; the event is located by
-re-stepping to 1e-12 s.
-Tests show t_cr moves by less than 1e-3 relative when delta shrinks tenfold and
-when the tolerances tighten tenfold.
+iterations cope with the strongly nonlinear stiffness of near-stick phases);
+Radau alone or an L-stable Rosenbrock pair can be chosen; the opening event
+is located by re-stepping to 1e-12 s. :func:`convergence_check` reruns a case
+with tighter tolerances, a narrower width and another regularisation family.
 """
 
 from __future__ import annotations
