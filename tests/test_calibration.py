@@ -10,7 +10,7 @@ import pytest
 
 from obturator import calibration as cal
 from obturator.errors import InputError
-from obturator.experiment import SpinRigData, printed_thesis_sums
+from obturator.experiment import SpinRigData, load_thesis_data, printed_thesis_sums
 from obturator.solve import SolverOptions
 
 PRINTED = printed_thesis_sums()
@@ -184,3 +184,16 @@ def test_input_errors(tmp_path):
         cal.calibrate_csv(bad)
     with pytest.raises(InputError, match="theta0_deg"):
         cal.calibrate_csv(bad, theta0_deg=95.0)
+
+
+def test_runs_not_opened_within_horizon_are_censored_and_reported():
+    # mu_s held in [0.5, 0.6]: at ~78 rad/s the model opens after ~1.7 s (corrected friction
+    # law), beyond t_max = 0.5 s: each run is right-censored, its residual taken at t_max,
+    # listed in the report and the JSON; nothing is NaN and nothing is dropped.
+    data = load_thesis_data()
+    low = data.select(data.spin_rate < 80.0)
+    fit = cal.fit_exact(low, bootstrap=0, t_max=0.5, bounds={"mu_s": (0.5, 0.6)})
+    assert fit.censored_runs == [int(r) for r in low.run]
+    np.testing.assert_allclose(fit.residuals, 0.5 - low.opening_time)
+    assert "censored runs" in fit.report()
+    assert fit.to_dict()["censored_runs"] == fit.censored_runs

@@ -59,12 +59,15 @@ def test_couette_eq34_and_small_gap_limit():
     # Eq. (34) closed form; Eq. (42) -> Eq. (34) as eps -> 0 ("identical for small eps", p. 57)
     s34 = 8 / 3 * math.pi * R_S**4 * MU_F / H
     assert CouetteViscous(R_S, H, MU_F).coefficient == pytest.approx(s34, rel=1e-14)
-    tiny = 1e-9
+    # Eq. 42 / Eq. 34 = (1 + eps) exactly, eps = h/R_s: -> 1 at the smallest gap accepted
+    tiny = 1e-7
     ratio = (
         NakabayashiViscous(R_S, tiny, MU_F).coefficient
         / CouetteViscous(R_S, tiny, MU_F).coefficient
     )
-    assert ratio == pytest.approx(1.0, rel=1e-6)
+    assert ratio == pytest.approx(1.0 + tiny / R_S, rel=1e-12)
+    with pytest.raises(InputError, match="gap"):
+        NakabayashiViscous(R_S, 1e-308, MU_F)  # below the continuum limit (0.1 um)
 
 
 def test_turbulent_branch_switches_at_eq41():

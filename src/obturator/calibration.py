@@ -56,7 +56,7 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import least_squares, minimize_scalar
 
 from .cases import TABLE1, rig_case
-from .errors import InputError, check_range
+from .errors import InputError, SolverError, check_range
 from .experiment import (
     PRINTED_SUMS_OMITTED_RUNS,
     SpinRigData,
@@ -261,7 +261,7 @@ class OpeningTimeTable:
         ok = np.isfinite(rows).all(axis=1)
         centre = len(mu_grid) // 2
         if not ok[centre]:
-            raise RuntimeError("exact model does not open at the centre of the mu_s grid")
+            raise SolverError("exact model does not open at the centre of the mu_s grid")
         lo = centre
         while lo > 0 and ok[lo - 1]:
             lo -= 1
@@ -269,7 +269,7 @@ class OpeningTimeTable:
         while hi + 1 < len(mu_grid) and ok[hi + 1]:
             hi += 1
         if hi - lo < 3:
-            raise RuntimeError("fewer than 4 mu_s grid rows open at every spin rate")
+            raise SolverError("fewer than 4 mu_s grid rows open at every spin rate")
         table = cls(mu_grid[lo : hi + 1], np.asarray(spin_rates, float), rows[lo : hi + 1])
         if not verify:
             return table
@@ -411,6 +411,11 @@ class ExactFit:
     bootstrap : BootstrapResult or None
     thesis : ThesisLeastSquares or None
         The chapter IV fit on the same runs, for comparison.
+    censored : ndarray of bool or None
+        Runs whose model t_cr exceeds the horizon ``t_max`` (right-censored:
+        the model only says t_cr > t_max). Their residual is taken at t_max,
+        the smallest model value consistent with the censoring, so a model
+        that opens too late is never rewarded; they are listed in the report.
     """
 
     names: tuple[str, ...]
@@ -437,6 +442,14 @@ class ExactFit:
     settings: dict[str, Any]
     bootstrap: BootstrapResult | None = None
     thesis: ThesisLeastSquares | None = None
+    censored: NDArray[np.bool_] | None = None
+
+    @property
+    def censored_runs(self) -> list[int]:
+        """Runs the best-fit model does not open within ``t_max`` (right-censored)."""
+        if self.censored is None:
+            return []
+        return [int(r) for r in self.run[self.censored]]
 
     @property
     def mu_s(self) -> float:
@@ -468,6 +481,7 @@ class ExactFit:
             "ndata": self.ndata,
             "nvarys": self.nvarys,
             "rms_residual_s": self.rms,
+            "censored_runs": self.censored_runs,
             "sigma_s": self.sigma,
             "success": self.success,
             "message": self.message,
@@ -541,8 +555,13 @@ class ExactFit:
             f"    reduced chi-square = {self.redchi:.6g}",
             f"    rms residual       = {self.rms:.4g} s",
             f"    success            = {self.success} ({self.message})",
-            "[[Variables]]",
         ]
+        if self.censored_runs:
+            lines.append(
+                f"    censored runs      = {self.censored_runs} (model does not open within "
+                f"t_max = {self.settings.get('t_max')} s; residual taken at t_max)"
+            )
+        lines.append("[[Variables]]")
         for k, v in self.values.items():
             u = self.units[k]
             if k in self.names:
@@ -725,6 +744,8 @@ def fit_exact(
         jac[:, j] = (resid(xp) - resid(xm)) / (xp[j] - xm[j])
     t_best = model(x)
     r = resid(x)
+    if not np.all(np.isfinite(r)):
+        raise SolverError("exact-model fit: residuals are not all finite at the optimum")
     n, p = w.size, len(names)
     dof = max(n - p, 1)
     chisqr = float(r @ r)
@@ -788,7 +809,7 @@ def fit_exact(
         ndata=n,
         nvarys=p,
         dof=dof,
-        residuals=t_best - t_meas,
+        residuals=np.where(np.isfinite(t_best), t_best, t_max) - t_meas,
         spin_rate=np.asarray(w),
         measured=np.asarray(t_meas),
         model=t_best,
@@ -800,6 +821,7 @@ def fit_exact(
         settings=settings,
         bootstrap=boot,
         thesis=thesis,
+        censored=~np.isfinite(t_best),
     )
 
 

@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
-from .errors import InputError
+from .errors import EXIT_INPUT, EXIT_INTERNAL, EXIT_SOLVER, InputError, SolverError
 
 # Modules that add sub-commands; each defines register(subparsers) and sets
 # ``func`` (callable taking the parsed namespace, returning an exit code).
@@ -42,17 +43,39 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; return the process exit code."""
+    """Run the command line; return the process exit code.
+
+    Exit codes: 0 success, 2 bad input (one line naming the field), 3 solver
+    failure on valid input, 130 interrupted, 1 anything else (a bug: one line;
+    ``OBTURATOR_DEBUG=1`` re-raises it with its traceback).
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         return int(args.func(args) or 0)
-    except (InputError, FileNotFoundError, IsADirectoryError, PermissionError) as exc:
+    except InputError as exc:
         print(f"obturator: error: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_INPUT
+    except SolverError as exc:
+        print(f"obturator: solver failure: {exc}", file=sys.stderr)
+        return EXIT_SOLVER
+    except OSError as exc:  # files named on the command line or in a config
+        where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
+        print(f"obturator: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_INPUT
     except KeyboardInterrupt:
         print("obturator: interrupted", file=sys.stderr)
         return 130
+    except Exception as exc:
+        if os.environ.get("OBTURATOR_DEBUG"):
+            raise
+        text = " ".join(str(exc).split())[:300]
+        print(
+            f"obturator: internal error: {type(exc).__name__}: {text} "
+            "(please report; OBTURATOR_DEBUG=1 shows the traceback)",
+            file=sys.stderr,
+        )
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from typing import Any
 
 from . import _json
 from .cases import CASE_NAMES, TORQUE_MODELS, flight_case, rig_case, table1_ball
-from .errors import InputError
-from .io import load_config, parse_quantity
+from .errors import InputError, SolverError
+from .io import check_output_path, load_config, parse_quantity
 from .solve import (
     FRICTION_FAMILIES,
     Case,
@@ -132,8 +131,13 @@ def case_from_settings(s: dict[str, Any]) -> Case:
     for key in ("spin_rate", "mu_s"):
         if key in s:
             common[key] = s[key]
+    if "p1" in s and "altitude_m" in s:
+        raise InputError("altitude", "give either p1 or altitude (which sets P1), not both")
+    if "n_contacts" in s and common["torque_model"] != "coulomb":
+        raise InputError("n_contacts", "applies to torque_model 'coulomb' only")
     if name == "spin-rig":
-        extra = sorted(k for k in ("mach", "altitude_m", "p1", "n_contacts") if k in s)
+        flight_keys = ("mach", "altitude_m", "p1", "n_contacts", "bore_radius")
+        extra = sorted(k for k in flight_keys if k in s)
         if extra:
             raise InputError(extra[0], "applies to --case flight only")
         if "weight" in s:
@@ -197,44 +201,29 @@ def _print_table(res: NutationResult, check: ConvergenceCheck | None) -> None:
         print(f"{label:<{width}}  {value} {unit}".rstrip())
 
 
+def _plot_suffixes() -> tuple[str, ...]:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    return tuple(FigureCanvasAgg(Figure()).get_supported_filetypes())
+
+
 def _plot(res: NutationResult, path: str) -> None:
-    import matplotlib
+    from .plotting import save, theta_history_figure
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.0), constrained_layout=True)
-    ax.plot(res.t, [math.degrees(x) for x in res.theta], lw=1.0, label=r"$\theta(t)$")
-    ax.axhline(
-        math.degrees(res.case.opening_angle),
-        color="k",
-        ls="--",
-        lw=0.8,
-        label=r"$\theta_{cr}=\beta_s$",
-    )
-    if res.opened:
-        ax.axvline(
-            res.opening_time,
-            color="C3",
-            ls=":",
-            lw=0.8,
-            label=f"$t_{{cr}}$ = {res.opening_time:.4g} s",
-        )
-    ax.set_xlabel("time t [s]")
-    ax.set_ylabel(r"nutation angle $\theta$ [deg]")
-    ax.set_title(f"{res.case.name}, $\\omega_p$ = {res.case.spin_rate:g} rad/s")
-    ax.legend()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save(theta_history_figure(res), path)
 
 
 def _run(args: argparse.Namespace) -> int:
     settings = _merge(args)
     case = case_from_settings(settings)
     options = options_from_settings(settings)
+    check_output_path("--csv", args.csv, ("csv",))
+    if args.plot is not None:
+        check_output_path("--plot", args.plot, _plot_suffixes())
     res = simulate(case, options)
     if not res.success:
-        raise InputError("solver", res.message)
+        raise SolverError(res.message)
     if args.csv:
         res.to_csv(args.csv)
     if args.plot:

@@ -44,6 +44,7 @@ from typing import Any
 from . import _json
 from .cases import CASE_NAMES, TORQUE_MODELS
 from .errors import InputError, check_range
+from .io import check_output_path
 from .solve import SolverOptions
 from .studies_sweep import (
     PARAMETERS,
@@ -199,8 +200,7 @@ def _t_max(args: argparse.Namespace) -> float | None:
 
 
 def _check_dir(field: str, path: str | None) -> None:
-    if path is not None and not Path(path).resolve().parent.is_dir():
-        raise InputError(field, f"directory of {path!r} does not exist")
+    check_output_path(field, path)
 
 
 def _progress(args: argparse.Namespace) -> bool:
@@ -224,7 +224,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         text = getattr(args, name)
         if text is None:
             continue
-        values = parse_axis(text, _flag(name))
+        values = parse_axis(text, _flag(name), PARAMETERS[name].unit)
         if values.size == 1:
             fixed[name] = float(values[0])
         else:

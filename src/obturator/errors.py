@@ -8,7 +8,12 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["InputError", "check_range"]
+__all__ = ["InputError", "SolverError", "check_range", "EXIT_INPUT", "EXIT_SOLVER", "EXIT_INTERNAL"]
+
+#: Process exit codes of the command line.
+EXIT_INPUT = 2  # bad input: one line naming the field
+EXIT_SOLVER = 3  # the integrator failed on valid input
+EXIT_INTERNAL = 1  # anything else (a bug): one line, traceback with OBTURATOR_DEBUG=1
 
 
 class InputError(ValueError):
@@ -25,6 +30,14 @@ class InputError(ValueError):
     def __init__(self, field: str, message: str) -> None:
         self.field = field
         super().__init__(f"{field}: {message}")
+
+
+class SolverError(RuntimeError):
+    """The integrator failed (step-size underflow, step limit) on valid input.
+
+    Not bad input: the command line reports it with its own exit code
+    (:data:`EXIT_SOLVER`).
+    """
 
 
 def _fmt_interval(lo: float, hi: float, lo_open: bool, hi_open: bool) -> str:
@@ -66,6 +79,8 @@ def check_range(
     interval = _fmt_interval(lo, hi, lo_open, hi_open)
     suffix = f" {unit}" if unit else ""
     ok = math.isfinite(x) and (x > lo if lo_open else x >= lo) and (x < hi if hi_open else x <= hi)
+    if ok and x != 0.0 and abs(x) < 2.2250738585072014e-308:
+        raise InputError(field, f"{x:g}{suffix} is subnormal; use 0 or a normal number")
     if not ok:
         raise InputError(field, f"{x:g}{suffix} is outside the allowed range {interval}{suffix}")
     return x

@@ -88,6 +88,9 @@ _CORRELATIONS = ("colebrook", "haaland")
 #: meaningless long before (real-gas effects above M ~ 6); at 1e6 every ratio is
 #: at its M -> infinity limit to ~1e-12, and far above it M^2 overflows.
 MACH_MAX = 1e6
+#: Largest area ratio A/A* accepted [-] (M ~ 40 at gamma = 1.4; a projectile's
+#: capture-to-throat ratio is of order 1-10). Far above it the inversion overflows.
+AREA_RATIO_MAX = 1e6
 
 
 def _mach(value: ArrayLike, *, supersonic: bool = False, field: str = "mach") -> NDArray:
@@ -422,7 +425,7 @@ def mach_from_area_ratio(
     float or numpy.ndarray
         Mach number (>= 1 supersonic, <= 1 subsonic; 1 for ratio 1).
     """
-    r = checked_array("area_ratio", ratio, 1.0)
+    r = checked_array("area_ratio", ratio, 1.0, AREA_RATIO_MAX)
     g = _gamma(gamma)
     b = _branch(branch)
     r, g = _broadcast(area_ratio=r, gamma=g)

@@ -55,7 +55,15 @@ from typing import Any
 
 from .errors import InputError
 
-__all__ = ["parse_quantity", "load_config", "CONFIG_SCHEMA"]
+__all__ = [
+    "parse_quantity",
+    "load_config",
+    "read_text_file",
+    "check_output_path",
+    "CONFIG_SCHEMA",
+    "MAX_QUANTITY_TEXT",
+    "MAX_FILE_BYTES",
+]
 
 # section -> key -> (canonical field name, SI unit or None for plain values)
 CONFIG_SCHEMA: dict[str, dict[str, tuple[str, str | None]]] = {
@@ -165,7 +173,7 @@ def parse_quantity(field: str, value: Any, unit: str) -> float:
     if isinstance(value, int | float):
         if not math.isfinite(float(value)):
             raise InputError(field, f"{value!r} is not finite")
-        return float(value)
+        return _normal(field, float(value))
     if hasattr(value, "magnitude") and hasattr(value, "units"):  # a pint.Quantity
         value = f"{float(value.magnitude)!r} {value.units:~}"
     if not isinstance(value, str):
@@ -182,7 +190,7 @@ def parse_quantity(field: str, value: Any, unit: str) -> float:
     if not math.isfinite(number):
         raise InputError(field, f"{text!r} is not finite")
     if m.group(2) is None:
-        return number
+        return _normal(field, number)
     import pint
 
     ureg = _registry()
@@ -203,7 +211,94 @@ def parse_quantity(field: str, value: Any, unit: str) -> float:
         raise InputError(field, f"{text!r} cannot be converted to {what}") from None
     if not math.isfinite(out):
         raise InputError(field, f"{text!r} is not finite in {unit or 'pure numbers'}")
-    return out
+    return _normal(field, out)
+
+
+def _normal(field: str, x: float) -> float:
+    if x != 0.0 and abs(x) < 2.2250738585072014e-308:
+        raise InputError(field, f"{x:g} is subnormal; use 0 or a normal number")
+    return x
+
+
+#: Largest config or data file read [bytes].
+MAX_FILE_BYTES = 1 << 20
+
+
+def read_text_file(path: str | Path, field: str, max_bytes: int = MAX_FILE_BYTES) -> str:
+    """The UTF-8 text of a regular file of at most `max_bytes`, or one clear InputError.
+
+    Devices (``/dev/zero``), FIFOs and directories are refused before they are
+    opened (reading them would block or never end); symlink loops, missing
+    files, unreadable bytes and binary or Latin-1 content are reported with
+    the path.
+    """
+    import stat
+
+    p = Path(path)
+    try:
+        st = p.stat()
+    except OSError as exc:
+        raise InputError(field, f"cannot read {str(p)!r}: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise InputError(field, f"{str(p)!r} is not a regular file")
+    if st.st_size > max_bytes:
+        raise InputError(field, f"{str(p)!r} is larger than {max_bytes} bytes")
+    try:
+        data = p.read_bytes()[: max_bytes + 1]
+    except OSError as exc:
+        raise InputError(field, f"cannot read {str(p)!r}: {exc.strerror or exc}") from None
+    if b"\x00" in data:
+        raise InputError(field, f"{str(p)!r} is binary, not text")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputError(
+            field, f"{str(p)!r} is not UTF-8 text (byte {exc.start}); save it as UTF-8"
+        ) from None
+
+
+def check_output_path(
+    field: str, path: str | None, suffixes: tuple[str, ...] | None = None
+) -> Path | None:
+    """Check, before any work, that `path` can be written; return it as a Path.
+
+    Parameters
+    ----------
+    field : str
+        Option name for messages (e.g. ``"--csv"``).
+    path : str or None
+        None passes through.
+    suffixes : tuple of str, optional
+        Allowed file suffixes without the dot (case-insensitive).
+    """
+    import os
+
+    if path is None:
+        return None
+    if not isinstance(path, str) or not path.strip():
+        raise InputError(field, "empty file name")
+    p = Path(path)
+    if suffixes is not None and p.suffix.lower().lstrip(".") not in suffixes:
+        raise InputError(
+            field, f"{path!r}: unsupported file type; allowed: .{', .'.join(sorted(suffixes))}"
+        )
+    parent = p.resolve().parent
+    if not parent.is_dir():
+        raise InputError(field, f"directory of {path!r} does not exist")
+    if p.is_dir():
+        raise InputError(field, f"{path!r} is a directory")
+    if not os.access(parent, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
+        raise InputError(field, f"{path!r} is not writable")
+    return p
+
+
+def _parse_toml(text: str, p: Path) -> dict[str, Any]:
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"config {p}", f"malformed TOML: {exc}") from None
+    except RecursionError:
+        raise InputError(f"config {p}", "nested too deeply") from None
 
 
 def load_config(path: str | Path) -> dict[str, Any]:
@@ -228,10 +323,7 @@ def load_config(path: str | Path) -> dict[str, Any]:
         If the file does not exist.
     """
     p = Path(path)
-    try:
-        raw = tomllib.loads(p.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"config {p}", f"malformed TOML: {exc}") from None
+    raw = _parse_toml(read_text_file(p, "config"), p)
     out: dict[str, Any] = {}
     for key, value in raw.items():
         if isinstance(value, dict):

@@ -144,6 +144,31 @@ def fig09_couette(ds: xr.Dataset) -> Figure:
     return fig
 
 
+def theta_history_figure(res: Any) -> Figure:
+    """theta(t) of one :class:`~obturator.solve.NutationResult` with theta_cr and t_cr."""
+    fig, ax = _figure(size=(6.4, 4.0))
+    a = ax[0, 0]
+    a.plot(res.t, np.degrees(res.theta), lw=1.0, label=r"$\theta(t)$")
+    a.axhline(
+        math.degrees(res.case.opening_angle),
+        color="k",
+        ls="--",
+        lw=0.8,
+        label=r"$\theta_{cr}=\beta_s$",
+    )
+    if res.opened:
+        a.axvline(
+            res.opening_time,
+            color="C3",
+            ls=":",
+            lw=0.8,
+            label=f"$t_{{cr}}$ = {res.opening_time:.4g} s",
+        )
+    a.set(xlabel=_T, ylabel=_TH, title=f"{res.case.name}, omega_p = {res.case.spin_rate:g} rad/s")
+    a.legend()
+    return fig
+
+
 def fig10_couette_scaled(ds: xr.Dataset) -> Figure:
     """Fig. 10: theta(t) for increasing orders of magnitude of the Couette constant S."""
     fig, ax = _figure()

@@ -42,7 +42,7 @@ from .dynamics import (
     SPIN_THESIS_ENERGY,
     observables,
 )
-from .errors import InputError, check_range
+from .errors import InputError, SolverError, check_range
 from .geometry import BoredBall
 from .torques import CoulombContactFriction, TorqueModel
 
@@ -64,6 +64,8 @@ __all__ = [
     "TABLE1_PROJECTILE_INERTIA",
 ]
 
+#: Largest projectile spin accepted [rad/s].
+MAX_SPIN_RATE = 1e6
 #: Projectile moment of inertia about its axis I_p [kg m^2], thesis Table 1.
 TABLE1_PROJECTILE_INERTIA = 8.58e-6
 
@@ -148,7 +150,8 @@ class Case:
     release_phase: float = 0.0
 
     def __post_init__(self) -> None:
-        check_range("spin_rate", self.spin_rate, 0.0, math.inf, lo_open=True, unit="rad/s")
+        # 1e6 rad/s: 80 times a 20 mm round's ~1.2e4 rad/s; a steel ball bursts far below
+        check_range("spin_rate", self.spin_rate, 0.0, MAX_SPIN_RATE, lo_open=True, unit="rad/s")
         check_range("theta0", math.degrees(self.theta0), 0.0, 90.0, lo_open=True, unit="deg")
         if self.spin_mode not in _SPIN_CODES:
             raise InputError("spin_mode", f"{self.spin_mode!r}; allowed: {', '.join(_SPIN_CODES)}")
@@ -614,14 +617,14 @@ def opening_time(case: Case, options: SolverOptions | None = None) -> float:
 
     Raises
     ------
-    RuntimeError
-        If the integrator fails or reaches its step limit.
+    SolverError
+        If the integrator fails or reaches its step limit (a RuntimeError).
     """
     options = options or SolverOptions()
     _, out = _run(case, options, None, False, None, True)
     status = int(out[0])
     if status in (ros.STATUS_FAILED, ros.STATUS_MAX_STEPS):
-        raise RuntimeError(f"{case.name or 'case'}: {_STATUS_MESSAGES[status]}")
+        raise SolverError(f"{case.name or 'case'}: {_STATUS_MESSAGES[status]}")
     return float(out[1])
 
 

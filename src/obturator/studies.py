@@ -44,7 +44,7 @@ from scipy.optimize import minimize_scalar
 
 from .approx import ApproximationWarning, rig_approximation
 from .cases import TABLE1, couette_case, flight_case, rig_case, table1_ball
-from .errors import InputError, check_range
+from .errors import InputError, SolverError, check_range
 from .experiment import (
     PRINTED_SUMS_OMITTED_RUNS,
     THESIS_FIT_MIN_SPIN,
@@ -110,7 +110,7 @@ def _history(
     t = np.linspace(0.0, t_end, n_points)
     res = simulate(case.with_(t_max=t_end), options, t_eval=t, terminal=False)
     if not res.success:
-        raise RuntimeError(f"{case.name}: {res.message}")
+        raise SolverError(f"{case.name}: {res.message}")
     theta = np.full(n_points, np.nan)
     theta[: res.t.size] = np.degrees(res.theta)
     return t, theta, res.opening_time

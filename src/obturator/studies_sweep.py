@@ -181,17 +181,26 @@ def default_workers() -> int:
 # --------------------------------------------------------------------------- parsing
 
 
-def _float(name: str, text: str, what: str) -> float:
+def _float(name: str, text: str, what: str, unit: str | None = None) -> float:
+    """A number, or with `unit` also a quantity such as "7.8 g/cm^3" converted to it."""
+    t = text.strip()
+    if unit is not None:
+        from .io import parse_quantity
+
+        try:
+            return parse_quantity(name, t, "" if unit == "1" else unit)
+        except InputError as exc:
+            raise InputError(name, f"{what}: {str(exc).split(': ', 1)[1]}") from None
     try:
-        x = float(text)
+        x = float(t)
     except ValueError:
-        raise InputError(name, f"{what} {text.strip()!r} is not a number") from None
+        raise InputError(name, f"{what} {t!r} is not a number") from None
     if not math.isfinite(x):
-        raise InputError(name, f"{what} {text.strip()!r} must be finite")
+        raise InputError(name, f"{what} {t!r} must be finite")
     return x
 
 
-def parse_axis(text: str, name: str = "axis") -> np.ndarray:
+def parse_axis(text: str, name: str = "axis", unit: str | None = None) -> np.ndarray:
     """Parse the values of one sweep axis.
 
     Parameters
@@ -206,6 +215,11 @@ def parse_axis(text: str, name: str = "axis") -> np.ndarray:
         is a list of one value.
     name : str
         Parameter name used in error messages (e.g. ``"--spin-rate"``).
+    unit : str, optional
+        The parameter's unit. When given, every value may carry a unit of its
+        own (``"7.8 g/cm^3"``, ``"1000 rpm:6000 rpm:11"``) or a range one unit
+        for START and STOP after COUNT (``"1000:6000:11 rpm"``); bare numbers
+        are in `unit` (as on the ``simulate`` command line).
 
     Returns
     -------
@@ -227,8 +241,13 @@ def parse_axis(text: str, name: str = "axis") -> np.ndarray:
             raise InputError(
                 name, f"malformed range {s!r}: expected START:STOP:COUNT (e.g. 200:700:20)"
             )
-        start = _float(name, parts[0], "START")
-        stop = _float(name, parts[1], "STOP")
+        count_text, _, trailing = parts[2].strip().partition(" ")
+        if trailing.strip():
+            if unit is None:
+                raise InputError(name, f"malformed range {s!r}: units are not accepted here")
+            parts = [f"{parts[0]} {trailing}", f"{parts[1]} {trailing}", count_text]
+        start = _float(name, parts[0], "START", unit)
+        stop = _float(name, parts[1], "STOP", unit)
         try:
             count = int(parts[2].strip())
         except ValueError:
@@ -249,7 +268,7 @@ def parse_axis(text: str, name: str = "axis") -> np.ndarray:
         values = np.linspace(start, stop, count)
     else:
         parts = s.split(",")
-        values = np.array([_float(name, p, "value") for p in parts], dtype=float)
+        values = np.array([_float(name, p, "value", unit) for p in parts], dtype=float)
         if len(np.unique(values)) != len(values):
             raise InputError(name, f"list {s!r} repeats a value")
         return values
@@ -1221,7 +1240,11 @@ def parse_distribution(text: str) -> tuple[str, Distribution]:
     kind = kind.strip().lower()
     if kind not in _DIST_ARGS:
         raise InputError(name, f"unknown distribution {kind!r}; allowed: {_DIST_HELP}")
-    numbers = [_float(name, a, "parameter") for a in args.split(",")]
+    unit = PARAMETERS[name].unit
+    items = args.split(",")
+    # lognormal's SIGMA_LN is a pure number; every other parameter is in the unit
+    units = [unit if not (kind == "lognormal" and i == 1) else "1" for i in range(len(items))]
+    numbers = [_float(name, a, "parameter", u) for a, u in zip(items, units, strict=True)]
     try:
         return name, Distribution(kind, tuple(numbers))  # type: ignore[arg-type]
     except InputError as exc:

@@ -38,6 +38,9 @@ __all__ = [
 AIR_DYNAMIC_VISCOSITY = 1.917e-5
 #: Air density at sea level [kg/m^3] (for the Reynolds number, Eq. 40).
 AIR_DENSITY = 1.225
+#: Smallest gap accepted [m]: below ~0.1 um (the mean free path of air is 68 nm)
+#: the continuum Couette/Nakabayashi models of the gap flow do not apply.
+MIN_GAP = 1e-7
 
 # Codes shared with obturator.dynamics (the compiled kernel dispatches on them).
 VISC_NONE, VISC_LINEAR = 0, 1
@@ -69,7 +72,7 @@ class CouetteViscous:
 
     def __post_init__(self) -> None:
         check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
-        check_range("gap", self.gap, 0.0, math.inf, lo_open=True, unit="m")
+        check_range("gap", self.gap, MIN_GAP, self.ball_radius, hi_open=True, unit="m")
         check_range("viscosity", self.viscosity, 0.0, unit="Pa s")
         check_range("scale", self.scale, 0.0)
 
@@ -122,7 +125,7 @@ class NakabayashiViscous:
 
     def __post_init__(self) -> None:
         check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
-        check_range("gap", self.gap, 0.0, self.ball_radius, lo_open=True, hi_open=True, unit="m")
+        check_range("gap", self.gap, MIN_GAP, self.ball_radius, hi_open=True, unit="m")
         check_range("viscosity", self.viscosity, 0.0, unit="Pa s")
         check_range("fluid_density", self.fluid_density, 0.0, math.inf, lo_open=True, unit="kg/m^3")
         check_range("scale", self.scale, 0.0)
