@@ -10,6 +10,7 @@ import argparse
 import importlib
 import os
 import sys
+from typing import NoReturn
 
 from .errors import EXIT_INPUT, EXIT_INTERNAL, EXIT_SOLVER, InputError, SolverError
 
@@ -23,9 +24,19 @@ _SUBCOMMAND_MODULES = (
 )
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse, but a usage error is one line ``obturator: error: <field>: ...``, exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        if message.startswith("argument "):  # "argument --x/-x: invalid ..." -> "--x: invalid ..."
+            head, _, rest = message[len("argument ") :].partition(": ")
+            message = f"{head.split('/')[0]}: {rest}"
+        self.exit(EXIT_INPUT, f"obturator: error: {' '.join(message.split())}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Return the top-level argument parser with every available sub-command."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="obturator",
         description="Ball obturator opening dynamics (Bloomer 1980).",
     )

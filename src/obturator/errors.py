@@ -79,8 +79,6 @@ def check_range(
     interval = _fmt_interval(lo, hi, lo_open, hi_open)
     suffix = f" {unit}" if unit else ""
     ok = math.isfinite(x) and (x > lo if lo_open else x >= lo) and (x < hi if hi_open else x <= hi)
-    if ok and x != 0.0 and abs(x) < 2.2250738585072014e-308:
-        raise InputError(field, f"{x:g}{suffix} is subnormal; use 0 or a normal number")
     if not ok:
         raise InputError(field, f"{x:g}{suffix} is outside the allowed range {interval}{suffix}")
     return x

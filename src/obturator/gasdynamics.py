@@ -88,9 +88,9 @@ _CORRELATIONS = ("colebrook", "haaland")
 #: meaningless long before (real-gas effects above M ~ 6); at 1e6 every ratio is
 #: at its M -> infinity limit to ~1e-12, and far above it M^2 overflows.
 MACH_MAX = 1e6
-#: Largest area ratio A/A* accepted [-] (M ~ 40 at gamma = 1.4; a projectile's
+#: Largest area ratio A/A* accepted [-] (a projectile's
 #: capture-to-throat ratio is of order 1-10). Far above it the inversion overflows.
-AREA_RATIO_MAX = 1e6
+AREA_RATIO_MAX = 1e100
 
 
 def _mach(value: ArrayLike, *, supersonic: bool = False, field: str = "mach") -> NDArray:
@@ -394,7 +394,10 @@ def _mach_from_area_ratio_scalar(ratio: float, g: float, branch: str) -> float:
         return 1.0
 
     def resid(m: float) -> float:
-        return _area_ratio_raw(m, g) - ratio
+        try:
+            return _area_ratio_raw(m, g) - ratio
+        except OverflowError:  # gamma near 1: A/A* grows like exp(M^2); past any ratio
+            return math.inf
 
     if branch == "subsonic":
         # A/A* > (1/M) (2/(gamma+1))^k for every M, so this M already overshoots.

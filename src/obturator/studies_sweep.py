@@ -1291,6 +1291,33 @@ def _check_samples(values: Mapping[str, np.ndarray]) -> None:
             )
 
 
+def _check_sample_cases(spec: SweepSpec, values: Mapping[str, np.ndarray]) -> None:
+    """Build every sample's case before any integration; refuse the study if any is invalid.
+
+    Per-parameter ranges are checked by :func:`_check_samples`; this catches the
+    combined limits of the case factories (theta_0 above the opening angle
+    beta_s, the hole inside the ball, ...), so a distribution whose support
+    leaves the physical domain is an input error, not a study whose every
+    sample is silently invalid.
+    """
+    names = list(values)
+    n = len(values[names[0]]) if names else 0
+    bad: list[int] = []
+    first = ""
+    for i in range(n):
+        try:
+            spec.build_case({k: float(values[k][i]) for k in names})
+        except InputError as exc:
+            bad.append(i)
+            first = first or str(exc)
+    if bad:
+        raise InputError(
+            "vary",
+            f"{len(bad)} of {n} samples are not valid cases (first: sample {bad[0]}, {first}); "
+            "narrow the distribution or use truncnormal",
+        )
+
+
 @dataclass(frozen=True)
 class QuantileEstimate:
     """One t_cr quantile with its confidence interval.
@@ -1557,6 +1584,7 @@ def monte_carlo(
         spec._check_name(name)
     values = sample_inputs(dists, n, seed_i)
     _check_samples(values)
+    _check_sample_cases(spec, values)
     names = tuple(values)
     table = np.column_stack([values[k] for k in names]) if names else np.empty((n, 0))
     ident = {
