@@ -74,7 +74,7 @@ def test_plot_and_csv_outputs(tmp_path, capsys):
     [
         (["--theta0-deg", "95"], "theta0_deg: 95 deg is outside the allowed range (0, 90] deg"),
         (["--theta0-deg", "0"], "theta0_deg"),
-        (["--mu-s", "-0.1"], "mu_s: -0.1 is outside the allowed range [0, inf)"),
+        (["--mu-s", "-0.1"], "mu_s: -0.1 is outside the allowed range [0, 2]"),
         (["--spin-rate", "-5"], "spin_rate"),
         (["--spin-rate", "12 kg"], "--spin-rate: '12 kg' cannot be converted to rad/s"),
         (["--spin-rate", "fast"], "--spin-rate"),

@@ -4,7 +4,7 @@ The rule under test (not a list of cases): every input gives either a result or 
 line ``obturator: error: <field>: ...`` with exit code 2 (3 for a solver failure on
 valid input), never a traceback and never a hang; accepted inputs give finite,
 in-range results; the API raises only InputError (a ValueError) for bad input.
-Every run is bounded: --t-max 0.05 s of simulated time.
+Every run is bounded: --t-max 0.005 s of simulated time (0.05 s in sweeps).
 """
 
 from __future__ import annotations
@@ -34,7 +34,10 @@ VALUES = st.one_of(
     st.text(max_size=24),
 )
 FAST = settings(
-    max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
+    max_examples=60,
+    deadline=None,
+    derandomize=True,  # reproducible examples (and run time) in CI
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
 )
 
 
@@ -78,7 +81,7 @@ SIMULATE_FLAGS = [
 def test_simulate_flags(flag, value, case):
     args = ["simulate", "--case", case, flag, value, "--no-check", "--json"]
     if flag != "--t-max":
-        args += ["--t-max", "0.05"]
+        args += ["--t-max", "0.005"]
     if flag == "--patch-radius":
         args += ["--torque-model", "coulomb"]
     rc, out, err = _run(args)
@@ -117,15 +120,16 @@ def test_config_files(tmp_path_factory, section, data, value):
     key = data.draw(st.sampled_from(CONFIG_KEYS[section]))
     body = f"{key} = {value}\n" if not section else f"[{section}]\n{key} = {value}\n"
     path = tmp_path_factory.mktemp("cfg") / "run.toml"
-    path.write_text('t_max = "0.05 s"\n' + body if key != "t_max" else body, encoding="utf-8")
-    rc, out, err = _run(["simulate", "--config", str(path), "--no-check"])
+    path.write_text(body, encoding="utf-8")
+    # --t-max on the command line wins over the config: every run stays short
+    rc, out, err = _run(["simulate", "--config", str(path), "--no-check", "--t-max", "0.005"])
     _check(rc, out, err)
 
 
 SWEEP_FLAGS = ["--spin-rate", "--mu-s", "--theta0-deg", "--density", "--hole-radius", "--gap"]
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=25, deadline=None, derandomize=True)
 @given(flag=st.sampled_from(SWEEP_FLAGS), value=VALUES)
 def test_sweep_axes(tmp_path_factory, flag, value):
     out_nc = tmp_path_factory.mktemp("sw") / "s.nc"
@@ -134,7 +138,7 @@ def test_sweep_axes(tmp_path_factory, flag, value):
     _check(rc, out, err)
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=25, deadline=None, derandomize=True)
 @given(
     name=st.sampled_from(["mu_s", "theta0_deg", "spin_rate", "gap", "density"]),
     kind=st.sampled_from(["normal", "uniform", "lognormal", "truncnormal", "bogus"]),
@@ -170,7 +174,7 @@ CSV_LINES = st.lists(
 )
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=40, deadline=None, derandomize=True)
 @given(lines=CSV_LINES)
 def test_calibration_csv_loader(tmp_path_factory, lines):
     from obturator.experiment import load_spin_rig_csv
@@ -185,7 +189,7 @@ def test_calibration_csv_loader(tmp_path_factory, lines):
     assert all(math.isfinite(x) and x > 0 for x in data.opening_time)
 
 
-@settings(max_examples=15, deadline=None)
+@settings(max_examples=15, deadline=None, derandomize=True)
 @given(lines=CSV_LINES)
 def test_calibrate_cli_on_bad_files(tmp_path_factory, lines):
     path = tmp_path_factory.mktemp("csv") / "runs.csv"

@@ -268,6 +268,11 @@ def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path:
         xr.testing.assert_equal(on_disk.load(), full)
 
 
+def _record(spec: SweepSpec, index, t_cr, status) -> dict:
+    payload = {"index": list(index), "t_cr": list(t_cr), "status": list(status)}
+    return {**payload, "spec_hash": spec.digest(), "crc": ss._record_crc(payload)}
+
+
 def test_resume_ignores_cut_line_and_refuses_other_spec(tmp_path: Path) -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 400.0]}, fixed={"mu_s": 0.55})
     store = tmp_path / "r.nc"
@@ -277,7 +282,7 @@ def test_resume_ignores_cut_line_and_refuses_other_spec(tmp_path: Path) -> None:
     side.write_text(
         json.dumps(header)
         + "\n"
-        + json.dumps({"index": [0], "t_cr": [t0], "status": [1]})
+        + json.dumps(_record(spec, [0], [t0], [1]))
         + '\n{"index": [1], "t_c'  # interrupted mid-write
     )
     run = execute_sweep(spec, workers=1, store=store, progress=False)
@@ -335,7 +340,12 @@ def test_cli_sweep_writes_netcdf_and_csv(
         assert float(ds["mu_s"]) == 0.5473
         want = [opening_time(rig_case(w, 0.5473), FAST) for w in (300.0, 450.0, 600.0)]
         np.testing.assert_array_equal(ds["t_cr"].values, want)
-    rows = (tmp_path / "sweep.csv").read_text().splitlines()
+    lines = (tmp_path / "sweep.csv").read_text().splitlines()
+    comments = [r for r in lines if r.startswith("#")]
+    rows = [r for r in lines if not r.startswith("#")]
+    # the fixed parameters and the settings travel with the CSV
+    assert "# mu_s = 0.5473 1" in comments and any("solver_rtol" in c for c in comments)
+    assert any(c.startswith("# history = ") and "sweep" in c for c in comments)
     assert rows[0] == "spin_rate [rad/s],t_cr [s],status" and len(rows) == 4
     assert float(rows[1].split(",")[1]) == pytest.approx(want[0], rel=1e-11)
 
@@ -424,3 +434,60 @@ def test_convergence_check_marks_unconverged_points():
         options=SolverOptions(friction_width=1e-5),
     )
     assert plain.digest() != spec.digest()  # a resumed run cannot mix the two
+
+
+@pytest.mark.parametrize(
+    "damage",
+    ["t_cr changed 1 %", "index -1", "index n", "status 300", "invalid utf-8", "foreign hash"],
+)
+def test_damaged_records_are_discarded_and_recomputed(
+    tmp_path: Path, damage: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    spec = small_spec(axes={"spin_rate": [300.0, 400.0]}, fixed={"mu_s": 0.55})
+    store = tmp_path / "d.nc"
+    truth = run_sweep(spec, workers=1, progress=False)
+    t = truth["t_cr"].values
+    good = _record(spec, [0], [t[0]], [1])
+    bad = dict(_record(spec, [1], [t[1]], [1]))
+    if damage == "t_cr changed 1 %":
+        bad["t_cr"] = [t[1] * 1.01]  # the CRC no longer matches
+    elif damage == "index -1":
+        bad = _record(spec, [-1], [t[1]], [1])
+    elif damage == "index n":
+        bad = _record(spec, [2], [t[1]], [1])
+    elif damage == "status 300":
+        bad = _record(spec, [1], [t[1]], [300])
+    elif damage == "foreign hash":
+        bad["spec_hash"] = "0" * 64
+    header = {"format": ss._SIDECAR_FORMAT, "spec_hash": spec.digest(), "n_points": 2}
+    body = (json.dumps(header) + "\n" + json.dumps(good) + "\n").encode()
+    body += (
+        b"\xff\xfe garbage\n" if damage == "invalid utf-8" else (json.dumps(bad) + "\n").encode()
+    )
+    sidecar_path(store).write_bytes(body)
+    run = execute_sweep(spec, workers=1, store=store, progress=False)
+    assert run.n_resumed == 1 and run.n_computed == 1
+    np.testing.assert_array_equal(run.dataset["t_cr"].values, t)  # bit-identical
+    assert "1 damaged or foreign records" in capsys.readouterr().err
+
+
+def test_second_writer_is_refused_and_stale_lock_taken_over(tmp_path: Path) -> None:
+    import os
+
+    spec = small_spec(axes={"spin_rate": [300.0, 400.0]}, fixed={"mu_s": 0.55})
+    store = tmp_path / "l.nc"
+    lock = store.with_name(store.name + ".lock")
+    lock.write_text(json.dumps({"pid": os.getppid(), "spec_hash": "x"}))  # a live process
+    with pytest.raises(InputError, match="being written by another run"):
+        run_sweep(spec, workers=1, store=store, progress=False)
+    assert not sidecar_path(store).exists()
+    lock.write_text(json.dumps({"pid": 2**22 + 12345, "spec_hash": "x"}))  # no such pid
+    ds = run_sweep(spec, workers=1, store=store, progress=False)
+    assert np.all(np.isfinite(ds["t_cr"].values)) and not lock.exists()
+
+
+def test_csv_that_collides_with_netcdf_is_refused(tmp_path: Path) -> None:
+    spec = small_spec(axes={"spin_rate": [300.0, 400.0]}, fixed={"mu_s": 0.55})
+    out = tmp_path / "data.csv"
+    with pytest.raises(InputError, match="also the NetCDF output"):
+        execute_sweep(spec, workers=1, store=out, csv=out, progress=False)

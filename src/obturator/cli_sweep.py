@@ -44,7 +44,7 @@ from typing import Any
 from . import _json
 from .cases import CASE_NAMES, TORQUE_MODELS
 from .errors import InputError, check_range
-from .io import check_output_path
+from .io import check_output_path, parse_quantity
 from .solve import SolverOptions
 from .studies_sweep import (
     PARAMETERS,
@@ -55,7 +55,6 @@ from .studies_sweep import (
     monte_carlo_summary,
     parse_axis,
     sweep_summary,
-    write_csv,
 )
 
 __all__ = ["register", "AUTO_CSV_MAX_POINTS"]
@@ -255,9 +254,8 @@ def _run_sweep(args: argparse.Namespace) -> int:
         restart=args.restart,
         chunk_size=chunk,
         progress=_progress(args),
+        csv=csv_path,
     )
-    if csv_path is not None:
-        write_csv(run.dataset, csv_path)
     wall = time.perf_counter() - t0
     summ = sweep_summary(run.dataset)
     rate = run.n_computed / run.elapsed_s if run.elapsed_s > 0 else math.inf
@@ -337,8 +335,8 @@ def _print_mc(s: MonteCarloSummary, header: str) -> None:
 
 def _run_montecarlo(args: argparse.Namespace) -> int:
     fixed = {
-        name: _number(_flag(name), getattr(args, name))
-        for name in PARAMETERS
+        name: parse_quantity(_flag(name), getattr(args, name), "" if par.unit == "1" else par.unit)
+        for name, par in PARAMETERS.items()
         if getattr(args, name) is not None
     }
     quantiles = [
@@ -374,10 +372,9 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
         restart=args.restart,
         chunk_size=chunk,
         progress=_progress(args),
+        csv=args.csv,
     )
     wall = time.perf_counter() - t0
-    if args.csv:
-        write_csv(ds, args.csv)
     summ = monte_carlo_summary(ds)
     if args.json:
         d = summ.to_dict()

@@ -60,10 +60,12 @@ import os
 import sys
 import threading
 import time
+import zlib
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -145,7 +147,7 @@ PARAMETERS: dict[str, _Param] = {
 # checked by the case factories.
 _RANGES: dict[str, tuple[float, float, bool, bool]] = {
     "spin_rate": (0.0, math.inf, True, True),
-    "mu_s": (0.0, math.inf, False, True),
+    "mu_s": (0.0, 2.0, False, False),
     "theta0_deg": (0.0, 90.0, True, False),
     "density": (0.0, math.inf, True, True),
     "hole_radius": (0.0, TABLE1["ball_radius"] / math.sqrt(2.0), False, True),
@@ -586,11 +588,75 @@ def sidecar_path(store: str | os.PathLike[str]) -> Path:
     return p.with_name(p.name + ".partial.jsonl")
 
 
+def _pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # alive, owned by someone else
+        return True
+    return True
+
+
+class _StoreLock:
+    """Exclusive lock on one output: ``<store>.lock`` created with O_EXCL.
+
+    It holds the owner's pid and the study hash; a lock whose process is dead
+    is stale and is taken over (a crash or SIGKILL leaves one behind).
+    """
+
+    def __init__(self, store: Path, digest: str) -> None:
+        self.path = store.with_name(store.name + ".lock")
+        text = json.dumps({"pid": os.getpid(), "spec_hash": digest})
+        for _ in range(2):
+            try:
+                fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+            except FileExistsError:
+                owner = self._owner()
+                if owner is not None and owner != os.getpid() and _pid_alive(owner):
+                    raise InputError(
+                        "out",
+                        f"{store} is being written by another run (pid {owner}); "
+                        "wait for it or choose another --out",
+                    ) from None
+                self.path.unlink(missing_ok=True)  # stale: its process is gone
+                continue
+            with os.fdopen(fd, "w", encoding="utf-8") as fh:
+                fh.write(text)
+            return
+        raise InputError("out", f"cannot lock {store} (lock file {self.path})")
+
+    def _owner(self) -> int | None:
+        try:
+            return int(json.loads(self.path.read_text(encoding="utf-8"))["pid"])
+        except (OSError, ValueError, KeyError, TypeError):
+            return None  # half-written lock: treat as stale
+
+    def release(self) -> None:
+        if self._owner() in (os.getpid(), None):
+            self.path.unlink(missing_ok=True)
+
+
+def _record_crc(payload: dict[str, Any]) -> int:
+    return zlib.crc32(json.dumps(payload, sort_keys=True, separators=(",", ":")).encode())
+
+
 class _Sidecar:
-    """Append-only JSON-lines file of finished chunks (first line: study hash)."""
+    """Append-only JSON-lines file of finished chunks, locked and checksummed.
+
+    The first line (study hash, point count) is written atomically (temp file and
+    rename), so it is either whole or absent. Every record carries the study
+    hash and a CRC-32 of its payload; on resume a record that fails either
+    check, has an index outside [0, n), an unknown status, a shape mismatch or
+    undecodable bytes is discarded (its points are recomputed) and counted in
+    :attr:`n_discarded`.
+    """
 
     def __init__(self, path: Path, digest: str, n_points: int, restart: bool) -> None:
         self.path = path
+        self.digest = digest
+        self.lock: _StoreLock | None = None
+        self.n_discarded = 0
         self.done_index: list[np.ndarray] = []
         self.done_t: list[np.ndarray] = []
         self.done_s: list[np.ndarray] = []
@@ -599,20 +665,18 @@ class _Sidecar:
             path.unlink()
         if path.exists():
             self._load(header)
-            self._fh = path.open("a", encoding="utf-8")
         else:
-            self._fh = path.open("w", encoding="utf-8")
-            self._write(header)
+            _atomic_write_text(path, json.dumps(header) + "\n")
+        self._fh = path.open("a", encoding="utf-8")
 
     def _load(self, header: dict[str, Any]) -> None:
-        with self.path.open(encoding="utf-8") as fh:
-            lines = fh.read().splitlines()
+        lines = self.path.read_bytes().split(b"\n")
         try:
-            first = json.loads(lines[0]) if lines else {}
-        except json.JSONDecodeError:
+            first = json.loads(lines[0].decode("utf-8")) if lines and lines[0] else {}
+        except (UnicodeDecodeError, json.JSONDecodeError):
             first = {}
         if first != header:
-            old = str(first.get("spec_hash", "?"))[:12]
+            old = str(first.get("spec_hash", "?"))[:12] if isinstance(first, dict) else "?"
             raise InputError(
                 "store",
                 f"{self.path} holds partial results of a different study "
@@ -620,22 +684,32 @@ class _Sidecar:
                 "use --restart (restart=True) to discard it",
             )
         n = header["n_points"]
-        for line in lines[1:]:
+        known = set(_STATUS_FLAGS)
+        for raw in lines[1:]:
+            if not raw.strip():
+                continue
             try:
-                rec = json.loads(line)
-                idx = np.asarray(rec["index"], dtype=np.int64)
-                t = np.asarray(rec["t_cr"], dtype=float)
-                s = np.asarray(rec["status"], dtype=np.int8)
-            except (json.JSONDecodeError, KeyError, TypeError, ValueError):
-                continue  # a line cut short by an interruption: recompute those points
-            if idx.shape == t.shape == s.shape and (idx.size == 0 or idx.max() < n):
-                self.done_index.append(idx)
-                self.done_t.append(t)
-                self.done_s.append(s)
+                rec = json.loads(raw.decode("utf-8"))
+                payload = {k: rec[k] for k in ("index", "t_cr", "status")}
+                ok = rec.get("spec_hash") == self.digest and rec.get("crc") == _record_crc(payload)
+                idx = np.asarray(payload["index"], dtype=np.int64)
+                t = np.asarray(payload["t_cr"], dtype=float)
+                st = np.asarray(payload["status"], dtype=np.int64)
+                ok = ok and idx.ndim == 1 and idx.shape == t.shape == st.shape
+                ok = ok and bool(np.all((idx >= 0) & (idx < n)))
+                ok = ok and all(int(x) in known for x in st)
+            except (UnicodeDecodeError, json.JSONDecodeError, KeyError, TypeError, ValueError):
+                ok = False
+            if not ok:
+                self.n_discarded += 1  # cut by a kill, corrupted or foreign: recompute
+                continue
+            self.done_index.append(idx)
+            self.done_t.append(t)
+            self.done_s.append(st.astype(np.int8))
         # make sure a cut-short last line does not swallow the next record
-        if lines and not self.path.read_bytes().endswith(b"\n"):
-            with self.path.open("a", encoding="utf-8") as fh:
-                fh.write("\n")
+        if not self.path.read_bytes().endswith(b"\n"):
+            with self.path.open("ab") as fh:
+                fh.write(b"\n")
 
     def _write(self, record: dict[str, Any]) -> None:
         self._fh.write(json.dumps(record) + "\n")
@@ -643,14 +717,41 @@ class _Sidecar:
         os.fsync(self._fh.fileno())
 
     def append(self, idx: np.ndarray, t: np.ndarray, s: np.ndarray) -> None:
-        self._write({"index": idx.tolist(), "t_cr": t.tolist(), "status": s.tolist()})
+        payload = {"index": idx.tolist(), "t_cr": t.tolist(), "status": s.tolist()}
+        self._write({**payload, "spec_hash": self.digest, "crc": _record_crc(payload)})
 
     def close(self) -> None:
-        self._fh.close()
+        if not self._fh.closed:
+            self._fh.close()
+        if self.lock is not None:
+            self.lock.release()
+            self.lock = None
 
     def remove(self) -> None:
         self.close()
         self.path.unlink(missing_ok=True)
+
+
+def _atomic_write_text(path: Path, text: str) -> None:
+    """Write `text` to a temporary file beside `path`, fsync, and rename it into place."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        with tmp.open("w", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def _remove_stale_temporaries(path: Path) -> None:
+    """Delete ``.<name>.<pid>.tmp`` files of processes that no longer exist."""
+    for tmp in path.parent.glob(f".{path.name}.*.tmp"):
+        pid = tmp.name[len(path.name) + 2 : -4]
+        if pid.isdigit() and not _pid_alive(int(pid)):
+            tmp.unlink(missing_ok=True)
 
 
 # --------------------------------------------------------------------------- execution
@@ -812,6 +913,7 @@ def _compute(
     chunk_size: int | None,
     progress: bool,
     label: str,
+    extra_outputs: tuple[str, ...] = (),
 ) -> _Outcome:
     t0 = time.perf_counter()
     t_cr = np.full(n_points, np.nan)
@@ -821,7 +923,21 @@ def _compute(
         out = Path(store)
         if not out.parent.is_dir():
             raise InputError("out", f"directory {str(out.parent)!r} does not exist")
-        sidecar = _Sidecar(sidecar_path(out), digest, n_points, restart)
+        lock = _StoreLock(out, digest)
+        try:
+            for p in (out, sidecar_path(out), *extra_outputs):
+                _remove_stale_temporaries(Path(p))
+            sidecar = _Sidecar(sidecar_path(out), digest, n_points, restart)
+        except BaseException:
+            lock.release()
+            raise
+        sidecar.lock = lock
+        if sidecar.n_discarded:
+            print(
+                f"obturator: notice: {sidecar.n_discarded} damaged or foreign records in "
+                f"{sidecar.path.name} discarded; their points are recomputed",
+                file=sys.stderr,
+            )
         for idx, t, s in zip(sidecar.done_index, sidecar.done_t, sidecar.done_s, strict=True):
             t_cr[idx], status[idx] = t, s
     todo = np.flatnonzero(status == -128)
@@ -886,6 +1002,21 @@ def _attr(value: Any) -> Any:
     return value
 
 
+def _command_line() -> str:
+    import shlex
+
+    prog = Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "python"
+    if prog in ("obturator", "__main__.py"):
+        prog = "obturator"
+    return shlex.join([prog, *sys.argv[1:]])
+
+
+def _check_distinct_outputs(store: Any, csv: Any) -> None:
+    if store is not None and csv is not None:
+        if Path(store).resolve() == Path(csv).resolve():
+            raise InputError("csv", f"{str(csv)!r} is also the NetCDF output; choose another name")
+
+
 def _common_attrs(spec: SweepSpec) -> dict[str, Any]:
     attrs: dict[str, Any] = {
         "case": spec.case,
@@ -894,6 +1025,9 @@ def _common_attrs(spec: SweepSpec) -> dict[str, Any]:
         "normal_load": spec.weight_model,
         "t_max_s": spec.t_max if spec.t_max is not None else spec.build_case({}).t_max,
         "obturator_version": _version(),
+        # CF / ACDD global attributes (date_created and history are added when written)
+        "Conventions": "CF-1.10",
+        "source": f"obturator {_version()} (ball obturator opening model, Bloomer 1980)",
     }
     for key, value in asdict(spec.options).items():
         attrs[f"solver_{key}"] = _attr(value)
@@ -959,10 +1093,14 @@ def write_netcdf(ds: xarray.Dataset, path: str | os.PathLike[str]) -> str:
 
 
 def write_csv(ds: xarray.Dataset, path: str | os.PathLike[str]) -> None:
-    """Write a sweep or Monte Carlo dataset as a flat CSV table (units in the header).
+    """Write a sweep or Monte Carlo dataset as a flat CSV table (units in the header), atomically.
 
-    One row per grid point (C order) or sample: the swept (or sampled)
-    parameters, then ``t_cr [s]`` (empty where not opened) and ``status``.
+    Leading ``#`` lines carry everything that is not a column: the fixed
+    parameters (scalar coordinates with units), the case, models, solver
+    settings, package version and the command line (the dataset's attributes),
+    so a CSV alone says what it was computed with. Then one row per grid point
+    (C order) or sample: the swept (or sampled) parameters, ``t_cr [s]`` (empty
+    where not opened) and ``status``. Written to a temporary file and renamed.
     """
     if "sample" in ds.dims:
         cols = [v for v in ds.data_vars if ds[v].dims == ("sample",) and v in PARAMETERS]
@@ -975,14 +1113,40 @@ def write_csv(ds: xarray.Dataset, path: str | os.PathLike[str]) -> None:
         table = [m.reshape(-1) for m in mesh]
         t = ds["t_cr"].values.reshape(-1)
         s = ds["status"].values.reshape(-1)
+    lines = []
+    for name, coord in ds.coords.items():
+        if coord.ndim == 0:
+            unit = coord.attrs.get("units", "")
+            lines.append(f"# {name} = {coord.item()!r} {unit}".rstrip())
+    for key, value in ds.attrs.items():
+        if np.ndim(value) == 0:
+            lines.append(f"# {key} = {' '.join(str(value).split())}")
     header = [f"{c} [{PARAMETERS[c].unit}]" for c in cols] + ["t_cr [s]", "status"]
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(",".join(header) + "\n")
-        for k in range(t.size):
-            cells = [f"{col[k]:.12g}" for col in table]
-            cells.append(f"{t[k]:.12g}" if math.isfinite(t[k]) else "")
-            cells.append(str(int(s[k])))
-            fh.write(",".join(cells) + "\n")
+    lines.append(",".join(header))
+    for k in range(t.size):
+        cells = [f"{col[k]:.12g}" for col in table]
+        cells.append(f"{t[k]:.12g}" if math.isfinite(t[k]) else "")
+        cells.append(str(int(s[k])))
+        lines.append(",".join(cells))
+    _atomic_write_text(Path(path), "\n".join(lines) + "\n")
+
+
+def _write_outputs(
+    ds: xarray.Dataset, out: _Outcome, store: Any, csv: str | os.PathLike[str] | None
+) -> None:
+    """NetCDF, then CSV, each atomic; the sidecar goes only after both are in place.
+
+    The files get the CF ``date_created`` and ``history`` (the command line); the
+    returned dataset does not, so two runs of one study compare identical.
+    """
+    now = datetime.now(UTC).isoformat(timespec="seconds")
+    ds = ds.assign_attrs(date_created=now, history=f"{now}: {_command_line()}")
+    if store is not None:
+        write_netcdf(ds, store)
+    if csv is not None:
+        write_csv(ds, csv)
+    if out.sidecar is not None:
+        out.sidecar.remove()
 
 
 # --------------------------------------------------------------------------- sweeps
@@ -1023,10 +1187,16 @@ def execute_sweep(
     restart: bool = False,
     chunk_size: int | None = None,
     progress: bool = True,
+    csv: str | os.PathLike[str] | None = None,
 ) -> SweepRun:
-    """Run a sweep and return the dataset with run statistics; see :func:`run_sweep`."""
+    """Run a sweep and return the dataset with run statistics; see :func:`run_sweep`.
+
+    `csv`, if given, is written (atomically) before the partial-results file is
+    removed, so an interruption while writing outputs loses nothing.
+    """
     if not isinstance(spec, SweepSpec):
         raise InputError("spec", "expected a SweepSpec")
+    _check_distinct_outputs(store, csv)
     out = _compute(
         spec,
         spec.dims,
@@ -1040,12 +1210,10 @@ def execute_sweep(
         chunk_size=chunk_size,
         progress=progress,
         label="sweep",
+        extra_outputs=() if csv is None else (str(csv),),
     )
     ds = _grid_dataset(spec, out.t_cr, out.status)
-    if store is not None:
-        write_netcdf(ds, store)
-        assert out.sidecar is not None
-        out.sidecar.remove()
+    _write_outputs(ds, out, store, csv)
     return SweepRun(ds, out.n_computed, out.n_resumed, out.workers, out.backend, out.elapsed_s)
 
 
@@ -1518,6 +1686,7 @@ def monte_carlo(
     restart: bool = False,
     chunk_size: int | None = None,
     progress: bool = True,
+    csv: str | os.PathLike[str] | None = None,
 ) -> xarray.Dataset:
     """Monte Carlo study of t_cr under uncertain inputs.
 
@@ -1567,6 +1736,7 @@ def monte_carlo(
         raise InputError("seed", f"expected a whole number, got {seed!r}") from None
     if seed_i < 0:
         raise InputError("seed", f"{seed_i} is outside the allowed range >= 0")
+    _check_distinct_outputs(store, csv)
     fixed = dict(fixed or {})
     for name in dists:
         if name in fixed:
@@ -1607,6 +1777,7 @@ def monte_carlo(
         chunk_size=chunk_size,
         progress=progress,
         label="monte carlo",
+        extra_outputs=() if csv is None else (str(csv),),
     )
     t_max_used = spec.t_max if spec.t_max is not None else spec.build_case({}).t_max
     summ = summarize_monte_carlo(
@@ -1648,10 +1819,7 @@ def monte_carlo(
     attrs.update(_common_attrs(spec))
     attrs["study_hash"] = digest
     ds = xr.Dataset(data, coords=coords, attrs=attrs)
-    if store is not None:
-        write_netcdf(ds, store)
-        assert out.sidecar is not None
-        out.sidecar.remove()
+    _write_outputs(ds, out, store, csv)
     return ds
 
 

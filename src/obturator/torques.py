@@ -171,8 +171,19 @@ class NakabayashiViscous:
 ViscousTorque = CouetteViscous | NakabayashiViscous
 
 
+#: Largest sliding friction coefficient accepted [-]: dry engineering pairs stay
+#: below ~1.5 (the thesis uses 0.35-0.55); beyond it the stick phases only get
+#: stiffer and slower to integrate, with no physical case to cover.
+MAX_MU = 2.0
+#: Largest normal load accepted [N]: ten times the flight load behind a Mach 10
+#: normal shock at sea level (~1 kN).
+MAX_LOAD = 1e4
+#: Largest rig normal load accepted [N]: over 100 times the ball's weight.
+MAX_RIG_WEIGHT = 10.0
+
+
 def _check_mu(mu_s: float) -> float:
-    return check_range("mu_s", mu_s, 0.0, math.inf)
+    return check_range("mu_s", mu_s, 0.0, MAX_MU)
 
 
 @dataclass(frozen=True)
@@ -199,7 +210,7 @@ class ThesisRigFriction:
 
     def __post_init__(self) -> None:
         _check_mu(self.mu_s)
-        check_range("weight", self.weight, 0.0, unit="N")
+        check_range("weight", self.weight, 0.0, MAX_RIG_WEIGHT, unit="N")
         check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
 
     @property
@@ -242,7 +253,7 @@ class ThesisFlightFriction:
 
     def __post_init__(self) -> None:
         _check_mu(self.mu_s)
-        check_range("pressure_force", self.pressure_force, 0.0, unit="N")
+        check_range("pressure_force", self.pressure_force, 0.0, MAX_LOAD, unit="N")
         check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
         check_range(
             "contact_angle",
@@ -328,7 +339,7 @@ class CoulombContactFriction:
 
     def __post_init__(self) -> None:
         _check_mu(self.mu_s)
-        check_range("normal_force", self.normal_force, 0.0, unit="N")
+        check_range("normal_force", self.normal_force, 0.0, MAX_LOAD, unit="N")
         check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
         check_range("contact_angle", self.contact_angle, 0.0, math.pi / 2, lo_open=True, unit="rad")
         if not isinstance(self.n_contacts, int) or not 1 <= self.n_contacts <= 1000:
