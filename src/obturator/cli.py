@@ -60,6 +60,10 @@ def main(argv: list[str] | None = None) -> int:
     failure on valid input, 130 interrupted, 1 anything else (a bug: one line;
     ``OBTURATOR_DEBUG=1`` re-raises it with its traceback).
     """
+    from ._provenance import set_command
+
+    argv = sys.argv[1:] if argv is None else list(argv)
+    set_command(argv)
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

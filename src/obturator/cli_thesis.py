@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import shlex
 import sys
 
 from .errors import check_range
@@ -57,10 +56,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _reproduce(args: argparse.Namespace) -> int:
+    from ._provenance import command_line
     from .report import reproduce
 
-    command = " ".join(["obturator", *(shlex.quote(a) for a in sys.argv[1:])])
-    res = reproduce(args.out, quick=args.quick, progress=not args.no_progress, command=command)
+    res = reproduce(
+        args.out, quick=args.quick, progress=not args.no_progress, command=command_line()
+    )
     flagged = sum(1 for r in res.rows if r.difference is not None and abs(r.difference) > 2.0)
     print(
         f"wrote {len(res.figures)} figures, {res.report_md} and {res.report_html} "

@@ -818,11 +818,37 @@ def _run_local(spec, names, rows_of, chunks, sink, progress, label, total, done)
             advance(idx.size)
 
 
+def _die_with_parent(parent: int) -> None:
+    """Worker initializer: end this worker when the main process ends, however it ends.
+
+    Linux ``prctl(PR_SET_PDEATHSIG, SIGKILL)``: a SIGKILL or SIGTERM of the main
+    process (which runs no clean-up) must not leave workers computing for good.
+    Elsewhere nothing is set (the pool still ends them on a normal exit).
+    """
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's to handle
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        try:
+            ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+        except (OSError, AttributeError):  # pragma: no cover - unusual libc
+            return
+        if os.getppid() != parent:  # the parent died before prctl took effect
+            os._exit(1)
+
+
 def _run_pool(spec, names, rows_of, chunks, sink, workers, progress, label, total, done) -> None:
     ctx = _mp_context()
     if ctx.get_start_method() == "fork":
         _warm(spec.options)  # workers inherit the loaded integrator
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+    pool = ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=ctx,
+        initializer=_die_with_parent,
+        initargs=(os.getpid(),),
+    )
     try:
         # every task is submitted (and, with fork, every worker started) before
         # the progress bar starts its refresh thread
@@ -1003,12 +1029,9 @@ def _attr(value: Any) -> Any:
 
 
 def _command_line() -> str:
-    import shlex
+    from ._provenance import command_line
 
-    prog = Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "python"
-    if prog in ("obturator", "__main__.py"):
-        prog = "obturator"
-    return shlex.join([prog, *sys.argv[1:]])
+    return command_line()
 
 
 def _check_distinct_outputs(store: Any, csv: Any) -> None:
