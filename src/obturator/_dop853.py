@@ -221,7 +221,7 @@ def _error_norm(k, h, y, ynew, rtol, atol, scale) -> float:
     return abs(h) * s5 / math.sqrt((s5 + 0.01 * s3) * n)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)  # nogil: the CLI watcher thread can stop a long run
 def integrate(
     y0, p, t_max, rtol, atol, scale, h0, h_max, max_steps, t_eval, record, terminal, event_tol
 ):

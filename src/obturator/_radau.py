@@ -497,7 +497,7 @@ def _restep(
     return nfev
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True, nogil=True, fastmath={"contract"})
 def integrate(
     y0, p, t_max, rtol, atol, scale, h0, h_max, max_steps, t_eval, record, terminal, event_tol
 ):

@@ -192,7 +192,7 @@ def _step(t, y, h, f0, jac, p, lu, piv, k1, k2, k3, f1, f2, ynew, work) -> bool:
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def integrate(
     y0, p, t_max, rtol, atol, scale, h0, h_max, max_steps, t_eval, record, terminal, event_tol
 ):

@@ -93,5 +93,13 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_INTERNAL
 
 
-if __name__ == "__main__":  # pragma: no cover
+def run() -> None:  # pragma: no cover - the console-script entry point
+    """``obturator`` as a program: Ctrl-C / SIGTERM end it at once with one line."""
+    from . import _interrupt
+
+    _interrupt.install()
     sys.exit(main())
+
+
+if __name__ == "__main__":  # pragma: no cover
+    run()

@@ -773,7 +773,8 @@ def _mp_context() -> multiprocessing.context.BaseContext:
     # Linux while this process runs a single thread (the progress bar's thread
     # starts after the workers, see _run_pool); otherwise spawn, which is safe
     # but needs the usual ``if __name__ == "__main__":`` guard in scripts
-    if sys.platform == "linux" and threading.active_count() == 1:
+    others = [t for t in threading.enumerate() if t.name != "obturator-signals"]
+    if sys.platform == "linux" and len(others) == 1:  # the signal watcher only reads a pipe
         return multiprocessing.get_context("fork")
     return multiprocessing.get_context("spawn")
 
@@ -828,6 +829,8 @@ def _die_with_parent(parent: int) -> None:
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's to handle
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.set_wakeup_fd(-1)  # the main process's watcher pipe is not ours
     if sys.platform.startswith("linux"):
         import ctypes
 

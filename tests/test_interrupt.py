@@ -1,0 +1,91 @@
+"""Ctrl-C (SIGINT) and SIGTERM stop every command at once: one line, exit 130 / 143.
+
+Each command runs as a real program (``python -m obturator``); after a seeded random
+delay it gets the signal. Required: it ends within about a second, prints exactly
+``obturator: interrupted`` (or ``terminated``), no traceback, no segfault; a sweep
+interrupted this way resumes to the uninterrupted result.
+"""
+
+from __future__ import annotations
+
+import random
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+DATA = str(Path(__file__).resolve().parents[1] / "src/obturator/data/bloomer1980_appendix_b.csv")
+
+
+def _commands(tmp: Path) -> dict[str, list[str]]:
+    slow = tmp / "slow.toml"
+    slow.write_text('[solver]\nmethod = "rosenbrock"\n')  # seconds of compiled work
+    return {
+        "simulate": ["simulate", "--spin-rate", "40", "--mu-s", "0.5473", "--config", str(slow)],
+        "sweep-1": ["sweep", "--spin-rate", "40:60:8", "--mu-s", "0.5473", "--workers", "1",
+                    "--out", str(tmp / "s1.nc"), "--no-progress"],
+        "sweep-2": ["sweep", "--spin-rate", "40:60:8", "--mu-s", "0.5473", "--workers", "2",
+                    "--out", str(tmp / "s2.nc"), "--no-progress"],
+        "montecarlo": ["montecarlo", "--spin-rate", "45", "--vary", "mu_s=uniform:0.5,0.6",
+                       "--samples", "40", "--workers", "1", "--no-progress"],
+        "calibrate": ["calibrate", DATA, "--bootstrap", "2000"],
+        "reproduce": ["reproduce", "--out", str(tmp / "rep")],
+    }  # fmt: skip
+
+
+def _interrupt(args: list[str], delay: float, sig: int) -> tuple[int, str, float]:
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "obturator", *args],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    time.sleep(delay)
+    if proc.poll() is not None:
+        pytest.fail(f"{args[0]} finished before the signal; give it more work")
+    proc.send_signal(sig)
+    t0 = time.perf_counter()
+    _, err = proc.communicate(timeout=30)
+    return proc.returncode, err, time.perf_counter() - t0
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+@pytest.mark.parametrize(
+    "name", ["simulate", "sweep-1", "sweep-2", "montecarlo", "calibrate", "reproduce"]
+)
+def test_ctrl_c_is_one_line_exit_130_within_a_second(tmp_path, name):
+    args = _commands(tmp_path)[name]
+    delay = random.Random(name).uniform(2.0, 3.0)  # past start-up, inside the work
+    rc, err, dt = _interrupt(args, delay, signal.SIGINT)
+    assert rc == 130, err
+    assert err == "obturator: interrupted\n"
+    assert dt < 1.5
+
+
+def test_sigterm_is_one_line_exit_143(tmp_path):
+    rc, err, dt = _interrupt(_commands(tmp_path)["simulate"], 2.0, signal.SIGTERM)
+    assert rc == 143 and err == "obturator: terminated\n" and dt < 1.5
+
+
+def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
+    args = _commands(tmp_path)["sweep-2"]
+    rc, err, _ = _interrupt(args, 2.5, signal.SIGINT)
+    assert rc == 130
+    done = subprocess.run(
+        [sys.executable, "-m", "obturator", *args], capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr
+    ref = tmp_path / "ref.nc"
+    subprocess.run(
+        [sys.executable, "-m", "obturator", *args[:-3], "--out", str(ref), "--no-progress"],
+        check=True,
+        capture_output=True,
+        timeout=300,
+    )
+    with xr.open_dataset(tmp_path / "s2.nc") as a, xr.open_dataset(ref) as b:
+        np.testing.assert_array_equal(a["t_cr"].values, b["t_cr"].values)
