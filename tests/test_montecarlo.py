@@ -271,3 +271,26 @@ def test_cli_montecarlo_bad_input(
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert err.startswith("obturator: error:") and err.count("\n") == 1 and field in err
+
+
+def test_unconverged_openings_are_flagged_and_excluded():
+    # 78 rad/s with a too-wide friction width (1e-5 omega_p): t_cr moves ~1 % against width/10
+    # and another family, so every opening is a status-2 sample: kept in the dataset but
+    # excluded from quantiles and mean (the Monte Carlo default checks convergence).
+    from obturator.studies_sweep import STATUS_UNCONVERGED, monte_carlo, monte_carlo_summary
+
+    ds = monte_carlo(
+        "spin-rig",
+        ["mu_s=uniform:0.5,0.6"],
+        samples=3,
+        seed=1,
+        fixed={"spin_rate": 78.0},
+        options=SolverOptions(friction_width=1e-5),
+        workers=1,
+        progress=False,
+    )
+    assert ds["status"].values.tolist() == [STATUS_UNCONVERGED] * 3
+    assert np.all(np.isfinite(ds["t_cr"].values))
+    summ = monte_carlo_summary(ds)
+    assert summ.n_unconverged == 3 and summ.n_opened == 0 and math.isnan(summ.mean_s)
+    assert ds.attrs["n_unconverged"] == 3
