@@ -72,3 +72,70 @@ def test_killed_sweep_resumes_bit_identical(tmp_path: Path, sig: signal.Signals)
         assert int((b["status"].values == -128).sum()) == 0  # nothing missing
     left = sorted(p.name for p in tmp_path.iterdir())
     assert left == sorted(["ref.nc", "ref.csv", "killed.nc", "killed.csv"]), left
+
+
+def test_dask_scheduler_dying_mid_sweep_keeps_work_and_resumes(tmp_path: Path) -> None:
+    # A LocalCluster closed while a sweep runs on it: the sweep ends with one ClusterError
+    # within seconds (never a hang), the finished chunks stay in the resume store, and
+    # a local rerun completes to the uninterrupted result bit for bit.
+    import threading
+
+    from distributed import LocalCluster
+
+    from obturator.errors import ClusterError
+    from obturator.studies_sweep import SweepSpec, execute_sweep, run_sweep, sidecar_path
+
+    spec = SweepSpec("spin-rig", {"spin_rate": np.linspace(60.0, 120.0, 12)}, {"mu_s": 0.5473})
+    store = tmp_path / "dask.nc"
+    cluster = LocalCluster(
+        n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None
+    )
+    side = sidecar_path(store)
+
+    def close_after_first_chunk() -> None:  # mid-sweep, however fast the machine is
+        deadline = time.time() + 60
+        while time.time() < deadline:
+            if side.exists() and len(side.read_text().splitlines()) >= 2:
+                break
+            time.sleep(0.05)
+        cluster.close()
+
+    closer = threading.Thread(target=close_after_first_chunk, daemon=True)
+    closer.start()
+    t0 = time.time()
+    try:
+        with pytest.raises(ClusterError):
+            execute_sweep(
+                spec, scheduler=cluster.scheduler_address, store=store, chunk_size=1,
+                progress=False,
+            )  # fmt: skip
+    finally:
+        closer.join(timeout=70)
+        cluster.close()
+    assert time.time() - t0 < 90
+    assert side.exists()
+    finished = len(side.read_text().splitlines()) - 1
+    resumed = execute_sweep(spec, workers=1, store=store, progress=False)
+    assert resumed.n_resumed == finished
+    full = run_sweep(spec, workers=1, progress=False)
+    np.testing.assert_array_equal(resumed.dataset["t_cr"].values, full["t_cr"].values)
+
+
+def test_dask_scheduler_that_never_answers_is_one_line_in_bounded_time(tmp_path: Path) -> None:
+    import socket
+
+    from obturator.cli import main
+
+    srv = socket.socket()
+    srv.bind(("127.0.0.1", 0))
+    srv.listen(8)  # accepts connections, never speaks
+    port = srv.getsockname()[1]
+    t0 = time.time()
+    try:
+        rc = main(
+            ["sweep", "--spin-rate", "100:200:3", "--out", str(tmp_path / "x.nc"),
+             "--scheduler", f"tcp://127.0.0.1:{port}", "--no-progress"]
+        )  # fmt: skip
+    finally:
+        srv.close()
+    assert rc == 2 and time.time() - t0 < 20

@@ -13,20 +13,50 @@ Quick use::
     0.276
 """
 
+import importlib
 from importlib.metadata import PackageNotFoundError, version
 
-from .cases import TABLE1, couette_case, flight_case, rig_case, table1_ball
-from .errors import InputError
-from .geometry import BoredBall
-from .solve import Case, NutationResult, SolverOptions, initial_state, opening_time, simulate
-from .torques import (
-    CouetteViscous,
-    CoulombContactFriction,
-    NakabayashiViscous,
-    ThesisFlightFriction,
-    ThesisRigFriction,
-    TorqueModel,
-)
+# Public names and the module that defines each: imported on first use (PEP 562),
+# so ``import obturator`` and the command line start without loading numba,
+# scipy, xarray or pint until a computation needs them.
+_LAZY = {
+    "TABLE1": "cases",
+    "couette_case": "cases",
+    "flight_case": "cases",
+    "rig_case": "cases",
+    "table1_ball": "cases",
+    "InputError": "errors",
+    "SolverError": "errors",
+    "BoredBall": "geometry",
+    "Case": "solve",
+    "NutationResult": "solve",
+    "SolverOptions": "solve",
+    "initial_state": "solve",
+    "opening_time": "solve",
+    "simulate": "solve",
+    "convergence_check": "solve",
+    "CouetteViscous": "torques",
+    "CoulombContactFriction": "torques",
+    "NakabayashiViscous": "torques",
+    "SlipSpeedLaw": "torques",
+    "ThesisFlightFriction": "torques",
+    "ThesisRigFriction": "torques",
+    "TorqueModel": "torques",
+}
+
+
+def __getattr__(name: str) -> object:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'obturator' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
+
 
 try:
     __version__ = version("obturator")
@@ -34,6 +64,9 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0+unknown"
 
 __all__ = [
+    "SlipSpeedLaw",
+    "SolverError",
+    "convergence_check",
     "TABLE1",
     "BoredBall",
     "Case",

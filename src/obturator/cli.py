@@ -12,7 +12,15 @@ import os
 import sys
 from typing import NoReturn
 
-from .errors import EXIT_INPUT, EXIT_INTERNAL, EXIT_SOLVER, InputError, SolverError
+from .errors import (
+    EXIT_CLUSTER,
+    EXIT_INPUT,
+    EXIT_INTERNAL,
+    EXIT_SOLVER,
+    ClusterError,
+    InputError,
+    SolverError,
+)
 
 # Modules that add sub-commands; each defines register(subparsers) and sets
 # ``func`` (callable taking the parsed namespace, returning an exit code).
@@ -74,6 +82,13 @@ def main(argv: list[str] | None = None) -> int:
     except SolverError as exc:
         print(f"obturator: solver failure: {exc}", file=sys.stderr)
         return EXIT_SOLVER
+    except ClusterError as exc:
+        print(
+            f"obturator: cluster failure: {exc}; finished points are kept, run the same "
+            "command again to resume",
+            file=sys.stderr,
+        )
+        return EXIT_CLUSTER
     except OSError as exc:  # files named on the command line or in a config
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"obturator: error: {where}{exc.strerror or exc}", file=sys.stderr)

@@ -8,12 +8,22 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["InputError", "SolverError", "check_range", "EXIT_INPUT", "EXIT_SOLVER", "EXIT_INTERNAL"]
+__all__ = [
+    "InputError",
+    "SolverError",
+    "check_range",
+    "EXIT_INPUT",
+    "EXIT_SOLVER",
+    "EXIT_INTERNAL",
+    "ClusterError",
+    "EXIT_CLUSTER",
+]
 
 #: Process exit codes of the command line.
 EXIT_INPUT = 2  # bad input: one line naming the field
 EXIT_SOLVER = 3  # the integrator failed on valid input
 EXIT_INTERNAL = 1  # anything else (a bug): one line, traceback with OBTURATOR_DEBUG=1
+EXIT_CLUSTER = 4  # the Dask scheduler or a worker was lost; finished work is kept
 
 
 class InputError(ValueError):
@@ -37,6 +47,14 @@ class SolverError(RuntimeError):
 
     Not bad input: the command line reports it with its own exit code
     (:data:`EXIT_SOLVER`).
+    """
+
+
+class ClusterError(RuntimeError):
+    """The Dask scheduler or a worker went away during a study.
+
+    Finished points are already in the study's resume store; running the same
+    command again (locally or with another ``--scheduler``) resumes it.
     """
 
 

@@ -63,7 +63,7 @@ import time
 import zlib
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import asdict, dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
@@ -72,7 +72,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from .cases import CASE_NAMES, TABLE1, TORQUE_MODELS, flight_case, rig_case, table1_ball
-from .errors import InputError, check_range
+from .errors import ClusterError, InputError, check_range
 from .solve import Case, SolverOptions, convergence_check, opening_time
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -878,19 +878,59 @@ def _prefetch_output() -> None:
     xr.Dataset({"t_cr": ("x", np.zeros(1))})
 
 
+#: Seconds after which connecting to a Dask scheduler is given up.
+CONNECT_TIMEOUT_S = 10.0
+
+
 def _client(scheduler: Any) -> tuple[Any, bool]:
+    """A connected ``distributed.Client``, or one InputError within CONNECT_TIMEOUT_S.
+
+    The connection is made in a helper thread with a hard deadline: a port that
+    accepts a connection but never speaks the Dask protocol would otherwise
+    block the handshake for many minutes.
+    """
     if not isinstance(scheduler, str):
         return scheduler, False
-    from distributed import Client
-
     try:
-        return Client(scheduler, timeout="20s"), True
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise InputError("scheduler", f"cannot connect to {scheduler!r}: {exc}") from None
+        from distributed import Client
+    except ImportError:
+        raise InputError(
+            "scheduler", "needs dask.distributed: pip install 'obturator[cluster]'"
+        ) from None
+    box: dict[str, Any] = {}
+
+    def connect() -> None:
+        try:
+            box["client"] = Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S:g}s")
+        except Exception as exc:  # any failure becomes one line for the user
+            box["error"] = exc
+
+    thread = threading.Thread(target=connect, name="obturator-dask-connect", daemon=True)
+    thread.start()
+    thread.join(CONNECT_TIMEOUT_S + 2.0)
+    if "client" in box:
+        return box["client"], True
+    why = box.get("error")
+    text = " ".join(str(why).split()) if why is not None else "no answer"
+    raise InputError(
+        "scheduler",
+        f"cannot connect to {scheduler!r} within {CONNECT_TIMEOUT_S:g} s: {text}",
+    )
+
+
+#: Seconds without a connected scheduler after which a running study gives up.
+LOST_SCHEDULER_S = 10.0
 
 
 def _run_dask(spec, names, rows_of, chunks, sink, scheduler, progress, label, total, done) -> None:
-    from distributed import as_completed
+    """Chunks as tasks on a Dask cluster; finished chunks go to `sink` as they arrive.
+
+    A scheduler or worker that dies mid-study is a :class:`ClusterError` (one
+    line on the command line) within LOST_SCHEDULER_S, never a hang: the
+    finished chunks are already in the resume store, so the study resumes
+    (locally or on a new cluster) to the same result.
+    """
+    from distributed import wait as dask_wait
 
     client, owned = _client(scheduler)
     futures = []
@@ -901,19 +941,40 @@ def _run_dask(spec, names, rows_of, chunks, sink, scheduler, progress, label, to
             index_of[fut.key] = idx
             futures.append(fut)
         _prefetch_output()
+        pending = set(futures)
+        lost_since: float | None = None
         with _progress(progress, total, done, label) as advance:
-            for fut in as_completed(futures):
-                t, s = fut.result()
-                idx = index_of[fut.key]
-                sink(idx, t, s)
-                advance(idx.size)
+            while pending:
+                try:
+                    dask_wait(list(pending), timeout=1.0, return_when="FIRST_COMPLETED")
+                except Exception:  # nothing finished within 1 s (or the wait itself broke)
+                    pass
+                if client.status != "running":
+                    lost_since = lost_since or time.monotonic()
+                    if time.monotonic() - lost_since > LOST_SCHEDULER_S:
+                        raise ClusterError(f"lost the Dask scheduler {client.scheduler!s}")
+                else:
+                    lost_since = None
+                for fut in [f for f in pending if f.status != "pending"]:
+                    pending.discard(fut)
+                    if fut.status != "finished":
+                        raise ClusterError(f"a Dask task ended with status {fut.status!r}")
+                    try:
+                        t, s = fut.result(timeout=LOST_SCHEDULER_S)
+                    except Exception as exc:
+                        raise ClusterError(f"a Dask task failed: {exc}") from None
+                    idx = index_of[fut.key]
+                    sink(idx, t, s)
+                    advance(idx.size)
     except BaseException:
         if futures:
-            client.cancel(futures)
+            with suppress(Exception):
+                client.cancel(futures)
         raise
     finally:
         if owned:
-            client.close()
+            with suppress(Exception):
+                client.close(timeout=2)
 
 
 @dataclass(frozen=True)
