@@ -76,8 +76,8 @@ def test_plot_and_csv_outputs(tmp_path, capsys):
         (["--theta0-deg", "0"], "theta0_deg"),
         (["--mu-s", "-0.1"], "mu_s: -0.1 is outside the allowed range [0, 2]"),
         (["--spin-rate", "-5"], "spin_rate"),
-        (["--spin-rate", "12 kg"], "--spin-rate: '12 kg' cannot be converted to rad/s"),
-        (["--spin-rate", "fast"], "--spin-rate"),
+        (["--spin-rate", "12 kg"], "spin_rate: '12 kg' cannot be converted to rad/s"),
+        (["--spin-rate", "fast"], "spin_rate:"),
         (["--mach", "0.5", "--case", "flight"], "mach"),
         (["--mach", "3"], "mach: applies to --case flight only"),
         (["--rtol", "2"], "rtol"),
@@ -162,3 +162,26 @@ def test_unconverged_case_is_flagged(capsys):
     assert conv["width_rel_change"] > 1e-3 and conv["family_rel_change"] > 1e-3
     assert conv["other_family"] == "linear"
     assert "warning: t_cr is not converged" in captured.err
+
+
+def test_documented_config_examples_run_verbatim(tmp_path, capsys):
+    # the two examples in obturator.io's docstring, cut out of it and run as they stand
+    import obturator.io
+
+    doc = obturator.io.__doc__
+    blocks, current = [], None
+    for line in doc.splitlines():
+        if line.endswith("::"):
+            current = []
+            blocks.append(current)
+        elif current is not None and (line.startswith("    ") or not line.strip()):
+            current.append(line[4:])
+        else:
+            current = None
+    assert len(blocks) == 2
+    for k, block in enumerate(blocks):
+        path = tmp_path / f"example{k}.toml"
+        path.write_text("\n".join(block), encoding="utf-8")
+        assert main(["simulate", "--config", str(path), "--json", "--no-check"]) == 0, k
+        out = json.loads(capsys.readouterr().out)
+        assert out["status"] == 1 and out["t_cr_s"] > 0

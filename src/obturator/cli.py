@@ -32,6 +32,15 @@ _SUBCOMMAND_MODULES = (
 )
 
 
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("obturator")
+    except PackageNotFoundError:  # pragma: no cover - source tree
+        return "0+unknown"
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse, but a usage error is one line ``obturator: error: <field>: ...``, exit 2."""
 
@@ -48,8 +57,15 @@ def build_parser() -> argparse.ArgumentParser:
         prog="obturator",
         description="Ball obturator opening dynamics (Bloomer 1980).",
     )
+    parser.add_argument("--version", action="version", version=f"obturator {_version()}")
+    parser.add_argument(
+        "--print-completion",
+        choices=("bash", "zsh"),
+        help="print a shell completion script (e.g. obturator --print-completion bash "
+        "> ~/.local/share/bash-completion/completions/obturator)",
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    sub.required = True
+    sub.required = False
     for name in _SUBCOMMAND_MODULES:
         try:
             module = importlib.import_module(name)
@@ -74,6 +90,13 @@ def main(argv: list[str] | None = None) -> int:
     set_command(argv)
     parser = build_parser()
     args = parser.parse_args(argv)
+    if args.print_completion:
+        import shtab
+
+        print(shtab.complete(parser, shell=args.print_completion))
+        return 0
+    if args.command is None:
+        parser.error("a COMMAND is required (see obturator --help)")
     try:
         return int(args.func(args) or 0)
     except InputError as exc:
@@ -113,7 +136,13 @@ def run() -> None:  # pragma: no cover - the console-script entry point
     from . import _interrupt
 
     _interrupt.install()
-    sys.exit(main())
+    try:
+        code = main()
+        sys.stdout.flush()
+    except BrokenPipeError:  # output piped into `head` and the like: not an error
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        code = 0
+    sys.exit(code)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -93,10 +93,10 @@ def _merge(args: argparse.Namespace) -> dict[str, Any]:
         "patch_radius": ("--patch-radius", "m"),
         "t_max": ("--t-max", "s"),
     }
-    for key, (flag, unit) in flags.items():
+    for key, (_flag, unit) in flags.items():
         value = getattr(args, key)
-        if value is not None:
-            s[key] = parse_quantity(flag, value, unit)
+        if value is not None:  # messages name the field (spin_rate), as config errors do
+            s[key] = parse_quantity(key, value, unit)
     for key in ("case", "torque_model", "spin_mode", "formulation", "friction_family"):
         if getattr(args, key) is not None:
             s[key] = getattr(args, key)
@@ -196,6 +196,12 @@ def _print_table(res: NutationResult, check: ConvergenceCheck | None) -> None:
                 "",
             )
         )
+    inputs = s["inputs"]
+    rows.append(("inputs", "", ""))
+    for key, value in inputs.items():
+        if isinstance(value, dict):
+            value = ", ".join(f"{k}={v}" for k, v in value.items())
+        rows.append((f"  {key}", f"{value:.6g}" if isinstance(value, float) else str(value), ""))
     width = max(len(r[0]) for r in rows)
     for label, value, unit in rows:
         print(f"{label:<{width}}  {value} {unit}".rstrip())

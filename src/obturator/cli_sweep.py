@@ -44,7 +44,7 @@ from typing import Any
 from . import _json
 from .cases import CASE_NAMES, TORQUE_MODELS
 from .errors import InputError, check_range
-from .io import check_output_path, parse_quantity
+from .io import check_output_path, parse_quantity, study_settings
 from .solve import FRICTION_FAMILIES, SolverOptions
 from .studies_sweep import (
     PARAMETERS,
@@ -72,10 +72,13 @@ def _flag(name: str) -> str:
 
 def _add_common(p: argparse.ArgumentParser) -> None:
     p.add_argument(
-        "--case", choices=CASE_NAMES, default="spin-rig", help="Table 1 column (default spin-rig)"
+        "--case", choices=CASE_NAMES, default=None, help="Table 1 column (default spin-rig)"
     )
-    p.add_argument("--torque-model", choices=TORQUE_MODELS, default="thesis")
-    p.add_argument("--spin-mode", choices=_SPIN_MODES, default="constant")
+    p.add_argument("--torque-model", choices=TORQUE_MODELS, default=None)
+    p.add_argument("--spin-mode", choices=_SPIN_MODES, default=None)
+    p.add_argument(
+        "--config", metavar="FILE.toml", help="settings (schema in obturator.io; flags win)"
+    )
     p.add_argument("--rtol", metavar="X", help="relative tolerance (default 1e-8)")
     p.add_argument("--atol", metavar="X", help="absolute tolerance (default rtol/100, or 1e-10)")
     p.add_argument("--method", choices=_METHODS, default=None, help="integrator")
@@ -196,6 +199,23 @@ def _integer(field: str, text: str | None, lo: int) -> int | None:
     return n
 
 
+_STUDY_KEYS = (*PARAMETERS, "case", "torque_model", "spin_mode", "t_max")
+
+
+def _settings(args: argparse.Namespace, command: str) -> dict[str, Any]:
+    """Config settings merged under the flags: case, models, t_max and fixed values."""
+    conf = study_settings(args.config, command, _STUDY_KEYS)
+    args.case = args.case or conf.get("case", "spin-rig")
+    args.torque_model = args.torque_model or conf.get("torque_model", "thesis")
+    args.spin_mode = args.spin_mode or conf.get("spin_mode", "constant")
+    if args.t_max is None and "t_max" in conf:
+        args.t_max = repr(conf["t_max"])
+    for key, value in conf.get("solver", {}).items():
+        if getattr(args, key, None) is None:
+            setattr(args, key, value if isinstance(value, str) else repr(value))
+    return {k: float(v) for k, v in conf.items() if k in PARAMETERS}
+
+
 def _options(args: argparse.Namespace) -> SolverOptions:
     kw: dict[str, Any] = {}
     if args.rtol is not None:
@@ -209,6 +229,8 @@ def _options(args: argparse.Namespace) -> SolverOptions:
         kw["friction_width"] = _number("--friction-width", args.friction_width)
     if args.friction_family is not None:
         kw["friction_family"] = args.friction_family
+    if getattr(args, "formulation", None) is not None:
+        kw["formulation"] = args.formulation
     return SolverOptions(**kw)
 
 
@@ -238,12 +260,13 @@ def _fmt_s(x: float, infinite: str = "-") -> str:
 
 def _run_sweep(args: argparse.Namespace) -> int:
     axes: dict[str, Any] = {}
-    fixed: dict[str, float] = {}
+    fixed: dict[str, float] = _settings(args, "sweep")
     for name in PARAMETERS:
         text = getattr(args, name)
         if text is None:
             continue
         values = parse_axis(text, _flag(name), PARAMETERS[name].unit)
+        fixed.pop(name, None)  # the flag wins over the config
         if values.size == 1:
             fixed[name] = float(values[0])
         else:
@@ -355,7 +378,9 @@ def _print_mc(s: MonteCarloSummary, header: str) -> None:
 
 
 def _run_montecarlo(args: argparse.Namespace) -> int:
-    fixed = {
+    varied = {v.split("=", 1)[0].strip().lstrip("-").replace("-", "_") for v in args.vary}
+    from_config = {k: v for k, v in _settings(args, "montecarlo").items() if k not in varied}
+    fixed = from_config | {
         name: parse_quantity(_flag(name), getattr(args, name), "" if par.unit == "1" else par.unit)
         for name, par in PARAMETERS.items()
         if getattr(args, name) is not None

@@ -37,7 +37,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     c.add_argument("data", metavar="DATA.csv", help="spin-rig opening times")
     c.add_argument(
-        "--theta0-deg", metavar="X", type=float, default=87.25, help="theta_0 [deg] (87.25)"
+        "--theta0-deg", metavar="X", type=float, default=None, help="theta_0 [deg] (87.25)"
+    )
+    c.add_argument(
+        "--config",
+        metavar="FILE.toml",
+        help="theta0, t_max, torque_model, [rig] weight and [solver] settings (flags win)",
     )
     c.add_argument("--min-spin", metavar="X", type=float, help="fit runs with omega_p >= X rad/s")
     c.add_argument(
@@ -78,14 +83,26 @@ def _calibrate(args: argparse.Namespace) -> int:
     # 1e5 resamples give percentile intervals to ~1e-3 of their width; more is wasted time
     check_range("--bootstrap", args.bootstrap, 0, 100_000)
     check_range("--seed", args.seed, 0, 2**63 - 1)
+    from .io import study_settings
+    from .solve import SolverOptions
+
+    conf = study_settings(
+        args.config, "calibrate", ("theta0_deg", "t_max", "torque_model", "weight")
+    )
+    kwargs: dict[str, object] = {
+        k: conf[k] for k in ("t_max", "torque_model", "weight") if k in conf
+    }
     names = tuple(n.strip() for n in args.fit.split(",") if n.strip())
+    theta0 = args.theta0_deg if args.theta0_deg is not None else conf.get("theta0_deg", 87.25)
     fit = calibrate_csv(
         args.data,
-        theta0_deg=args.theta0_deg,
+        theta0_deg=theta0,
         min_spin=args.min_spin,
         fit=names,
         bootstrap=args.bootstrap,
         bootstrap_seed=args.seed,
+        options=SolverOptions(**conf.get("solver", {})),
+        **kwargs,
     )
     if args.plot:
         from .plotting import calibration_residuals, save

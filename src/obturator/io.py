@@ -5,10 +5,13 @@ The numeric core takes SI floats only. Users may write quantities with units
 command line; they are converted here, once, and rejected with a message that
 names the field when the unit is wrong or the text is not a quantity.
 
-Config file layout (every key optional; bare numbers are in the SI unit shown)::
+One schema serves ``simulate``, ``sweep``, ``montecarlo`` and ``calibrate``
+(``--config FILE.toml``; command-line flags win over the file). Every key is
+optional; bare numbers are in the SI unit shown. A spin-rig run, as it runs
+verbatim (``obturator simulate --config rig.toml``)::
 
-    case = "spin-rig"            # or "flight"
-    spin_rate = "200 rad/s"      # rad/s
+    case = "spin-rig"
+    spin_rate = "200 rad/s"      # rad/s (rpm, Hz, rev/s convert with 2 pi)
     mu_s = 0.5473
     theta0 = "87.25 deg"         # deg
     torque_model = "thesis"      # or "coulomb"
@@ -27,21 +30,28 @@ Config file layout (every key optional; bare numbers are in the SI unit shown)::
     [rig]
     weight = "0.07987 N"         # N
 
-    [contact]                    # torque_model = "coulomb" only
-    patch_radius = "0.279 mm"    # m (default: Hertz radius)
-
-    [flight]
-    mach = 3.0
-    p1 = "0.099 MPa"             # Pa (or altitude = "1 km")
-    n_contacts = 2
-
     [solver]
     rtol = 1e-8
     atol = 1e-10
     friction_width = 1e-7
     friction_family = "algebraic"  # or "tanh", "linear"
-    method = "auto"
-    formulation = "quaternion"
+    method = "auto"              # or "radau", "rosenbrock"
+    formulation = "quaternion"   # or "euler"
+
+A flight run (``case = "flight"``) takes ``[flight]`` instead of ``[rig]``, and
+the Coulomb contact model a ``[contact]`` section::
+
+    case = "flight"
+    spin_rate = "115000 rpm"
+    torque_model = "coulomb"
+
+    [flight]
+    mach = 3.0
+    p1 = "0.099 MPa"             # Pa; or altitude = "1 km" (not both)
+    n_contacts = 2               # torque_model = "coulomb" only
+
+    [contact]
+    patch_radius = "0.1 mm"      # m (default: the Hertz radius)
 """
 
 from __future__ import annotations
@@ -60,6 +70,7 @@ __all__ = [
     "load_config",
     "read_text_file",
     "check_output_path",
+    "study_settings",
     "CONFIG_SCHEMA",
     "MAX_QUANTITY_TEXT",
     "MAX_FILE_BYTES",
@@ -290,6 +301,42 @@ def check_output_path(
     if not os.access(parent, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
         raise InputError(field, f"{path!r} is not writable")
     return p
+
+
+_SOLVER_KEYS = ("rtol", "atol", "friction_width", "friction_family", "method", "formulation")
+
+
+def study_settings(
+    path: str | Path | None, command: str, allowed: tuple[str, ...]
+) -> dict[str, Any]:
+    """Settings of a config file for a study command, refusing keys it cannot use.
+
+    Parameters
+    ----------
+    path : str or Path or None
+        The ``--config`` file (None: no settings).
+    command : str
+        Command name for messages (``"sweep"``, ``"calibrate"``, ...).
+    allowed : tuple of str
+        Canonical field names the command takes besides the solver options.
+
+    Returns
+    -------
+    dict
+        Canonical field name -> SI value; solver options under ``"solver"``.
+    """
+    if path is None:
+        return {}
+    raw = load_config(path)
+    out: dict[str, Any] = {"solver": {}}
+    for key, value in raw.items():
+        if key in _SOLVER_KEYS:
+            out["solver"][key] = value
+        elif key in allowed:
+            out[key] = value
+        else:
+            raise InputError(key, f"is not used by 'obturator {command}' (see obturator.io)")
+    return out
 
 
 def _parse_toml(text: str, p: Path) -> dict[str, Any]:

@@ -59,6 +59,7 @@ __all__ = [
     "ConvergenceCheck",
     "FRICTION_FAMILIES",
     "alternative_family",
+    "case_inputs",
     "initial_state",
     "pack_parameters",
     "TABLE1_PROJECTILE_INERTIA",
@@ -380,6 +381,67 @@ _STATUS_MESSAGES = {
 }
 
 
+def case_inputs(case: Case, options: SolverOptions) -> dict[str, object]:
+    """Every input a run used, in SI units with the unit in the key (JSON-ready)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    ball = case.ball
+    tq = case.torque
+    out: dict[str, object] = {
+        "ball_radius_m": ball.radius,
+        "hole_radius_m": ball.hole_radius,
+        "density_kg_m3": ball.density,
+        "axial_inertia_C_kg_m2": ball.axial_inertia,
+        "transverse_inertia_A_kg_m2": ball.transverse_inertia,
+        "theta0_deg": math.degrees(case.theta0),
+        "theta_cr_deg": math.degrees(case.opening_angle),
+        "spin_rate_rad_s": case.spin_rate,
+        "spin_mode": case.spin_mode,
+        "projectile_inertia_kg_m2": case.projectile_inertia,
+        "release_rate_rad_s": list(case.release_rate),
+        "release_phase_rad": case.release_phase,
+        "t_max_s": case.t_max,
+    }
+    if tq.viscous is not None:
+        out["viscous_model"] = type(tq.viscous).__name__
+        out["gap_m"] = tq.viscous.gap
+        out["gap_viscosity_Pa_s"] = tq.viscous.viscosity
+        out["shear_constant_S_N_m_s"] = tq.viscous.coefficient
+    fr = tq.friction
+    if fr is not None:
+        out["friction_model"] = type(fr).__name__
+        out["mu_s"] = fr.mu_s
+        for attr, key in (
+            ("weight", "normal_load_W_N"),
+            ("pressure_force", "pressure_force_F_p_N"),
+            ("normal_force", "normal_force_N"),
+            ("contact_angle", "contact_angle_beta_rad"),
+            ("n_contacts", "n_contacts"),
+            ("patch_radius", "patch_radius_m"),
+        ):
+            if hasattr(fr, attr):
+                out[key] = getattr(fr, attr)
+    out["slip_speed_law"] = {
+        "kind": tq.speed_law.kind,
+        "ratio": tq.speed_law.ratio,
+        "speed_m_s": tq.speed_law.speed,
+    }
+    out["solver"] = {
+        "method": options.method,
+        "rtol": options.rtol,
+        "atol": options.atol,
+        "friction_width": options.friction_width,
+        "friction_family": options.friction_family,
+        "formulation": options.formulation,
+        "event_tol_s": options.event_tol,
+    }
+    try:
+        out["obturator_version"] = version("obturator")
+    except PackageNotFoundError:  # pragma: no cover
+        out["obturator_version"] = "0+unknown"
+    return out
+
+
 @dataclass(frozen=True)
 class NutationResult:
     """Time history of one run and its opening time.
@@ -480,6 +542,7 @@ class NutationResult:
             "message": self.message,
             "nfev": self.nfev,
             "n_steps": self.n_steps,
+            "inputs": case_inputs(c, self.options),
         }
 
     def to_xarray(self) -> xarray.Dataset:
