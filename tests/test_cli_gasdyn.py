@@ -160,3 +160,19 @@ def test_huge_mach_is_rejected_not_printed_as_nan(capsys):
     assert main(["gasdyn", "normal-shock", "--mach", "1e308", "--json"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("obturator: error: mach:") and err.count("\n") == 1
+
+
+def test_study_json_outputs_are_strict_and_echo_settings(tmp_path, capsys):
+    data = str(tmp_path / "x.nc")
+    cases = [
+        ["sweep", "--spin-rate", "300,400", "--mu-s", "0.5", "--out", data, "--json",
+         "--workers", "1", "--no-progress"],
+        ["montecarlo", "--spin-rate", "300", "--vary", "mu_s=uniform:0.5,0.6", "--samples", "3",
+         "--json", "--workers", "1", "--no-progress"],
+    ]  # fmt: skip
+    for args in cases:
+        assert main(args) == 0, args
+        out = _strict(capsys.readouterr().out)
+        settings = out["settings"]
+        text = json.dumps(settings)
+        assert "obturator_version" in text and "rtol" in text and "0.5" in text

@@ -491,3 +491,31 @@ def test_csv_that_collides_with_netcdf_is_refused(tmp_path: Path) -> None:
     out = tmp_path / "data.csv"
     with pytest.raises(InputError, match="also the NetCDF output"):
         execute_sweep(spec, workers=1, store=out, csv=out, progress=False)
+
+
+@pytest.mark.parametrize("victim", ["write_netcdf", "write_csv"])
+def test_full_disk_is_one_line_and_loses_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, victim: str
+) -> None:
+    # ENOSPC injected while an output is written: one InputError naming the file and
+    # saying the finished points are kept; the rerun writes the outputs from the
+    # partial results without recomputing a point, bit-identical to a clean run.
+    import errno
+
+    spec = small_spec(axes={"spin_rate": [300.0, 400.0, 500.0]}, fixed={"mu_s": 0.55})
+    store, csv = tmp_path / "f.nc", tmp_path / "f.csv"
+    original = getattr(ss, victim)
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(ss, victim, full)
+    with pytest.raises(InputError, match="No space left on device.*finished points are kept"):
+        execute_sweep(spec, workers=1, store=store, csv=csv, progress=False)
+    assert sidecar_path(store).exists()
+    monkeypatch.setattr(ss, victim, original)
+    run = execute_sweep(spec, workers=1, store=store, csv=csv, progress=False)
+    assert run.n_resumed == 3 and run.n_computed == 0
+    assert store.exists() and csv.exists() and not sidecar_path(store).exists()
+    full_run = run_sweep(spec, workers=1, progress=False)
+    np.testing.assert_array_equal(run.dataset["t_cr"].values, full_run["t_cr"].values)

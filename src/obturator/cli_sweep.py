@@ -41,6 +41,8 @@ import time
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from . import _json
 from .cases import CASE_NAMES, TORQUE_MODELS
 from .errors import InputError, check_range
@@ -316,6 +318,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
                     "compute_s": run.elapsed_s,
                     "wall_s": wall,
                     "points_per_s": rate,
+                    "settings": spec.identity(),  # every input used, and the version
                 }
             )
         )
@@ -432,6 +435,11 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
                 "seed": seed,
                 "wall_s": wall,
                 "out": args.out,
+                "settings": {
+                    k: v.item() if hasattr(v, "item") else v
+                    for k, v in ds.attrs.items()
+                    if np.ndim(v) == 0
+                },
             }
         )
         print(_json.dumps(d))

@@ -1228,10 +1228,19 @@ def _write_outputs(
     """
     now = datetime.now(UTC).isoformat(timespec="seconds")
     ds = ds.assign_attrs(date_created=now, history=f"{now}: {_command_line()}")
-    if store is not None:
-        write_netcdf(ds, store)
-    if csv is not None:
-        write_csv(ds, csv)
+    for path, write in ((store, write_netcdf), (csv, write_csv)):
+        if path is None:
+            continue
+        try:
+            write(ds, path)
+        except (OSError, RuntimeError) as exc:  # full disk, quota, I/O error, HDF error
+            kept = f"; the finished points are kept in {out.sidecar.path}" if out.sidecar else ""
+            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+            if out.sidecar is not None:
+                out.sidecar.close()
+            raise InputError(
+                "out", f"cannot write {str(path)!r}: {reason}{kept}; free space and rerun"
+            ) from None
     if out.sidecar is not None:
         out.sidecar.remove()
 
