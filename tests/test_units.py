@@ -81,3 +81,21 @@ def test_cli_mu_in_degrees_is_rejected(capsys):
     assert main(["simulate", "--mu-s", "30 deg", "--no-check"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("obturator: error: mu_s:") and err.count("\n") == 1
+
+
+def test_case_factories_accept_pint_quantities():
+    import pint
+
+    from obturator import flight_case, opening_time, rig_case
+
+    u = pint.UnitRegistry()  # the user's own registry
+    a = rig_case(u.Quantity(2865.79, "rpm"), 0.5473, theta0_deg=u.Quantity(87.25, "deg"))
+    b = rig_case(2865.79 * 2 * math.pi / 60, 0.5473)
+    assert a.spin_rate == pytest.approx(b.spin_rate, rel=1e-12)
+    assert opening_time(a) == pytest.approx(opening_time(b), rel=1e-6)  # same case to ~1 ulp
+    f = flight_case(mach=u.Quantity(3.0, ""), p1=u.Quantity(0.099, "MPa"))
+    assert f.torque.friction.pressure_force == pytest.approx(
+        flight_case().torque.friction.pressure_force, rel=1e-12
+    )
+    with pytest.raises(InputError, match="mu_s"):
+        rig_case(300.0, u.Quantity(30, "deg"))

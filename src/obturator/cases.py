@@ -6,8 +6,11 @@ in degrees where the name says ``_deg``).
 
 from __future__ import annotations
 
+import functools
+import inspect
 import math
-from typing import Literal
+from collections.abc import Callable
+from typing import Any, Literal
 
 from .errors import InputError, check_range
 from .geometry import BoredBall
@@ -77,6 +80,41 @@ def table1_ball(
     )
 
 
+#: Units of the factories' quantity arguments (a pint.Quantity is converted to these).
+_UNITS = {
+    "spin_rate": "rad/s",
+    "mu_s": "",
+    "theta0_deg": "deg",
+    "weight": "N",
+    "gap": "m",
+    "viscosity": "Pa*s",
+    "patch_radius": "m",
+    "t_max": "s",
+    "mach": "",
+    "p1": "Pa",
+    "altitude_m": "m",
+    "pressure_force": "N",
+    "bore_radius": "m",
+}
+
+
+def _accepts_quantities(factory: Callable[..., Case]) -> Callable[..., Case]:
+    """Let a case factory take pint.Quantity arguments (converted to SI, checked as usual)."""
+
+    @functools.wraps(factory)
+    def wrapper(*args: Any, **kwargs: Any) -> Case:
+        names = list(inspect.signature(factory).parameters)
+        bound = dict(zip(names, args, strict=False)) | kwargs
+        for name, value in bound.items():
+            if name in _UNITS and hasattr(value, "magnitude") and hasattr(value, "units"):
+                from .io import parse_quantity
+
+                bound[name] = parse_quantity(name, value, _UNITS[name])
+        return factory(**bound)
+
+    return wrapper
+
+
 def _theta0(theta0_deg: float) -> float:
     return math.radians(check_range("theta0_deg", theta0_deg, 0.0, 90.0, lo_open=True, unit="deg"))
 
@@ -86,6 +124,7 @@ def _check_model(torque_model: str) -> None:
         raise InputError("torque_model", f"{torque_model!r}; allowed: {', '.join(TORQUE_MODELS)}")
 
 
+@_accepts_quantities
 def rig_case(
     spin_rate: float = TABLE1["rig_spin_rate"],
     mu_s: float = TABLE1["mu_s"],
@@ -166,6 +205,7 @@ def rig_case(
     )
 
 
+@_accepts_quantities
 def flight_case(
     spin_rate: float = TABLE1["flight_spin_rate"],
     mu_s: float = TABLE1["mu_s"],
