@@ -221,14 +221,14 @@ def _settings(args: argparse.Namespace, command: str) -> dict[str, Any]:
 def _options(args: argparse.Namespace) -> SolverOptions:
     kw: dict[str, Any] = {}
     if args.rtol is not None:
-        kw["rtol"] = _number("--rtol", args.rtol)
+        kw["rtol"] = _number("rtol", args.rtol)
         kw["atol"] = kw["rtol"] * 1e-2
     if args.atol is not None:
-        kw["atol"] = _number("--atol", args.atol)
+        kw["atol"] = _number("atol", args.atol)
     if args.method is not None:
         kw["method"] = args.method
     if args.friction_width is not None:
-        kw["friction_width"] = _number("--friction-width", args.friction_width)
+        kw["friction_width"] = _number("friction_width", args.friction_width)
     if args.friction_family is not None:
         kw["friction_family"] = args.friction_family
     if getattr(args, "formulation", None) is not None:
@@ -239,7 +239,7 @@ def _options(args: argparse.Namespace) -> SolverOptions:
 def _t_max(args: argparse.Namespace) -> float | None:
     if args.t_max is None:
         return None
-    return check_range("--t-max", _number("--t-max", args.t_max), 0.0, lo_open=True, unit="s")
+    return check_range("t_max", _number("t_max", args.t_max), 0.0, lo_open=True, unit="s")
 
 
 def _check_dir(field: str, path: str | None) -> None:
@@ -267,7 +267,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         text = getattr(args, name)
         if text is None:
             continue
-        values = parse_axis(text, _flag(name), PARAMETERS[name].unit)
+        values = parse_axis(text, name, PARAMETERS[name].unit)
         fixed.pop(name, None)  # the flag wins over the config
         if values.size == 1:
             fixed[name] = float(values[0])
@@ -283,13 +283,13 @@ def _run_sweep(args: argparse.Namespace) -> int:
         t_max=_t_max(args),
         check_convergence=args.check_convergence,
     )
-    workers = _integer("--workers", args.workers, 1)
-    chunk = _integer("--chunk-size", args.chunk_size, 1)
-    _check_dir("--out", args.out)
+    workers = _integer("workers", args.workers, 1)
+    chunk = _integer("chunk_size", args.chunk_size, 1)
+    _check_dir("out", args.out)
     csv_path = args.csv
     if csv_path is None and not args.no_csv and spec.n_points <= AUTO_CSV_MAX_POINTS:
         csv_path = str(Path(args.out).with_suffix(".csv"))
-    _check_dir("--csv", csv_path)
+    _check_dir("csv", csv_path)
     t0 = time.perf_counter()
     run = execute_sweep(
         spec,
@@ -384,24 +384,24 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
     varied = {v.split("=", 1)[0].strip().lstrip("-").replace("-", "_") for v in args.vary}
     from_config = {k: v for k, v in _settings(args, "montecarlo").items() if k not in varied}
     fixed = from_config | {
-        name: parse_quantity(_flag(name), getattr(args, name), "" if par.unit == "1" else par.unit)
+        name: parse_quantity(name, getattr(args, name), "" if par.unit == "1" else par.unit)
         for name, par in PARAMETERS.items()
         if getattr(args, name) is not None
     }
     quantiles = [
-        _number("--quantiles", q) / 100.0 for q in str(args.quantiles).split(",") if q.strip()
+        _number("quantiles", q) / 100.0 for q in str(args.quantiles).split(",") if q.strip()
     ]
     if not quantiles:
-        raise InputError("--quantiles", "give at least one percentile")
+        raise InputError("quantiles", "give at least one percentile")
     for q in quantiles:
-        check_range("--quantiles", 100 * q, 0.0, 100.0, lo_open=True, hi_open=True, unit="%")
-    confidence = _number("--confidence", args.confidence)
-    samples = _integer("--samples", args.samples, 1)
-    seed = _integer("--seed", args.seed, 0)
-    workers = _integer("--workers", args.workers, 1)
-    chunk = _integer("--chunk-size", args.chunk_size, 1)
-    _check_dir("--out", args.out)
-    _check_dir("--csv", args.csv)
+        check_range("quantiles", 100 * q, 0.0, 100.0, lo_open=True, hi_open=True, unit="%")
+    confidence = _number("confidence", args.confidence)
+    samples = _integer("samples", args.samples, 1)
+    seed = _integer("seed", args.seed, 0)
+    workers = _integer("workers", args.workers, 1)
+    chunk = _integer("chunk_size", args.chunk_size, 1)
+    _check_dir("out", args.out)
+    _check_dir("csv", args.csv)
     t0 = time.perf_counter()
     ds = monte_carlo(
         args.case,

@@ -79,10 +79,10 @@ def _calibrate(args: argparse.Namespace) -> int:
     from .calibration import calibrate_csv
 
     if args.min_spin is not None:
-        check_range("--min-spin", args.min_spin, 0.0, math.inf, hi_open=True, unit="rad/s")
+        check_range("min_spin", args.min_spin, 0.0, math.inf, hi_open=True, unit="rad/s")
     # 1e5 resamples give percentile intervals to ~1e-3 of their width; more is wasted time
-    check_range("--bootstrap", args.bootstrap, 0, 100_000)
-    check_range("--seed", args.seed, 0, 2**63 - 1)
+    check_range("bootstrap", args.bootstrap, 0, 100_000)
+    check_range("seed", args.seed, 0, 2**63 - 1)
     from .io import study_settings
     from .solve import SolverOptions
 
