@@ -5,7 +5,8 @@ The benchmark compares :mod:`obturator` with this file: the same equations
 Eqs. 5a-5c), the same torques (Nakabayashi viscous torque, Eqs. 39-42; rig
 sliding friction, Eq. 61; flight sliding friction with the Appendix A arm),
 the same regularisation of the Coulomb direction
-omega_r / sqrt(|omega_r|^2 + delta^2) and the same parameters, written in
+|omega_r| / sqrt(|omega_r|^2 + delta^2) (magnitude only; arm from the true
+direction) and the same parameters, written in
 NumPy without any compilation and integrated with
 ``scipy.integrate.solve_ivp(method="LSODA")`` with a terminal event at
 theta = theta_cr.
@@ -97,13 +98,17 @@ class BaselineModel:
         if speed >= self.transition_rate:
             k = self.viscous_turbulent * speed**0.75
         torque = -k * w_rel
-        e = w_rel / math.sqrt(speed * speed + self.delta * self.delta)
-        if self.flight:
-            sb, cb = math.sin(self.contact_angle), math.cos(self.contact_angle)
-            arm2 = 1.0 - sb * sb * e[0] ** 2 - cb * cb * e[2] ** 2
-        else:
-            arm2 = 1.0 - e[0] ** 2
-        torque = torque - self.friction * math.sqrt(max(arm2, 0.0)) * e
+        if speed > 0.0:
+            # thesis arm from the true slip direction; only the magnitude is regularised
+            e = w_rel / speed
+            x = speed / self.delta
+            if self.flight:
+                sb, cb = math.sin(self.contact_angle), math.cos(self.contact_angle)
+                arm2 = 1.0 - sb * sb * e[0] ** 2 - cb * cb * e[2] ** 2
+            else:
+                arm2 = 1.0 - e[0] ** 2
+            sat = x / math.sqrt(1.0 + x * x)
+            torque = torque - self.friction * math.sqrt(max(arm2, 0.0)) * sat * e
         g = rot.T @ torque  # body axes
         a, c = self.a, self.c
         dw = np.array(
