@@ -82,20 +82,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _merge(args: argparse.Namespace) -> dict[str, Any]:
     s: dict[str, Any] = load_config(args.config) if args.config else {}
-    flags = {
-        "spin_rate": ("--spin-rate", "rad/s"),
-        "mu_s": ("--mu-s", ""),
-        "theta0_deg": ("--theta0-deg", "deg"),
-        "mach": ("--mach", ""),
-        "altitude_m": ("--altitude-m", "m"),
-        "rtol": ("--rtol", ""),
-        "friction_width": ("--friction-width", ""),
-        "patch_radius": ("--patch-radius", "m"),
-        "t_max": ("--t-max", "s"),
+    units = {  # field -> SI unit; messages name the field (spin_rate), as config errors do
+        "spin_rate": "rad/s",
+        "mu_s": "",
+        "theta0_deg": "deg",
+        "mach": "",
+        "altitude_m": "m",
+        "rtol": "",
+        "friction_width": "",
+        "patch_radius": "m",
+        "t_max": "s",
     }
-    for key, (_flag, unit) in flags.items():
+    for key, unit in units.items():
         value = getattr(args, key)
-        if value is not None:  # messages name the field (spin_rate), as config errors do
+        if value is not None:
             s[key] = parse_quantity(key, value, unit)
     for key in ("case", "torque_model", "spin_mode", "formulation", "friction_family"):
         if getattr(args, key) is not None:
