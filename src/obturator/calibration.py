@@ -98,6 +98,15 @@ PARAMETERS: dict[str, tuple[str, float, tuple[float, float], float]] = {
     "mu_s": ("1", 0.55, (0.02, 1.2), 1.0),
     "theta0_deg": ("deg", TABLE1["theta0_deg"], (70.0, 89.9), 10.0),
     "shear_constant": ("N m s", 12.38e-9, (0.0, 2e-7), 1e-8),
+    # mechanisms for the validation study (obturator.validation): release transient
+    # theta_dot_0 (a plunger/jet kick of a few rad/s at most), slip-speed law of mu
+    # (ratio r, speed v_s around the rig's slip speeds 0-1.6 m/s), release phase psi_0,
+    # Coulomb contact patch radius (around the 0.28 mm Hertz value)
+    "theta_dot0": ("rad/s", 0.0, (-3.0, 3.0), 1.0),
+    "speed_ratio": ("1", 0.5, (0.05, 1.0), 1.0),
+    "slip_speed": ("m/s", 0.05, (0.002, 2.0), 0.1),
+    "release_phase": ("rad", 0.0, (0.0, 2.0 * math.pi), 1.0),
+    "patch_radius": ("m", 2.79e-4, (1e-5, 1e-3), 1e-4),
 }
 _S_TABLE1 = rig_case().torque.viscous.coefficient  # Eq. (42) with Table 1 inputs
 _DIFF_STEP = 1e-4  # relative FD step: t_cr noise ~1e-8 relative, curvature ~1
@@ -174,12 +183,32 @@ def model_opening_times(
     torque_model: str = "thesis",
     t_max: float = 5.0,
     options: SolverOptions | None = None,
+    theta_dot0: float = 0.0,
+    speed_law: str = "constant",
+    speed_ratio: float = 1.0,
+    slip_speed: float = 0.05,
+    release_phase: float = 0.0,
+    patch_radius: float | None = None,
 ) -> NDArray[np.float64]:
     """Exact rig t_cr [s] at each spin rate [rad/s] (NaN where the ball does not open).
 
     The viscous constant is set through the gap-fluid viscosity, to which the
-    Eq. (42) constant S is proportional.
+    Eq. (42) constant S is proportional. `theta_dot0` [rad/s] and
+    `release_phase` [rad] set the release state, `speed_law` with `speed_ratio`
+    and `slip_speed` [m/s] the slip-speed dependence of mu
+    (:class:`obturator.torques.SlipSpeedLaw`), `patch_radius` [m] the Coulomb
+    contact patch.
     """
+    from .torques import SlipSpeedLaw
+
+    law = None if speed_law == "constant" else SlipSpeedLaw(speed_law, speed_ratio, slip_speed)
+    extra: dict[str, Any] = {
+        "speed_law": law,
+        "release_rate": (theta_dot0, 0.0, 0.0),
+        "release_phase": release_phase,
+    }
+    if torque_model == "coulomb":
+        extra["patch_radius"] = patch_radius
     visc = TABLE1["viscosity"] * shear_constant / _S_TABLE1
     return np.array(
         [
@@ -192,6 +221,7 @@ def model_opening_times(
                     torque_model=torque_model,
                     viscosity=visc,
                     t_max=t_max,
+                    **extra,
                 ),
                 options,
             )
@@ -633,6 +663,7 @@ def fit_exact(
     table_halfwidth: float = 0.05,
     table_max_points: int = 121,
     table_verify: int = 12,
+    model_options: dict[str, Any] | None = None,
 ) -> ExactFit:
     """Fit mu_s (and optionally theta_0, S) of the exact rig model to measured t_cr.
 
@@ -673,6 +704,9 @@ def fit_exact(
         Cap on the table's mu_s rows (>= 4).
     table_verify : int
         Grid midpoints at which the table is checked against exact runs.
+    model_options : dict, optional
+        Further fixed arguments of :func:`model_opening_times` (e.g.
+        ``{"speed_law": "strengthening"}``).
 
     Returns
     -------
@@ -716,6 +750,7 @@ def fit_exact(
     w, t_meas = runs.spin_rate, runs.opening_time
     wt = 1.0 if sigma is None else 1.0 / sigma
     model_kw = {"weight": weight, "torque_model": torque_model, "t_max": t_max, "options": options}
+    model_kw.update(model_options or {})
 
     def params(x: NDArray[np.float64]) -> dict[str, float]:
         p = dict(start)
