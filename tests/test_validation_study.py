@@ -33,3 +33,21 @@ def test_study_schema_ranking_and_out_of_band_on_a_few_runs():
 def test_unknown_model_is_an_input_error():
     with pytest.raises(InputError, match="models"):
         run_validation(load_thesis_data(), ["bogus"])
+
+
+def test_validate_cli_json_plot_and_bad_input(tmp_path, capsys):
+    from obturator.cli import main
+
+    csv = tmp_path / "runs.csv"
+    csv.write_text(
+        "spin_rate_rad_s,t_cr_s,starred\n160,0.20,0\n170,0.21,0\n300,0.27,1\n350,0.30,1\n"
+        "400,0.33,1\n"
+    )
+    png = tmp_path / "v.png"
+    args = ["validate", "--data", str(csv), "--models", "thesis", "--workers", "1"]
+    assert main([*args, "--json", "--plot", str(png)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["models"][0]["name"] == "thesis" and png.stat().st_size > 1000
+    assert main(["validate", "--models", "bogus"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("obturator: error: models:") and err.count("\n") == 1

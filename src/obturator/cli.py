@@ -29,6 +29,7 @@ _SUBCOMMAND_MODULES = (
     "obturator.cli_gasdyn",
     "obturator.cli_thesis",
     "obturator.cli_sweep",
+    "obturator.cli_validate",
 )
 
 

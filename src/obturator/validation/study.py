@@ -28,6 +28,7 @@ with sigma_omega = 1.75/sqrt(3) rad/s (uniform within the regulation).
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -176,12 +177,53 @@ def _fit(cand: Candidate, data: SpinRigData, t_max: float) -> Any:
     )
 
 
+def _fit_candidate(cand: Candidate, data: SpinRigData, t_max: float) -> ModelResult:
+    """Fit one candidate to all runs and predict across the 200 rad/s split."""
+    w, t = data.spin_rate, data.opening_time
+    hi_mask = w >= SPLIT
+    fit = _fit(cand, data, t_max)
+    r = fit.residuals
+    n, k = r.size, len(cand.fit)
+    rss = float(r @ r)
+    by_band = {}
+    for band, lo, hi in BANDS:
+        sel = (fit.spin_rate >= lo) & (fit.spin_rate < hi)
+        by_band[band] = _rms(r[sel])
+    oob: dict[str, float | None] = {"high_to_low": None, "low_to_high": None}
+    if hi_mask.sum() >= 2 and (~hi_mask).sum() >= 2:
+        f_hi = _fit(cand, data.select(hi_mask), t_max)
+        oob["high_to_low"] = _rms(_predict(f_hi, w[~hi_mask], cand, t_max) - t[~hi_mask])
+        f_lo = _fit(cand, data.select(~hi_mask), t_max)
+        oob["low_to_high"] = _rms(_predict(f_lo, w[hi_mask], cand, t_max) - t[hi_mask])
+    params = {
+        p: {
+            "value": fit.values[p],
+            "stderr": fit.stderr.get(p),
+            "ci95": list(fit.ci95[p]),
+            "unit": PARAMETERS[p][0],
+        }
+        for p in cand.fit
+    }
+    return ModelResult(
+        cand.name,
+        params,
+        float(np.sqrt(rss / n)),
+        by_band,
+        n * math.log(rss / n) + 2 * k,
+        n * math.log(rss / n) + k * math.log(n),
+        oob,
+        fit.censored_runs,
+        k,
+    )
+
+
 def run_validation(
     data: SpinRigData,
     models: Sequence[str] = tuple(CANDIDATES),
     *,
     t_max: float = 10.0,
     progress: Callable[[str], None] | None = None,
+    workers: int = 1,
 ) -> ValidationStudy:
     """Fit every candidate to all runs, predict across the 200 rad/s split, rank by AIC.
 
@@ -194,55 +236,41 @@ def run_validation(
     t_max : float
         Horizon [s]; a run not opened by then is right-censored.
     progress : callable, optional
-        Called with a label before each fit.
+        Called with each candidate's name (before its fit, or as it is collected).
+    workers : int
+        Candidates fitted in parallel processes (1: in this process).
     """
     unknown = [m for m in models if m not in CANDIDATES]
     if unknown or not models:
         raise InputError("models", f"{unknown or '[]'}; allowed: {', '.join(CANDIDATES)}")
-    w, t = data.spin_rate, data.opening_time
-    floor = replicate_floor(w, t)
-    hi_mask = w >= SPLIT
-    results = []
-    for name in models:
-        cand = CANDIDATES[name]
-        if progress:
-            progress(name)
-        fit = _fit(cand, data, t_max)
-        r = fit.residuals
-        n, k = r.size, len(cand.fit)
-        rss = float(r @ r)
-        by_band = {}
-        for band, lo, hi in BANDS:
-            sel = (fit.spin_rate >= lo) & (fit.spin_rate < hi)
-            by_band[band] = _rms(r[sel])
-        oob: dict[str, float | None] = {"high_to_low": None, "low_to_high": None}
-        if hi_mask.any() and (~hi_mask).any():
-            f_hi = _fit(cand, data.select(hi_mask), t_max)
-            oob["high_to_low"] = _rms(_predict(f_hi, w[~hi_mask], cand, t_max) - t[~hi_mask])
-            f_lo = _fit(cand, data.select(~hi_mask), t_max)
-            oob["low_to_high"] = _rms(_predict(f_lo, w[hi_mask], cand, t_max) - t[hi_mask])
-        params = {
-            p: {
-                "value": fit.values[p],
-                "stderr": fit.stderr.get(p),
-                "ci95": list(fit.ci95[p]),
-                "unit": PARAMETERS[p][0],
-            }
-            for p in cand.fit
-        }
-        results.append(
-            ModelResult(
-                name,
-                params,
-                float(np.sqrt(rss / n)),
-                by_band,
-                n * math.log(rss / n) + 2 * k,
-                n * math.log(rss / n) + k * math.log(n),
-                oob,
-                fit.censored_runs,
-                k,
-            )
-        )
+    w = data.spin_rate
+    floor = replicate_floor(w, data.opening_time)
+    jobs = [(CANDIDATES[name], data, t_max) for name in models]
+    if workers > 1 and len(jobs) > 1:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        ctx = multiprocessing.get_context("spawn")
+        from ..studies_sweep import _die_with_parent
+
+        with ProcessPoolExecutor(
+            min(workers, len(jobs)),
+            mp_context=ctx,
+            initializer=_die_with_parent,
+            initargs=(os.getpid(),),
+        ) as pool:
+            futures = [pool.submit(_fit_candidate, *job) for job in jobs]
+            results = []
+            for name, fut in zip(models, futures, strict=True):
+                if progress:
+                    progress(name)
+                results.append(fut.result())
+    else:
+        results = []
+        for job in jobs:
+            if progress:
+                progress(job[0].name)
+            results.append(_fit_candidate(*job))
     results.sort(key=lambda m: m.aic)
     best = CANDIDATES[results[0].name]
     spin_sd = _spin_fluctuation(results[0], best, w, t_max)
