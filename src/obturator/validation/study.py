@@ -147,7 +147,7 @@ class ValidationStudy:
             )
         fl = self.floor
         lines.append(
-            f"{'replicate floor':<22} {'':>2} {fl['floor_rms_s']:>8.4f} "
+            f"{'replicate floor':<22} {'':>2} {f(fl['floor_rms_s']):>8} "
             + " ".join(f"{f(fl['floor_rms_by_band_s'][b]):>8}" for b in bands)
             + f"   (pooled SD, df {fl['df']}, {fl['n_clusters']} clusters)"
         )
