@@ -50,8 +50,13 @@ def validation_figure(study: ValidationStudy, data: SpinRigData, t_max: float = 
         xlabel="projectile spin omega_p [rad/s]",
         ylabel="opening time t_cr [s]",
         ylim=(0.0, min(1.2, 1.3 * float(t.max()))),
-        title=f"Models vs all runs; replicate floor {study.floor['floor_rms_s']:.3f} s "
-        "(squares: cluster mean +-1 SD)",
+        title="Models vs all runs; replicate floor "
+        + (
+            f"{study.floor['floor_rms_s']:.3f} s"
+            if study.floor["floor_rms_s"] is not None
+            else "n/a (no repeated runs)"
+        )
+        + " (squares: cluster mean +-1 SD)",
     )
     ax.legend(fontsize=7)
     return fig
