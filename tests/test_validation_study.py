@@ -51,3 +51,18 @@ def test_validate_cli_json_plot_and_bad_input(tmp_path, capsys):
     assert main(["validate", "--models", "bogus"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("obturator: error: models:") and err.count("\n") == 1
+
+
+def test_validate_out_directory_is_created(tmp_path):
+    from obturator.cli import main
+
+    csv = tmp_path / "runs.csv"
+    csv.write_text("spin_rate_rad_s,t_cr_s\n300,0.27\n301,0.28\n400,0.33\n")
+    out = tmp_path / "new"
+    assert main(["validate", "--data", str(csv), "--models", "thesis", "--workers", "1",
+                 "--out", str(out)]) == 0  # fmt: skip
+    assert {p.name for p in out.iterdir()} == {
+        "validation.json",
+        "validation.txt",
+        "validation.png",
+    }

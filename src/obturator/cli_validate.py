@@ -53,8 +53,11 @@ def _run(args: argparse.Namespace) -> int:
     t_max = check_range("t_max", float(args.t_max), 0.0, 1e4, lo_open=True, unit="s")
     check_output_path("plot", args.plot, ("png", "pdf", "svg"))
     out = Path(args.out) if args.out else None
-    if out is not None and not out.is_dir():
-        check_output_path("out", str(out / "validation.json"))
+    if out is not None:
+        if out.exists() and not out.is_dir():
+            raise InputError("out", f"{args.out!r} exists and is not a directory")
+        if not out.resolve().parent.is_dir():
+            raise InputError("out", f"parent directory of {args.out!r} does not exist")
     data = load_spin_rig_csv(args.data) if args.data else load_thesis_data()
     tty = sys.stderr.isatty()
     study = run_validation(
