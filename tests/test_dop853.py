@@ -7,11 +7,13 @@ import math
 
 import numpy as np
 import pytest
+from conftest import THESIS_CASES, raw_solve
 
-from obturator import Case, SolverOptions, TorqueModel, _dop853, initial_state, rig_case, simulate
-from obturator.cases import flight_case, table1_ball
-from obturator.dynamics import nutation_angle_of_state
-from obturator.solve import _scale, opening_time, pack_parameters
+from obturator import Case, SolverOptions, TorqueModel, rig_case, simulate
+from obturator.core.dynamics import nutation_angle_of_state
+from obturator.model.cases import table1_ball
+from obturator.solve import opening_time
+from obturator.status import Status
 
 BALL = table1_ball()
 A, C = BALL.transverse_inertia, BALL.axial_inertia
@@ -20,30 +22,9 @@ THETA0 = math.radians(87.25)
 MU = 0.5473
 
 
-def raw(
-    case: Case, options: SolverOptions, *, t_max=None, terminal=True, t_eval=None, record=False
-):
-    """Call the compiled DOP853 integrator directly (the tuple solve.py unpacks)."""
-    y0 = initial_state(case.theta0, case.spin_rate, formulation=options.formulation)
-    p = pack_parameters(case, options, y0)
-    period = 2 * math.pi / case.spin_rate
-    te = np.empty(0) if t_eval is None else np.asarray(t_eval, float)
-    out = _dop853.integrate(
-        y0,
-        p,
-        float(case.t_max if t_max is None else t_max),
-        options.rtol,
-        options.atol,
-        _scale(case, options.formulation),
-        1e-4 * period,
-        0.1 * period,
-        int(options.max_steps),
-        te,
-        record,
-        terminal,
-        options.event_tol,
-    )
-    return out, p
+def raw(case: Case, options: SolverOptions, **kw):
+    """Call the compiled DOP853 integrator directly (the raw solution solve.py reads)."""
+    return raw_solve(case, options, method="dop853", **kw)
 
 
 def test_auto_is_the_default():
@@ -57,8 +38,8 @@ def test_torque_free_body_rates_match_closed_form(rtol):
     case = Case(BALL, TorqueModel(), spin, THETA0, t_max=0.1)
     t = np.linspace(0.0, 0.1, 201)
     out, _ = raw(case, SolverOptions(rtol=rtol, atol=rtol * 1e-2), terminal=False, t_eval=t)
-    status, ys, njev = out[0], out[4], out[6]
-    assert status == _dop853.STATUS_T_MAX and njev == 0
+    status, ys, njev = out.status, out.y, out.njev
+    assert status == Status.T_MAX and njev == 0
     w3 = spin * math.cos(THETA0)
     wt = spin * math.sin(THETA0)
     om = LAM * w3
@@ -68,15 +49,7 @@ def test_torque_free_body_rates_match_closed_form(rtol):
     assert err < 100 * rtol
 
 
-CASES = {
-    "rig200": rig_case(200, MU),
-    "rig300": rig_case(300, MU),
-    "rig450": rig_case(450, MU),
-    "rig700": rig_case(700, MU),
-    "flight": flight_case(),
-    "flight_coulomb": flight_case(torque_model="coulomb"),
-    "rig450_coulomb": rig_case(450, MU, torque_model="coulomb"),
-}
+CASES = THESIS_CASES
 
 
 @pytest.mark.parametrize("name", list(CASES))
@@ -99,10 +72,10 @@ def test_dop853_runs_without_fallback_and_agrees_with_tight_radau(name):
     case = CASES[name]
     tight = SolverOptions(method="radau", rtol=1e-11, atol=1e-13)
     out, _ = raw(case, SolverOptions(rtol=1e-10, atol=1e-12))
-    assert out[0] == _dop853.STATUS_OPENED and out[6] == 0
-    assert out[1] == pytest.approx(opening_time(case, tight), rel=1e-6)
+    assert out.status == Status.OPENED and out.njev == 0
+    assert out.t_event == pytest.approx(opening_time(case, tight), rel=1e-6)
     res = simulate(case)  # the default path takes DOP853 alone: no Jacobians
-    assert res.status == _dop853.STATUS_OPENED and res.njev == 0
+    assert res.status == Status.OPENED and res.njev == 0
 
 
 @pytest.mark.parametrize(
@@ -112,12 +85,12 @@ def test_dop853_runs_without_fallback_and_agrees_with_tight_radau(name):
 )
 def test_auto_falls_back_to_radau_on_sticking(case):
     out, _ = raw(case, SolverOptions(), record=True)  # as simulate() records
-    assert out[0] == _dop853.STATUS_STIFF
+    assert out.status == Status.STIFF
     auto = simulate(case)
     rad = simulate(case, SolverOptions(method="radau"))
     assert auto.status == rad.status
     assert auto.njev == rad.njev > 0 and auto.n_steps == rad.n_steps
-    assert auto.nfev == rad.nfev + out[5]
+    assert auto.nfev == rad.nfev + out.nfev
     np.testing.assert_array_equal(auto.t, rad.t)
     assert (math.isnan(auto.opening_time) and math.isnan(rad.opening_time)) or (
         auto.opening_time == rad.opening_time
@@ -129,15 +102,15 @@ def test_event_state_and_bracket():
     case = rig_case(300, MU)
     opt = SolverOptions(rtol=1e-10, atol=1e-12)
     out, p = raw(case, opt)
-    status, t_ev, y_ev = out[0], out[1], out[2]
-    assert status == _dop853.STATUS_OPENED
-    assert out[9] == t_ev
+    status, t_ev, y_ev = out.status, out.t_event, out.y_event
+    assert status == Status.OPENED
+    assert out.t_end == t_ev
     assert nutation_angle_of_state(y_ev, p) == pytest.approx(case.opening_angle, abs=1e-12)
     before, _ = raw(case, opt, t_max=t_ev - 1e-9, terminal=False)
     after, _ = raw(case, opt, t_max=t_ev + 1e-9, terminal=False)
-    assert nutation_angle_of_state(before[10], p) > case.opening_angle
-    assert nutation_angle_of_state(after[10], p) < case.opening_angle
-    assert before[0] == _dop853.STATUS_T_MAX and math.isfinite(after[1])
+    assert nutation_angle_of_state(before.y_end, p) > case.opening_angle
+    assert nutation_angle_of_state(after.y_end, p) < case.opening_angle
+    assert before.status == Status.T_MAX and math.isfinite(after.t_event)
 
 
 def test_record_rows_and_non_terminal_run():

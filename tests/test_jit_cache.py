@@ -1,17 +1,20 @@
 """The compiled core's cache is keyed by the source of every jitted module."""
 
 import shutil
+from pathlib import Path
 
 import numba
 
-from obturator import _jit_cache
-from obturator._jit_cache import CORE_MODULES, core_digest
+from obturator.core import jit_cache as _jit_cache
+from obturator.core.jit_cache import CORE_MODULES, core_digest
 
 
 def test_digest_changes_when_any_core_module_changes(tmp_path):
-    src = _jit_cache.__file__.rsplit("/", 1)[0]
+    src = Path(_jit_cache.__file__).parents[1]  # the obturator package
+    assert "core/dynamics.py" in CORE_MODULES and "core/integrators/radau.py" in CORE_MODULES
     for name in CORE_MODULES:
-        shutil.copy(f"{src}/{name}", tmp_path / name)
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy(src / name, tmp_path / name)
     before = core_digest(tmp_path)
     assert before == core_digest()  # same bytes, same digest
     for name in CORE_MODULES:

@@ -7,20 +7,14 @@ import math
 
 import numpy as np
 import pytest
+from conftest import raw_solve
 
-from obturator import (
-    Case,
-    SolverOptions,
-    TorqueModel,
-    _radau,
-    _rosenbrock,
-    initial_state,
-    rig_case,
-    simulate,
-)
-from obturator.cases import flight_case, table1_ball
-from obturator.dynamics import nutation_angle_of_state
-from obturator.solve import _scale, opening_time, pack_parameters
+from obturator import Case, SolverOptions, TorqueModel, initial_state, rig_case, simulate
+from obturator.core.dynamics import nutation_angle_of_state
+from obturator.core.integrators import radau_coefficients
+from obturator.model.cases import flight_case, table1_ball
+from obturator.solve import opening_time
+from obturator.status import Status
 
 BALL = table1_ball()
 A, C = BALL.transverse_inertia, BALL.axial_inertia
@@ -41,47 +35,16 @@ def torque_free(spin: float = 300.0, t_max: float = 0.2, theta0: float = THETA0)
     return Case(BALL, TorqueModel(), spin, theta0, t_max=t_max)
 
 
-def raw(
-    case: Case,
-    options: SolverOptions,
-    *,
-    t_max=None,
-    terminal=True,
-    t_eval=None,
-    record=False,
-    y0=None,
-):
-    """Call the compiled integrator directly (the tuple solve.py unpacks)."""
-    y0 = (
-        initial_state(case.theta0, case.spin_rate, formulation=options.formulation)
-        if y0 is None
-        else y0
-    )
-    p = pack_parameters(case, options, y0)
-    period = 2 * math.pi / case.spin_rate
-    te = np.empty(0) if t_eval is None else np.asarray(t_eval, float)
-    return _radau.integrate(
-        y0,
-        p,
-        float(case.t_max if t_max is None else t_max),
-        options.rtol,
-        options.atol,
-        _scale(case, options.formulation),
-        1e-4 * period,
-        0.1 * period,
-        int(options.max_steps),
-        te,
-        record,
-        terminal,
-        options.event_tol,
-    ), p
+def raw(case: Case, options: SolverOptions, **kw):
+    """Call the compiled Radau integrator directly (the raw solution solve.py reads)."""
+    return raw_solve(case, options, method="radau", **kw)
 
 
 # ---------------------------------------------------------------- coefficients
 
 
 def test_tableau_order_conditions():
-    a, c = _radau.RADAU_A, _radau.RADAU_C
+    a, c = radau_coefficients.RADAU_A, radau_coefficients.RADAU_C
     b = a[2]  # stiffly accurate: b = last row of A
     np.testing.assert_allclose(a.sum(axis=1), c, rtol=0, atol=1e-15)
     for k in range(5):  # quadrature order 2s - 1 = 5
@@ -91,18 +54,18 @@ def test_tableau_order_conditions():
 
 
 def test_block_transform_and_published_gamma():
-    t, ti = _radau.TRANSFORM, _radau.TRANSFORM_INV
-    gamma, alpha, beta = _radau.EIGENVALUES
+    t, ti = radau_coefficients.TRANSFORM, radau_coefficients.TRANSFORM_INV
+    gamma, alpha, beta = radau_coefficients.EIGENVALUES
     block = np.array([[gamma, 0, 0], [0, alpha, -beta], [0, beta, alpha]])
-    np.testing.assert_allclose(ti @ np.linalg.inv(_radau.RADAU_A) @ t, block, atol=1e-12)
+    np.testing.assert_allclose(ti @ np.linalg.inv(radau_coefficients.RADAU_A) @ t, block, atol=1e-12)
     # Hairer & Wanner IV.8: gamma0 = 1 / (3 + 3^(2/3) - 3^(1/3)) is 1 / gamma
     assert 1.0 / gamma == pytest.approx(1.0 / (3 + 3 ** (2 / 3) - 3 ** (1 / 3)), rel=1e-14)
     np.testing.assert_allclose(t[2], [1.0, 1.0, 0.0], atol=1e-14)
 
 
 def test_status_codes_shared():
-    for name in ("STATUS_FAILED", "STATUS_T_MAX", "STATUS_OPENED", "STATUS_MAX_STEPS"):
-        assert getattr(_radau, name) == getattr(_rosenbrock, name)
+    # one enumeration; the integrators' values are those of the original contract
+    assert (Status.FAILED, Status.T_MAX, Status.OPENED, Status.STEP_LIMIT) == (-1, 0, 1, 2)
 
 
 # ---------------------------------------------------------------- analytic solutions
@@ -207,15 +170,15 @@ def test_event_state_and_bracket():
     case = rig_case(300, MU)
     opt = radau(rtol=1e-10, atol=1e-12)
     out, p = raw(case, opt)
-    status, t_ev, y_ev = out[0], out[1], out[2]
-    assert status == _radau.STATUS_OPENED
-    assert out[9] == t_ev  # t_end is the event time
+    status, t_ev, y_ev = out.status, out.t_event, out.y_event
+    assert status == Status.OPENED
+    assert out.t_end == t_ev  # t_end is the event time
     assert nutation_angle_of_state(y_ev, p) == pytest.approx(case.opening_angle, abs=1e-12)
     before, _ = raw(case, opt, t_max=t_ev - 1e-9, terminal=False)
     after, _ = raw(case, opt, t_max=t_ev + 1e-9, terminal=False)
-    assert nutation_angle_of_state(before[10], p) > case.opening_angle
-    assert nutation_angle_of_state(after[10], p) < case.opening_angle
-    assert before[0] == _radau.STATUS_T_MAX and math.isfinite(after[1])
+    assert nutation_angle_of_state(before.y_end, p) > case.opening_angle
+    assert nutation_angle_of_state(after.y_end, p) < case.opening_angle
+    assert before.status == Status.T_MAX and math.isfinite(after.t_event)
 
 
 def test_non_terminal_event_continues_to_t_max():
@@ -232,24 +195,10 @@ def test_non_terminal_event_continues_to_t_max():
 def test_outputs_match_rosenbrock_interface():
     case = rig_case(300, MU)
     out, p = raw(case, radau(), record=True)
-    y0 = initial_state(case.theta0, case.spin_rate)
-    period = 2 * math.pi / case.spin_rate
-    ros = _rosenbrock.integrate(
-        y0,
-        p,
-        float(case.t_max),
-        1e-6,
-        1e-8,
-        _scale(case, "quaternion"),
-        1e-4 * period,
-        0.1 * period,
-        10**6,
-        np.empty(0),
-        True,
-        True,
-        1e-12,
+    ros, _ = raw_solve(
+        case, radau(), method="rosenbrock", record=True, rtol=1e-6, atol=1e-8, max_steps=10**6
     )
-    assert len(out) == len(ros) == 11
+    assert len(out) == len(ros) == 11 and out._fields == ros._fields
     for a, b in zip(out, ros, strict=True):
         assert type(a) is type(b) or (np.ndim(a) == np.ndim(b) and np.ndim(a) > 0)
     status, t_ev, y_ev, ts, ys, nfev, njev, n_steps, n_rej, t_end, y_end = out
@@ -272,7 +221,7 @@ def test_t_eval_dense_output_accuracy():
 def test_step_limit_status():
     case = rig_case(300, MU)
     out, _ = raw(case, radau(max_steps=10))
-    assert out[0] == _radau.STATUS_MAX_STEPS and out[7] == 10
+    assert out.status == Status.STEP_LIMIT and out.n_steps == 10
     with pytest.raises(RuntimeError):
         opening_time(case, radau(max_steps=10))
 

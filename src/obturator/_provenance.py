@@ -1,4 +1,5 @@
-"""The command line a result came from, for NetCDF ``history`` and report provenance."""
+"""Where a result came from: the command line (NetCDF ``history``, report provenance)
+and the package version."""
 
 from __future__ import annotations
 
@@ -6,7 +7,7 @@ import shlex
 import sys
 from collections.abc import Sequence
 
-__all__ = ["set_command", "command_line"]
+__all__ = ["set_command", "command_line", "package_version"]
 
 _COMMAND: list[str] | None = None
 
@@ -22,3 +23,13 @@ def command_line() -> str:
     if _COMMAND is not None:
         return shlex.join(_COMMAND)
     return shlex.join(sys.argv or ["python"])
+
+
+def package_version() -> str:
+    """The installed version of ``obturator`` ("0+unknown" in a bare source tree)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("obturator")
+    except PackageNotFoundError:  # pragma: no cover - source tree without metadata
+        return "0+unknown"

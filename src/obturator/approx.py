@@ -68,7 +68,7 @@ from scipy.optimize import brentq
 from scipy.special import ellipe
 
 from .errors import InputError, check_range
-from .geometry import BoredBall
+from .model.geometry import BoredBall
 
 __all__ = [
     "DEFAULT_VALIDITY_THRESHOLD",

@@ -47,7 +47,17 @@ class SolverError(RuntimeError):
 
     Not bad input: the command line reports it with its own exit code
     (:data:`EXIT_SOLVER`).
+
+    Parameters
+    ----------
+    message : str
+    status : obturator.status.Status, optional
+        The integrator's status (``FAILED`` or ``STEP_LIMIT``), when known.
     """
+
+    def __init__(self, message: str, *, status: object = None) -> None:
+        super().__init__(message)
+        self.status = status
 
 
 class ClusterError(RuntimeError):

@@ -22,8 +22,8 @@ if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
     from matplotlib.axes import Axes
 
-    from .calibration import ExactFit
-    from .experiment import SpinRigData
+    from .calibration.exact import ExactFit
+    from .calibration.data import SpinRigData
 
 __all__ = [
     "calibration_residuals",

@@ -6,8 +6,8 @@ from typing import Any
 
 import numpy as np
 
-from ..calibration import model_opening_times
-from ..experiment import SpinRigData
+from ..calibration.exact import model_opening_times
+from ..calibration.data import SpinRigData
 from .floor import cluster_runs
 from .study import CANDIDATES, ValidationStudy
 

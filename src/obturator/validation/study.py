@@ -35,9 +35,9 @@ from typing import Any
 
 import numpy as np
 
-from ..calibration import PARAMETERS, fit_exact, model_opening_times
+from ..calibration.exact import PARAMETERS, fit_exact, model_opening_times
 from ..errors import InputError
-from ..experiment import SpinRigData
+from ..calibration.data import SpinRigData
 from .floor import BANDS, replicate_floor
 
 __all__ = ["CANDIDATES", "Candidate", "ModelResult", "ValidationStudy", "run_validation"]
@@ -251,7 +251,7 @@ def run_validation(
         from concurrent.futures import ProcessPoolExecutor
 
         ctx = multiprocessing.get_context("spawn")
-        from ..studies_sweep import _die_with_parent
+        from ..sweeps.spec import _die_with_parent
 
         with ProcessPoolExecutor(
             min(workers, len(jobs)),

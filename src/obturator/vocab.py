@@ -1,0 +1,71 @@
+"""The words the package accepts: every named choice, listed once.
+
+Each vocabulary is a :data:`typing.Literal` (for type checkers and signatures)
+and a tuple of its values (for validation, ``argparse`` choices, config files
+and messages), the tuple derived from the Literal so the two cannot drift.
+
+>>> METHODS
+('auto', 'radau', 'rosenbrock')
+>>> check_choice("spin_mode", "free", SPIN_MODES)
+'free'
+"""
+
+from __future__ import annotations
+
+from typing import Literal, get_args
+
+from .errors import InputError
+
+__all__ = [
+    "CaseName",
+    "SpinMode",
+    "Method",
+    "Formulation",
+    "FrictionFamily",
+    "TorqueName",
+    "SpeedLawName",
+    "DistKind",
+    "CASE_NAMES",
+    "SPIN_MODES",
+    "METHODS",
+    "FORMULATIONS",
+    "FRICTION_FAMILIES",
+    "TORQUE_MODELS",
+    "SPEED_LAWS",
+    "DIST_KINDS",
+    "check_choice",
+]
+
+#: Built-in cases: the two columns of the thesis's Table 1.
+CaseName = Literal["spin-rig", "flight"]
+#: Projectile spin: held constant (driven rig), free (axial momentum conserved),
+#: or Appendix A's energy form.
+SpinMode = Literal["constant", "free", "thesis-energy"]
+#: Compiled integrators (``auto``: DOP853, Radau IIA when stiff).
+Method = Literal["auto", "radau", "rosenbrock"]
+#: State formulations of the equations of motion.
+Formulation = Literal["quaternion", "euler"]
+#: Regularisation families of the Coulomb friction magnitude.
+FrictionFamily = Literal["algebraic", "tanh", "linear"]
+#: Sliding-friction models: the thesis's laws (Eq. 61, Appendix A) or exact Coulomb contacts.
+TorqueName = Literal["thesis", "coulomb"]
+#: Slip-speed laws of the friction coefficient.
+SpeedLawName = Literal["constant", "weakening", "strengthening"]
+#: Monte Carlo input distributions.
+DistKind = Literal["normal", "uniform", "lognormal", "truncnormal"]
+
+CASE_NAMES: tuple[str, ...] = get_args(CaseName)
+SPIN_MODES: tuple[str, ...] = get_args(SpinMode)
+METHODS: tuple[str, ...] = get_args(Method)
+FORMULATIONS: tuple[str, ...] = get_args(Formulation)
+FRICTION_FAMILIES: tuple[str, ...] = get_args(FrictionFamily)
+TORQUE_MODELS: tuple[str, ...] = get_args(TorqueName)
+SPEED_LAWS: tuple[str, ...] = get_args(SpeedLawName)
+DIST_KINDS: tuple[str, ...] = get_args(DistKind)
+
+
+def check_choice(field: str, value: object, allowed: tuple[str, ...]) -> str:
+    """Return `value` if it is one of `allowed`, else raise :class:`InputError` naming them."""
+    if value not in allowed:
+        raise InputError(field, f"{value!r}; allowed: {', '.join(allowed)}")
+    return value  # type: ignore[return-value]

@@ -1,0 +1,79 @@
+"""Shared fixtures: the thesis cases and a direct call of one compiled integrator."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from obturator import Case, SolverOptions
+from obturator.core.integrators import Controls, Problem, RawSolution, integrate
+from obturator.model.cases import flight_case, rig_case
+from obturator.reference import THESIS_MU_S
+from obturator.solve import error_scale, pack_parameters
+
+#: The thesis's cases the integrator tests run: the rig (Table 1 gravitational model) at
+#: chapter IV's mu_s over the spin range of Figs. 32-37, the flight case (aerodynamic
+#: model), and the exact Coulomb contact variants.
+THESIS_CASES: dict[str, Case] = {
+    "rig200": rig_case(200, THESIS_MU_S),
+    "rig300": rig_case(300, THESIS_MU_S),
+    "rig450": rig_case(450, THESIS_MU_S),
+    "rig700": rig_case(700, THESIS_MU_S),
+    "flight": flight_case(),
+    "flight_coulomb": flight_case(torque_model="coulomb"),
+    "rig450_coulomb": rig_case(450, THESIS_MU_S, torque_model="coulomb"),
+}
+
+
+def raw_solve(
+    case: Case,
+    options: SolverOptions,
+    *,
+    method: str | None = None,
+    t_max: float | None = None,
+    terminal: bool = True,
+    t_eval=None,
+    record: bool = False,
+    y0=None,
+    max_steps: int | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+) -> tuple[RawSolution, np.ndarray]:
+    """Call one compiled integrator directly (what solve.simulate does); return (raw, p).
+
+    `method` defaults to ``options.method`` and may also be ``"dop853"``; keyword
+    overrides replace the options' controls.
+    """
+    if y0 is None:
+        y0 = case.initial_state(options.formulation)
+    y0 = np.asarray(y0, dtype=float)
+    p = pack_parameters(case, options, y0)
+    period = 2 * math.pi / case.spin_rate
+    controls = Controls(
+        t_max=float(case.t_max if t_max is None else t_max),
+        rtol=options.rtol if rtol is None else rtol,
+        atol=options.atol if atol is None else atol,
+        h0=1e-4 * period,
+        h_max=0.1 * period,
+        max_steps=int(options.max_steps if max_steps is None else max_steps),
+        t_eval=np.empty(0) if t_eval is None else np.asarray(t_eval, float),
+        record=record,
+        terminal=terminal,
+        event_tol=options.event_tol,
+    )
+    problem = Problem(y0, p, error_scale(case, options.formulation))
+    return integrate(method or options.method, problem, controls), p
+
+
+@pytest.fixture(scope="session")
+def thesis_cases() -> dict[str, Case]:
+    """The thesis's cases by name (see :data:`THESIS_CASES`)."""
+    return THESIS_CASES
+
+
+@pytest.fixture(scope="session")
+def raw() -> object:
+    """:func:`raw_solve`: one compiled integrator called directly."""
+    return raw_solve
