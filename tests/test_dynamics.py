@@ -14,8 +14,9 @@ from obturator import (
     rig_case,
     simulate,
 )
-from obturator.cases import table1_ball
-from obturator.dynamics import N_STATE, rhs
+from obturator.core.dynamics import rhs
+from obturator.core.layout import N_STATE
+from obturator.model.cases import table1_ball
 from obturator.solve import pack_parameters
 
 BALL = table1_ball()

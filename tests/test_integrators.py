@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from conftest import raw_solve
 
-from obturator import Case, SolverOptions, TorqueModel, rig_case
+from obturator import Case, SolverOptions, TorqueModel, initial_state, rig_case
 from obturator.core.dynamics import nutation_angle_of_state
 from obturator.core.integrators import RawSolution
 from obturator.model.cases import table1_ball
@@ -23,25 +23,19 @@ A, C = BALL.transverse_inertia, BALL.axial_inertia
 THETA0 = math.radians(87.25)
 
 
-def effective_rtol(method: str, rtol: float) -> float:
-    """The tolerance each method controls its local error to (its documented transform)."""
-    if method == "radau":
-        return 0.1 * rtol ** (2.0 / 3.0)  # RADAU5's transformation
-    if method in ("dop853", "auto"):
-        return 0.01 * rtol  # TOL_FACTOR
-    return rtol
-
-
 @pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("rtol", [1e-6, 1e-9])
 def test_closed_form_torque_free_body(method, rtol):
     """Torque-free axisymmetric body (thesis Eqs. 5 with G = 0): w3 constant, (w1, w2)
-    turning at (C - A)/A w3. Error normalised as in scipy's tests,
-    |y - y_exact| / (atol scale + rtol_eff |y_exact|), stays O(1) over ~6 turns."""
+    turning at (C - A)/A w3, over about 8 turns.
+
+    Error normalised as in scipy's integrator tests, |y - y_exact| / (atol scale + rtol
+    |y_exact|), below 5. The Rosenbrock pair is second order and controls the error per
+    step, so its global error grows with the number of steps: below 5 per step.
+    """
     spin = 500.0
     case = Case(BALL, TorqueModel(), spin, THETA0, t_max=0.05)
-    y0 = case.initial_state()
-    y0[4] += 40.0  # a nutation rate, so that all three body rates move
+    y0 = initial_state(THETA0, spin, theta_dot=40.0, phi_dot=300.0)  # all three rates move
     t = np.linspace(0.0, 0.05, 101)
     atol = rtol * 1e-2
     out, _ = raw_solve(
@@ -53,10 +47,8 @@ def test_closed_form_torque_free_body(method, rtol):
     assert abs(lam) * 0.05 > 5.0
     z = (y0[4] + 1j * y0[5]) * np.exp(1j * lam * t)
     exact = np.column_stack([z.real, z.imag, np.full_like(t, y0[6])])
-    rt = effective_rtol(method, rtol)
-    scale = atol * spin + rt * np.abs(exact)
-    err = np.abs(out.y[:, 4:7] - exact) / scale
-    assert np.max(err) < 50.0
+    err = np.abs(out.y[:, 4:7] - exact) / (atol * spin + rtol * np.abs(exact))
+    assert np.max(err) < 5.0 * (out.n_steps if method == "rosenbrock" else 1)
 
 
 @pytest.mark.parametrize("method", METHODS)

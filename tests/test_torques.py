@@ -16,7 +16,12 @@ from obturator import (
     ThesisRigFriction,
     TorqueModel,
 )
-from obturator.dynamics import (
+from obturator.core.dynamics import (
+    applied_torque,
+    friction_speed_factor,
+    slip_saturation,
+)
+from obturator.core.layout import (
     FAMILY_ALGEBRAIC,
     FAMILY_LINEAR,
     FAMILY_TANH,
@@ -26,11 +31,8 @@ from obturator.dynamics import (
     P_WIDTH,
     SPEED_STRENGTHENING,
     SPEED_WEAKENING,
-    applied_torque,
-    friction_speed_factor,
-    slip_saturation,
 )
-from obturator.torques import SlipSpeedLaw, hertz_patch_radius
+from obturator.model.torques import SlipSpeedLaw, hertz_patch_radius
 
 R_S, H, MU_F = 7.899e-3, 5.08e-5, 1.917e-5
 FAMILIES = {"algebraic": FAMILY_ALGEBRAIC, "tanh": FAMILY_TANH, "linear": FAMILY_LINEAR}
