@@ -108,9 +108,7 @@ _POSITIVE = Range(0.0, math.inf, True, True)
 PARAMS: dict[str, Param] = {
     p.name: p
     for p in (
-        Param(
-            "spin_rate", "rad/s", "projectile spin rate omega_p", "spin_rate", _POSITIVE, True
-        ),
+        Param("spin_rate", "rad/s", "projectile spin rate omega_p", "spin_rate", _POSITIVE, True),
         Param(
             "mu_s",
             "1",
@@ -160,8 +158,13 @@ PARAMS: dict[str, Param] = {
         Param("ball_radius", "m", "ball radius R_s", "ball.radius"),
         Param("viscosity", "Pa s", "gap-fluid viscosity mu_f", "gap.viscosity"),
         Param("weight", "N", "normal load on the rig W", "rig.weight"),
-        Param("patch_radius", "m", "contact patch radius a", "contact.patch_radius",
-              fit=FitDefaults(2.79e-4, (1e-5, 1e-3), 1e-4)),
+        Param(
+            "patch_radius",
+            "m",
+            "contact patch radius a",
+            "contact.patch_radius",
+            fit=FitDefaults(2.79e-4, (1e-5, 1e-3), 1e-4),
+        ),
         Param("p1", "Pa", "free-stream pressure P_1", "flight.p1"),
         Param("bore_radius", "m", "bore radius r_p", "flight.bore_radius"),
         Param("pressure_force", "N", "pressure force on the ball F_p"),
@@ -169,7 +172,9 @@ PARAMS: dict[str, Param] = {
         Param("rtol", "1", "relative tolerance", "solver.rtol"),
         Param("atol", "1", "absolute tolerance (rates in omega_p0)", "solver.atol"),
         Param(
-            "friction_width", "1", "friction regularisation width / omega_p0",
+            "friction_width",
+            "1",
+            "friction regularisation width / omega_p0",
             "solver.friction_width",
         ),
         Param(
@@ -182,13 +187,20 @@ PARAMS: dict[str, Param] = {
         # transient theta_dot_0 (a plunger/jet kick of a few rad/s at most), slip-speed
         # law of mu (ratio r, speed v_s around the rig's slip speeds 0-1.6 m/s),
         # release phase psi_0, Coulomb contact patch radius (around the 0.28 mm Hertz value)
-        Param("theta_dot0", "rad/s", "release rate theta_dot_0",
-              fit=FitDefaults(0.0, (-3.0, 3.0))),
+        Param("theta_dot0", "rad/s", "release rate theta_dot_0", fit=FitDefaults(0.0, (-3.0, 3.0))),
         Param("speed_ratio", "1", "slip-speed law ratio r", fit=FitDefaults(0.5, (0.05, 1.0))),
-        Param("slip_speed", "m/s", "slip-speed law reference speed v_s",
-              fit=FitDefaults(0.05, (0.002, 2.0), 0.1)),
-        Param("release_phase", "rad", "release phase psi_0",
-              fit=FitDefaults(0.0, (0.0, 2.0 * math.pi))),
+        Param(
+            "slip_speed",
+            "m/s",
+            "slip-speed law reference speed v_s",
+            fit=FitDefaults(0.05, (0.002, 2.0), 0.1),
+        ),
+        Param(
+            "release_phase",
+            "rad",
+            "release phase psi_0",
+            fit=FitDefaults(0.0, (0.0, 2.0 * math.pi)),
+        ),
     )
 }
 

@@ -103,61 +103,6 @@ def _merge(args: argparse.Namespace) -> dict[str, Any]:
     return s
 
 
-def case_from_settings(s: dict[str, Any]) -> Case:
-    """Build a :class:`Case` from merged settings (SI floats; see :mod:`obturator.io`)."""
-    name = s.get("case", "spin-rig")
-    if name not in CASE_NAMES:
-        raise InputError("case", f"{name!r}; allowed: {', '.join(CASE_NAMES)}")
-    if s.get("torque_model", "thesis") not in TORQUE_MODELS:
-        raise InputError("torque_model", f"{s['torque_model']!r}; allowed: thesis, coulomb")
-    if s.get("spin_mode", "constant") not in _SPIN_MODES:
-        raise InputError("spin_mode", f"{s['spin_mode']!r}; allowed: {', '.join(_SPIN_MODES)}")
-    geometry_changed = any(k in s for k in ("ball_radius", "hole_radius", "density"))
-    ball = table1_ball(
-        radius=s.get("ball_radius"), hole_radius=s.get("hole_radius"), density=s.get("density")
-    )
-    common: dict[str, Any] = {
-        "ball": ball,
-        "torque_model": s.get("torque_model", "thesis"),
-        "spin_mode": s.get("spin_mode", "constant"),
-    }
-    for key in ("theta0_deg", "gap", "viscosity", "t_max"):
-        if key in s:
-            common[key] = s[key]
-    if "patch_radius" in s:
-        if common["torque_model"] != "coulomb":
-            raise InputError("patch_radius", "applies to torque_model 'coulomb' only")
-        common["patch_radius"] = s["patch_radius"]
-    for key in ("spin_rate", "mu_s"):
-        if key in s:
-            common[key] = s[key]
-    if "p1" in s and "altitude_m" in s:
-        raise InputError("altitude", "give either p1 or altitude (which sets P1), not both")
-    if "n_contacts" in s and common["torque_model"] != "coulomb":
-        raise InputError("n_contacts", "applies to torque_model 'coulomb' only")
-    if name == "spin-rig":
-        flight_keys = ("mach", "altitude_m", "p1", "n_contacts", "bore_radius")
-        extra = sorted(k for k in flight_keys if k in s)
-        if extra:
-            raise InputError(extra[0], "applies to --case flight only")
-        if "weight" in s:
-            common["weight"] = s["weight"]
-        elif geometry_changed:
-            common["weight"] = None  # the weight follows the modified ball
-        return rig_case(**common)
-    if "weight" in s:
-        raise InputError("weight", "applies to --case spin-rig only")
-    for key in ("mach", "n_contacts", "bore_radius"):
-        if key in s:
-            common[key] = s[key]
-    if "altitude_m" in s:
-        common["altitude_m"] = s["altitude_m"]
-        common["p1"] = None
-    elif "p1" in s:
-        common["p1"] = s["p1"]
-    return flight_case(**common)
-
-
 def options_from_settings(s: dict[str, Any]) -> SolverOptions:
     """Solver options from merged settings (defaults for anything not given)."""
     keys = ("rtol", "atol", "friction_width", "friction_family", "method", "formulation")

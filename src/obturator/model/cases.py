@@ -9,12 +9,13 @@ from __future__ import annotations
 import functools
 import inspect
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any, Literal
 
 from ..errors import InputError, check_range
+from ..params import PARAMS
 from ..reference import COUETTE_P52, TABLE1
-from ..vocab import CASE_NAMES, TORQUE_MODELS, SpinMode, TorqueName, check_choice
+from ..vocab import CASE_NAMES, SPIN_MODES, TORQUE_MODELS, SpinMode, TorqueName, check_choice
 from .case import Case
 from .geometry import BoredBall
 from .torques import (
@@ -54,24 +55,6 @@ def table1_ball(
     )
 
 
-#: Units of the factories' quantity arguments (a pint.Quantity is converted to these).
-_UNITS = {
-    "spin_rate": "rad/s",
-    "mu_s": "",
-    "theta0_deg": "deg",
-    "weight": "N",
-    "gap": "m",
-    "viscosity": "Pa*s",
-    "patch_radius": "m",
-    "t_max": "s",
-    "mach": "",
-    "p1": "Pa",
-    "altitude_m": "m",
-    "pressure_force": "N",
-    "bore_radius": "m",
-}
-
-
 def _accepts_quantities(factory: Callable[..., Case]) -> Callable[..., Case]:
     """Let a case factory take pint.Quantity arguments (converted to SI, checked as usual)."""
 
@@ -80,10 +63,10 @@ def _accepts_quantities(factory: Callable[..., Case]) -> Callable[..., Case]:
         names = list(inspect.signature(factory).parameters)
         bound = dict(zip(names, args, strict=False)) | kwargs
         for name, value in bound.items():
-            if name in _UNITS and hasattr(value, "magnitude") and hasattr(value, "units"):
-                from ..io import parse_quantity
+            if name in PARAMS and hasattr(value, "magnitude") and hasattr(value, "units"):
+                from ..units import parse_quantity
 
-                bound[name] = parse_quantity(name, value, _UNITS[name])
+                bound[name] = parse_quantity(name, value, PARAMS[name].pint_unit)
         return factory(**bound)
 
     return wrapper
@@ -275,3 +258,66 @@ def couette_case(scale: float = 1.0, *, t_max: float = 0.1) -> Case:
         t_max=t_max,
         name=f"couette-x{scale:g}",
     )
+
+
+def case_from_settings(s: Mapping[str, Any]) -> Case:
+    """The :class:`Case` of merged settings: config file, flags or a study's point.
+
+    Parameters
+    ----------
+    s : mapping of str to object
+        Canonical field names (:data:`obturator.params.PARAMS`, plus ``case``,
+        ``torque_model``, ``spin_mode``, ``n_contacts``), SI floats. Anything
+        not given takes the factory's Table 1 default. On the rig the normal
+        load is Table 1's measured W unless ``weight`` is given or the ball's
+        geometry (``ball_radius``, ``hole_radius``, ``density``) is: then the
+        weight follows the ball (W = rho g V), as in the thesis's geometry
+        studies (Figs. 16-17).
+    """
+    name = check_choice("case", s.get("case", "spin-rig"), CASE_NAMES)
+    check_choice("torque_model", s.get("torque_model", "thesis"), TORQUE_MODELS)
+    check_choice("spin_mode", s.get("spin_mode", "constant"), SPIN_MODES)
+    geometry_changed = any(k in s for k in ("ball_radius", "hole_radius", "density"))
+    ball = table1_ball(
+        radius=s.get("ball_radius"), hole_radius=s.get("hole_radius"), density=s.get("density")
+    )
+    common: dict[str, Any] = {
+        "ball": ball,
+        "torque_model": s.get("torque_model", "thesis"),
+        "spin_mode": s.get("spin_mode", "constant"),
+    }
+    for key in ("theta0_deg", "gap", "viscosity", "t_max"):
+        if key in s:
+            common[key] = s[key]
+    if "patch_radius" in s:
+        if common["torque_model"] != "coulomb":
+            raise InputError("patch_radius", "applies to torque_model 'coulomb' only")
+        common["patch_radius"] = s["patch_radius"]
+    for key in ("spin_rate", "mu_s"):
+        if key in s:
+            common[key] = s[key]
+    if "p1" in s and "altitude_m" in s:
+        raise InputError("altitude", "give either p1 or altitude (which sets P1), not both")
+    if "n_contacts" in s and common["torque_model"] != "coulomb":
+        raise InputError("n_contacts", "applies to torque_model 'coulomb' only")
+    if name == "spin-rig":
+        flight_keys = ("mach", "altitude_m", "p1", "n_contacts", "bore_radius")
+        extra = sorted(k for k in flight_keys if k in s)
+        if extra:
+            raise InputError(extra[0], "applies to --case flight only")
+        if "weight" in s:
+            common["weight"] = s["weight"]
+        elif geometry_changed:
+            common["weight"] = None  # the weight follows the modified ball
+        return rig_case(**common)
+    if "weight" in s:
+        raise InputError("weight", "applies to --case spin-rig only")
+    for key in ("mach", "n_contacts", "bore_radius"):
+        if key in s:
+            common[key] = s[key]
+    if "altitude_m" in s:
+        common["altitude_m"] = s["altitude_m"]
+        common["p1"] = None
+    elif "p1" in s:
+        common["p1"] = s["p1"]
+    return flight_case(**common)

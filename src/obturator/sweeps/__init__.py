@@ -1,1 +1,57 @@
-"""placeholder"""
+"""Parameter sweeps and Monte Carlo studies of the opening time t_cr.
+
+Numerics and orchestration only (no plotting). Every grid point or sample is
+one independent call of :func:`obturator.solve.opening_time`, so a study is
+embarrassingly parallel. One concern per module:
+
+* :mod:`.grid`: parsing axes (``START:STOP:COUNT``, ``a,b,c``, with units);
+* :mod:`.spec`: :class:`SweepSpec`, the study and its identity (hash);
+* :mod:`.points`: one point's t_cr and :class:`~obturator.status.Status`;
+* :mod:`.executors`: where chunks run (this process, a pool, Dask), one interface;
+* :mod:`.store`: the resume sidecar, its lock, atomic files;
+* :mod:`.sweep`: running a study (:func:`run_sweep`, :func:`execute_sweep`);
+* :mod:`.export`: the Dataset, NetCDF and CSV;
+* :mod:`.distributions`, :mod:`.stats`, :mod:`.montecarlo`: Monte Carlo.
+
+Status values stored in the ``status`` variable are those of
+:class:`obturator.status.Status` (:data:`~.points.POINT_STATUSES`): 1 opened,
+0 not opened by t_max, -1 solver failure, 2 step limit, -2 invalid input,
+4 opened but not converged (``check_convergence``).
+"""
+
+from ..params import SWEEP_PARAMS as PARAMETERS
+from ..status import Status
+from .distributions import Distribution, parse_distribution, sample_inputs
+from .executors import default_workers
+from .export import write_csv, write_netcdf
+from .grid import parse_axis
+from .montecarlo import monte_carlo, monte_carlo_summary
+from .points import POINT_STATUSES
+from .spec import SweepSpec
+from .stats import MonteCarloSummary, QuantileEstimate, summarize_monte_carlo
+from .store import sidecar_path
+from .sweep import SweepRun, execute_sweep, run_sweep, sweep_summary
+
+__all__ = [
+    "PARAMETERS",
+    "POINT_STATUSES",
+    "Status",
+    "SweepSpec",
+    "SweepRun",
+    "Distribution",
+    "QuantileEstimate",
+    "MonteCarloSummary",
+    "parse_axis",
+    "parse_distribution",
+    "run_sweep",
+    "execute_sweep",
+    "sweep_summary",
+    "monte_carlo",
+    "summarize_monte_carlo",
+    "monte_carlo_summary",
+    "sample_inputs",
+    "write_netcdf",
+    "write_csv",
+    "sidecar_path",
+    "default_workers",
+]

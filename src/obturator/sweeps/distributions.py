@@ -1,0 +1,230 @@
+"""Distributions of uncertain inputs and their per-sample draws (Monte Carlo).
+
+Written ``name=kind:args`` (:func:`parse_distribution`); sample i draws from
+its own generator ``default_rng(SeedSequence(seed).spawn(n)[i])``
+(:func:`sample_inputs`), so it is the same whatever the worker count,
+chunking or total sample count.
+
+>>> parse_distribution("mu_s=normal:0.5473,0.03")
+('mu_s', Distribution(kind='normal', params=(0.5473, 0.03)))
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from ..params import SWEEP_PARAMS
+from ..vocab import DIST_KINDS, DistKind
+from .grid import canonical_name, parse_value
+from .spec import SweepSpec
+
+__all__ = [
+    "Distribution",
+    "parse_distribution",
+    "distributions",
+    "sample_inputs",
+    "check_samples",
+    "check_sample_cases",
+]
+
+_DIST_ARGS = dict(zip(DIST_KINDS, (2, 2, 2, 4), strict=True))
+_DIST_HELP = (
+    "normal:MEAN,SD | uniform:LO,HI | lognormal:MEDIAN,SIGMA_LN | truncnormal:MEAN,SD,LO,HI"
+)
+
+
+@dataclass(frozen=True)
+class Distribution:
+    """Distribution of one uncertain input (values in the parameter's unit).
+
+    Parameters
+    ----------
+    kind : {"normal", "uniform", "lognormal", "truncnormal"}
+        ``normal``: (mean, sd), sd >= 0. ``uniform``: (lo, hi), lo < hi.
+        ``lognormal``: (median, sigma_ln) with ln X ~ Normal(ln median,
+        sigma_ln); median > 0, sigma_ln >= 0. ``truncnormal``: (mean, sd, lo,
+        hi): a normal restricted to [lo, hi], sd > 0, lo < hi.
+    params : tuple of float
+    """
+
+    kind: DistKind
+    params: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        if self.kind not in _DIST_ARGS:
+            raise InputError("distribution", f"{self.kind!r}; allowed: {_DIST_HELP}")
+        p = tuple(float(x) for x in self.params)
+        object.__setattr__(self, "params", p)
+        if len(p) != _DIST_ARGS[self.kind]:
+            raise InputError(
+                "distribution", f"{self.kind} takes {_DIST_ARGS[self.kind]} numbers, got {len(p)}"
+            )
+        if not all(math.isfinite(x) for x in p):
+            raise InputError("distribution", f"{self} has non-finite parameters")
+        k = self.kind
+        if k == "normal" and p[1] < 0:
+            raise InputError("distribution", f"{self}: SD must be >= 0")
+        if k == "uniform" and not p[0] < p[1]:
+            raise InputError("distribution", f"{self}: needs LO < HI")
+        if k == "lognormal" and (p[0] <= 0 or p[1] < 0):
+            raise InputError("distribution", f"{self}: needs MEDIAN > 0 and SIGMA_LN >= 0")
+        if k == "truncnormal" and (p[1] <= 0 or not p[2] < p[3]):
+            raise InputError("distribution", f"{self}: needs SD > 0 and LO < HI")
+
+    def __str__(self) -> str:
+        return f"{self.kind}:{','.join(repr(x) for x in self.params)}"
+
+    def draw(self, rng: np.random.Generator) -> float:
+        """One value drawn with ``rng``."""
+        p = self.params
+        if self.kind == "normal":
+            return p[0] + p[1] * float(rng.standard_normal())
+        if self.kind == "uniform":
+            return p[0] + (p[1] - p[0]) * float(rng.random())
+        if self.kind == "lognormal":
+            return p[0] * math.exp(p[1] * float(rng.standard_normal()))
+        return _truncnormal(p[0], p[1], p[2], p[3], float(rng.random()))
+
+
+def _truncnormal(mean: float, sd: float, lo: float, hi: float, u: float) -> float:
+    """Inverse-CDF draw of a normal truncated to [lo, hi] from u in [0, 1).
+
+    :func:`scipy.stats.truncnorm` works in log space in the tails, so a window many
+    standard deviations away from the mean is sampled correctly (a plain
+    ndtr/ndtri inversion underflows there and returns an end point every time).
+    """
+    from scipy.stats import truncnorm
+
+    a, b = (lo - mean) / sd, (hi - mean) / sd
+    z = float(truncnorm.ppf(u, a, b))
+    return min(max(mean + sd * z, lo), hi)
+
+
+def parse_distribution(text: str) -> tuple[str, Distribution]:
+    """Parse ``name=kind:args``, e.g. ``mu_s=normal:0.5473,0.03``.
+
+    Parameters
+    ----------
+    text : str
+        ``NAME=normal:MEAN,SD``, ``NAME=uniform:LO,HI``,
+        ``NAME=lognormal:MEDIAN,SIGMA_LN`` or ``NAME=truncnormal:MEAN,SD,LO,HI``;
+        NAME one of :data:`~obturator.params.SWEEP_PARAMS` (hyphens allowed), numbers in its unit.
+
+    Returns
+    -------
+    (str, Distribution)
+    """
+    s = text.strip() if isinstance(text, str) else ""
+    if "=" not in s or ":" not in s.split("=", 1)[1]:
+        raise InputError("vary", f"malformed {text!r}: expected NAME=KIND:ARGS ({_DIST_HELP})")
+    name_text, rest = s.split("=", 1)
+    name = canonical_name(name_text)
+    kind, args = rest.split(":", 1)
+    kind = kind.strip().lower()
+    if kind not in _DIST_ARGS:
+        raise InputError(name, f"unknown distribution {kind!r}; allowed: {_DIST_HELP}")
+    unit = SWEEP_PARAMS[name].pint_unit
+    items = args.split(",")
+    # lognormal's SIGMA_LN is a pure number; every other parameter is in the unit
+    units = [unit if not (kind == "lognormal" and i == 1) else "" for i in range(len(items))]
+    numbers = [parse_value(name, a, "parameter", u) for a, u in zip(items, units, strict=True)]
+    try:
+        return name, Distribution(kind, tuple(numbers))  # type: ignore[arg-type]
+    except InputError as exc:
+        raise InputError(name, str(exc).split(": ", 1)[1]) from None
+
+
+def sample_inputs(
+    distributions: Mapping[str, Distribution], samples: int, seed: int
+) -> dict[str, np.ndarray]:
+    """Draw the inputs of every sample.
+
+    Sample i uses its own generator ``default_rng(SeedSequence(seed).spawn(n)[i])``
+    and draws the parameters in :data:`~obturator.params.SWEEP_PARAMS` order, so it does not depend
+    on the worker count, the chunking, the total ``samples`` or the order in
+    which the distributions were given.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        name -> values, shape (samples,), in the parameter's unit.
+    """
+    n = int(samples)
+    names = [k for k in SWEEP_PARAMS if k in distributions]
+    out = {k: np.empty(n) for k in names}
+    for i, child in enumerate(np.random.SeedSequence(int(seed)).spawn(n)):
+        rng = np.random.default_rng(child)
+        for k in names:
+            out[k][i] = distributions[k].draw(rng)
+    return out
+
+
+def check_samples(values: Mapping[str, np.ndarray]) -> None:
+    """Refuse sampled values outside each parameter's allowed range."""
+    for name, x in values.items():
+        par = SWEEP_PARAMS[name]
+        bad = ~np.array([par.range.contains(float(v)) for v in x], dtype=bool)
+        if np.any(bad):
+            i = int(np.flatnonzero(bad)[0])
+            raise InputError(
+                name,
+                f"{int(bad.sum())} sampled values fall outside the allowed range "
+                f"{par.range} {par.unit} (first: sample {i}, "
+                f"{x[i]:g}); narrow the distribution or use truncnormal",
+            )
+
+
+def check_sample_cases(spec: SweepSpec, values: Mapping[str, np.ndarray]) -> None:
+    """Build every sample's case before any integration; refuse the study if any is invalid.
+
+    Per-parameter ranges are checked by :func:`check_samples`; this catches the
+    combined limits of the case factories (theta_0 above the opening angle
+    beta_s, the hole inside the ball, ...), so a distribution whose support
+    leaves the physical domain is an input error, not a study whose every
+    sample is silently invalid.
+    """
+    names = list(values)
+    n = len(values[names[0]]) if names else 0
+    bad: list[int] = []
+    first = ""
+    for i in range(n):
+        try:
+            spec.build_case({k: float(values[k][i]) for k in names})
+        except InputError as exc:
+            bad.append(i)
+            first = first or str(exc)
+    if bad:
+        raise InputError(
+            "vary",
+            f"{len(bad)} of {n} samples are not valid cases (first: sample {bad[0]}, {first}); "
+            "narrow the distribution or use truncnormal",
+        )
+
+
+def distributions(vary: Any) -> dict[str, Distribution]:
+    """Name -> Distribution from a mapping (Distribution or text), one text or a sequence."""
+    dists: dict[str, Distribution] = {}
+    items: list[tuple[str, Distribution]] = []
+    if isinstance(vary, Mapping):
+        for key, d in vary.items():
+            name = canonical_name(key)
+            if isinstance(d, str):
+                _, d = parse_distribution(f"{name}={d}")
+            if not isinstance(d, Distribution):
+                raise InputError(name, f"expected a Distribution or text, got {d!r}")
+            items.append((name, d))
+    elif isinstance(vary, str):
+        items.append(parse_distribution(vary))
+    else:
+        items.extend(parse_distribution(v) for v in vary)
+    for name, d in items:
+        if name in dists:
+            raise InputError(name, "is varied twice")
+        dists[name] = d
+    return dists

@@ -1,0 +1,375 @@
+"""Where the chunks of a study run: in this process, a process pool, or a Dask cluster.
+
+The three executors share one interface (:class:`Executor`): ``run(job,
+chunks, sink, progress)`` computes every chunk of ``job`` and hands each
+result to ``sink`` as it arrives. :func:`choose_executor` picks one:
+
+* :class:`InProcess` for ``workers=1`` or a single chunk;
+* :class:`ProcessPool` for ``workers=N >= 2``: a
+  :class:`concurrent.futures.ProcessPoolExecutor` with N processes. On Linux,
+  from a single-threaded parent, the workers are forked after the compiled
+  integrator has been loaded once in the parent, so every worker starts warm;
+  otherwise they are spawned and each loads the numba cache once, in its
+  first chunk. Workers die with the main process (``PR_SET_PDEATHSIG``);
+* :class:`DaskCluster` for ``scheduler="tcp://host:port"`` or a
+  :class:`distributed.Client`: the same chunks as ``client.submit`` tasks (the
+  workers need ``obturator`` importable). A lost scheduler or worker is a
+  :class:`~obturator.errors.ClusterError` within seconds, never a hang.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing
+import os
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterator
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from contextlib import AbstractContextManager, contextmanager, suppress
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+
+from ..errors import ClusterError, InputError
+from .points import run_chunk, warm
+from .spec import SweepSpec
+
+__all__ = [
+    "CONNECT_TIMEOUT_S",
+    "LOST_SCHEDULER_S",
+    "Job",
+    "Executor",
+    "InProcess",
+    "ProcessPool",
+    "DaskCluster",
+    "choose_executor",
+    "resolve_workers",
+    "default_workers",
+    "make_chunks",
+    "progress_bar",
+]
+
+_MAX_CHUNK = 64
+_CHUNKS_PER_WORKER = 8
+
+#: ``sink(indices, t_cr, status)``: receives each finished chunk.
+Sink = Callable[[np.ndarray, np.ndarray, np.ndarray], None]
+#: ``progress()`` opens the progress display and yields ``advance(n_points)``.
+Progress = Callable[[], AbstractContextManager[Callable[[int], None]]]
+
+
+def default_workers() -> int:
+    """Number of CPUs this process may use (the default worker count)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def make_chunks(todo: np.ndarray, workers: int, chunk_size: int | None) -> list[np.ndarray]:
+    """Split the flat indices `todo` into chunks of about `chunk_size` points.
+
+    A chunk takes every k-th remaining point, which mixes cheap and expensive
+    points (t_cr grows with spin) and balances the load. Default size: about
+    8 chunks per worker, at most 64 points.
+    """
+    if todo.size == 0:
+        return []
+    if chunk_size is None:
+        chunk_size = max(1, min(_MAX_CHUNK, math.ceil(todo.size / (_CHUNKS_PER_WORKER * workers))))
+    elif int(chunk_size) < 1:
+        raise InputError("chunk_size", f"{chunk_size} is outside the allowed range >= 1")
+    n_chunks = math.ceil(todo.size / int(chunk_size))
+    return [todo[k::n_chunks] for k in range(n_chunks)]
+
+
+@dataclass(frozen=True)
+class Job:
+    """What every chunk computes: the study and how its points' values are found.
+
+    Attributes
+    ----------
+    spec : SweepSpec
+    names : tuple of str
+        The varied parameters, in the order of the rows.
+    rows_of : callable
+        Flat point indices -> values, shape (len(indices), len(names)).
+    """
+
+    spec: SweepSpec
+    names: tuple[str, ...]
+    rows_of: Callable[[np.ndarray], np.ndarray]
+
+    def task(self, idx: np.ndarray) -> tuple[SweepSpec, tuple[str, ...], np.ndarray]:
+        """Arguments of :func:`~obturator.sweeps.points.run_chunk` for one chunk."""
+        return self.spec, self.names, self.rows_of(idx)
+
+
+class Executor(Protocol):
+    """Runs the chunks of a job and hands each result to `sink`."""
+
+    #: ``"local"`` or ``"dask.distributed"`` (stored in the results).
+    backend: str
+    #: Local processes used (1: in this process; 0: a cluster).
+    workers: int
+
+    def run(self, job: Job, chunks: list[np.ndarray], sink: Sink, progress: Progress) -> None:
+        """Compute every chunk; call ``sink(idx, t_cr, status)`` as each finishes."""
+
+
+@dataclass
+class InProcess:
+    """Every chunk in this process, in order."""
+
+    backend: str = "local"
+    workers: int = 1
+
+    def run(self, job: Job, chunks: list[np.ndarray], sink: Sink, progress: Progress) -> None:
+        """See :class:`Executor`."""
+        with progress() as advance:
+            for idx in chunks:
+                t, s = run_chunk(*job.task(idx))
+                sink(idx, t, s)
+                advance(idx.size)
+
+
+@dataclass
+class ProcessPool:
+    """Chunks on `workers` local processes (forked warm where safe, else spawned)."""
+
+    workers: int
+    backend: str = "local"
+
+    def run(self, job: Job, chunks: list[np.ndarray], sink: Sink, progress: Progress) -> None:
+        """See :class:`Executor`."""
+        ctx = _mp_context()
+        if ctx.get_start_method() == "fork":
+            warm(job.spec.options)  # workers inherit the loaded integrator
+        pool = ProcessPoolExecutor(
+            max_workers=self.workers,
+            mp_context=ctx,
+            initializer=_die_with_parent,
+            initargs=(os.getpid(),),
+        )
+        try:
+            # every task is submitted (and, with fork, every worker started) before
+            # the progress bar starts its refresh thread
+            pending = {pool.submit(run_chunk, *job.task(idx)): idx for idx in chunks}
+            _prefetch_output()  # this process is idle meanwhile
+            with progress() as advance:
+                while pending:
+                    finished, _ = wait(pending, return_when=FIRST_COMPLETED)
+                    for fut in finished:
+                        idx = pending.pop(fut)
+                        t, s = fut.result()
+                        sink(idx, t, s)
+                        advance(idx.size)
+        except BaseException:
+            pool.shutdown(wait=False, cancel_futures=True)
+            raise
+        pool.shutdown(wait=True)
+
+
+@dataclass
+class DaskCluster:
+    """Chunks as tasks on a Dask cluster (an address or a ``distributed.Client``)."""
+
+    scheduler: Any
+    backend: str = "dask.distributed"
+    workers: int = 0
+
+    def run(self, job: Job, chunks: list[np.ndarray], sink: Sink, progress: Progress) -> None:
+        """Chunks as tasks on a Dask cluster; finished chunks go to `sink` as they arrive.
+
+        A scheduler or worker that dies mid-study is a :class:`ClusterError` (one
+        line on the command line) within LOST_SCHEDULER_S, never a hang: the
+        finished chunks are already in the resume store, so the study resumes
+        (locally or on a new cluster) to the same result.
+        """
+        from distributed import wait as dask_wait
+
+        client, owned = _client(self.scheduler)
+        futures = []
+        try:
+            index_of = {}
+            for idx in chunks:
+                fut = client.submit(run_chunk, *job.task(idx), pure=False)
+                index_of[fut.key] = idx
+                futures.append(fut)
+            _prefetch_output()
+            pending = set(futures)
+            lost_since: float | None = None
+            with progress() as advance:
+                while pending:
+                    try:
+                        dask_wait(list(pending), timeout=1.0, return_when="FIRST_COMPLETED")
+                    except Exception:  # nothing finished within 1 s (or the wait itself broke)
+                        pass
+                    if client.status != "running":
+                        lost_since = lost_since or time.monotonic()
+                        if time.monotonic() - lost_since > LOST_SCHEDULER_S:
+                            raise ClusterError(f"lost the Dask scheduler {client.scheduler!s}")
+                    else:
+                        lost_since = None
+                    for fut in [f for f in pending if f.status != "pending"]:
+                        pending.discard(fut)
+                        if fut.status != "finished":
+                            raise ClusterError(f"a Dask task ended with status {fut.status!r}")
+                        try:
+                            t, s = fut.result(timeout=LOST_SCHEDULER_S)
+                        except Exception as exc:
+                            raise ClusterError(f"a Dask task failed: {exc}") from None
+                        idx = index_of[fut.key]
+                        sink(idx, t, s)
+                        advance(idx.size)
+        except BaseException:
+            if futures:
+                with suppress(Exception):
+                    client.cancel(futures)
+            raise
+        finally:
+            if owned:
+                with suppress(Exception):
+                    client.close(timeout=2)
+
+
+def resolve_workers(workers: int | None) -> int:
+    """The local worker count: `workers`, or :func:`default_workers` if None (>= 1)."""
+    n = default_workers() if workers is None else int(workers)
+    if n < 1:
+        raise InputError("workers", f"{workers} is outside the allowed range >= 1")
+    return n
+
+
+def choose_executor(workers: int, scheduler: Any, n_chunks: int) -> Executor:
+    """Dask if a scheduler is given, else a pool of up to `workers` processes, or this
+    process when one would do. With no chunk to compute nothing is started (the
+    executor still reports `workers`).
+    """
+    if scheduler is not None:
+        return DaskCluster(scheduler)
+    if n_chunks == 0:
+        return InProcess(workers=workers)
+    if min(workers, n_chunks) <= 1:
+        return InProcess()
+    return ProcessPool(min(workers, n_chunks))
+
+
+def _mp_context() -> multiprocessing.context.BaseContext:
+    # fork is cheap and inherits the loaded integrator; it is only used on
+    # Linux while this process runs a single thread (the progress bar's thread
+    # starts after the workers, see ProcessPool.run); otherwise spawn, which is safe
+    # but needs the usual ``if __name__ == "__main__":`` guard in scripts
+    others = [t for t in threading.enumerate() if t.name != "obturator-signals"]
+    if sys.platform == "linux" and len(others) == 1:  # the signal watcher only reads a pipe
+        return multiprocessing.get_context("fork")
+    return multiprocessing.get_context("spawn")
+
+
+@contextmanager
+def progress_bar(
+    enabled: bool, total: int, done: int, label: str
+) -> Iterator[Callable[[int], None]]:
+    """Yield ``advance(n)``: a rich progress bar on stderr (a no-op when not enabled)."""
+    if not enabled:
+        yield lambda n: None
+        return
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    with Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        TextColumn("eta"),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    ) as bar:
+        task = bar.add_task(label, total=total, completed=done)
+        yield lambda n: bar.advance(task, n)
+
+
+def _die_with_parent(parent: int) -> None:
+    """Worker initializer: end this worker when the main process ends, however it ends.
+
+    Linux ``prctl(PR_SET_PDEATHSIG, SIGKILL)``: a SIGKILL or SIGTERM of the main
+    process (which runs no clean-up) must not leave workers computing for good.
+    Elsewhere nothing is set (the pool still ends them on a normal exit).
+    """
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the main process's to handle
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.set_wakeup_fd(-1)  # the main process's watcher pipe is not ours
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        try:
+            ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+        except (OSError, AttributeError):  # pragma: no cover - unusual libc
+            return
+        if os.getppid() != parent:  # the parent died before prctl took effect
+            os._exit(1)
+
+
+def _prefetch_output() -> None:
+    """Import xarray and build a tiny Dataset (its lazy set-up takes ~1 s)."""
+    import xarray as xr
+
+    xr.Dataset({"t_cr": ("x", np.zeros(1))})
+
+
+#: Seconds after which connecting to a Dask scheduler is given up.
+CONNECT_TIMEOUT_S = 10.0
+
+
+def _client(scheduler: Any) -> tuple[Any, bool]:
+    """A connected ``distributed.Client``, or one InputError within CONNECT_TIMEOUT_S.
+
+    The connection is made in a helper thread with a hard deadline: a port that
+    accepts a connection but never speaks the Dask protocol would otherwise
+    block the handshake for many minutes.
+    """
+    if not isinstance(scheduler, str):
+        return scheduler, False
+    try:
+        from distributed import Client
+    except ImportError:
+        raise InputError(
+            "scheduler", "needs dask.distributed: pip install 'obturator[cluster]'"
+        ) from None
+    box: dict[str, Any] = {}
+
+    def connect() -> None:
+        try:
+            box["client"] = Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S:g}s")
+        except Exception as exc:  # any failure becomes one line for the user
+            box["error"] = exc
+
+    thread = threading.Thread(target=connect, name="obturator-dask-connect", daemon=True)
+    thread.start()
+    thread.join(CONNECT_TIMEOUT_S + 2.0)
+    if "client" in box:
+        return box["client"], True
+    why = box.get("error")
+    text = " ".join(str(why).split()) if why is not None else "no answer"
+    raise InputError(
+        "scheduler",
+        f"cannot connect to {scheduler!r} within {CONNECT_TIMEOUT_S:g} s: {text}",
+    )
+
+
+#: Seconds without a connected scheduler after which a running study gives up.
+LOST_SCHEDULER_S = 10.0

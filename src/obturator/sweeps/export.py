@@ -1,0 +1,204 @@
+"""Study results as files: the xarray Dataset, NetCDF (CF attributes) and a flat CSV.
+
+Both files are written atomically; the resume sidecar is removed only after
+both are in place (:func:`write_outputs`), so an interruption while writing
+loses nothing.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import asdict
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._provenance import command_line, package_version
+from ..errors import InputError
+from ..params import SWEEP_PARAMS
+from ..reference import TABLE1
+from ..status import FLAGS
+from .points import POINT_STATUSES
+from .spec import SweepSpec
+from .store import atomic_write_text
+
+if TYPE_CHECKING:  # pragma: no cover
+    import xarray
+
+    from .sweep import Outcome
+
+__all__ = [
+    "T_CR_ATTRS",
+    "check_distinct_outputs",
+    "common_attrs",
+    "coord_attrs",
+    "grid_dataset",
+    "status_attrs",
+    "write_csv",
+    "write_netcdf",
+    "write_outputs",
+]
+
+
+def _attr(value: Any) -> Any:
+    """NetCDF-safe attribute value."""
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return int(value)
+    return value
+
+
+def check_distinct_outputs(store: Any, csv: Any) -> None:
+    """Refuse a CSV path that is also the NetCDF output."""
+    if store is not None and csv is not None:
+        if Path(store).resolve() == Path(csv).resolve():
+            raise InputError("csv", f"{str(csv)!r} is also the NetCDF output; choose another name")
+
+
+def common_attrs(spec: SweepSpec) -> dict[str, Any]:
+    """Dataset attributes of every study: case, models, solver, version, CF conventions."""
+    attrs: dict[str, Any] = {
+        "case": spec.case,
+        "torque_model": spec.torque_model,
+        "spin_mode": spec.spin_mode,
+        "normal_load": spec.weight_model,
+        "t_max_s": spec.t_max if spec.t_max is not None else spec.build_case({}).t_max,
+        "obturator_version": package_version(),
+        # CF / ACDD global attributes (date_created and history are added when written)
+        "Conventions": "CF-1.10",
+        "source": f"obturator {package_version()} (ball obturator opening model, Bloomer 1980)",
+    }
+    for key, value in asdict(spec.options).items():
+        attrs[f"solver_{key}"] = _attr(value)
+    if spec.case == "flight" and spec.resolved().get("altitude_m") is None:
+        attrs["p1_Pa"] = TABLE1["p1"]
+    return attrs
+
+
+def coord_attrs(name: str) -> dict[str, str]:
+    """CF attributes of a parameter coordinate (units, long_name)."""
+    p = SWEEP_PARAMS[name]
+    return {"units": p.unit, "long_name": p.long_name}
+
+
+def status_attrs() -> dict[str, Any]:
+    """CF flag attributes of the ``status`` variable (:data:`POINT_STATUSES`)."""
+    return {
+        "long_name": "integration outcome",
+        "flag_values": np.array(POINT_STATUSES, dtype=np.int8),
+        "flag_meanings": " ".join(FLAGS[s] for s in POINT_STATUSES),
+    }
+
+
+T_CR_ATTRS = {
+    "units": "s",
+    "long_name": "opening time t_cr (theta reaches theta_cr = beta_s)",
+    "comment": "NaN where the bore did not open by t_max or the point failed; see status",
+}
+
+
+def grid_dataset(spec: SweepSpec, t_cr: np.ndarray, status: np.ndarray) -> xarray.Dataset:
+    """The sweep's Dataset: t_cr and status over the swept dimensions."""
+    import xarray as xr
+
+    dims = spec.dims
+    coords: dict[str, Any] = {d: (d, spec.axes[d], coord_attrs(d)) for d in dims}
+    for name, value in spec.resolved().items():
+        if name not in dims and value is not None:
+            coords[name] = ((), value, coord_attrs(name))
+    data = {
+        "t_cr": (dims, t_cr.reshape(spec.shape), T_CR_ATTRS),
+        "status": (dims, status.reshape(spec.shape), status_attrs()),
+    }
+    attrs = {"title": f"obturator sweep of t_cr over {', '.join(dims) or 'one point'}"}
+    attrs.update(common_attrs(spec))
+    attrs["spec_hash"] = spec.digest()
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def write_netcdf(ds: xarray.Dataset, path: str | os.PathLike[str]) -> str:
+    """Write ``ds`` to NetCDF atomically; return the engine used (netcdf4 or scipy)."""
+    try:
+        import netCDF4  # noqa: F401
+
+        engine = "netcdf4"
+    except ImportError:  # pragma: no cover - optional engine
+        engine = "scipy"
+    out = Path(path)
+    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    try:
+        ds.to_netcdf(tmp, engine=engine)
+        os.replace(tmp, out)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return engine
+
+
+def write_csv(ds: xarray.Dataset, path: str | os.PathLike[str]) -> None:
+    """Write a sweep or Monte Carlo dataset as a flat CSV table (units in the header), atomically.
+
+    Leading ``#`` lines carry everything that is not a column: the fixed
+    parameters (scalar coordinates with units), the case, models, solver
+    settings, package version and the command line (the dataset's attributes),
+    so a CSV alone says what it was computed with. Then one row per grid point
+    (C order) or sample: the swept (or sampled) parameters, ``t_cr [s]`` (empty
+    where not opened) and ``status``. Written to a temporary file and renamed.
+    """
+    if "sample" in ds.dims:
+        cols = [v for v in ds.data_vars if ds[v].dims == ("sample",) and v in SWEEP_PARAMS]
+        table = [ds[c].values for c in cols]
+        t = ds["t_cr"].values
+        s = ds["status"].values
+    else:
+        cols = list(ds["t_cr"].dims)
+        mesh = np.meshgrid(*[ds[c].values for c in cols], indexing="ij")
+        table = [m.reshape(-1) for m in mesh]
+        t = ds["t_cr"].values.reshape(-1)
+        s = ds["status"].values.reshape(-1)
+    lines = []
+    for name, coord in ds.coords.items():
+        if coord.ndim == 0:
+            unit = coord.attrs.get("units", "")
+            lines.append(f"# {name} = {coord.item()!r} {unit}".rstrip())
+    for key, value in ds.attrs.items():
+        if np.ndim(value) == 0:
+            lines.append(f"# {key} = {' '.join(str(value).split())}")
+    header = [f"{c} [{SWEEP_PARAMS[c].unit}]" for c in cols] + ["t_cr [s]", "status"]
+    lines.append(",".join(header))
+    for k in range(t.size):
+        cells = [f"{col[k]:.12g}" for col in table]
+        cells.append(f"{t[k]:.12g}" if math.isfinite(t[k]) else "")
+        cells.append(str(int(s[k])))
+        lines.append(",".join(cells))
+    atomic_write_text(Path(path), "\n".join(lines) + "\n")
+
+
+def write_outputs(
+    ds: xarray.Dataset, out: Outcome, store: Any, csv: str | os.PathLike[str] | None
+) -> None:
+    """NetCDF, then CSV, each atomic; the sidecar goes only after both are in place.
+
+    The files get the CF ``date_created`` and ``history`` (the command line); the
+    returned dataset does not, so two runs of one study compare identical.
+    """
+    now = datetime.now(UTC).isoformat(timespec="seconds")
+    ds = ds.assign_attrs(date_created=now, history=f"{now}: {command_line()}")
+    for path, write in ((store, write_netcdf), (csv, write_csv)):
+        if path is None:
+            continue
+        try:
+            write(ds, path)
+        except (OSError, RuntimeError) as exc:  # full disk, quota, I/O error, HDF error
+            kept = f"; the finished points are kept in {out.sidecar.path}" if out.sidecar else ""
+            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+            if out.sidecar is not None:
+                out.sidecar.close()
+            raise InputError(
+                "out", f"cannot write {str(path)!r}: {reason}{kept}; free space and rerun"
+            ) from None
+    if out.sidecar is not None:
+        out.sidecar.remove()

@@ -1,0 +1,78 @@
+"""One point of a study: its t_cr and :class:`~obturator.status.Status`, and chunks of points.
+
+Every grid point or Monte Carlo sample is one independent call of
+:func:`obturator.solve.opening_time` through :func:`evaluate_point`, the same
+deterministic function wherever it runs (in this process, a process pool or
+a Dask worker), so local, pooled and distributed results are identical bit for
+bit. :func:`run_chunk` is module level so that workers can import it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from ..errors import InputError
+from ..model.cases import rig_case
+from ..solve import SolverOptions, convergence_check, opening_time
+from ..status import Status
+from .spec import SweepSpec
+
+__all__ = ["POINT_STATUSES", "evaluate_point", "run_chunk", "warm"]
+
+#: The statuses a study point can have (the ``status`` variable's flag values).
+POINT_STATUSES: tuple[Status, ...] = (
+    Status.INVALID_INPUT,
+    Status.FAILED,
+    Status.T_MAX,
+    Status.OPENED,
+    Status.STEP_LIMIT,
+    Status.UNCONVERGED,
+)
+
+
+def evaluate_point(spec: SweepSpec, values: Mapping[str, float]) -> tuple[float, int]:
+    """t_cr [s] and status at one point (never raises for a bad point).
+
+    ``INVALID_INPUT`` when the point is not a valid case, ``FAILED`` or
+    ``STEP_LIMIT`` when the integrator fails, ``T_MAX`` when the bore does not
+    open by t_max, ``UNCONVERGED`` when it opens but fails the convergence
+    check (only with ``spec.check_convergence``), else ``OPENED``.
+    """
+    try:
+        case = spec.build_case(values)
+    except InputError:
+        return math.nan, Status.INVALID_INPUT
+    try:
+        t = opening_time(case, spec.options)
+        if spec.check_convergence and math.isfinite(t):
+            if not convergence_check(case, spec.options, opening_time_s=t).converged:
+                return t, Status.UNCONVERGED
+    except RuntimeError as exc:  # SolverError, or anything else the integrator raised
+        status = getattr(exc, "status", None)
+        return math.nan, Status.STEP_LIMIT if status == Status.STEP_LIMIT else Status.FAILED
+    return (t, Status.OPENED) if math.isfinite(t) else (math.nan, Status.T_MAX)
+
+
+def run_chunk(
+    spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Evaluate the points of one chunk (rows of values in ``names`` order).
+
+    Module level so that process pools and dask workers can import it.
+    """
+    t = np.empty(len(rows))
+    s = np.empty(len(rows), dtype=np.int8)
+    for k, row in enumerate(rows):
+        t[k], s[k] = evaluate_point(spec, dict(zip(names, row.tolist(), strict=True)))
+    return t, s
+
+
+def warm(options: SolverOptions) -> None:
+    """Load (or compile) the integrator once: a short rig run with these options."""
+    try:
+        opening_time(rig_case(700.0, 0.5, t_max=1e-3), options)
+    except RuntimeError:  # pragma: no cover - warm-up only
+        pass
