@@ -71,6 +71,7 @@ __all__ = [
     "check_output_path",
     "study_settings",
     "CONFIG_SCHEMA",
+    "SOLVER_KEYS",
     "MAX_FILE_BYTES",
 ]
 
@@ -151,7 +152,8 @@ def check_output_path(
     return p
 
 
-_SOLVER_KEYS = ("rtol", "atol", "friction_width", "friction_family", "method", "formulation")
+#: Fields of the ``[solver]`` section (options of :class:`obturator.solve.SolverOptions`).
+SOLVER_KEYS: tuple[str, ...] = tuple(field for field, _ in CONFIG_SCHEMA["solver"].values())
 
 
 def study_settings(
@@ -178,7 +180,7 @@ def study_settings(
     raw = load_config(path)
     out: dict[str, Any] = {"solver": {}}
     for key, value in raw.items():
-        if key in _SOLVER_KEYS:
+        if key in SOLVER_KEYS:
             out["solver"][key] = value
         elif key in allowed:
             out[key] = value

@@ -22,11 +22,12 @@ if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
     from matplotlib.axes import Axes
 
-    from .calibration.exact import ExactFit
     from .calibration.data import SpinRigData
+    from .calibration.exact import ExactFit
 
 __all__ = [
     "calibration_residuals",
+    "figure_suffixes",
     "fig09_couette",
     "fig10_couette_scaled",
     "fig13_flight",
@@ -56,6 +57,11 @@ def _figure(nrows: int = 1, ncols: int = 1, size: tuple[float, float] = (6.4, 4.
     FigureCanvasAgg(fig)
     axes = fig.subplots(nrows, ncols, squeeze=False)
     return fig, axes
+
+
+def figure_suffixes() -> tuple[str, ...]:
+    """File suffixes :func:`save` can write (png, pdf, svg, ...)."""
+    return tuple(FigureCanvasAgg(Figure()).get_supported_filetypes())
 
 
 def save(fig: Figure, path: str | Path, dpi: int = 110) -> Path:

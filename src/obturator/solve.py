@@ -46,7 +46,7 @@ from .core.layout import (
     SPIN_CODES,
 )
 from .errors import InputError, SolverError, check_range
-from .model.case import Case, initial_state
+from .model.case import Case
 from .result import NutationResult
 from .status import MESSAGES, Status
 from .vocab import (
@@ -210,6 +210,7 @@ def _run(
     )
     problem = Problem(y0, p, error_scale(case, options.formulation))
     return p, integrate(options.method, problem, controls)
+
 
 def simulate(
     case: Case,

@@ -1,4 +1,4 @@
-"""Spin-rig experiment data and the thesis's friction calibration (chapters III-IV, Appendix B).
+"""Spin-rig opening times: the thesis's Appendix B runs and a user's CSV (chapter III).
 
 The rig spins a lucite "projectile" holding the ball; a counter reads the
 passing frequency f of an 18-tooth bucket wheel, so omega_p = f pi / 9
@@ -7,76 +7,30 @@ the starred runs (omega_p >= 235.97 rad/s) are fitted in chapter IV to the
 large-spin form t = T2 omega_p (Eq. 96), and T2 gives the friction coefficient
 through Eq. (95), mu_bar = 3.03e-4 / T2, and mu_s = mu_bar / ((2/pi) E(theta0)).
 
-What the data reproduce (see ``tests/test_experiment.py``)
-----------------------------------------------------------
-* Every printed omega_p equals f pi / 9 rounded to its printed precision.
-* The 28 starred runs do *not* reproduce the printed sums (sum t^2 = 2.5030002
-  s^2 against the printed 2.1046884). Dropping the four starred runs 40, 41, 45
-  and 51 (right-hand column rows 4, 5, 9 and 15: 936, 983, 1063 and 1255 Hz)
-  and using the *printed* omega_p column reproduces all three printed sums and
-  T2 = 8.6603508e-4 s^2 to every printed digit; the implied N = 24 also follows
-  from the printed sigma^2. That subset is the only one found among all
-  removals of up to eight starred runs combined with up to two added
-  unstarred runs (:func:`search_printed_sums_subsets`); with f pi / 9 instead
-  of the printed omega_p no subset matches.
-* The printed sigma_T = 1.97742e-5 is inconsistent with the printed
-  sigma_T^2 = 3.9181053e-10, whose root is 1.97942e-5 (a transposed digit).
-* The printed sum of t omega (2.430257e3) is the truncation of 2430.25767.
+The thesis's chapter IV fit of these runs (and what it reproduces) is in
+:mod:`obturator.calibration.thesis_fit`.
 """
 
 from __future__ import annotations
 
 import csv
-import itertools
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
-from importlib.resources import files
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..approx import mean_moment_arm
 from ..errors import InputError, check_range
+from ..reference import APPENDIX_B_CSV, RIG_TEETH, data_text
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-__all__ = [
-    "EQ95_COEFFICIENT",
-    "PRINTED_SUMS_OMITTED_RUNS",
-    "THESIS_FIT_MIN_SPIN",
-    "THESIS_THETA0",
-    "ThesisComparison",
-    "SpinRigData",
-    "SubsetMatch",
-    "ThesisLeastSquares",
-    "compare_with_thesis",
-    "format_comparison",
-    "load_spin_rig_csv",
-    "load_thesis_data",
-    "printed_thesis_sums",
-    "readout_to_spin_rate",
-    "search_printed_sums_subsets",
-    "thesis_least_squares",
-]
+__all__ = ["SpinRigData", "load_spin_rig_csv", "load_thesis_data", "readout_to_spin_rate"]
 
-#: Initial nutation angle of the rig runs [rad] (Table 1: 87.25 deg).
-THESIS_THETA0 = math.radians(87.25)
-#: Eq. (95): T2 = 3.03e-4 / mu_bar [s^2]; the thesis's large-spin coefficient.
-EQ95_COEFFICIENT = 3.03e-4
-#: Lowest printed spin of the starred runs [rad/s] (chapter IV). Note that the
-#: 676 Hz run has f pi / 9 = 235.9685 < 235.97: filter on the printed column,
-#: on the star, or with a threshold a little below this value.
-THESIS_FIT_MIN_SPIN = 235.97
-#: 1-based run numbers (order of Appendix B: left column group 1-36, right
-#: 37-54) of the four starred runs that must be left out, with the printed
-#: omega_p, to reproduce the thesis's printed least-squares sums.
-PRINTED_SUMS_OMITTED_RUNS: tuple[int, ...] = (40, 41, 45, 51)
-
-_DATA_FILE = "bloomer1980_appendix_b.csv"
 _TIME = "t_cr_s"
 _READOUT = "readout_hz"
 _SPIN = "spin_rate_rad_s"
@@ -87,7 +41,7 @@ _TRUE = {"1", "true", "yes", "y", "*"}
 _FALSE = {"0", "false", "no", "n", ""}
 
 
-def readout_to_spin_rate(readout_hz: ArrayLike, teeth: int = 18) -> NDArray[np.float64]:
+def readout_to_spin_rate(readout_hz: ArrayLike, teeth: int = RIG_TEETH) -> NDArray[np.float64]:
     """Counter readout to spin rate, omega_p = 2 pi f / teeth [rad/s] (chapter III.C).
 
     Parameters
@@ -330,7 +284,7 @@ def _parse(text: str, source: str, teeth: int) -> SpinRigData:
     )
 
 
-def load_spin_rig_csv(path: str | Path, *, teeth: int = 18) -> SpinRigData:
+def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigData:
     """Read a user's spin-rig CSV file.
 
     Parameters
@@ -369,274 +323,4 @@ def load_thesis_data() -> SpinRigData:
     printed omega_p; ``run`` numbers follow the print (left column group 1-36,
     right 37-54).
     """
-    text = files("obturator").joinpath("data", _DATA_FILE).read_text(encoding="utf-8")
-    return _parse(text, f"obturator/data/{_DATA_FILE}", 18)
-
-
-@dataclass(frozen=True)
-class ThesisLeastSquares:
-    """Chapter IV least-squares fit of t = T2 omega_p (Eq. 96), both directions.
-
-    The thesis's T2 = sum t^2 / sum(t omega) minimises sum (omega - t/T2)^2,
-    i.e. it fits omega = t / T2 with residuals in omega; the direct fit of
-    t = T2 omega with residuals in t is sum(t omega) / sum omega^2.
-
-    Attributes
-    ----------
-    n : int
-        Number of runs N.
-    sum_t2, sum_omega2, sum_t_omega : float
-        sum t^2 [s^2], sum omega^2 [rad^2/s^2], sum t omega [rad].
-    t2 : float
-        Thesis T2 = sum t^2 / sum t omega [s^2/rad].
-    sigma2 : float
-        Thesis sigma^2 = (1/N)(sum omega^2 - sum t omega / T2) [rad^2/s^2],
-        the mean squared omega residual.
-    sigma_t2, sigma_t : float
-        Thesis 1/sigma_T^2 = sum t^2 / (sigma^2 T2^4): variance [s^4/rad^2]
-        and standard deviation [s^2/rad] of T2.
-    relative_sigma : float
-        sigma_T / T2 [-] (printed as "sigma/T = 0.023").
-    mean_arm : float
-        (2/pi) E(theta0) [-] (Eq. 78).
-    mu_bar, mu_s : float
-        3.03e-4 / T2 (Eq. 95) and mu_bar / mean_arm.
-    omega_residual_std : float
-        Standard omega residual sqrt(SS / (N - 1)) [rad/s] of the thesis fit.
-    t2_stderr : float
-        Standard error of T2 [s^2/rad] (delta method, N - 1 divisor);
-        sigma_t with N - 1 in place of N.
-    t2_direct : float
-        T2 of the direct fit t = T2 omega, sum t omega / sum omega^2 [s^2/rad].
-    time_residual_std : float
-        sqrt(sum (t - T2d omega)^2 / (N - 1)) [s].
-    t2_direct_stderr : float
-        Standard error of T2d [s^2/rad].
-    mu_bar_direct, mu_s_direct : float
-        Eq. (95) with T2d.
-    theta0 : float
-        Initial nutation angle used for mean_arm [rad].
-    """
-
-    n: int
-    sum_t2: float
-    sum_omega2: float
-    sum_t_omega: float
-    t2: float
-    sigma2: float
-    sigma_t2: float
-    sigma_t: float
-    relative_sigma: float
-    mean_arm: float
-    mu_bar: float
-    mu_s: float
-    omega_residual_std: float
-    t2_stderr: float
-    t2_direct: float
-    time_residual_std: float
-    t2_direct_stderr: float
-    mu_bar_direct: float
-    mu_s_direct: float
-    theta0: float
-
-
-def thesis_least_squares(
-    data: SpinRigData,
-    *,
-    theta0: float = THESIS_THETA0,
-    eq95_coefficient: float = EQ95_COEFFICIENT,
-) -> ThesisLeastSquares:
-    """Fit t = T2 omega_p to every run in `data` as chapter IV does, plus standard statistics.
-
-    Parameters
-    ----------
-    data : SpinRigData
-        Runs to fit, e.g. ``load_thesis_data().fit_subset()``.
-    theta0 : float
-        Initial nutation angle [rad] for the mean moment arm (2/pi) E(theta0).
-    eq95_coefficient : float
-        The constant in T2 = coefficient / mu_bar [s^2/rad] (Eq. 95: 3.03e-4).
-
-    Returns
-    -------
-    ThesisLeastSquares
-    """
-    n = len(data)
-    if n < 2:
-        raise InputError("data", f"{n} runs to fit; allowed range [2, inf)")
-    t, w = data.opening_time, data.spin_rate
-    stt, sww, stw = float(t @ t), float(w @ w), float(t @ w)
-    t2 = stt / stw
-    ss_w = float(np.sum((w - t / t2) ** 2))  # = sww - stw / t2, without the cancellation
-    sigma2 = ss_w / n
-    sigma_t2 = sigma2 * t2**4 / stt
-    t2d = stw / sww
-    ss_t = float(np.sum((t - t2d * w) ** 2))
-    s_w = math.sqrt(ss_w / (n - 1))
-    s_t = math.sqrt(ss_t / (n - 1))
-    arm = mean_moment_arm(theta0)
-    mu_bar = eq95_coefficient / t2
-    mu_bar_d = eq95_coefficient / t2d
-    return ThesisLeastSquares(
-        n=n,
-        sum_t2=stt,
-        sum_omega2=sww,
-        sum_t_omega=stw,
-        t2=t2,
-        sigma2=sigma2,
-        sigma_t2=sigma_t2,
-        sigma_t=math.sqrt(sigma_t2),
-        relative_sigma=math.sqrt(sigma_t2) / t2,
-        mean_arm=arm,
-        mu_bar=mu_bar,
-        mu_s=mu_bar / arm,
-        omega_residual_std=s_w,
-        t2_stderr=s_w / math.sqrt(stt) * t2**2,
-        t2_direct=t2d,
-        time_residual_std=s_t,
-        t2_direct_stderr=s_t / math.sqrt(sww),
-        mu_bar_direct=mu_bar_d,
-        mu_s_direct=mu_bar_d / arm,
-        theta0=theta0,
-    )
-
-
-def printed_thesis_sums() -> dict[str, float]:
-    """The values printed in thesis chapter IV (as printed, typos included).
-
-    Keys match :class:`ThesisLeastSquares` attributes. ``mean_arm`` is the
-    printed (2/pi) E = 0.63954, which the thesis obtained from E = 1.00458 (the
-    line also shows "(1.00448)"); the correct E(87.25 deg) is 1.00452.
-    ``sigma_t`` = 1.97742e-5 disagrees with sqrt(sigma_t2) = 1.97942e-5.
-    """
-    return {
-        "sum_t2": 2.1046884,
-        "sum_omega2": 2.8413714e6,
-        "sum_t_omega": 2.430257e3,
-        "t2": 8.6603508e-4,
-        "sigma2": 1.4659547e3,
-        "sigma_t2": 3.9181053e-10,
-        "sigma_t": 1.97742e-5,
-        "relative_sigma": 0.023,
-        "mu_bar": 0.35,
-        "mean_arm": 0.63954,
-        "mu_s": 0.5473,
-    }
-
-
-class ThesisComparison(NamedTuple):
-    """One line of :func:`compare_with_thesis`."""
-
-    name: str
-    computed: float
-    printed: float
-    relative_difference: float
-
-
-def compare_with_thesis(result: ThesisLeastSquares) -> list[ThesisComparison]:
-    """Computed vs printed chapter IV values, relative difference computed/printed - 1."""
-    return [
-        ThesisComparison(k, float(getattr(result, k)), v, float(getattr(result, k)) / v - 1.0)
-        for k, v in printed_thesis_sums().items()
-    ]
-
-
-def format_comparison(rows: Sequence[ThesisComparison]) -> str:
-    """Plain-text table of :func:`compare_with_thesis` rows."""
-    lines = [f"{'quantity':<16}{'computed':>16}{'printed':>16}{'rel. diff':>12}"]
-    lines += [
-        f"{r.name:<16}{r.computed:>16.8g}{r.printed:>16.8g}{r.relative_difference:>12.2e}"
-        for r in rows
-    ]
-    return "\n".join(lines)
-
-
-@dataclass(frozen=True)
-class SubsetMatch:
-    """A run subset whose sums match the printed ones (see :func:`search_printed_sums_subsets`).
-
-    Attributes
-    ----------
-    removed, added : tuple of int
-        Run numbers dropped from the starred set / added from the unstarred set.
-    n : int
-        Runs in the subset.
-    sum_t2, sum_omega2, sum_t_omega : float
-        Its sums [s^2], [rad^2/s^2], [rad].
-    """
-
-    removed: tuple[int, ...]
-    added: tuple[int, ...]
-    n: int
-    sum_t2: float
-    sum_omega2: float
-    sum_t_omega: float
-
-
-def search_printed_sums_subsets(
-    data: SpinRigData,
-    *,
-    max_removed: int = 6,
-    max_added: int = 1,
-    use_printed_spin: bool = True,
-) -> list[SubsetMatch]:
-    """Find starred-run subsets (a few runs removed / added) reproducing the printed sums.
-
-    A subset matches when each of sum t^2, sum omega^2 and sum t omega lies
-    within one unit of the last printed digit of the thesis value (one unit,
-    not half, so that truncation as well as rounding is accepted). sum t^2
-    needs no spin rate and is screened first.
-
-    Parameters
-    ----------
-    data : SpinRigData
-        All runs (starred and not), e.g. :func:`load_thesis_data`.
-    max_removed, max_added : int
-        Largest number of starred runs dropped / unstarred runs added.
-    use_printed_spin : bool
-        Use the printed omega_p column instead of f pi / 9.
-
-    Returns
-    -------
-    list of SubsetMatch
-        Fewest changes first.
-    """
-    printed = printed_thesis_sums()
-    # One unit of the last printed digit of 2.1046884, 2.8413714e6 and 2.430257e3.
-    tol = {"sum_t2": 1e-7, "sum_omega2": 1.0, "sum_t_omega": 1e-3}
-    w = data.spin_rate_printed if use_printed_spin else data.spin_rate
-    if w is None:
-        raise InputError("spin_rate_printed", f"{data.source or 'data'}: no printed column")
-    t = data.opening_time
-    tt, ww, tw = t * t, w * w, t * w
-    star = np.flatnonzero(data.starred)
-    other = np.flatnonzero(~data.starred)
-    base = tt[star].sum()
-    matches: list[SubsetMatch] = []
-    for k in range(max_removed + 1):
-        # All k-run removals at once; the additions (few) are looped over.
-        combos = list(itertools.combinations(star, k))
-        rem_all = np.array(combos, dtype=int).reshape(len(combos), k)
-        s_rem = base - tt[rem_all].sum(axis=1)
-        for j in range(max_added + 1):
-            for add in itertools.combinations(other, j):
-                add_idx = np.asarray(add, dtype=int)
-                gap = np.abs(s_rem + tt[add_idx].sum() - printed["sum_t2"])
-                for h in np.flatnonzero(gap <= tol["sum_t2"]):
-                    idx = np.concatenate([np.setdiff1d(star, rem_all[h]), add_idx])
-                    sww, stw = float(ww[idx].sum()), float(tw[idx].sum())
-                    if (
-                        abs(sww - printed["sum_omega2"]) <= tol["sum_omega2"]
-                        and abs(stw - printed["sum_t_omega"]) <= tol["sum_t_omega"]
-                    ):
-                        matches.append(
-                            SubsetMatch(
-                                removed=tuple(int(r) for r in data.run[rem_all[h]]),
-                                added=tuple(int(r) for r in data.run[add_idx]),
-                                n=int(idx.size),
-                                sum_t2=float(tt[idx].sum()),
-                                sum_omega2=sww,
-                                sum_t_omega=stw,
-                            )
-                        )
-    return matches
+    return _parse(data_text(APPENDIX_B_CSV), f"obturator/reference/{APPENDIX_B_CSV}", RIG_TEETH)

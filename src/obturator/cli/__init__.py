@@ -1,7 +1,9 @@
 """Command-line entry point ``obturator``.
 
-Each sub-command lives in its own module exposing ``register(subparsers)``;
-this module only collects them and turns input errors into one readable line.
+Each sub-command lives in its own module of this package exposing
+``register(subparsers)`` (shared argument helpers in :mod:`._args`); this
+module only collects them and turns errors into one readable line and an exit
+code (:mod:`obturator.errors`).
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import os
 import sys
 from typing import NoReturn
 
+from .._provenance import package_version
 from ..errors import (
     EXIT_CLUSTER,
     EXIT_INPUT,
@@ -27,19 +30,12 @@ from ..errors import (
 _SUBCOMMAND_MODULES = (
     "obturator.cli.simulate",
     "obturator.cli.gasdyn",
-    "obturator.cli.thesis",
+    "obturator.cli.reproduce",
+    "obturator.cli.calibrate",
     "obturator.cli.sweep",
+    "obturator.cli.montecarlo",
     "obturator.cli.validate",
 )
-
-
-def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        return version("obturator")
-    except PackageNotFoundError:  # pragma: no cover - source tree
-        return "0+unknown"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -58,7 +54,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="obturator",
         description="Ball obturator opening dynamics (Bloomer 1980).",
     )
-    parser.add_argument("--version", action="version", version=f"obturator {_version()}")
+    parser.add_argument("--version", action="version", version=f"obturator {package_version()}")
     parser.add_argument(
         "--print-completion",
         choices=("bash", "zsh"),

@@ -8,8 +8,9 @@ Sub-commands::
                            | --bore-diameter-m D [--altitude-m H])) [--json]
     obturator gasdyn atmosphere --altitude-m H [--json]
 
-Numbers are parsed here rather than by argparse so that a bad value gives the
-same one-line ``obturator: error:`` message (exit 2) as an out-of-range one.
+Numbers are parsed by :mod:`._args` rather than by argparse so that a bad value
+gives the same one-line ``obturator: error:`` message (exit 2) as an
+out-of-range one.
 """
 
 from __future__ import annotations
@@ -17,10 +18,11 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from . import _json
-from ..flow import gasdynamics as gd
-from ..flow.atmosphere import standard_atmosphere
+from .. import flow as gd
 from ..errors import InputError
+from ..flow import standard_atmosphere
+from . import _json
+from ._args import parse_integer, parse_number
 
 __all__ = ["register"]
 
@@ -28,17 +30,11 @@ Row = tuple[str, Any, str]
 
 
 def _number(field: str, text: str | None) -> float:
-    try:
-        return float(text)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise InputError(field, f"expected a number, got {text!r}") from None
+    return parse_number(field, text, finite=False)  # the gas-dynamics checks name the range
 
 
 def _integer(field: str, text: str) -> int:
-    try:
-        return int(text)
-    except ValueError:
-        raise InputError(field, f"expected a whole number, got {text!r}") from None
+    return int(parse_integer(field, text))  # type: ignore[arg-type]
 
 
 def _fmt(value: Any) -> str:

@@ -6,23 +6,31 @@ import argparse
 import sys
 from typing import Any
 
+from ..errors import SolverError
+from ..io import check_output_path, load_config
+from ..model.cases import case_from_settings
+from ..params import PARAMS
+from ..result import NutationResult
+from ..solve import ConvergenceCheck, SolverOptions, convergence_check, simulate
+from ..units import parse_quantity
+from ..vocab import CASE_NAMES, FORMULATIONS, FRICTION_FAMILIES, SPIN_MODES, TORQUE_MODELS
 from . import _json
-from ..model.cases import CASE_NAMES, TORQUE_MODELS, flight_case, rig_case, table1_ball
-from ..errors import InputError, SolverError
-from ..io import check_output_path, load_config, parse_quantity
-from ..solve import (
-    FRICTION_FAMILIES,
-    Case,
-    ConvergenceCheck,
-    NutationResult,
-    SolverOptions,
-    convergence_check,
-    simulate,
-)
+from ._args import solver_options
 
 __all__ = ["register", "case_from_settings", "options_from_settings"]
 
-_SPIN_MODES = ("constant", "free", "thesis-energy")
+#: Flags that take a quantity (field names; units from obturator.params).
+_QUANTITY_FLAGS = (
+    "spin_rate",
+    "mu_s",
+    "theta0_deg",
+    "mach",
+    "altitude_m",
+    "rtol",
+    "friction_width",
+    "patch_radius",
+    "t_max",
+)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -43,7 +51,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--mu-s", metavar="X", help="sliding friction coefficient [-]")
     p.add_argument("--theta0-deg", metavar="X", help="initial nutation theta_0 [deg]")
     p.add_argument("--torque-model", choices=TORQUE_MODELS, default=None)
-    p.add_argument("--spin-mode", choices=_SPIN_MODES, default=None)
+    p.add_argument("--spin-mode", choices=SPIN_MODES, default=None)
     p.add_argument("--mach", metavar="M", help="flight Mach number (normal bow shock, Eq. 1)")
     p.add_argument("--altitude-m", metavar="H", help="flight altitude [m] (US 1976 atmosphere)")
     p.add_argument("--config", metavar="FILE.toml", help="run configuration (units allowed)")
@@ -55,7 +63,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p.add_argument(
         "--friction-family",
-        choices=tuple(FRICTION_FAMILIES),
+        choices=FRICTION_FAMILIES,
         default=None,
         help="shape of the regularised friction magnitude (default algebraic); "
         "the convergence check reruns with another family",
@@ -66,7 +74,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="contact patch radius of --torque-model coulomb [m] "
         "(default: Hertz radius; 0: point contact)",
     )
-    p.add_argument("--formulation", choices=("quaternion", "euler"), default=None)
+    p.add_argument("--formulation", choices=FORMULATIONS, default=None)
     p.add_argument("--t-max", metavar="S", help="give up after this time [s]")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument(
@@ -82,21 +90,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _merge(args: argparse.Namespace) -> dict[str, Any]:
     s: dict[str, Any] = load_config(args.config) if args.config else {}
-    units = {  # field -> SI unit; messages name the field (spin_rate), as config errors do
-        "spin_rate": "rad/s",
-        "mu_s": "",
-        "theta0_deg": "deg",
-        "mach": "",
-        "altitude_m": "m",
-        "rtol": "",
-        "friction_width": "",
-        "patch_radius": "m",
-        "t_max": "s",
-    }
-    for key, unit in units.items():
+    for key in _QUANTITY_FLAGS:  # messages name the field (spin_rate), as config errors do
         value = getattr(args, key)
         if value is not None:
-            s[key] = parse_quantity(key, value, unit)
+            s[key] = parse_quantity(key, value, PARAMS[key].pint_unit)
     for key in ("case", "torque_model", "spin_mode", "formulation", "friction_family"):
         if getattr(args, key) is not None:
             s[key] = getattr(args, key)
@@ -105,11 +102,7 @@ def _merge(args: argparse.Namespace) -> dict[str, Any]:
 
 def options_from_settings(s: dict[str, Any]) -> SolverOptions:
     """Solver options from merged settings (defaults for anything not given)."""
-    keys = ("rtol", "atol", "friction_width", "friction_family", "method", "formulation")
-    kw = {k: s[k] for k in keys if k in s}
-    if "rtol" in kw and "atol" not in kw:
-        kw["atol"] = kw["rtol"] * 1e-2
-    return SolverOptions(**kw)
+    return solver_options(s)
 
 
 def _print_table(res: NutationResult, check: ConvergenceCheck | None) -> None:
@@ -152,13 +145,6 @@ def _print_table(res: NutationResult, check: ConvergenceCheck | None) -> None:
         print(f"{label:<{width}}  {value} {unit}".rstrip())
 
 
-def _plot_suffixes() -> tuple[str, ...]:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    return tuple(FigureCanvasAgg(Figure()).get_supported_filetypes())
-
-
 def _plot(res: NutationResult, path: str) -> None:
     from ..plotting import save, theta_history_figure
 
@@ -171,7 +157,9 @@ def _run(args: argparse.Namespace) -> int:
     options = options_from_settings(settings)
     check_output_path("--csv", args.csv, ("csv",))
     if args.plot is not None:
-        check_output_path("--plot", args.plot, _plot_suffixes())
+        from ..plotting import figure_suffixes
+
+        check_output_path("--plot", args.plot, figure_suffixes())
     res = simulate(case, options)
     if not res.success:
         raise SolverError(res.message)

@@ -6,9 +6,9 @@ import argparse
 import sys
 from pathlib import Path
 
-from . import _json
 from ..errors import InputError, check_range
 from ..io import check_output_path
+from . import _json
 
 __all__ = ["register"]
 

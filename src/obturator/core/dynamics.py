@@ -40,7 +40,6 @@ from .layout import (
     FRIC_NONE,
     FRIC_THESIS_FLIGHT,
     FRIC_THESIS_RIG,
-    N_STATE,
     P_A,
     P_C,
     P_FAMILY,

@@ -25,14 +25,14 @@ raise :class:`~obturator.errors.InputError` naming the first offending value.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..errors import InputError, check_range
+from ..errors import InputError
+from ._arrays import as_output, checked_array
 
 __all__ = [
     "EARTH_RADIUS",
@@ -115,64 +115,6 @@ def _base_states() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
 
 
 _T_BASE, _P_BASE = _base_states()
-
-
-def checked_array(
-    field: str,
-    value: ArrayLike,
-    lo: float = -math.inf,
-    hi: float = math.inf,
-    *,
-    lo_open: bool = False,
-    hi_open: bool = False,
-    unit: str = "",
-) -> NDArray[np.float64]:
-    """Return ``value`` as a float array after checking every element's range.
-
-    The array counterpart of :func:`obturator.errors.check_range`: NaN, inf and
-    out-of-range elements raise :class:`InputError`, naming the first
-    offending element (in C order) and its index. Nothing is clamped.
-
-    Parameters
-    ----------
-    field : str
-        Field name used in the message.
-    value : array_like
-        Number or array of numbers.
-    lo, hi, lo_open, hi_open, unit
-        As for :func:`obturator.errors.check_range`.
-
-    Returns
-    -------
-    numpy.ndarray
-        ``value`` as float64 (0-d for a scalar).
-    """
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(field, f"expected a number or array of numbers, got {value!r}") from None
-    with np.errstate(invalid="ignore"):
-        above = arr > lo if lo_open else arr >= lo
-        below = arr < hi if hi_open else arr <= hi
-        ok = np.isfinite(arr) & above & below
-    if not np.all(ok):
-        index = tuple(int(i) for i in np.argwhere(~ok)[0])
-        bad = float(arr[index])
-        try:
-            check_range(field, bad, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
-        except InputError as exc:
-            if arr.ndim == 0:
-                raise
-            reason = str(exc)[len(field) + 2 :]
-            where = ", ".join(str(i) for i in index)
-            raise InputError(field, f"element [{where}]: {reason}") from None
-    return arr
-
-
-def as_output(x: Any) -> Any:
-    """Return a Python float for 0-d results, the array otherwise."""
-    x = np.asarray(x, dtype=float)
-    return float(x) if x.ndim == 0 else x
 
 
 def geopotential_altitude(altitude_m: ArrayLike) -> Any:

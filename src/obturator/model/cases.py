@@ -10,7 +10,7 @@ import functools
 import inspect
 import math
 from collections.abc import Callable, Mapping
-from typing import Any, Literal
+from typing import Any
 
 from ..errors import InputError, check_range
 from ..params import PARAMS
@@ -199,7 +199,7 @@ def flight_case(
         0: point contacts. Ignored by "thesis".
     """
     _check_model(torque_model)
-    from ..flow.gasdynamics import flight_pressure_force
+    from ..flow import flight_pressure_force
 
     ball = ball or table1_ball()
     if pressure_force is None:

@@ -53,7 +53,6 @@ AIR_DENSITY = 1.225
 MIN_GAP = 1e-7
 
 
-
 @dataclass(frozen=True)
 class CouetteViscous:
     """Viscous torque of plane Couette flow in the gap, thesis Eqs. (32)-(34).

@@ -21,8 +21,8 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 
-from ..model.cases import TABLE1, rig_case
 from ..calibration.data import SpinRigData, load_thesis_data
+from ..model.cases import TABLE1, rig_case
 from ..solve import SolverOptions, opening_time, simulate
 
 __all__ = ["explorer_data", "explorer_html", "THESIS_MU_S"]

@@ -26,20 +26,20 @@ from typing import Any
 
 import numpy as np
 
-from ..calibration import exact as cal
-from . import studies
 from ..approx import large_spin_coefficients, mean_moment_arm
-from ..model.cases import TABLE1, rig_case, table1_ball
+from ..calibration import exact as cal
 from ..calibration.data import PRINTED_SUMS_OMITTED_RUNS, compare_with_thesis, load_thesis_data
-from .explorer import explorer_data
-from ..flow.gasdynamics import (
+from ..flow import (
     choking_mach,
     fanno_mach,
     normal_shock_mach,
     normal_shock_pressure_ratio,
     pressure_force,
 )
+from ..model.cases import TABLE1, rig_case, table1_ball
 from ..solve import SolverOptions, opening_time
+from . import studies
+from .explorer import explorer_data
 
 __all__ = ["Row", "ReproduceResult", "checkable_rows", "reproduce", "to_html", "to_markdown"]
 

@@ -43,8 +43,6 @@ from numpy.typing import ArrayLike
 from scipy.optimize import minimize_scalar
 
 from ..approx import ApproximationWarning, rig_approximation
-from ..model.cases import TABLE1, couette_case, flight_case, rig_case, table1_ball
-from ..errors import InputError, SolverError, check_range
 from ..calibration.data import (
     PRINTED_SUMS_OMITTED_RUNS,
     THESIS_FIT_MIN_SPIN,
@@ -52,6 +50,8 @@ from ..calibration.data import (
     load_thesis_data,
     thesis_least_squares,
 )
+from ..errors import InputError, SolverError, check_range
+from ..model.cases import TABLE1, couette_case, flight_case, rig_case, table1_ball
 from ..solve import Case, SolverOptions, opening_time, simulate
 
 __all__ = [

@@ -6,8 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ..calibration.exact import model_opening_times
-from ..calibration.data import SpinRigData
+from ..calibration import SpinRigData, model_opening_times
 from .floor import cluster_runs
 from .study import CANDIDATES, ValidationStudy
 

@@ -35,9 +35,9 @@ from typing import Any
 
 import numpy as np
 
-from ..calibration.exact import PARAMETERS, fit_exact, model_opening_times
+from ..calibration import SpinRigData, fit_exact, model_opening_times
 from ..errors import InputError
-from ..calibration.data import SpinRigData
+from ..params import FIT_PARAMS
 from .floor import BANDS, replicate_floor
 
 __all__ = ["CANDIDATES", "Candidate", "ModelResult", "ValidationStudy", "run_validation"]
@@ -159,7 +159,7 @@ def _rms(r: np.ndarray) -> float | None:
 
 
 def _predict(fit: Any, spins: np.ndarray, cand: Candidate, t_max: float) -> np.ndarray:
-    names = set(PARAMETERS) | {"shear_constant"}
+    names = set(FIT_PARAMS)
     kw = {k: v for k, v in fit.values.items() if k in names}
     t = model_opening_times(spins, **kw, t_max=t_max, **cand.options)
     return np.where(np.isfinite(t), t, t_max)
@@ -173,7 +173,7 @@ def _fit(cand: Candidate, data: SpinRigData, t_max: float) -> Any:
         min_spin=0.0,
         t_max=t_max,
         bootstrap=0,
-        model_options=cand.options,
+        **cand.options,
     )
 
 
@@ -200,7 +200,7 @@ def _fit_candidate(cand: Candidate, data: SpinRigData, t_max: float) -> ModelRes
             "value": fit.values[p],
             "stderr": fit.stderr.get(p),
             "ci95": list(fit.ci95[p]),
-            "unit": PARAMETERS[p][0],
+            "unit": FIT_PARAMS[p].unit,
         }
         for p in cand.fit
     }

@@ -53,11 +53,11 @@ from .common import (
     underflow,
 )
 from .contract import RawSolution, Status
+from .dop853_coefficients import E3 as _E3
+from .dop853_coefficients import E5 as _E5
 from .dop853_coefficients import A as _A
 from .dop853_coefficients import B as _B
 from .dop853_coefficients import C as _C
-from .dop853_coefficients import E3 as _E3
-from .dop853_coefficients import E5 as _E5
 
 __all__ = ["STEPS_PER_PERIOD", "STEP_ALLOWANCE", "TOL_FACTOR", "integrate"]
 
@@ -66,6 +66,7 @@ STEPS_PER_PERIOD = 200.0
 STEP_ALLOWANCE = 1000
 #: The step error is controlled to this fraction of the requested (rtol, atol).
 TOL_FACTOR = 0.01
+
 
 @njit(cache=True, fastmath={"contract"})
 def _stages(t, y, h, p, k, ynew, work) -> None:

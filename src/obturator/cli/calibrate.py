@@ -1,4 +1,4 @@
-"""``obturator reproduce`` and ``obturator calibrate``: thesis reproduction, friction fits."""
+"""``obturator calibrate``: fit the sliding friction of the exact model to spin-rig data."""
 
 from __future__ import annotations
 
@@ -7,26 +7,13 @@ import math
 import sys
 
 from ..errors import check_range
+from ..reference import TABLE1
 
 __all__ = ["register"]
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``reproduce`` and ``calibrate`` sub-commands."""
-    p = subparsers.add_parser(
-        "reproduce",
-        help="write every thesis figure (PNG) and a report (Markdown, HTML)",
-        description="Run the studies of Bloomer (1980) Figs. 9-43, the chapter IV and "
-        "exact-model friction calibrations, and write PNG figures plus report.md and "
-        "report.html comparing every checkable printed number with the computed one.",
-    )
-    p.add_argument("--out", metavar="DIR", required=True, help="output directory (created)")
-    p.add_argument(
-        "--quick", action="store_true", help="fewer points and a smaller bootstrap (seconds)"
-    )
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.set_defaults(func=_reproduce)
-
+    """Add the ``calibrate`` sub-command."""
     c = subparsers.add_parser(
         "calibrate",
         help="fit the sliding friction mu_s of the exact model to spin-rig data",
@@ -37,7 +24,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     c.add_argument("data", metavar="DATA.csv", help="spin-rig opening times")
     c.add_argument(
-        "--theta0-deg", metavar="X", type=float, default=None, help="theta_0 [deg] (87.25)"
+        "--theta0-deg",
+        metavar="X",
+        type=float,
+        default=None,
+        help=f"theta_0 [deg] ({TABLE1['theta0_deg']})",
     )
     c.add_argument(
         "--config",
@@ -60,23 +51,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     c.set_defaults(func=_calibrate)
 
 
-def _reproduce(args: argparse.Namespace) -> int:
-    from .._provenance import command_line
-    from ..thesis.reproduce import reproduce
-
-    res = reproduce(
-        args.out, quick=args.quick, progress=not args.no_progress, command=command_line()
-    )
-    flagged = sum(1 for r in res.rows if r.difference is not None and abs(r.difference) > 2.0)
-    print(
-        f"wrote {len(res.figures)} figures, {res.report_md} and {res.report_html} "
-        f"in {res.elapsed_s:.1f} s ({flagged} rows differ from the thesis by > 2 %)"
-    )
-    return 0
-
-
 def _calibrate(args: argparse.Namespace) -> int:
-    from ..calibration.exact import calibrate_csv
+    from ..calibration import calibrate_csv
 
     if args.min_spin is not None:
         check_range("min_spin", args.min_spin, 0.0, math.inf, hi_open=True, unit="rad/s")
@@ -93,7 +69,11 @@ def _calibrate(args: argparse.Namespace) -> int:
         k: conf[k] for k in ("t_max", "torque_model", "weight") if k in conf
     }
     names = tuple(n.strip() for n in args.fit.split(",") if n.strip())
-    theta0 = args.theta0_deg if args.theta0_deg is not None else conf.get("theta0_deg", 87.25)
+    theta0 = (
+        args.theta0_deg
+        if args.theta0_deg is not None
+        else conf.get("theta0_deg", TABLE1["theta0_deg"])
+    )
     fit = calibrate_csv(
         args.data,
         theta0_deg=theta0,

@@ -1,0 +1,161 @@
+"""Argument helpers shared by the sub-commands: numbers, solver options, study flags.
+
+Numbers are parsed here rather than by argparse so that a bad value gives the
+same one-line ``obturator: error: <field>: ...`` message (exit 2) as an
+out-of-range one.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from collections.abc import Mapping
+from typing import Any
+
+from ..errors import InputError, check_range
+from ..io import SOLVER_KEYS, study_settings
+from ..params import SWEEP_PARAMS
+from ..solve import SolverOptions
+from ..vocab import CASE_NAMES, FRICTION_FAMILIES, METHODS, SPIN_MODES, TORQUE_MODELS
+
+__all__ = [
+    "flag",
+    "parse_number",
+    "parse_integer",
+    "solver_options",
+    "add_study_flags",
+    "study_config",
+    "study_options",
+    "study_t_max",
+    "show_progress",
+    "fmt_seconds",
+]
+
+
+def flag(name: str) -> str:
+    """The command-line flag of a field name (``spin_rate`` -> ``--spin-rate``)."""
+    return "--" + name.replace("_", "-")
+
+
+def parse_number(field: str, text: str | None, *, finite: bool = True) -> float:
+    """A float from flag text; non-finite values are refused unless ``finite=False``."""
+    try:
+        x = float(text)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise InputError(field, f"expected a number, got {text!r}") from None
+    if finite and not math.isfinite(x):
+        raise InputError(field, f"expected a finite number, got {text!r}")
+    return x
+
+
+def parse_integer(field: str, text: str | None, lo: int | None = None) -> int | None:
+    """A whole number from flag text (None passes through), at least `lo` if given."""
+    if text is None:
+        return None
+    try:
+        n = int(text)
+    except ValueError:
+        raise InputError(field, f"expected a whole number, got {text!r}") from None
+    if lo is not None and n < lo:
+        raise InputError(field, f"{n} is outside the allowed range >= {lo}")
+    return n
+
+
+def solver_options(settings: Mapping[str, Any]) -> SolverOptions:
+    """Solver options from merged settings (defaults for anything not given).
+
+    A relative tolerance without an absolute one sets atol = rtol / 100.
+    """
+    kw = {k: settings[k] for k in SOLVER_KEYS if k in settings}
+    if "rtol" in kw and "atol" not in kw:
+        kw["atol"] = kw["rtol"] * 1e-2
+    return SolverOptions(**kw)
+
+
+def add_study_flags(p: argparse.ArgumentParser) -> None:
+    """Flags common to ``sweep`` and ``montecarlo``: case, models, solver, execution."""
+    p.add_argument(
+        "--case", choices=CASE_NAMES, default=None, help="Table 1 column (default spin-rig)"
+    )
+    p.add_argument("--torque-model", choices=TORQUE_MODELS, default=None)
+    p.add_argument("--spin-mode", choices=SPIN_MODES, default=None)
+    p.add_argument(
+        "--config", metavar="FILE.toml", help="settings (schema in obturator.io; flags win)"
+    )
+    p.add_argument("--rtol", metavar="X", help="relative tolerance (default 1e-8)")
+    p.add_argument("--atol", metavar="X", help="absolute tolerance (default rtol/100, or 1e-10)")
+    p.add_argument("--method", choices=METHODS, default=None, help="integrator")
+    p.add_argument(
+        "--friction-width", metavar="X", help="regularisation width / omega_p (default 1e-7)"
+    )
+    p.add_argument(
+        "--friction-family",
+        choices=FRICTION_FAMILIES,
+        default=None,
+        help="regularisation family (default algebraic)",
+    )
+    p.add_argument("--t-max", metavar="S", help="give up after this time [s]")
+    p.add_argument(
+        "--workers", metavar="N", help="local worker processes (default: all CPUs; 1: in-process)"
+    )
+    p.add_argument(
+        "--scheduler", metavar="ADDRESS", help="dask.distributed scheduler, e.g. tcp://host:8786"
+    )
+    p.add_argument("--chunk-size", metavar="N", help="points per task (default: automatic)")
+    p.add_argument(
+        "--restart", action="store_true", help="discard partial results of a different study"
+    )
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+_STUDY_KEYS = (*SWEEP_PARAMS, "case", "torque_model", "spin_mode", "t_max")
+
+
+def study_config(args: argparse.Namespace, command: str) -> dict[str, Any]:
+    """Config settings merged under the flags: case, models, t_max and fixed values.
+
+    Fills the unset flags of `args` from ``--config`` and returns the fixed
+    parameter values it gives.
+    """
+    conf = study_settings(args.config, command, _STUDY_KEYS)
+    args.case = args.case or conf.get("case", "spin-rig")
+    args.torque_model = args.torque_model or conf.get("torque_model", "thesis")
+    args.spin_mode = args.spin_mode or conf.get("spin_mode", "constant")
+    if args.t_max is None and "t_max" in conf:
+        args.t_max = repr(conf["t_max"])
+    for key, value in conf.get("solver", {}).items():
+        if getattr(args, key, None) is None:
+            setattr(args, key, value if isinstance(value, str) else repr(value))
+    return {k: float(v) for k, v in conf.items() if k in SWEEP_PARAMS}
+
+
+def study_options(args: argparse.Namespace) -> SolverOptions:
+    """The solver options of the study flags (after :func:`study_config`)."""
+    s: dict[str, Any] = {}
+    for key in ("rtol", "atol", "method", "friction_width", "friction_family", "formulation"):
+        value = getattr(args, key, None)
+        if value is not None:
+            numeric = key in ("rtol", "atol", "friction_width")
+            s[key] = parse_number(key, value) if numeric else value
+    return solver_options(s)
+
+
+def study_t_max(args: argparse.Namespace) -> float | None:
+    """``--t-max`` [s], or None for the case factory's default."""
+    if args.t_max is None:
+        return None
+    return check_range("t_max", parse_number("t_max", args.t_max), 0.0, lo_open=True, unit="s")
+
+
+def show_progress(args: argparse.Namespace) -> bool:
+    """A progress bar unless ``--no-progress`` or stderr is not a terminal."""
+    return not args.no_progress and sys.stderr.isatty()
+
+
+def fmt_seconds(x: float, infinite: str = "-") -> str:
+    """Seconds; NaN and -inf as "-", +inf as `infinite`."""
+    if math.isfinite(x):
+        return f"{x:.6g}"
+    return infinite if x > 0 else "-"
