@@ -3,7 +3,7 @@ Tubular Projectile*, M.S. thesis, Naval Postgraduate School, 1980.
 
 Every thesis number the code uses as an *input* lives here, SI units, with
 where it is printed. The values the reproduction report *checks* are a data
-file beside this module (``printed_values.toml``, read by
+file beside this module (``printed_values.toml``, :mod:`.printed`, read by
 :mod:`obturator.thesis.rows`); the Appendix B runs are
 ``bloomer1980_appendix_b.csv`` (read by :mod:`obturator.calibration.data`).
 
@@ -13,17 +13,17 @@ file beside this module (``printed_values.toml``, read by
 
 from __future__ import annotations
 
+from .printed import CHAPTER4_SUMS
+
 __all__ = [
     "TABLE1",
     "THESIS_MU_S",
     "COUETTE_P52",
     "CAPTION_SHEAR_CONSTANT",
-    "APPENDIX_A_THETA_CR",
     "EQ95_COEFFICIENT",
     "EQ95_WEIGHT",
     "THESIS_FIT_MIN_SPIN",
     "PRINTED_SUMS_OMITTED_RUNS",
-    "CHAPTER4_SUMS",
     "THESIS_REYNOLDS",
     "THESIS_REYNOLDS_MACH",
     "RIG_TEETH",
@@ -55,8 +55,9 @@ TABLE1: dict[str, float] = {
     "rig_spin_rate": 200.0,
 }
 
-#: Sliding friction coefficient fitted to the rig runs in chapter IV [-].
-THESIS_MU_S = 0.5473
+#: Sliding friction coefficient fitted to the rig runs in chapter IV [-] (printed once,
+#: with the chapter's other results, in ``printed_values.toml``).
+THESIS_MU_S: float = CHAPTER4_SUMS["mu_s"]
 
 #: Inputs of the viscous-only runs of Figs. 9-10 (p. 52): R_s, r_s, h [m],
 #: rho [kg/m^3], mu_f [Pa s], omega_p [rad/s].
@@ -73,9 +74,6 @@ COUETTE_P52: dict[str, float] = {
 #: p. 52 inputs gives 56 times less).
 CAPTION_SHEAR_CONSTANT = 1.2e-6
 
-#: Opening angle hard-coded in Appendix A (THCRIT) [rad].
-APPENDIX_A_THETA_CR = 0.6411
-
 #: Eq. (95): T2 = 3.03e-4 / mu_bar [s^2], the large-spin coefficient.
 EQ95_COEFFICIENT = 3.03e-4
 #: Weight used for Eq. (95) in chapter IV ("measured weight W = 0.0798 N") [N].
@@ -90,23 +88,6 @@ THESIS_FIT_MIN_SPIN = 235.97
 #: 37-54) of the four starred runs that must be left out, with the printed
 #: omega_p, to reproduce the printed least-squares sums of chapter IV.
 PRINTED_SUMS_OMITTED_RUNS: tuple[int, ...] = (40, 41, 45, 51)
-
-#: Chapter IV's least-squares sums and results, as printed (typos included):
-#: sigma_t = 1.97742e-5 disagrees with sqrt(sigma_t2) = 1.97942e-5, and
-#: mean_arm = 0.63954 comes from E = 1.00458 (E(87.25 deg) is 1.00452).
-CHAPTER4_SUMS: dict[str, float] = {
-    "sum_t2": 2.1046884,
-    "sum_omega2": 2.8413714e6,
-    "sum_t_omega": 2.430257e3,
-    "t2": 8.6603508e-4,
-    "sigma2": 1.4659547e3,
-    "sigma_t2": 3.9181053e-10,
-    "sigma_t": 1.97742e-5,
-    "relative_sigma": 0.023,
-    "mu_bar": 0.35,
-    "mean_arm": 0.63954,
-    "mu_s": 0.5473,
-}
 
 #: Reynolds number of the inlet flow assumed in chapter I.B.4.c, and the Mach
 #: number it belongs to.

@@ -21,14 +21,13 @@ from collections.abc import Sequence
 import numpy as np
 import xarray as xr
 
-from ..calibration.data import SpinRigData, load_thesis_data
-from ..model.cases import TABLE1, rig_case
+from ..calibration import SpinRigData, load_thesis_data
+from ..model.cases import rig_case
+from ..reference import TABLE1, THESIS_MU_S
 from ..solve import SolverOptions, opening_time, simulate
 
-__all__ = ["explorer_data", "explorer_html", "THESIS_MU_S"]
+__all__ = ["explorer_data", "explorer_html"]
 
-#: Chapter IV's calibrated sliding friction coefficient [-].
-THESIS_MU_S = 0.5473
 _N_THETA = 240  # samples kept per theta(t) history
 
 
@@ -137,7 +136,7 @@ def _tcr_figure(ds: xr.Dataset):
                 name=f"measured runs ({label}, Appendix B)",
                 hovertemplate="run %{customdata[0]:.0f}<br>omega_p = %{x:.2f} rad/s"
                 "<br>measured t_cr = %{y:.4f} s<br>model t_cr = %{customdata[1]:.4f} s"
-                f" (mu_s = {THESIS_MU_S}, theta0 = 87.25 deg)<extra></extra>",
+                f" (mu_s = {THESIS_MU_S}, theta0 = {TABLE1['theta0_deg']} deg)<extra></extra>",
             )
         )
     fig.update_layout(
