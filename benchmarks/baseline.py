@@ -12,7 +12,7 @@ NumPy without any compilation and integrated with
 theta = theta_cr.
 
 Nothing here imports the package's compiled kernels: the parameters are read
-from the public dataclasses of a :class:`~obturator.solve.Case` (ball inertias,
+from the public dataclasses of a :class:`~obturator.model.case.Case` (ball inertias,
 torque coefficients), which is how a user of the thesis's tables would get them.
 """
 
@@ -22,10 +22,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from obturator.model.torques import NakabayashiViscous, ThesisFlightFriction, ThesisRigFriction
 from scipy.integrate import solve_ivp
 
-from obturator.solve import Case
-from obturator.torques import NakabayashiViscous, ThesisFlightFriction, ThesisRigFriction
+from obturator.model.case import Case
 
 __all__ = ["BaselineModel", "model_from_case", "initial_state", "solve_baseline"]
 
@@ -154,8 +154,8 @@ def model_from_case(case: Case, friction_width: float = 1e-6) -> BaselineModel:
     Parameters
     ----------
     case : Case
-        Built by :func:`obturator.cases.rig_case` or
-        :func:`obturator.cases.flight_case` with ``torque_model="thesis"``.
+        Built by :func:`obturator.model.cases.rig_case` or
+        :func:`obturator.model.cases.flight_case` with ``torque_model="thesis"``.
     friction_width : float
         delta / omega_p [-] (the package's ``SolverOptions.friction_width``).
 

@@ -16,7 +16,7 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
 * A 200-point omega_p sweep (100-700 rad/s) of the rig case: the baseline in
   a plain loop, :func:`obturator.solve.opening_time` in a loop, and with 1
   and 2 worker processes (``concurrent.futures.ProcessPoolExecutor`` over
-  ``opening_time``, and :func:`obturator.studies_sweep.run_sweep` when that
+  ``opening_time``, and :func:`obturator.sweeps.run_sweep` when that
   module is present). ``--quick`` shrinks the sweep; ``--big`` adds a
   10,000-point package-only sweep.
 * Low spin (40-200 rad/s, long near-stick phases): t_cr, nfev, steps and wall
@@ -42,11 +42,12 @@ from datetime import UTC, datetime
 from typing import Any
 
 import numpy as np
+from obturator.model.cases import flight_case, rig_case
 
 from benchmarks.baseline import initial_state as baseline_initial_state
 from benchmarks.baseline import model_from_case, solve_baseline
-from obturator.cases import flight_case, rig_case
-from obturator.solve import Case, SolverOptions, opening_time, simulate
+from obturator.model.case import Case
+from obturator.solve import SolverOptions, opening_time, simulate
 
 MU_S = 0.5473
 SWEEP_RANGE = (100.0, 700.0)  # rad/s
@@ -70,9 +71,10 @@ def _best_of(fn: Callable[[], Any], repeat: int) -> tuple[float, float, Any]:
 def _package_rhs_ns(case: Case, n: int = 200_000) -> float:
     """Cost of one compiled right-hand-side evaluation, called from compiled code [ns]."""
     from numba import njit
+    from obturator.core.dynamics import rhs
 
-    from obturator.dynamics import rhs
-    from obturator.solve import initial_state, pack_parameters
+    from obturator.model.case import initial_state
+    from obturator.solve import pack_parameters
 
     @njit(cache=False)
     def loop(y, p, n):  # pragma: no cover - compiled
@@ -178,7 +180,7 @@ def trajectory(name: str, case: Case, repeat: int, repeat_base: int) -> dict[str
 _COMPILE_SNIPPET = """
 import json, time
 t0 = time.perf_counter()
-from obturator.cases import rig_case
+from obturator.model.cases import rig_case
 from obturator.solve import opening_time
 t1 = time.perf_counter()
 opening_time(rig_case(300.0, 0.5473))
@@ -234,7 +236,7 @@ def _pool_sweep(spins: np.ndarray, workers: int) -> tuple[float, np.ndarray]:
 
 def _studies_sweep(spins: np.ndarray, workers: int) -> tuple[float, np.ndarray] | None:
     try:
-        from obturator.studies_sweep import SweepSpec, run_sweep
+        from obturator.sweeps import SweepSpec, run_sweep
     except ImportError:  # pragma: no cover - depends on the installed package
         return None
     spec = SweepSpec(case="spin-rig", axes={"spin_rate": spins}, fixed={"mu_s": MU_S})

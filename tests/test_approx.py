@@ -26,7 +26,7 @@ from obturator.approx import (
     steady_phi_rate,
 )
 from obturator.errors import InputError
-from obturator.geometry import BoredBall
+from obturator.model.geometry import BoredBall
 
 DEG = math.pi / 180.0
 THETA0 = 87.25 * DEG

@@ -13,14 +13,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from obturator.atmosphere import (
+from obturator.errors import InputError
+from obturator.flow.atmosphere import (
     geometric_altitude,
     geopotential_altitude,
     mach_from_velocity,
     standard_atmosphere,
     sutherland_viscosity,
 )
-from obturator.errors import InputError
 
 
 def test_sea_level() -> None:

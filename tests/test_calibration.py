@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from obturator import calibration as cal
+from obturator.calibration import SpinRigData, load_thesis_data, printed_thesis_sums
 from obturator.errors import InputError
-from obturator.experiment import SpinRigData, load_thesis_data, printed_thesis_sums
 from obturator.solve import SolverOptions
 
 PRINTED = printed_thesis_sums()

@@ -8,7 +8,8 @@ import sys
 import pytest
 
 from obturator.cli import main
-from obturator.io import load_config, parse_quantity
+from obturator.io import load_config
+from obturator.units import parse_quantity
 
 
 def run_json(capsys, *args):

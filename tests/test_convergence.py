@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from obturator import SolverOptions, couette_case, flight_case, opening_time, rig_case, simulate
-from obturator.experiment import load_thesis_data
+from obturator.calibration import load_thesis_data
 from obturator.solve import convergence_check
 
 BASE = SolverOptions()  # the defaults every user gets

@@ -12,7 +12,7 @@ import pytest
 from scipy import stats
 from scipy.special import log_ndtr
 
-from obturator.studies_sweep import Distribution, sample_inputs
+from obturator.sweeps import Distribution, sample_inputs
 
 N = 4000
 

@@ -13,8 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from obturator.errors import InputError
-from obturator.experiment import (
+from obturator.calibration import (
     PRINTED_SUMS_OMITTED_RUNS,
     THESIS_FIT_MIN_SPIN,
     THESIS_THETA0,
@@ -28,6 +27,7 @@ from obturator.experiment import (
     search_printed_sums_subsets,
     thesis_least_squares,
 )
+from obturator.errors import InputError
 
 CSV_PATH = files("obturator").joinpath("data", "bloomer1980_appendix_b.csv")
 

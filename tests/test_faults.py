@@ -83,7 +83,7 @@ def test_dask_scheduler_dying_mid_sweep_keeps_work_and_resumes(tmp_path: Path) -
     from distributed import LocalCluster
 
     from obturator.errors import ClusterError
-    from obturator.studies_sweep import SweepSpec, execute_sweep, run_sweep, sidecar_path
+    from obturator.sweeps import SweepSpec, execute_sweep, run_sweep, sidecar_path
 
     spec = SweepSpec("spin-rig", {"spin_rate": np.linspace(60.0, 120.0, 12)}, {"mu_s": 0.5473})
     store = tmp_path / "dask.nc"

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from obturator import SolverOptions, flight_case, opening_time
-from obturator.gasdynamics import pressure_force
+from obturator.flow import pressure_force
 
 MACH = [1.5, 2.0, 3.0, 4.0]
 

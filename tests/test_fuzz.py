@@ -177,7 +177,7 @@ CSV_LINES = st.lists(
 @settings(max_examples=40, deadline=None, derandomize=True)
 @given(lines=CSV_LINES)
 def test_calibration_csv_loader(tmp_path_factory, lines):
-    from obturator.experiment import load_spin_rig_csv
+    from obturator.calibration import load_spin_rig_csv
 
     path = tmp_path_factory.mktemp("csv") / "runs.csv"
     path.write_text("\n".join(lines), encoding="utf-8")
@@ -214,7 +214,7 @@ FLOATS = st.one_of(
 )
 def test_python_api_raises_only_input_error(factory, field, value):
     from obturator import SolverOptions, flight_case, rig_case
-    from obturator.geometry import BoredBall
+    from obturator.model.geometry import BoredBall
 
     calls = {
         "rig": lambda: rig_case(**{field: value}),

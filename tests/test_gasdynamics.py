@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad, solve_ivp
 
-from obturator import gasdynamics as gd
+from obturator import flow as gd
 from obturator.errors import InputError
 
 # NACA 1135 Table II (normal shock), gamma = 1.4:

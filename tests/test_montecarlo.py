@@ -11,15 +11,14 @@ import pytest
 import xarray as xr
 from scipy import stats
 
-import obturator.studies_sweep as ss
-from obturator.cases import rig_case
+import obturator.sweeps as ss
+import obturator.sweeps.points as points
 from obturator.cli import main
 from obturator.errors import InputError
+from obturator.model.cases import rig_case
 from obturator.solve import SolverOptions, opening_time
-from obturator.studies_sweep import (
-    STATUS_FAILED,
-    STATUS_NOT_OPENED,
-    STATUS_OPENED,
+from obturator.status import Status
+from obturator.sweeps import (
     Distribution,
     monte_carlo,
     monte_carlo_summary,
@@ -137,7 +136,7 @@ def test_independent_of_workers_and_chunking() -> None:
 
 def test_monte_carlo_store_resumes(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     store = tmp_path / "mc.nc"
-    original = ss._evaluate_point
+    original = points.evaluate_point
     calls: list[int] = []
 
     def exploding(spec: ss.SweepSpec, values: dict[str, float]) -> tuple[float, int]:
@@ -146,15 +145,15 @@ def test_monte_carlo_store_resumes(monkeypatch: pytest.MonkeyPatch, tmp_path: Pa
         calls.append(1)
         return original(spec, values)
 
-    monkeypatch.setattr(ss, "_evaluate_point", exploding)
+    monkeypatch.setattr(points, "evaluate_point", exploding)
     with pytest.raises(KeyboardInterrupt):
         run_mc(store=store, chunk_size=2)
     assert sidecar_path(store).exists()
     calls.clear()
-    monkeypatch.setattr(ss, "_evaluate_point", lambda s, v: (calls.append(1), original(s, v))[1])
+    monkeypatch.setattr(points, "evaluate_point", lambda s, v: (calls.append(1), original(s, v))[1])
     ds = run_mc(store=store, chunk_size=2)
     assert len(calls) == 6 and not sidecar_path(store).exists()
-    monkeypatch.setattr(ss, "_evaluate_point", original)
+    monkeypatch.setattr(points, "evaluate_point", original)
     xr.testing.assert_identical(ds, run_mc())
     with xr.open_dataset(store) as on_disk:
         np.testing.assert_array_equal(on_disk["t_cr"].values, ds["t_cr"].values)
@@ -181,7 +180,7 @@ def test_out_of_range_samples_are_refused() -> None:
 def test_order_statistic_intervals() -> None:
     n = 200
     t = np.arange(1, n + 1, dtype=float)  # x_(k) = k
-    s = np.full(n, STATUS_OPENED)
+    s = np.full(n, Status.OPENED)
     summ = summarize_monte_carlo(t, s, t_max=1e3, quantiles=[0.05, 0.5, 0.95])
     q05, q50, q95 = summ.quantiles
     assert q50.value == 100.0 and q05.value == 10.0 and q95.value == 190.0
@@ -209,7 +208,7 @@ def test_interval_coverage_by_simulation() -> None:
 
 def test_censored_and_failed_samples() -> None:
     t = np.array([0.3, 0.4, np.nan, np.nan, 0.35, np.nan])
-    s = np.array([1, 1, STATUS_NOT_OPENED, STATUS_NOT_OPENED, 1, STATUS_FAILED])
+    s = np.array([1, 1, Status.T_MAX, Status.T_MAX, 1, Status.FAILED])
     summ = summarize_monte_carlo(t, s, t_max=1.0, quantiles=[0.2, 0.9])
     assert summ.n_opened == 3 and summ.n_not_opened == 2 and summ.n_failed == 1
     assert summ.fraction_not_opened == pytest.approx(0.4)
@@ -277,7 +276,7 @@ def test_unconverged_openings_are_flagged_and_excluded():
     # 78 rad/s with a too-wide friction width (1e-5 omega_p): t_cr moves ~1 % against width/10
     # and another family, so every opening is a status-2 sample: kept in the dataset but
     # excluded from quantiles and mean (the Monte Carlo default checks convergence).
-    from obturator.studies_sweep import STATUS_UNCONVERGED, monte_carlo, monte_carlo_summary
+    from obturator.sweeps import monte_carlo, monte_carlo_summary
 
     ds = monte_carlo(
         "spin-rig",
@@ -289,7 +288,7 @@ def test_unconverged_openings_are_flagged_and_excluded():
         workers=1,
         progress=False,
     )
-    assert ds["status"].values.tolist() == [STATUS_UNCONVERGED] * 3
+    assert ds["status"].values.tolist() == [Status.UNCONVERGED] * 3
     assert np.all(np.isfinite(ds["t_cr"].values))
     summ = monte_carlo_summary(ds)
     assert summ.n_unconverged == 3 and summ.n_opened == 0 and math.isnan(summ.mean_s)

@@ -57,7 +57,9 @@ def test_block_transform_and_published_gamma():
     t, ti = radau_coefficients.TRANSFORM, radau_coefficients.TRANSFORM_INV
     gamma, alpha, beta = radau_coefficients.EIGENVALUES
     block = np.array([[gamma, 0, 0], [0, alpha, -beta], [0, beta, alpha]])
-    np.testing.assert_allclose(ti @ np.linalg.inv(radau_coefficients.RADAU_A) @ t, block, atol=1e-12)
+    np.testing.assert_allclose(
+        ti @ np.linalg.inv(radau_coefficients.RADAU_A) @ t, block, atol=1e-12
+    )
     # Hairer & Wanner IV.8: gamma0 = 1 / (3 + 3^(2/3) - 3^(1/3)) is 1 / gamma
     assert 1.0 / gamma == pytest.approx(1.0 / (3 + 3 ** (2 / 3) - 3 ** (1 / 3)), rel=1e-14)
     np.testing.assert_allclose(t[2], [1.0, 1.0, 0.0], atol=1e-14)

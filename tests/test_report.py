@@ -10,7 +10,8 @@ import pytest
 
 from obturator import calibration as cal
 from obturator.cli import main
-from obturator.report import Row, to_html, to_markdown
+from obturator.thesis.render import to_html, to_markdown
+from obturator.thesis.rows import Row
 
 FIGURES = [
     "fig09_couette.png",

@@ -1,4 +1,4 @@
-"""Figure studies (obturator.studies) against the thesis and against each other."""
+"""Figure studies (obturator.thesis) against the thesis and against each other."""
 
 from __future__ import annotations
 
@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 from scipy.special import ellipe
 
-from obturator import SolverOptions, opening_time, rig_case, studies
-from obturator.cases import TABLE1, table1_ball
-from obturator.experiment import printed_thesis_sums
+from obturator import SolverOptions, opening_time, rig_case
+from obturator import thesis as studies
+from obturator.calibration import printed_thesis_sums
+from obturator.model.cases import TABLE1, table1_ball
 
 PRINTED = printed_thesis_sums()
 

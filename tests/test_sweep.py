@@ -13,13 +13,15 @@ import xarray as xr
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-import obturator.studies_sweep as ss
-from obturator.cases import TABLE1, flight_case, rig_case, table1_ball
+import obturator.sweeps as ss
+import obturator.sweeps.points as points
+import obturator.sweeps.store as sweep_store
 from obturator.cli import main
 from obturator.errors import InputError
+from obturator.model.cases import TABLE1, flight_case, rig_case, table1_ball
 from obturator.solve import SolverOptions, opening_time
-from obturator.studies_sweep import (
-    STATUS_OPENED,
+from obturator.status import Status
+from obturator.sweeps import (
     SweepSpec,
     execute_sweep,
     parse_axis,
@@ -170,7 +172,7 @@ def test_sweep_equals_plain_loop() -> None:
     ds = run_sweep(spec, workers=1, progress=False)
     assert ds["t_cr"].dims == ("spin_rate", "mu_s")
     np.testing.assert_array_equal(ds["t_cr"].values, reference(spec))
-    assert np.all(ds["status"].values == STATUS_OPENED)
+    assert np.all(ds["status"].values == Status.OPENED)
     assert ds["spin_rate"].attrs["units"] == "rad/s"
     assert ds["t_cr"].attrs["units"] == "s"
     assert ds.attrs["torque_model"] == "thesis"
@@ -214,9 +216,9 @@ def test_solver_failure_is_recorded(monkeypatch: pytest.MonkeyPatch) -> None:
     def fail(case: object, options: object) -> float:
         raise RuntimeError("step limit")
 
-    monkeypatch.setattr(ss, "opening_time", fail)
+    monkeypatch.setattr(points, "opening_time", fail)
     ds = run_sweep(small_spec(axes={"spin_rate": [300.0, 400.0]}), workers=1, progress=False)
-    assert ds["status"].values.tolist() == [ss.STATUS_FAILED] * 2
+    assert ds["status"].values.tolist() == [Status.FAILED] * 2
     assert np.all(np.isnan(ds["t_cr"].values))
 
 
@@ -230,7 +232,7 @@ class Boom(Exception):
 def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 350.0, 400.0, 450.0, 500.0], "mu_s": [0.5, 0.6]})
     store = tmp_path / "s.nc"
-    original = ss._evaluate_point
+    original = points.evaluate_point
     calls: list[tuple[float, float]] = []
 
     def exploding(sp: SweepSpec, values: dict[str, float]) -> tuple[float, int]:
@@ -239,7 +241,7 @@ def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path:
         calls.append((values["spin_rate"], values["mu_s"]))
         return original(sp, values)
 
-    monkeypatch.setattr(ss, "_evaluate_point", exploding)
+    monkeypatch.setattr(points, "evaluate_point", exploding)
     with pytest.raises(Boom):
         run_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
     side = sidecar_path(store)
@@ -256,12 +258,12 @@ def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path:
         recomputed.append((values["spin_rate"], values["mu_s"]))
         return original(sp, values)
 
-    monkeypatch.setattr(ss, "_evaluate_point", counting)
+    monkeypatch.setattr(points, "evaluate_point", counting)
     run = execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
     assert run.n_resumed == 4 and run.n_computed == 6
     assert len(recomputed) == 6 and not done & set(recomputed)
     assert store.exists() and not side.exists()
-    monkeypatch.setattr(ss, "_evaluate_point", original)
+    monkeypatch.setattr(points, "evaluate_point", original)
     full = run_sweep(spec, workers=1, progress=False)
     xr.testing.assert_identical(full, run.dataset)
     with xr.open_dataset(store) as on_disk:
@@ -270,14 +272,14 @@ def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path:
 
 def _record(spec: SweepSpec, index, t_cr, status) -> dict:
     payload = {"index": list(index), "t_cr": list(t_cr), "status": list(status)}
-    return {**payload, "spec_hash": spec.digest(), "crc": ss._record_crc(payload)}
+    return {**payload, "spec_hash": spec.digest(), "crc": sweep_store._record_crc(payload)}
 
 
 def test_resume_ignores_cut_line_and_refuses_other_spec(tmp_path: Path) -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 400.0]}, fixed={"mu_s": 0.55})
     store = tmp_path / "r.nc"
     side = sidecar_path(store)
-    header = {"format": ss._SIDECAR_FORMAT, "spec_hash": spec.digest(), "n_points": 2}
+    header = {"format": sweep_store.SIDECAR_FORMAT, "spec_hash": spec.digest(), "n_points": 2}
     t0 = opening_time(spec.build_case({"spin_rate": 300.0}), FAST)
     side.write_text(
         json.dumps(header)
@@ -415,7 +417,7 @@ def test_convergence_check_marks_unconverged_points():
     # With a too-wide friction width (1e-5 omega_p) t_cr at 78 rad/s moves ~1 % against
     # width / 10 and another regularisation family (long near-stick phase) and must be
     # flagged; at 200 rad/s the same width is converged (changes ~1e-4).
-    from obturator.studies_sweep import STATUS_OPENED, STATUS_UNCONVERGED, SweepSpec, run_sweep
+    from obturator.sweeps import SweepSpec, run_sweep
 
     spec = SweepSpec(
         "spin-rig",
@@ -425,7 +427,7 @@ def test_convergence_check_marks_unconverged_points():
         check_convergence=True,
     )
     ds = run_sweep(spec, workers=1, progress=False)
-    assert ds["status"].values.tolist() == [STATUS_UNCONVERGED, STATUS_OPENED]
+    assert ds["status"].values.tolist() == [Status.UNCONVERGED, Status.OPENED]
     assert np.all(np.isfinite(ds["t_cr"].values))
     plain = SweepSpec(
         "spin-rig",
@@ -459,7 +461,7 @@ def test_damaged_records_are_discarded_and_recomputed(
         bad = _record(spec, [1], [t[1]], [300])
     elif damage == "foreign hash":
         bad["spec_hash"] = "0" * 64
-    header = {"format": ss._SIDECAR_FORMAT, "spec_hash": spec.digest(), "n_points": 2}
+    header = {"format": sweep_store.SIDECAR_FORMAT, "spec_hash": spec.digest(), "n_points": 2}
     body = (json.dumps(header) + "\n" + json.dumps(good) + "\n").encode()
     body += (
         b"\xff\xfe garbage\n" if damage == "invalid utf-8" else (json.dumps(bad) + "\n").encode()

@@ -7,7 +7,7 @@ import pytest
 
 from obturator.cli import main
 from obturator.errors import InputError
-from obturator.io import MAX_QUANTITY_TEXT, parse_quantity
+from obturator.units import MAX_QUANTITY_TEXT, parse_quantity
 
 
 @pytest.mark.parametrize(
@@ -63,7 +63,7 @@ def test_hostile_text_is_answered_fast():
 
 
 def test_pint_quantity_is_accepted():
-    from obturator.io import _registry
+    from obturator.units import _registry
 
     q = _registry().Quantity(30.0, "Hz")
     assert parse_quantity("spin_rate", q, "rad/s") == pytest.approx(60 * math.pi)

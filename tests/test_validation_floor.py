@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
+from obturator.calibration import load_thesis_data
 from obturator.errors import InputError
-from obturator.experiment import load_thesis_data
 from obturator.validation import cluster_runs, replicate_floor
 
 
