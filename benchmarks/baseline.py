@@ -22,10 +22,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from obturator.model.torques import NakabayashiViscous, ThesisFlightFriction, ThesisRigFriction
 from scipy.integrate import solve_ivp
 
 from obturator.model.case import Case
+from obturator.model.torques import NakabayashiViscous, ThesisFlightFriction, ThesisRigFriction
 
 __all__ = ["BaselineModel", "model_from_case", "initial_state", "solve_baseline"]
 

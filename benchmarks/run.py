@@ -42,11 +42,11 @@ from datetime import UTC, datetime
 from typing import Any
 
 import numpy as np
-from obturator.model.cases import flight_case, rig_case
 
 from benchmarks.baseline import initial_state as baseline_initial_state
 from benchmarks.baseline import model_from_case, solve_baseline
 from obturator.model.case import Case
+from obturator.model.cases import flight_case, rig_case
 from obturator.solve import SolverOptions, opening_time, simulate
 
 MU_S = 0.5473
@@ -71,8 +71,8 @@ def _best_of(fn: Callable[[], Any], repeat: int) -> tuple[float, float, Any]:
 def _package_rhs_ns(case: Case, n: int = 200_000) -> float:
     """Cost of one compiled right-hand-side evaluation, called from compiled code [ns]."""
     from numba import njit
-    from obturator.core.dynamics import rhs
 
+    from obturator.core.dynamics import rhs
     from obturator.model.case import initial_state
     from obturator.solve import pack_parameters
 

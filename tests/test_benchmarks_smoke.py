@@ -9,13 +9,12 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks/ lives at the root
 
-from obturator.core.dynamics import rhs  # noqa: E402
-
 from benchmarks.baseline import initial_state, model_from_case, solve_baseline  # noqa: E402
 from benchmarks.run import _agreement  # noqa: E402
+from obturator.core.dynamics import rhs  # noqa: E402
+from obturator.model.case import initial_state as package_initial_state  # noqa: E402
 from obturator.model.cases import flight_case, rig_case  # noqa: E402
 from obturator.solve import SolverOptions, opening_time, pack_parameters  # noqa: E402
-from obturator.model.case import initial_state as package_initial_state  # noqa: E402
 
 CASES = {
     "rig-200": rig_case(200.0, 0.5473),

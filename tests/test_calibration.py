@@ -15,7 +15,7 @@ from obturator.solve import SolverOptions
 
 PRINTED = printed_thesis_sums()
 # cheap bootstrap settings: the tests are about plumbing and recovery
-CHEAP = {"bootstrap": 30, "table_resolution": 1.5, "table_max_points": 12, "table_verify": 3}
+CHEAP = {"bootstrap": 30, "table": cal.TableSettings(resolution=1.5, max_points=12, verify=3)}
 
 
 def _synthetic(mu_s: float, spins, *, theta0_deg: float = 87.25, noise: float = 0.0, seed=1):

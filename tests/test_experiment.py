@@ -29,7 +29,7 @@ from obturator.calibration import (
 )
 from obturator.errors import InputError
 
-CSV_PATH = files("obturator").joinpath("data", "bloomer1980_appendix_b.csv")
+CSV_PATH = files("obturator.reference").joinpath("bloomer1980_appendix_b.csv")
 
 
 def _raw_rows() -> list[dict[str, str]]:

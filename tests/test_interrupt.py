@@ -19,7 +19,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-DATA = str(Path(__file__).resolve().parents[1] / "src/obturator/data/bloomer1980_appendix_b.csv")
+DATA = str(
+    Path(__file__).resolve().parents[1] / "src/obturator/reference/bloomer1980_appendix_b.csv"
+)
 
 
 def _commands(tmp: Path) -> dict[str, list[str]]:

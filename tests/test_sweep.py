@@ -13,7 +13,8 @@ import xarray as xr
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-import obturator.sweeps as ss
+import obturator.sweeps.executors as executors
+import obturator.sweeps.export as export
 import obturator.sweeps.points as points
 import obturator.sweeps.store as sweep_store
 from obturator.cli import main
@@ -198,7 +199,7 @@ def test_spawned_pool_equals_in_process(monkeypatch: pytest.MonkeyPatch) -> None
 
     spec = small_spec(axes={"spin_rate": [300.0, 500.0], "mu_s": [0.55]})
     one = run_sweep(spec, workers=1, progress=False)
-    monkeypatch.setattr(ss, "_mp_context", lambda: multiprocessing.get_context("spawn"))
+    monkeypatch.setattr(executors, "_mp_context", lambda: multiprocessing.get_context("spawn"))
     xr.testing.assert_identical(one, run_sweep(spec, workers=2, chunk_size=1, progress=False))
 
 
@@ -506,16 +507,16 @@ def test_full_disk_is_one_line_and_loses_nothing(
 
     spec = small_spec(axes={"spin_rate": [300.0, 400.0, 500.0]}, fixed={"mu_s": 0.55})
     store, csv = tmp_path / "f.nc", tmp_path / "f.csv"
-    original = getattr(ss, victim)
+    original = getattr(export, victim)
 
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr(ss, victim, full)
+    monkeypatch.setattr(export, victim, full)
     with pytest.raises(InputError, match="No space left on device.*finished points are kept"):
         execute_sweep(spec, workers=1, store=store, csv=csv, progress=False)
     assert sidecar_path(store).exists()
-    monkeypatch.setattr(ss, victim, original)
+    monkeypatch.setattr(export, victim, original)
     run = execute_sweep(spec, workers=1, store=store, csv=csv, progress=False)
     assert run.n_resumed == 3 and run.n_computed == 0
     assert store.exists() and csv.exists() and not sidecar_path(store).exists()

@@ -3,7 +3,9 @@
 A reproduction and extension of J. W. Bloomer II, *Ball Obturation of a Spin
 Stabilized Tubular Projectile*, M.S. thesis, Naval Postgraduate School, 1980.
 The numeric core takes plain SI floats; units are converted at the edges
-(:mod:`obturator.io`, the command line).
+(:mod:`obturator.units`, :mod:`obturator.io`, the command line). The
+package's layout, from configuration to report, is described in
+``docs/architecture.md``; this namespace is its curated public API.
 
 Quick use::
 
@@ -20,28 +22,56 @@ from importlib.metadata import PackageNotFoundError, version
 # so ``import obturator`` and the command line start without loading numba,
 # scipy, xarray or pint until a computation needs them.
 _LAZY = {
-    "TABLE1": "reference",
-    "couette_case": "model.cases",
-    "flight_case": "model.cases",
-    "rig_case": "model.cases",
-    "table1_ball": "model.cases",
+    # errors and outcomes
     "InputError": "errors",
     "SolverError": "errors",
+    "ClusterError": "errors",
+    "Status": "status",
+    # the model: ball, torques, cases
     "BoredBall": "model.geometry",
     "Case": "model.case",
-    "NutationResult": "result",
-    "SolverOptions": "solve",
     "initial_state": "model.case",
-    "opening_time": "solve",
-    "simulate": "solve",
-    "convergence_check": "solve",
-    "CouetteViscous": "model.torques",
-    "CoulombContactFriction": "model.torques",
-    "NakabayashiViscous": "model.torques",
-    "SlipSpeedLaw": "model.torques",
-    "ThesisFlightFriction": "model.torques",
-    "ThesisRigFriction": "model.torques",
     "TorqueModel": "model.torques",
+    "CouetteViscous": "model.torques",
+    "NakabayashiViscous": "model.torques",
+    "ThesisRigFriction": "model.torques",
+    "ThesisFlightFriction": "model.torques",
+    "CoulombContactFriction": "model.torques",
+    "SlipSpeedLaw": "model.torques",
+    "TABLE1": "reference",
+    "table1_ball": "model.cases",
+    "rig_case": "model.cases",
+    "flight_case": "model.cases",
+    "couette_case": "model.cases",
+    "case_from_settings": "model.cases",
+    # solving
+    "SolverOptions": "solve",
+    "simulate": "solve",
+    "opening_time": "solve",
+    "convergence_check": "solve",
+    "ConvergenceCheck": "solve",
+    "NutationResult": "result",
+    "rig_approximation": "approx",
+    "ApproximateSolution": "approx",
+    # flow
+    "normal_shock": "flow",
+    "standard_atmosphere": "flow",
+    # calibration
+    "SpinRigData": "calibration",
+    "load_thesis_data": "calibration",
+    "load_spin_rig_csv": "calibration",
+    "fit_exact": "calibration",
+    "ExactFit": "calibration",
+    "FitParameter": "calibration",
+    # studies and the thesis report
+    "SweepSpec": "sweeps",
+    "run_sweep": "sweeps",
+    "monte_carlo": "sweeps",
+    "Distribution": "sweeps",
+    "reproduce": "thesis",
+    # input at the edge
+    "parse_quantity": "units",
+    "load_config": "io",
 }
 
 
@@ -63,28 +93,4 @@ try:
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0+unknown"
 
-__all__ = [
-    "SlipSpeedLaw",
-    "SolverError",
-    "convergence_check",
-    "TABLE1",
-    "BoredBall",
-    "Case",
-    "CouetteViscous",
-    "CoulombContactFriction",
-    "InputError",
-    "NakabayashiViscous",
-    "NutationResult",
-    "SolverOptions",
-    "ThesisFlightFriction",
-    "ThesisRigFriction",
-    "TorqueModel",
-    "__version__",
-    "couette_case",
-    "flight_case",
-    "initial_state",
-    "opening_time",
-    "rig_case",
-    "simulate",
-    "table1_ball",
-]
+__all__ = sorted([*_LAZY, "__version__"])

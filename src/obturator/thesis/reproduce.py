@@ -86,9 +86,7 @@ def _settings(quick: bool) -> dict[str, Any]:
             },
             "fit": {
                 "bootstrap": 40,
-                "table_resolution": 1.5,
-                "table_max_points": 16,
-                "table_verify": 3,
+                "table": cal.TableSettings(resolution=1.5, max_points=16, verify=3),
             },
         }
     return {
