@@ -301,13 +301,15 @@ def _geometry_study(
     make_case,
     n_points: int,
     options: SolverOptions | None,
+    attrs: dict[str, Any],
 ) -> xr.Dataset:
+    """Rig histories over one geometry parameter `dim`; `attrs` label the Dataset."""
     cases = [make_case(v) for v in values]
     tcr = [opening_time(c, options) for c in cases]
     finite = [x for x in tcr if math.isfinite(x)]
     t_end = 1.3 * max(finite) if finite else STICK_T_END
     runs = [_history(c, t_end, n_points, options) for c in cases]
-    return xr.Dataset(
+    ds = xr.Dataset(
         {
             "theta": (
                 (dim, "t"),
@@ -327,6 +329,9 @@ def _geometry_study(
         },
         coords={dim: (dim, np.asarray(values, dtype=float), {"units": unit}), "t": runs[0][0]},
     )
+    ds["t"].attrs["units"] = "s"
+    ds.attrs.update(attrs, **solver_attrs(options))
+    return ds
 
 
 def density_study(
@@ -359,23 +364,15 @@ def density_study(
         ``theta(density, t)`` [deg], ``t_cr(density)`` [s] and the mass
         properties per density.
     """
-    ds = _geometry_study(
+    return _geometry_study(
         "density",
         densities,
         "kg/m^3",
         lambda rho: rig_case(spin_rate, mu_s, ball=table1_ball(density=rho), weight=None),
         n_points,
         options,
+        {"figures": "16", "title": "Effect of ball density", "spin_rate": spin_rate, "mu_s": mu_s},
     )
-    ds["t"].attrs["units"] = "s"
-    ds.attrs.update(
-        figures="16",
-        title="Effect of ball density",
-        spin_rate=spin_rate,
-        mu_s=mu_s,
-        **solver_attrs(options),
-    )
-    return ds
 
 
 def hole_radius_study(
@@ -408,23 +405,15 @@ def hole_radius_study(
         ``theta(hole_radius, t)`` [deg], ``t_cr(hole_radius)`` [s], mass
         properties and ``theta_cr(hole_radius)`` [deg].
     """
-    ds = _geometry_study(
+    return _geometry_study(
         "hole_radius",
         hole_radii,
         "m",
         lambda r: rig_case(spin_rate, mu_s, ball=table1_ball(hole_radius=r), weight=None),
         n_points,
         options,
+        {"figures": "17", "title": "Effect of hole radius", "spin_rate": spin_rate, "mu_s": mu_s},
     )
-    ds["t"].attrs["units"] = "s"
-    ds.attrs.update(
-        figures="17",
-        title="Effect of hole radius",
-        spin_rate=spin_rate,
-        mu_s=mu_s,
-        **solver_attrs(options),
-    )
-    return ds
 
 
 # ---------------------------------------------------------------------------

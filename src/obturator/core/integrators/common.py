@@ -5,7 +5,7 @@ is passed around as a function object (that would defeat numba's on-disk
 cache). The integrators own their step formulas, dense output and step-size
 control; what they have in common lives here:
 
-* output: :func:`output_buffers`, :func:`record_row`;
+* output: :func:`start`, :func:`output_buffers`, :func:`record_row`;
 * the opening event: :func:`crossed` (downward crossing of theta_cr) and the
   Illinois false-position bracket (:func:`illinois_trial`,
   :func:`illinois_update`, :func:`bracket_closed`), driven by each method's own
@@ -30,6 +30,7 @@ from ..dynamics import rhs
 from ..layout import N_STATE, P_FORM, P_WIDTH
 
 __all__ = [
+    "start",
     "output_buffers",
     "append_row",
     "record_row",
@@ -56,6 +57,15 @@ def output_buffers(t_eval, record, y0):
         ys[0, :] = y0
         n_out = 1
     return ts, ys, n_out
+
+
+@njit(cache=True)
+def start(problem, controls):
+    """A run at t = 0: a copy of the initial state, the output buffers (holding it when
+    every step is recorded) and the event state, NaN until an event is found."""
+    y = problem.y0.copy()
+    ts, ys, n_out = output_buffers(controls.t_eval, controls.record, y)
+    return y, ts, ys, n_out, np.full(y.shape[0], math.nan)
 
 
 @njit(cache=True)

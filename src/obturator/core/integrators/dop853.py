@@ -48,8 +48,8 @@ from .common import (
     crossed,
     illinois_trial,
     illinois_update,
-    output_buffers,
     record_row,
+    start,
     underflow,
 )
 from .contract import RawSolution, Status
@@ -114,11 +114,11 @@ def integrate(problem, controls):
 
     Status ``STIFF`` when the problem looks stiff; njev is always 0.
     """
-    y0, p, scale = problem
+    p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol = controls
     n = N_STATE
     theta_cr = p[P_THETA_CR]
-    y = y0.copy()
+    y, ts, ys, n_out, y_event = start(problem, controls)
     t = 0.0
     k = np.empty((12, n))
     f1 = np.empty(n)  # f(t + h, ynew), the first stage of the next step
@@ -127,14 +127,12 @@ def integrate(problem, controls):
     work = np.empty(n)
     n_eval = t_eval.shape[0]
     use_eval = n_eval > 0
-    ts, ys, n_out = output_buffers(t_eval, record, y)
     i_eval = 0
     nfev = 0
     n_steps = 0
     n_rej = 0
     status = Status.T_MAX
     t_event = math.nan
-    y_event = np.full(n, math.nan)
     # spin period of the release state: the largest component scale is omega_p0
     w0 = 0.0
     for i in range(n):

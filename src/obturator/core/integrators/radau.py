@@ -61,9 +61,9 @@ from .common import (
     illinois_trial,
     illinois_update,
     jacobian,
-    output_buffers,
     record_row,
     rms_norm,
+    start,
     underflow,
 )
 from .contract import RawSolution, Status
@@ -288,11 +288,11 @@ def _restep(t, y, h, s, p, scal, jac, zacc, stage, lu, scratch, fnewt, ytry) -> 
 @njit(cache=True, nogil=True, fastmath={"contract"})
 def integrate(problem, controls):
     """Integrate from t = 0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
-    y0, p, scale = problem
+    p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol = controls
     n = N_STATE
     theta_cr = p[P_THETA_CR]
-    y = y0.copy()
+    y, ts, ys, n_out, y_event = start(problem, controls)
     t = 0.0
     f0 = np.empty(n)
     ynew = np.empty(n)
@@ -322,7 +322,6 @@ def integrate(problem, controls):
     stage_ev = (zev, wev, f)  # the event re-steps keep the accepted step's z and w
     n_eval = t_eval.shape[0]
     use_eval = n_eval > 0
-    ts, ys, n_out = output_buffers(t_eval, record, y)
     i_eval = 0
     nfev = 0
     njev = 0
@@ -330,7 +329,6 @@ def integrate(problem, controls):
     n_rej = 0
     status = Status.T_MAX
     t_event = math.nan
-    y_event = np.full(n, math.nan)
     # RADAU5's tolerance transformation: the embedded estimate is of order 3 while
     # the solution is of order 5, so the estimate is compared with a looser
     # tolerance; this keeps the achieved accuracy roughly proportional to rtol.

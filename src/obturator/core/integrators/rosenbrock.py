@@ -26,9 +26,9 @@ from .common import (
     illinois_trial,
     illinois_update,
     jacobian,
-    output_buffers,
     record_row,
     rms_norm,
+    start,
     underflow,
 )
 from .contract import RawSolution, Status
@@ -74,11 +74,11 @@ def _step(t, y, h, f0, jac, p, lu, piv, k1, k2, k3, f1, f2, ynew, work) -> bool:
 @njit(cache=True, nogil=True)  # nogil: the CLI watcher thread can stop a long run
 def integrate(problem, controls):
     """Integrate from t = 0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
-    y0, p, scale = problem
+    p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol = controls
     n = N_STATE
     theta_cr = p[P_THETA_CR]
-    y = y0.copy()
+    y, ts, ys, n_out, y_event = start(problem, controls)
     t = 0.0
     f0 = np.empty(n)
     f1 = np.empty(n)
@@ -95,7 +95,6 @@ def integrate(problem, controls):
     piv = np.empty(n, dtype=np.int64)
     n_eval = t_eval.shape[0]
     use_eval = n_eval > 0
-    ts, ys, n_out = output_buffers(t_eval, record, y)
     i_eval = 0
     nfev = 0
     njev = 0
@@ -103,7 +102,6 @@ def integrate(problem, controls):
     n_rej = 0
     status = Status.T_MAX
     t_event = math.nan
-    y_event = np.full(n, math.nan)
     rhs(t, y, p, f0)
     nfev += 1
     h = min(h0, h_max, t_max)
