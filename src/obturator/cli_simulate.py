@@ -19,6 +19,7 @@ from .solve import (
     convergence_check,
     simulate,
 )
+from .torques import SlipSpeedLaw
 
 __all__ = ["register", "case_from_settings", "options_from_settings"]
 
@@ -67,6 +68,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "(default: Hertz radius; 0: point contact)",
     )
     p.add_argument("--formulation", choices=("quaternion", "euler"), default=None)
+    p.add_argument(
+        "--theta-dot0", metavar="RAD_S", help="release transient theta_dot_0 [rad/s] (rig)"
+    )
+    p.add_argument("--release-phase", metavar="RAD", help="release azimuth psi_0 [rad] (rig)")
+    p.add_argument(
+        "--speed-law",
+        choices=("constant", "weakening", "strengthening"),
+        default=None,
+        help="slip-speed dependence of mu (rig; default constant, the thesis's)",
+    )
+    p.add_argument("--speed-ratio", metavar="R", help="mu(v) ratio r in (0, 1] (with --speed-law)")
+    p.add_argument("--slip-speed", metavar="M_S", help="mu(v) speed v_s [m/s] (with --speed-law)")
     p.add_argument("--t-max", metavar="S", help="give up after this time [s]")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument(
@@ -92,12 +105,16 @@ def _merge(args: argparse.Namespace) -> dict[str, Any]:
         "friction_width": "",
         "patch_radius": "m",
         "t_max": "s",
+        "theta_dot0": "rad/s",
+        "release_phase": "rad",
+        "speed_ratio": "",
+        "slip_speed": "m/s",
     }
     for key, unit in units.items():
         value = getattr(args, key)
         if value is not None:
             s[key] = parse_quantity(key, value, unit)
-    for key in ("case", "torque_model", "spin_mode", "formulation", "friction_family"):
+    for key in ("case", "torque_model", "spin_mode", "formulation", "friction_family", "speed_law"):
         if getattr(args, key) is not None:
             s[key] = getattr(args, key)
     return s
@@ -135,7 +152,16 @@ def case_from_settings(s: dict[str, Any]) -> Case:
         raise InputError("altitude", "give either p1 or altitude (which sets P1), not both")
     if "n_contacts" in s and common["torque_model"] != "coulomb":
         raise InputError("n_contacts", "applies to torque_model 'coulomb' only")
+    rig_only = ("theta_dot0", "release_phase", "speed_law", "speed_ratio", "slip_speed")
     if name == "spin-rig":
+        if any(k in s for k in ("speed_ratio", "slip_speed")) and "speed_law" not in s:
+            raise InputError("speed_law", "give the law (weakening or strengthening) too")
+        if s.get("speed_law", "constant") != "constant":
+            common["speed_law"] = SlipSpeedLaw(
+                s["speed_law"], s.get("speed_ratio", 0.5), s.get("slip_speed", 0.05)
+            )
+        common["release_rate"] = (s.get("theta_dot0", 0.0), 0.0, 0.0)
+        common["release_phase"] = s.get("release_phase", 0.0)
         flight_keys = ("mach", "altitude_m", "p1", "n_contacts", "bore_radius")
         extra = sorted(k for k in flight_keys if k in s)
         if extra:
@@ -147,6 +173,9 @@ def case_from_settings(s: dict[str, Any]) -> Case:
         return rig_case(**common)
     if "weight" in s:
         raise InputError("weight", "applies to --case spin-rig only")
+    extra = sorted(k for k in rig_only if k in s)
+    if extra:
+        raise InputError(extra[0], "applies to --case spin-rig only")
     for key in ("mach", "n_contacts", "bore_radius"):
         if key in s:
             common[key] = s[key]

@@ -52,6 +52,11 @@ the Coulomb contact model a ``[contact]`` section::
 
     [contact]
     patch_radius = "0.1 mm"      # m (default: the Hertz radius)
+
+Spin-rig mechanisms beyond the thesis (see ``obturator validate``) go in
+``[release]`` (``theta_dot = "0.5 rad/s"``, ``phase = "1 rad"``) and
+``[friction]`` (``speed_law = "strengthening"``, ``speed_ratio = 0.3``,
+``slip_speed = "0.12 m/s"``).
 """
 
 from __future__ import annotations
@@ -95,6 +100,12 @@ CONFIG_SCHEMA: dict[str, dict[str, tuple[str, str | None]]] = {
     "gap": {"width": ("gap", "m"), "viscosity": ("viscosity", "Pa*s")},
     "rig": {"weight": ("weight", "N")},
     "contact": {"patch_radius": ("patch_radius", "m")},
+    "release": {"theta_dot": ("theta_dot0", "rad/s"), "phase": ("release_phase", "rad")},
+    "friction": {
+        "speed_law": ("speed_law", None),
+        "speed_ratio": ("speed_ratio", ""),
+        "slip_speed": ("slip_speed", "m/s"),
+    },
     "flight": {
         "mach": ("mach", ""),
         "p1": ("p1", "Pa"),
