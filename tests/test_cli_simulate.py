@@ -186,3 +186,19 @@ def test_documented_config_examples_run_verbatim(tmp_path, capsys):
         assert main(["simulate", "--config", str(path), "--json", "--no-check"]) == 0, k
         out = json.loads(capsys.readouterr().out)
         assert out["status"] == 1 and out["t_cr_s"] > 0
+
+
+def test_mechanism_flags_reach_the_case(capsys):
+    # the validation study's mechanisms as simulate options (spin rig only)
+    args = ["simulate", "--spin-rate", "100", "--mu-s", "0.75", "--no-check", "--json"]
+    mech = ["--speed-law", "strengthening", "--speed-ratio", "0.3", "--slip-speed", "0.12 m/s"]
+    mech += ["--theta-dot0", "0.2", "--release-phase", "1 rad"]
+    assert main([*args, *mech]) == 0
+    inputs = json.loads(capsys.readouterr().out)["inputs"]
+    assert inputs["slip_speed_law"] == {"kind": "strengthening", "ratio": 0.3, "speed_m_s": 0.12}
+    assert inputs["release_rate_rad_s"] == [0.2, 0.0, 0.0] and inputs["release_phase_rad"] == 1.0
+    assert main(["simulate", "--case", "flight", "--speed-law", "weakening", "--no-check"]) == 2
+    assert main(["simulate", "--speed-ratio", "0.3", "--no-check"]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("obturator: error: speed_law: applies to --case spin-rig only")
+    assert err[1].startswith("obturator: error: speed_law: give the law")

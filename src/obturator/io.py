@@ -52,6 +52,11 @@ the Coulomb contact model a ``[contact]`` section::
 
     [contact]
     patch_radius = "0.1 mm"      # m (default: the Hertz radius)
+
+Spin-rig mechanisms beyond the thesis (see ``obturator validate``) go in
+``[release]`` (``theta_dot = "0.5 rad/s"``, ``phase = "1 rad"``) and
+``[friction]`` (``speed_law = "strengthening"``, ``speed_ratio = 0.3``,
+``slip_speed = "0.12 m/s"``).
 """
 
 from __future__ import annotations

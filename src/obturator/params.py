@@ -187,18 +187,32 @@ PARAMS: dict[str, Param] = {
         # transient theta_dot_0 (a plunger/jet kick of a few rad/s at most), slip-speed
         # law of mu (ratio r, speed v_s around the rig's slip speeds 0-1.6 m/s),
         # release phase psi_0, Coulomb contact patch radius (around the 0.28 mm Hertz value)
-        Param("theta_dot0", "rad/s", "release rate theta_dot_0", fit=FitDefaults(0.0, (-3.0, 3.0))),
-        Param("speed_ratio", "1", "slip-speed law ratio r", fit=FitDefaults(0.5, (0.05, 1.0))),
+        Param(
+            "theta_dot0",
+            "rad/s",
+            "release rate theta_dot_0",
+            "release.theta_dot",
+            fit=FitDefaults(0.0, (-3.0, 3.0)),
+        ),
+        Param(
+            "speed_ratio",
+            "1",
+            "slip-speed law ratio r",
+            "friction.speed_ratio",
+            fit=FitDefaults(0.5, (0.05, 1.0)),
+        ),
         Param(
             "slip_speed",
             "m/s",
             "slip-speed law reference speed v_s",
+            "friction.slip_speed",
             fit=FitDefaults(0.05, (0.002, 2.0), 0.1),
         ),
         Param(
             "release_phase",
             "rad",
             "release phase psi_0",
+            "release.phase",
             fit=FitDefaults(0.0, (0.0, 2.0 * math.pi)),
         ),
     )
@@ -215,12 +229,13 @@ _WORD_KEYS = {
     "torque_model": "torque_model",
     "spin_mode": "spin_mode",
     "flight.n_contacts": "n_contacts",
+    "friction.speed_law": "speed_law",
     "solver.friction_family": "friction_family",
     "solver.method": "method",
     "solver.formulation": "formulation",
 }
 #: Sections of a config file, in the order of the documentation.
-CONFIG_SECTIONS = ("", "ball", "gap", "rig", "contact", "flight", "solver")
+CONFIG_SECTIONS = ("", "ball", "gap", "rig", "contact", "release", "friction", "flight", "solver")
 _CONFIG_ORDER = (
     "case",
     "spin_rate",
@@ -236,6 +251,11 @@ _CONFIG_ORDER = (
     "gap.viscosity",
     "rig.weight",
     "contact.patch_radius",
+    "release.theta_dot",
+    "release.phase",
+    "friction.speed_law",
+    "friction.speed_ratio",
+    "friction.slip_speed",
     "flight.mach",
     "flight.p1",
     "flight.altitude",

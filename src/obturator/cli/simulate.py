@@ -13,7 +13,14 @@ from ..params import PARAMS
 from ..result import NutationResult
 from ..solve import ConvergenceCheck, SolverOptions, convergence_check, simulate
 from ..units import parse_quantity
-from ..vocab import CASE_NAMES, FORMULATIONS, FRICTION_FAMILIES, SPIN_MODES, TORQUE_MODELS
+from ..vocab import (
+    CASE_NAMES,
+    FORMULATIONS,
+    FRICTION_FAMILIES,
+    SPEED_LAWS,
+    SPIN_MODES,
+    TORQUE_MODELS,
+)
 from . import _json
 from ._args import solver_options
 
@@ -30,6 +37,10 @@ _QUANTITY_FLAGS = (
     "friction_width",
     "patch_radius",
     "t_max",
+    "theta_dot0",
+    "release_phase",
+    "speed_ratio",
+    "slip_speed",
 )
 
 
@@ -75,6 +86,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "(default: Hertz radius; 0: point contact)",
     )
     p.add_argument("--formulation", choices=FORMULATIONS, default=None)
+    p.add_argument(
+        "--theta-dot0", metavar="RAD_S", help="release transient theta_dot_0 [rad/s] (rig)"
+    )
+    p.add_argument("--release-phase", metavar="RAD", help="release azimuth psi_0 [rad] (rig)")
+    p.add_argument(
+        "--speed-law",
+        choices=SPEED_LAWS,
+        default=None,
+        help="slip-speed dependence of mu (rig; default constant, the thesis's)",
+    )
+    p.add_argument("--speed-ratio", metavar="R", help="mu(v) ratio r in (0, 1] (with --speed-law)")
+    p.add_argument("--slip-speed", metavar="M_S", help="mu(v) speed v_s [m/s] (with --speed-law)")
     p.add_argument("--t-max", metavar="S", help="give up after this time [s]")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument(
@@ -94,7 +117,7 @@ def _merge(args: argparse.Namespace) -> dict[str, Any]:
         value = getattr(args, key)
         if value is not None:
             s[key] = parse_quantity(key, value, PARAMS[key].pint_unit)
-    for key in ("case", "torque_model", "spin_mode", "formulation", "friction_family"):
+    for key in ("case", "torque_model", "spin_mode", "formulation", "friction_family", "speed_law"):
         if getattr(args, key) is not None:
             s[key] = getattr(args, key)
     return s

@@ -300,7 +300,16 @@ def case_from_settings(s: Mapping[str, Any]) -> Case:
         raise InputError("altitude", "give either p1 or altitude (which sets P1), not both")
     if "n_contacts" in s and common["torque_model"] != "coulomb":
         raise InputError("n_contacts", "applies to torque_model 'coulomb' only")
+    rig_only = ("theta_dot0", "release_phase", "speed_law", "speed_ratio", "slip_speed")
     if name == "spin-rig":
+        if any(k in s for k in ("speed_ratio", "slip_speed")) and "speed_law" not in s:
+            raise InputError("speed_law", "give the law (weakening or strengthening) too")
+        if s.get("speed_law", "constant") != "constant":
+            common["speed_law"] = SlipSpeedLaw(
+                s["speed_law"], s.get("speed_ratio", 0.5), s.get("slip_speed", 0.05)
+            )
+        common["release_rate"] = (s.get("theta_dot0", 0.0), 0.0, 0.0)
+        common["release_phase"] = s.get("release_phase", 0.0)
         flight_keys = ("mach", "altitude_m", "p1", "n_contacts", "bore_radius")
         extra = sorted(k for k in flight_keys if k in s)
         if extra:
@@ -312,6 +321,9 @@ def case_from_settings(s: Mapping[str, Any]) -> Case:
         return rig_case(**common)
     if "weight" in s:
         raise InputError("weight", "applies to --case spin-rig only")
+    extra = sorted(k for k in rig_only if k in s)
+    if extra:
+        raise InputError(extra[0], "applies to --case spin-rig only")
     for key in ("mach", "n_contacts", "bore_radius"):
         if key in s:
             common[key] = s[key]
