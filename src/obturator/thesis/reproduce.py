@@ -22,7 +22,7 @@ import numpy as np
 
 from .. import calibration as cal
 from ..model.cases import rig_case
-from ..reference import THESIS_MU_S
+from ..reference import TABLE1, THESIS_MU_S
 from ..solve import SolverOptions, opening_time
 from .explorer import explorer_data
 from .histories import (
@@ -81,7 +81,7 @@ def _settings(quick: bool) -> dict[str, Any]:
             "min_grid": 20,
             "explorer": {
                 "mu_s_values": (0.35, 0.5473),
-                "theta0_deg_values": (87.25,),
+                "theta0_deg_values": (TABLE1["theta0_deg"],),
                 "spin_rates": np.geomspace(80.0, 700.0, 8),
             },
             "fit": {
@@ -134,7 +134,9 @@ def _tasks(quick: bool, options: SolverOptions | None) -> list[tuple[str, str, C
             "approx_theta0",
             "Figs. 40-41 (Eq. 92)",
             lambda: opening_time_vs_spin(
-                s["spins"], mu_s_values=(0.35,), theta0_deg_values=(75.0, 80.0, 85.0, 87.25)
+                s["spins"],
+                mu_s_values=(0.35,),
+                theta0_deg_values=(75.0, 80.0, 85.0, TABLE1["theta0_deg"]),
             ),
         ),
         (
