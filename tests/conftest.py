@@ -37,6 +37,7 @@ def raw_solve(
     t_eval=None,
     record: bool = False,
     y0=None,
+    t0: float = 0.0,
     max_steps: int | None = None,
     rtol: float | None = None,
     atol: float | None = None,
@@ -44,12 +45,14 @@ def raw_solve(
     """Call one compiled integrator directly (what solve.simulate does); return (raw, p).
 
     `method` defaults to ``options.method`` and may also be ``"dop853"``; keyword
-    overrides replace the options' controls.
+    overrides replace the options' controls. With `t0` > 0 the run continues a run
+    from release (state `y0` at `t0`, parameters packed from the release state).
     """
+    release = case.initial_state(options.formulation)
     if y0 is None:
-        y0 = case.initial_state(options.formulation)
+        y0 = release
     y0 = np.asarray(y0, dtype=float)
-    p = pack_parameters(case, options, y0)
+    p = pack_parameters(case, options, release if t0 > 0.0 else y0)
     period = 2 * math.pi / case.spin_rate
     controls = Controls(
         t_max=float(case.t_max if t_max is None else t_max),
@@ -63,7 +66,7 @@ def raw_solve(
         terminal=terminal,
         event_tol=options.event_tol,
     )
-    problem = Problem(y0, p, error_scale(case, options.formulation))
+    problem = Problem(y0, p, error_scale(case, options.formulation), t0)
     return integrate(method or options.method, problem, controls), p
 
 

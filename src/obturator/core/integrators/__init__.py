@@ -11,14 +11,17 @@ what they share. Methods:
 * :mod:`.rosenbrock`: Shampine's L-stable Rosenbrock pair (ode23s).
 
 :func:`integrate` dispatches on the method name of :data:`obturator.vocab.METHODS`;
-``"auto"`` is DOP853 with the whole run repeated by Radau IIA when DOP853
-reports stiffness (nfev then counts both runs). The method modules (and numba)
-are imported on first use.
+``"auto"`` is DOP853 handing the run over to Radau IIA in flight when DOP853
+reports stiffness: Radau continues from DOP853's last accepted state and time
+(counters add up; outputs join). The method modules (and numba) are imported on
+first use.
 """
 
 from __future__ import annotations
 
 import importlib
+
+import numpy as np
 
 from .contract import Controls, Problem, RawSolution, Status
 
@@ -40,5 +43,36 @@ def integrate(method: str, problem: Problem, controls: Controls) -> RawSolution:
     out = method_module("dop853").integrate(problem, controls)
     if out.status != Status.STIFF:
         return out
-    rad = method_module("radau").integrate(problem, controls)
-    return rad._replace(nfev=rad.nfev + out.nfev)
+    return _hand_over(out, problem, controls)
+
+
+def _hand_over(dop: RawSolution, problem: Problem, controls: Controls) -> RawSolution:
+    """Continue a run DOP853 stopped as stiff with Radau IIA from its last accepted state.
+
+    Restarting from t = 0 (as before) repeated the whole non-stiff stretch with the
+    costlier implicit method; the hand-over state is an accepted DOP853 step, as
+    accurate as any other. A non-finite state (DOP853 diverged) restarts from t0.
+    """
+    radau = method_module("radau").integrate
+    if not (np.all(np.isfinite(dop.y_end)) and dop.t_end > problem.t0):
+        rad = radau(problem, controls)
+        return rad._replace(nfev=rad.nfev + dop.nfev, n_rejected=rad.n_rejected + dop.n_rejected)
+    t_eval = controls.t_eval[controls.t_eval > dop.t_end]
+    rest = controls._replace(t_eval=t_eval, max_steps=max(controls.max_steps - dop.n_steps, 1))
+    rad = radau(problem._replace(y0=dop.y_end, t0=dop.t_end), rest)
+    # recorded rows: DOP853's end state is Radau's first row
+    if controls.record and controls.t_eval.shape[0] == 0:
+        t = np.concatenate((dop.t, rad.t[1:]))
+        y = np.concatenate((dop.y, rad.y[1:]))
+    else:
+        t = np.concatenate((dop.t, rad.t))
+        y = np.concatenate((dop.y, rad.y))
+    if dop.t_event == dop.t_event:  # found before the hand-over (non-terminal runs)
+        rad = rad._replace(t_event=dop.t_event, y_event=dop.y_event)
+    return rad._replace(
+        t=t,
+        y=y,
+        nfev=rad.nfev + dop.nfev,
+        n_steps=rad.n_steps + dop.n_steps,
+        n_rejected=rad.n_rejected + dop.n_rejected,
+    )

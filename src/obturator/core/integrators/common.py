@@ -45,15 +45,16 @@ __all__ = [
 
 
 @njit(cache=True)
-def output_buffers(t_eval, record, y0):
-    """Output arrays sized for t_eval (or growing per step), holding y0 first when recording."""
+def output_buffers(t_eval, record, y0, t0):
+    """Output arrays sized for t_eval (or growing per step), holding (t0, y0) first when
+    recording."""
     n_eval = t_eval.shape[0]
     cap = max(n_eval if n_eval > 0 else (1024 if record else 1), 1)
     ts = np.empty(cap)
     ys = np.empty((cap, y0.shape[0]))
     n_out = 0
     if record and n_eval == 0:
-        ts[0] = 0.0
+        ts[0] = t0
         ys[0, :] = y0
         n_out = 1
     return ts, ys, n_out
@@ -61,11 +62,11 @@ def output_buffers(t_eval, record, y0):
 
 @njit(cache=True)
 def start(problem, controls):
-    """A run at t = 0: a copy of the initial state, the output buffers (holding it when
-    every step is recorded) and the event state, NaN until an event is found."""
+    """A run at t = t0: t0, a copy of the initial state, the output buffers (holding it
+    when every step is recorded) and the event state, NaN until an event is found."""
     y = problem.y0.copy()
-    ts, ys, n_out = output_buffers(controls.t_eval, controls.record, y)
-    return y, ts, ys, n_out, np.full(y.shape[0], math.nan)
+    ts, ys, n_out = output_buffers(controls.t_eval, controls.record, y, problem.t0)
+    return problem.t0, y, ts, ys, n_out, np.full(y.shape[0], math.nan)
 
 
 @njit(cache=True)

@@ -2,7 +2,7 @@
 
 An integrator is a module with ``integrate(problem, controls) -> RawSolution``,
 compiled with numba (``nogil``, cached on disk). It integrates the equations
-of motion of :mod:`obturator.core.dynamics` from t = 0 until the opening event
+of motion of :mod:`obturator.core.dynamics` from t = t0 (0 at release) until the opening event
 theta = theta_cr (``p[P_THETA_CR]``, a downward crossing) or ``t_max``:
 
 * the event is tested at the end of every accepted step (Radau also at its
@@ -47,11 +47,15 @@ class Problem(NamedTuple):
     scale : ndarray, shape (8,)
         Component scales of the error weights (1 for angles and quaternion
         components, omega_p0 for rates).
+    t0 : float
+        Start time [s] of `y0` (0 at release; later when ``auto`` hands a run
+        from DOP853 to Radau IIA in flight).
     """
 
     y0: np.ndarray
     p: np.ndarray
     scale: np.ndarray
+    t0: float = 0.0
 
 
 class Controls(NamedTuple):

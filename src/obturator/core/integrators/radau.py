@@ -287,13 +287,12 @@ def _restep(t, y, h, s, p, scal, jac, zacc, stage, lu, scratch, fnewt, ytry) -> 
 
 @njit(cache=True, nogil=True, fastmath={"contract"})
 def integrate(problem, controls):
-    """Integrate from t = 0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
+    """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
     p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol = controls
     n = N_STATE
     theta_cr = p[P_THETA_CR]
-    y, ts, ys, n_out, y_event = start(problem, controls)
-    t = 0.0
+    t, y, ts, ys, n_out, y_event = start(problem, controls)
     f0 = np.empty(n)
     ynew = np.empty(n)
     ytry = np.empty(n)
@@ -339,7 +338,7 @@ def integrate(problem, controls):
     fnewt = max(10.0 * _UROUND / rtol, min(0.03, math.sqrt(rtol)))
     rhs(t, y, p, f0)
     nfev += 1
-    h = min(h0, h_max, t_max)
+    h = min(h0, h_max, t_max - t)
     h_lu = math.nan  # step size the LU factors belong to
     need_jac = True
     jac_fresh = False

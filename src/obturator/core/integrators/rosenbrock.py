@@ -73,13 +73,12 @@ def _step(t, y, h, f0, jac, p, lu, piv, k1, k2, k3, f1, f2, ynew, work) -> bool:
 
 @njit(cache=True, nogil=True)  # nogil: the CLI watcher thread can stop a long run
 def integrate(problem, controls):
-    """Integrate from t = 0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
+    """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
     p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol = controls
     n = N_STATE
     theta_cr = p[P_THETA_CR]
-    y, ts, ys, n_out, y_event = start(problem, controls)
-    t = 0.0
+    t, y, ts, ys, n_out, y_event = start(problem, controls)
     f0 = np.empty(n)
     f1 = np.empty(n)
     f2 = np.empty(n)
@@ -104,7 +103,7 @@ def integrate(problem, controls):
     t_event = math.nan
     rhs(t, y, p, f0)
     nfev += 1
-    h = min(h0, h_max, t_max)
+    h = min(h0, h_max, t_max - t)
     g_old = nutation_angle_of_state(y, p) - theta_cr
     jac_fresh = False
     while t < t_max:
