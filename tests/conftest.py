@@ -80,3 +80,13 @@ def thesis_cases() -> dict[str, Case]:
 def raw() -> object:
     """:func:`raw_solve`: one compiled integrator called directly."""
     return raw_solve
+
+
+@pytest.fixture(autouse=True)
+def _pools_even_for_small_studies(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Tests of the process pool use small studies, which would otherwise run in
+    process (see obturator.sweeps.executors.probe_cost; tests/test_sweep.py checks
+    that choice with the real threshold)."""
+    from obturator.sweeps import executors
+
+    monkeypatch.setattr(executors, "POOL_MIN_SERIAL_S", 0.0)

@@ -4,7 +4,8 @@ The three executors share one interface (:class:`Executor`): ``run(job,
 chunks, sink, progress)`` computes every chunk of ``job`` and hands each
 result to ``sink`` as it arrives. :func:`choose_executor` picks one:
 
-* :class:`InProcess` for ``workers=1`` or a single chunk;
+* :class:`InProcess` for ``workers=1`` or a single chunk, and for studies
+  too small to repay starting workers (:func:`probe_cost`);
 * :class:`ProcessPool` for ``workers=N >= 2``: a
   :class:`concurrent.futures.ProcessPoolExecutor` with N processes. On Linux,
   from a single-threaded parent, the workers are forked after the compiled
@@ -46,6 +47,9 @@ __all__ = [
     "ProcessPool",
     "DaskCluster",
     "choose_executor",
+    "probe_cost",
+    "start_output_prefetch",
+    "POOL_MIN_SERIAL_S",
     "resolve_workers",
     "default_workers",
     "make_chunks",
@@ -145,6 +149,8 @@ class ProcessPool:
 
     def run(self, job: Job, chunks: list[np.ndarray], sink: Sink, progress: Progress) -> None:
         """See :class:`Executor`."""
+        if _prefetch_thread is not None:
+            _prefetch_thread.join()  # never fork while another thread imports
         ctx = _mp_context()
         if ctx.get_start_method() == "fork":
             warm(job.spec.options)  # workers inherit the loaded integrator
@@ -258,6 +264,35 @@ def choose_executor(workers: int, scheduler: Any, n_chunks: int) -> Executor:
     return ProcessPool(min(workers, n_chunks))
 
 
+#: A pool is started only when the points left after the probe chunk would take at
+#: least this long in this process [s]. Starting two forked workers, handing them the
+#: chunks and collecting the results costs ~0.1-0.2 s on the 2-core reference machine
+#: (see ``python -m benchmarks``), so below ~0.5 s of work the pool cannot win.
+POOL_MIN_SERIAL_S = 0.5
+
+
+def probe_cost(pool: ProcessPool, job: Job, chunks: list[np.ndarray], sink: Sink) -> Executor:
+    """Run the first chunk here, timed, and keep the rest here if that is cheaper.
+
+    The probe chunk takes every k-th point of the study (see :func:`make_chunks`), so
+    its cost per point is representative. Its results go to `sink` (and the resume
+    store) like any other chunk's; it is removed from `chunks`. Returns `pool`, or an
+    :class:`InProcess` executor when the remaining points would take less than
+    :data:`POOL_MIN_SERIAL_S` here.
+    """
+    if len(chunks) < 2:
+        return pool
+    warm(job.spec.options)  # compile/load once; not part of the per-point cost
+    probe = chunks.pop(0)
+    # CPU time of this thread: a prefetch thread holding the GIL must not inflate it
+    t0 = time.thread_time()
+    t, s = run_chunk(*job.task(probe))
+    sink(probe, t, s)
+    per_point = (time.thread_time() - t0) / probe.size
+    remaining = per_point * sum(c.size for c in chunks)
+    return pool if remaining >= POOL_MIN_SERIAL_S else InProcess()
+
+
 def _mp_context() -> multiprocessing.context.BaseContext:
     # fork is cheap and inherits the loaded integrator; it is only used on
     # Linux while this process runs a single thread (the progress bar's thread
@@ -324,11 +359,38 @@ def _die_with_parent(parent: int) -> None:
             os._exit(1)
 
 
-def _prefetch_output() -> None:
-    """Import xarray and build a tiny Dataset (its lazy set-up takes ~1 s)."""
+_prefetch_thread: threading.Thread | None = None
+
+
+def _import_output_libraries() -> None:
     import xarray as xr
 
     xr.Dataset({"t_cr": ("x", np.zeros(1))})
+
+
+def start_output_prefetch() -> None:
+    """Import xarray and build a tiny Dataset in a background thread (~0.5-0.8 s).
+
+    xarray's lazy set-up (with dask installed it imports dask to check for duck
+    arrays) otherwise runs after the points are computed; in a thread it overlaps
+    loading the compiled integrator and the computation (which releases the GIL).
+    A pool joins it before forking (:func:`_prefetch_output`).
+    """
+    global _prefetch_thread
+    if _prefetch_thread is not None or "xarray" in sys.modules:
+        return
+    _prefetch_thread = threading.Thread(
+        target=_import_output_libraries, name="obturator-prefetch", daemon=True
+    )
+    _prefetch_thread.start()
+
+
+def _prefetch_output() -> None:
+    """Make sure xarray is imported and set up (joining :func:`start_output_prefetch`)."""
+    if _prefetch_thread is not None:
+        _prefetch_thread.join()
+    else:
+        _import_output_libraries()
 
 
 #: Seconds after which connecting to a Dask scheduler is given up.

@@ -24,7 +24,16 @@ import numpy as np
 
 from ..errors import InputError
 from ..status import Status
-from .executors import Job, choose_executor, make_chunks, progress_bar, resolve_workers
+from .executors import (
+    Job,
+    ProcessPool,
+    choose_executor,
+    make_chunks,
+    probe_cost,
+    progress_bar,
+    resolve_workers,
+    start_output_prefetch,
+)
 from .export import check_distinct_outputs, grid_dataset, write_outputs
 from .spec import SweepSpec
 from .store import Sidecar, StoreLock, remove_stale_temporaries, sidecar_path
@@ -104,9 +113,14 @@ def run_points(
     try:
         chunks = make_chunks(todo, n_workers if scheduler is None else 8, chunk_size)
         executor = choose_executor(n_workers, scheduler, len(chunks))
+        job = Job(spec, names, rows_of)
+        if scheduler is None and chunks:
+            start_output_prefetch()
+        if isinstance(executor, ProcessPool):
+            executor = probe_cost(executor, job, chunks, sink)
         bar = partial(progress_bar, progress, n_points, n_resumed, label)
         if chunks:
-            executor.run(Job(spec, names, rows_of), chunks, sink, bar)
+            executor.run(job, chunks, sink, bar)
     except BaseException:
         if sidecar is not None:
             sidecar.close()
