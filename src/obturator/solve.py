@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -68,6 +69,8 @@ __all__ = [
     "alternative_family",
     "pack_parameters",
     "error_scale",
+    "OPENING_TIME_ACCURACY",
+    "tolerances_for_opening_time",
 ]
 
 
@@ -107,10 +110,10 @@ class SolverOptions:
     method : {"auto", "radau", "rosenbrock"}
         Compiled integrator. ``"auto"`` (default): the explicit eighth-order
         Dormand-Prince pair DOP853 (no Jacobian; the problem is not stiff
-        outside sticking; t_cr errors ~1e-9 relative at rtol 1e-8), rerun from
-        the start with Radau IIA when DOP853 reports stiffness (more than 200
-        steps per spin period plus 1000, as in sticking phases, or a step size
-        collapse); nfev then counts both runs. ``"radau"``: the fifth-order
+        outside sticking; t_cr errors ~1e-9 relative at rtol 1e-8), handing the
+        run over to Radau IIA from its last accepted state when DOP853 detects
+        stiffness (Hairer's h*lambda test, or more than 200 steps per spin period
+        plus 1000, or a step size collapse); counters add up. ``"radau"``: the fifth-order
         Radau IIA collocation method (Newton iterations follow the nonlinear
         stiffness of sticking, 8-15x faster than Rosenbrock on the thesis cases
         and ~1e2-1e4x fewer steps in long sticking phases). ``"rosenbrock"``:
@@ -142,9 +145,59 @@ class SolverOptions:
         if self.max_step is not None:
             check_range("max_step", self.max_step, 0.0, math.inf, lo_open=True, unit="s")
 
+    @classmethod
+    def for_opening_time_accuracy(cls, tcr_rtol: float, **kw: Any) -> SolverOptions:
+        """Options whose t_cr is accurate to `tcr_rtol` (relative) on the measured cases.
+
+        The tolerances come from :data:`OPENING_TIME_ACCURACY`, the loosest whose
+        measured worst t_cr error, times a safety factor of 3, is within
+        `tcr_rtol`. Looser requests than 1e-5 get rtol 1e-8 too: in near-stick runs
+        (rig below ~130 rad/s) t_cr errors jump from ~1e-6 to 1e-3-1e-1 between rtol
+        1e-8 and 3e-8, so a looser rtol buys no reliable speed.
+
+        Parameters
+        ----------
+        tcr_rtol : float
+            Requested relative accuracy of t_cr, >= 2e-8 [-].
+        **kw
+            Other :class:`SolverOptions` fields (not ``rtol``/``atol``).
+        """
+        rtol = tolerances_for_opening_time(tcr_rtol)
+        return cls(rtol=rtol, atol=rtol * 1e-2, **kw)
+
     def tighter(self, factor: float = 10.0) -> SolverOptions:
         """Both tolerances divided by `factor` (for convergence studies)."""
         return replace(self, rtol=self.rtol / factor, atol=self.atol / factor)
+
+
+#: (t_cr accuracy, rtol): rtol (atol = rtol/100) whose worst relative t_cr error,
+#: times 3, is within that accuracy. Measured against rtol 1e-11 (itself within 6e-9
+#: of rtol 1e-12) on the rig at mu_s 0.5473 and omega_p = 40, 60, 78, 90, 100, 110,
+#: 125, 150, 200, 300, 500, 700, 1000 rad/s and the flight case at Mach 1.5-4,
+#: mu_s 0.35 and 0.5473 (default width and family). Worst errors: rtol 1e-8:
+#: 3.3e-6 (rig 40 rad/s; <= 1e-7 over 100-1000 rad/s); 1e-9: 1.2e-7; 1e-10:
+#: 3.7e-8; 1e-11: 6e-9. Flight errors are <= 2e-9 at any rtol <= 1e-6.
+OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
+    (1e-5, 1e-8),
+    (4e-7, 1e-9),
+    (1.2e-7, 1e-10),
+    (2e-8, 1e-11),
+)
+
+
+def tolerances_for_opening_time(tcr_rtol: float) -> float:
+    """rtol for a requested relative t_cr accuracy (see :data:`OPENING_TIME_ACCURACY`).
+
+    Raises
+    ------
+    InputError
+        `tcr_rtol` outside [2e-8, 0.1].
+    """
+    check_range("tcr_rtol", tcr_rtol, OPENING_TIME_ACCURACY[-1][0], 0.1)
+    for accuracy, rtol in OPENING_TIME_ACCURACY:
+        if tcr_rtol >= accuracy:
+            return rtol
+    raise AssertionError("unreachable")  # pragma: no cover
 
 
 def pack_parameters(case: Case, options: SolverOptions, y0: np.ndarray | None = None) -> np.ndarray:

@@ -1,0 +1,65 @@
+"""``--tcr-rtol``: tolerances chosen for a requested t_cr accuracy (obturator.solve).
+
+The references are Radau IIA runs at rtol 1e-11 (a different integrator from the
+``auto`` path under test, at a thousand times tighter tolerance).
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from obturator.errors import InputError
+from obturator.model.cases import flight_case, rig_case
+from obturator.solve import (
+    OPENING_TIME_ACCURACY,
+    SolverOptions,
+    opening_time,
+    tolerances_for_opening_time,
+)
+
+MU = 0.5473
+REF = SolverOptions(method="radau", rtol=1e-11, atol=1e-13)
+
+
+def test_table_is_ordered_and_mapping_picks_the_loosest_sufficient_rtol():
+    acc = [a for a, _ in OPENING_TIME_ACCURACY]
+    rtols = [r for _, r in OPENING_TIME_ACCURACY]
+    assert acc == sorted(acc, reverse=True) and rtols == sorted(rtols, reverse=True)
+    assert tolerances_for_opening_time(1e-3) == 1e-8  # never looser than 1e-8
+    assert tolerances_for_opening_time(1e-6) == 1e-9
+    assert tolerances_for_opening_time(4e-7) == 1e-9
+    assert tolerances_for_opening_time(3.9e-7) == 1e-10
+    opts = SolverOptions.for_opening_time_accuracy(1e-6, method="auto")
+    assert opts.rtol == 1e-9 and opts.atol == pytest.approx(1e-11, rel=1e-12)
+
+
+@pytest.mark.parametrize("bad", [1e-9, 0.0, -1e-6, 0.5, float("nan")])
+def test_unattainable_or_invalid_accuracy_is_refused(bad):
+    with pytest.raises(InputError, match="tcr_rtol"):
+        tolerances_for_opening_time(bad)
+
+
+@pytest.mark.parametrize(
+    "case",
+    [rig_case(60, MU), rig_case(100, MU), rig_case(300, MU), flight_case(mach=2.0, mu_s=MU)],
+    ids=["rig60_near_stick", "rig100", "rig300", "flight_mach2"],
+)
+def test_requested_accuracy_is_delivered(case):
+    t = opening_time(case, SolverOptions.for_opening_time_accuracy(1e-6))
+    ref = opening_time(case, REF)
+    assert abs(t / ref - 1.0) <= 1e-6
+
+
+def test_cli_refuses_tcr_rtol_with_rtol(tmp_path):
+    out = subprocess.run(
+        [sys.executable, "-m", "obturator", "sweep", "--spin-rate", "300,400",
+         "--tcr-rtol", "1e-6", "--rtol", "1e-7", "--out", str(tmp_path / "s.nc")],
+        capture_output=True, text=True,
+    )  # fmt: skip
+    assert out.returncode == 2
+    assert out.stderr.strip() == (
+        "obturator: error: tcr_rtol: sets the tolerances: give it or rtol, not both"
+    )
