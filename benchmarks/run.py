@@ -21,7 +21,13 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
   10,000-point package-only sweep.
 * Low spin (40-200 rad/s, long near-stick phases): t_cr, nfev, steps and wall
   time per trajectory for "auto" and "radau" and for each regularisation
-  family, with the "auto" fallbacks to Radau.
+  family, with the "auto" hand-overs to Radau.
+* The operating range (:mod:`benchmarks.operating_range`): cost per rig point at
+  40-1000 rad/s with the DOP853 -> Radau hand-over against the former restart
+  (table and ``--plot`` PNG), and sweep throughput over 100-700 and 40-1000 rad/s
+  with 1 and 2 workers, each with an accuracy check on 100 random points.
+* Command-line latency (:mod:`benchmarks.latency`): ``simulate`` and a 20-point
+  ``sweep`` against a plain LSODA loop, process start included.
 """
 
 from __future__ import annotations
@@ -521,6 +527,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument(
         "--no-compile", action="store_true", help="skip the cold/warm compile-time subprocesses"
     )
+    ap.add_argument("--plot", metavar="PNG", default=None, help="cost per point vs omega_p figure")
+    ap.add_argument(
+        "--throughput-points",
+        type=int,
+        default=None,
+        help="points of the throughput sweeps (default 10000; --quick 200)",
+    )
     args = ap.parse_args(argv)
     n_sweep = args.sweep_points or (7 if args.quick else 200)
     repeat, repeat_base = (5, 1) if args.quick else (30, 3)
@@ -535,8 +548,25 @@ def main(argv: Sequence[str] | None = None) -> int:
     rec["sweep"] = sweep(n_sweep, baseline=True, workers=(1, 2))
     if args.big:
         rec["big_sweep"] = sweep(10_000, baseline=False, workers=(2,))
+    from benchmarks import latency, operating_range
+
+    rec["cost_per_point"] = operating_range.cost_per_point(
+        operating_range.RANGE_SPINS_QUICK if args.quick else operating_range.RANGE_SPINS,
+        3 if args.quick else 10,
+    )
+    n_tp = args.throughput_points or (200 if args.quick else 10_000)
+    rec["throughput"] = [
+        operating_range.throughput(n_tp, rng, k)
+        for rng in ((100.0, 700.0), (40.0, 1000.0))
+        for k in (1, 2)
+    ]
+    rec["cli_latency"] = latency.cli_latency(2 if args.quick else 5)
     _print_report(rec)
     _print_low_spin(rec["low_spin"])
+    operating_range.print_range(rec["cost_per_point"], rec["throughput"])
+    latency.print_latency(rec["cli_latency"])
+    if args.plot:
+        operating_range.plot_cost(rec["cost_per_point"], args.plot)
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(rec, fh, indent=2, default=float)

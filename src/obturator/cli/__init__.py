@@ -25,17 +25,31 @@ from ..errors import (
     SolverError,
 )
 
-# Sub-command -> the module that adds it; each module defines register(subparsers)
-# and sets ``func`` (callable taking the parsed namespace, returning an exit code).
-# A command line naming one command imports only that module (start-up time).
-_COMMANDS: dict[str, str] = {
-    "simulate": "obturator.cli.simulate",
-    "gasdyn": "obturator.cli.gasdyn",
-    "reproduce": "obturator.cli.reproduce",
-    "calibrate": "obturator.cli.calibrate",
-    "sweep": "obturator.cli.sweep",
-    "montecarlo": "obturator.cli.montecarlo",
-    "validate": "obturator.cli.validate",
+# Sub-command -> (the module that adds it, its one-line help). Each module defines
+# register(subparsers) and sets ``func`` (callable taking the parsed namespace,
+# returning an exit code). A command line naming one command imports only that
+# module; ``obturator --help`` imports none (start-up time; tests/test_cli_startup.py
+# checks that each module registers the help given here).
+_COMMANDS: dict[str, tuple[str, str]] = {
+    "simulate": ("obturator.cli.simulate", "integrate one case to the opening time t_cr"),
+    "gasdyn": (
+        "obturator.cli.gasdyn",
+        "normal shock, inlet start/unstart, Fanno choking, standard atmosphere",
+    ),
+    "reproduce": (
+        "obturator.cli.reproduce",
+        "write every thesis figure (PNG) and a report (Markdown, HTML)",
+    ),
+    "calibrate": (
+        "obturator.cli.calibrate",
+        "fit the sliding friction mu_s of the exact model to spin-rig data",
+    ),
+    "sweep": ("obturator.cli.sweep", "t_cr on a grid of parameters (parallel, resumable)"),
+    "montecarlo": ("obturator.cli.montecarlo", "t_cr quantiles under uncertain inputs"),
+    "validate": (
+        "obturator.cli.validate",
+        "fit candidate mechanisms to all spin-rig runs, rank them against the floor",
+    ),
 }
 
 
@@ -49,10 +63,11 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_INPUT, f"obturator: error: {' '.join(message.split())}\n")
 
 
-def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+def build_parser(command: str | None = None, *, full: bool = True) -> argparse.ArgumentParser:
     """Return the top-level argument parser with every available sub-command.
 
-    With `command` (a name in the command line) only that sub-command is added.
+    With `command` (a name in the command line) only that sub-command is added;
+    with ``full=False`` the sub-commands are listed by name and help only.
     """
     parser = _Parser(
         prog="obturator",
@@ -67,8 +82,12 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = False
-    modules = [_COMMANDS[command]] if command in _COMMANDS else _COMMANDS.values()
-    for name in dict.fromkeys(modules):
+    if command is None and not full:
+        for name, (_, text) in _COMMANDS.items():
+            sub.add_parser(name, help=text)
+        return parser
+    chosen = [command] if command in _COMMANDS else list(_COMMANDS)
+    for name in dict.fromkeys(_COMMANDS[c][0] for c in chosen):
         try:
             module = importlib.import_module(name)
         except ModuleNotFoundError as exc:  # sub-command not shipped in this build
@@ -90,7 +109,8 @@ def main(argv: list[str] | None = None) -> int:
 
     argv = sys.argv[1:] if argv is None else list(argv)
     set_command(argv)
-    parser = build_parser(_command_of(argv))
+    command = _command_of(argv)
+    parser = build_parser(command, full=command is not None or "--print-completion" in argv)
     args = parser.parse_args(argv)
     if args.print_completion:
         import shtab

@@ -32,7 +32,6 @@ from .executors import (
     probe_cost,
     progress_bar,
     resolve_workers,
-    start_output_prefetch,
 )
 from .export import check_distinct_outputs, grid_dataset, write_outputs
 from .spec import SweepSpec
@@ -114,8 +113,6 @@ def run_points(
         chunks = make_chunks(todo, n_workers if scheduler is None else 8, chunk_size)
         executor = choose_executor(n_workers, scheduler, len(chunks))
         job = Job(spec, names, rows_of)
-        if scheduler is None and chunks:
-            start_output_prefetch()
         if isinstance(executor, ProcessPool):
             executor = probe_cost(executor, job, chunks, sink)
         bar = partial(progress_bar, progress, n_points, n_resumed, label)

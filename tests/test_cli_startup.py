@@ -1,0 +1,57 @@
+"""Start-up: the command line imports only what the named command needs."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import subprocess
+import sys
+
+import pytest
+
+from obturator.cli import _COMMANDS
+
+
+@pytest.mark.parametrize("name", list(_COMMANDS))
+def test_module_registers_the_listed_help(name):
+    module_name, text = _COMMANDS[name]
+    parser = argparse.ArgumentParser()
+    sub = parser.add_subparsers(dest="command")
+    importlib.import_module(module_name).register(sub)
+    assert name in sub.choices
+    helps = {a.dest: a.help for a in sub._choices_actions}
+    assert helps[name] == text
+
+
+def _modules_after(argv: list[str]) -> set[str]:
+    code = (
+        "import sys, contextlib, io\n"
+        "from obturator.cli import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        "    try:\n"
+        f"        main({argv!r})\n"
+        "    except SystemExit:\n"
+        "        pass\n"
+        "print(','.join(sorted(m for m in sys.modules if '.' not in m)))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    return set(out.stdout.strip().splitlines()[-1].split(","))
+
+
+def test_top_level_help_imports_no_numeric_stack():
+    mods = _modules_after(["--help"])
+    assert not mods & {"numba", "scipy", "xarray", "matplotlib", "pint", "dask"}
+
+
+def test_simulate_help_imports_no_output_stack():
+    mods = _modules_after(["simulate", "--help"])
+    assert not mods & {"xarray", "matplotlib", "dask", "distributed"}
+
+
+def test_unknown_command_is_one_line_with_the_choices():
+    out = subprocess.run(
+        [sys.executable, "-m", "obturator", "simulat"], capture_output=True, text=True
+    )
+    assert out.returncode == 2
+    assert len(out.stderr.strip().splitlines()) == 1
+    assert "invalid choice" in out.stderr and "simulate" in out.stderr
