@@ -36,7 +36,7 @@ def test_table_is_ordered_and_mapping_picks_the_loosest_sufficient_rtol():
     assert opts.rtol == 1e-9 and opts.atol == pytest.approx(1e-11, rel=1e-12)
 
 
-@pytest.mark.parametrize("bad", [1e-9, 0.0, -1e-6, 0.5, float("nan")])
+@pytest.mark.parametrize("bad", [1e-7, 0.0, -1e-6, 0.5, float("nan")])
 def test_unattainable_or_invalid_accuracy_is_refused(bad):
     with pytest.raises(InputError, match="tcr_rtol"):
         tolerances_for_opening_time(bad)
@@ -44,10 +44,17 @@ def test_unattainable_or_invalid_accuracy_is_refused(bad):
 
 @pytest.mark.parametrize(
     "case",
-    [rig_case(60, MU), rig_case(100, MU), rig_case(300, MU), flight_case(mach=2.0, mu_s=MU)],
-    ids=["rig60_near_stick", "rig100", "rig300", "flight_mach2"],
+    [
+        rig_case(59.3, MU),
+        rig_case(101.25, MU),
+        rig_case(300, MU),
+        flight_case(mach=2.0, mu_s=MU),
+    ],
+    ids=["rig59_near_stick", "rig101_near_stick", "rig300", "flight_mach2"],
 )
 def test_requested_accuracy_is_delivered(case):
+    """59.3 and 101.25 rad/s are the benchmark sample's worst points at rtol 1e-8
+    (errors 2.7e-5 and 3.7e-5 there)."""
     t = opening_time(case, SolverOptions.for_opening_time_accuracy(1e-6))
     ref = opening_time(case, REF)
     assert abs(t / ref - 1.0) <= 1e-6

@@ -55,3 +55,29 @@ def test_unknown_command_is_one_line_with_the_choices():
     assert out.returncode == 2
     assert len(out.stderr.strip().splitlines()) == 1
     assert "invalid choice" in out.stderr and "simulate" in out.stderr
+
+
+def test_warmup_fills_an_empty_cache_and_later_runs_load_it(tmp_path):
+    """``obturator warmup`` into an empty NUMBA_CACHE_DIR writes the integrators'
+    machine code; a later process finds them there (index files for both methods)."""
+    import json
+    import os
+
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    out = subprocess.run(
+        [sys.executable, "-m", "obturator", "warmup", "--json"],
+        capture_output=True, text=True, env=env, check=True,
+    )  # fmt: skip
+    rec = json.loads(out.stdout)
+    assert set(rec["seconds"]) == {"dop853", "radau"} and rec["wall_s"] > 0
+    names = {p.name for p in tmp_path.rglob("*.nbi")}
+    assert any(n.startswith("dop853.integrate") for n in names)
+    assert any(n.startswith("radau.integrate") for n in names)
+
+
+def test_warmup_refuses_zero_jobs():
+    out = subprocess.run(
+        [sys.executable, "-m", "obturator", "warmup", "--jobs", "0"], capture_output=True, text=True
+    )
+    assert out.returncode == 2
+    assert out.stderr.strip() == "obturator: error: jobs: 0 is outside the allowed range >= 1"

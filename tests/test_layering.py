@@ -35,6 +35,7 @@ FORBIDDEN: dict[str, tuple[str, ...]] = {
     "thesis": ("cli", "sweeps", "validation"),
     "validation": ("cli", "thesis"),
     "plotting": ("cli", "sweeps"),
+    "warmup": (*EDGE, "calibration"),
     "io": ("cli", "core", "sweeps", "thesis", "plotting"),
 }
 

@@ -197,7 +197,7 @@ def test_process_pool_equals_in_process() -> None:
 def test_cheap_study_runs_in_process(monkeypatch: pytest.MonkeyPatch) -> None:
     """With the real threshold a 6-point study (~ms of work) starts no pool; its probe
     chunk and the rest give the same dataset as workers=1."""
-    monkeypatch.setattr(executors, "POOL_MIN_SERIAL_S", 0.5)  # the module's default
+    monkeypatch.setattr(executors, "POOL_MIN_SERIAL_S", 0.1)  # the module's default
     spec = small_spec()
     one = run_sweep(spec, workers=1, progress=False)
     run = execute_sweep(spec, workers=2, chunk_size=1, progress=False)

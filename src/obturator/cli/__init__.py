@@ -50,6 +50,10 @@ _COMMANDS: dict[str, tuple[str, str]] = {
         "obturator.cli.validate",
         "fit candidate mechanisms to all spin-rig runs, rank them against the floor",
     ),
+    "warmup": (
+        "obturator.cli.warmup",
+        "compile the integrators into numba's cache (once, after installing)",
+    ),
 }
 
 

@@ -262,10 +262,10 @@ def choose_executor(workers: int, scheduler: Any, n_chunks: int) -> Executor:
 
 
 #: A pool is started only when the points left after the probe chunk would take at
-#: least this long in this process [s]. Starting two forked workers, handing them the
-#: chunks and collecting the results costs ~0.1-0.2 s on the 2-core reference machine
-#: (see ``python -m benchmarks``), so below ~0.5 s of work the pool cannot win.
-POOL_MIN_SERIAL_S = 0.5
+#: least this long in this process [s]. Two forked workers cost ~0.04 s on the 2-core
+#: reference machine (``python -m benchmarks``: 200 rig points took 0.32 s in a loop
+#: and 0.196 s on a 2-process pool), so below ~0.1 s of work the pool cannot win.
+POOL_MIN_SERIAL_S = 0.1
 
 
 def probe_cost(pool: ProcessPool, job: Job, chunks: list[np.ndarray], sink: Sink) -> Executor:

@@ -1,0 +1,39 @@
+"""``obturator warmup``: compile the integrators once, after installation."""
+
+from __future__ import annotations
+
+import argparse
+
+from . import _json
+from ._args import parse_integer
+
+__all__ = ["register"]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``warmup`` sub-command."""
+    p = subparsers.add_parser(
+        "warmup",
+        help="compile the integrators into numba's cache (once, after installing)",
+        description="Compile DOP853 and Radau IIA (with --all also Rosenbrock) side by side "
+        "in fresh processes and store the machine code in numba's cache, so that the "
+        "first simulation or sweep starts warm.",
+    )
+    p.add_argument("--jobs", metavar="N", default="2", help="processes compiling at once (2)")
+    p.add_argument("--all", action="store_true", help="also the Rosenbrock method")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from ..warmup import warm_up
+
+    jobs = parse_integer("jobs", args.jobs, lo=1)
+    res = warm_up(jobs=jobs if jobs is not None else 2, everything=args.all)
+    if args.json:
+        print(_json.dumps(res))
+        return 0
+    each = ", ".join(f"{m} {s:.1f} s" for m, s in res["seconds"].items())  # type: ignore[union-attr]
+    where = res["directory"] or "NUMBA_CACHE_DIR"
+    print(f"compiled in {res['wall_s']:.1f} s ({each}); cache: {where}")
+    return 0
