@@ -2,10 +2,10 @@
 
 Run from the repository root::
 
-    python -m benchmarks                 # full run (about 6 minutes; the baseline sweep dominates)
-    python -m benchmarks --quick         # small sweep, for CI smoke runs
-    python -m benchmarks --big           # adds a 10,000-point rig sweep (about 2 minutes)
-    python -m benchmarks --json out.json
+    python -m benchmarks                 # full run (about 9 minutes on 2 cores)
+    python -m benchmarks --quick         # small sweeps, for smoke runs (about 1 minute)
+    python -m benchmarks --big           # adds a 10,000-point package-only 2-worker sweep
+    python -m benchmarks --json out.json --plot cost.png
 
 Every number is measured in the same run, against a baseline measured in that
 run: ``scipy.integrate.solve_ivp(method="LSODA", rtol=1e-6, atol=1e-9)`` on
