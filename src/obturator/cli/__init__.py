@@ -50,6 +50,26 @@ _COMMANDS: dict[str, tuple[str, str]] = {
         "obturator.cli.validate",
         "fit candidate mechanisms to all spin-rig runs, rank them against the floor",
     ),
+    "trajectory": (
+        "obturator.cli.envelope",
+        "t_cr along one flight: trajectory-coupled vs constant load",
+    ),
+    "envelope": (
+        "obturator.cli.envelope",
+        "t_cr map over muzzle Mach x altitude (coupled and constant load)",
+    ),
+    "probability": (
+        "obturator.cli.robust",
+        "P(t_cr > requirement) under uncertain inputs (importance sampling)",
+    ),
+    "sensitivity": (
+        "obturator.cli.robust",
+        "Sobol indices of t_cr (SALib) with bootstrap intervals",
+    ),
+    "optimize": (
+        "obturator.cli.robust",
+        "robust design: minimise the worst case / a quantile of t_cr over the envelope",
+    ),
     "warmup": (
         "obturator.cli.warmup",
         "compile the integrators into numba's cache (once, after installing)",

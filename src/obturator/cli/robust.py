@@ -1,0 +1,580 @@
+"""``obturator probability``, ``obturator sensitivity``, ``obturator optimize``.
+
+Usage::
+
+    obturator probability [--mach SPEC] [--altitude-m SPEC] [--vary NAME=KIND:ARGS ...]
+        [--requirement S] [--method is|mc|both] [--samples N] [--stage-samples N]
+        [--final-samples N] [--seed S] [--confidence C] [model / execution options]
+
+    obturator sensitivity [--case flight|spin-rig] [--vary NAME=KIND:ARGS ...]
+        [--samples N] [--resamples N] [--seed S] [--figure FILE.png] [...]
+
+    obturator optimize [--mach SPEC] [--altitude-m SPEC] [--objective max|quantile:Q]
+        [--variables a,b,...] [--bound NAME=LO,HI ...] [--mass-budget KG]
+        [--pareto N] [--figure FILE.png] [...]
+
+Distributions: ``normal:MEAN,SD``, ``uniform:LO,HI``, ``lognormal:MEDIAN,SIGMA_LN``,
+``truncnormal:MEAN,SD,LO,HI`` in SI units; ``spin_factor`` multiplies the
+nominal muzzle spin. Without ``--vary`` the defaults printed by ``--help`` are
+used. Every command runs on local processes (``--workers``) or a Dask cluster
+(``--scheduler``) and, with ``--out``, resumes after an interruption.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from .envelope import (
+    add_execution_arguments,
+    add_model_arguments,
+    model_from_args,
+    open_store,
+    quantity,
+    runner_from_args,
+)
+
+__all__ = ["register", "DEFAULT_UNCERTAINTY", "DEFAULT_RANGES", "DEFAULT_RIG_RANGES"]
+
+#: Default uncertain inputs of ``probability`` (manufacturing and knowledge
+#: uncertainty about Table 1): mu_s lognormal with 10 % spread; theta_0 within
+#: +-1 deg; gap, hole radius and density with 3-sigma tolerances of 7.5 um,
+#: 0.05 mm and 120 kg/m^3; muzzle spin +-1 % (muzzle-velocity dispersion).
+DEFAULT_UNCERTAINTY = (
+    "mu_s=lognormal:0.35,0.1",
+    "theta0_deg=uniform:86.25,88.25",
+    "gap=normal:5.08e-5,2.5e-6",
+    "hole_radius=normal:4.72e-3,1.7e-5",
+    "density=normal:7669.6,40",
+    "spin_factor=normal:1,0.01",
+)
+#: Default ranges of ``sensitivity`` in flight (uniform, around Table 1).
+DEFAULT_RANGES = (
+    "mu_s=uniform:0.25,0.45",
+    "theta0_deg=uniform:86.25,88.25",
+    "gap=uniform:4.08e-5,6.08e-5",
+    "hole_radius=uniform:4.62e-3,4.82e-3",
+    "density=uniform:7500,7850",
+    "spin_factor=uniform:0.97,1.03",
+)
+#: Default ranges of ``sensitivity`` on the spin rig (weight follows the ball).
+DEFAULT_RIG_RANGES = (
+    "spin_rate=uniform:300,500",
+    "mu_s=uniform:0.5,0.6",
+    "theta0_deg=uniform:86.25,88.25",
+    "gap=uniform:4.08e-5,6.08e-5",
+    "hole_radius=uniform:4.62e-3,4.82e-3",
+    "density=uniform:7500,7850",
+)
+
+
+def _int(name: str, text: Any, lo: int = 1) -> int:
+    try:
+        n = int(str(text))
+    except ValueError:
+        raise InputError(name, f"{text!r} is not a whole number") from None
+    if n < lo:
+        raise InputError(name, f"{n} is outside the allowed range >= {lo}")
+    return n
+
+
+def _dists(texts: list[str] | None, defaults: tuple[str, ...], allowed: tuple[str, ...]) -> dict:
+    from ..envelope.uncertain import parse_input_distribution
+
+    out = {}
+    for text in texts or defaults:
+        name, dist = parse_input_distribution(text, allowed)
+        if name in out:
+            raise InputError("vary", f"{name} given twice")
+        out[name] = dist
+    return out
+
+
+def _finish(args: argparse.Namespace, store: Any, ds: Any) -> None:
+    from ..sweeps import write_netcdf
+
+    if args.out:
+        write_netcdf(ds, args.out)
+    if store is not None:
+        store.remove()
+
+
+def _check_out(args: argparse.Namespace) -> None:
+    if getattr(args, "out", None) and not Path(args.out).resolve().parent.is_dir():
+        raise InputError("--out", f"directory of {args.out!r} does not exist")
+
+
+# --------------------------------------------------------------------------- probability
+
+
+def _run_probability(args: argparse.Namespace) -> int:
+    import xarray as xr
+
+    from ..envelope.model import INPUTS
+    from ..envelope.reliability import brute_force, importance_sampling
+    from ..envelope.uncertain import performance
+    from ..sweeps import parse_axis
+
+    _check_out(args)
+    model = model_from_args(args)
+    dists = _dists(args.vary, DEFAULT_UNCERTAINTY, tuple(INPUTS))
+    machs = parse_axis(args.grid_mach, "--mach")
+    alts = parse_axis(args.grid_altitude, "--altitude-m")
+    req = quantity("--requirement", args.requirement, "s")
+    conf = quantity("--confidence", args.confidence, "")
+    seed = _int("--seed", args.seed, 0)
+    methods = {"is": ["is"], "mc": ["mc"], "both": ["is", "mc"]}[args.method]
+    kw_is = {
+        "n_stage": _int("--stage-samples", args.stage_samples, 20),
+        "n_final": _int("--final-samples", args.final_samples, 20),
+        "rho": quantity("--rho", args.rho, ""),
+        "seed": seed,
+        "confidence": conf,
+    }
+    n_mc = _int("--samples", args.samples)
+    identity = {
+        "study": "probability",
+        "model": model.identity(),
+        "vary": {k: str(v) for k, v in dists.items()},
+    }
+    store = open_store(args, identity)
+    runner = runner_from_args(args, store)
+    t0 = time.perf_counter()
+    rows: dict[str, dict[tuple[int, int], Any]] = {m: {} for m in methods}
+    try:
+        for i, m in enumerate(machs):
+            for j, h in enumerate(alts):
+                pm = model.with_(launch=_launch(model, m, h))
+                perf = performance(pm, runner, f"M {m:g}, {h:g} m")
+                if "is" in methods:
+                    rows["is"][i, j] = importance_sampling(perf, dists, req, **kw_is)
+                if "mc" in methods:
+                    rows["mc"][i, j] = brute_force(
+                        perf, dists, req, samples=n_mc, seed=seed, confidence=conf
+                    )
+    finally:
+        if store is not None:
+            store.close()
+    elapsed = time.perf_counter() - t0
+    data = {}
+    dims = ("mach", "altitude_m")
+    for meth, est in rows.items():
+        for key in ("probability", "ci_low", "ci_high", "std_error", "n_evaluations", "n_exceed"):
+            arr = np.array(
+                [[getattr(est[i, j], key) for j in range(alts.size)] for i in range(machs.size)]
+            )
+            data[f"{key}_{meth}"] = (dims, arr, {"method": est[0, 0].method})
+        data[f"n_unconverged_{meth}"] = (
+            dims,
+            np.array(
+                [[est[i, j].n_unconverged for j in range(alts.size)] for i in range(machs.size)]
+            ),
+            {},
+        )
+    ds = xr.Dataset(
+        data,
+        coords={"mach": ("mach", machs), "altitude_m": ("altitude_m", alts, {"units": "m"})},
+        attrs={
+            "title": "P(t_cr > requirement)",
+            "requirement_s": req,
+            "confidence": conf,
+            "distributions": "; ".join(f"{k}={v}" for k, v in dists.items()),
+            "load": model.load,
+            "seed": seed,
+        },
+    )
+    _finish(args, store, ds)
+    out = {
+        "requirement_s": req,
+        "load": model.load,
+        "distributions": {k: str(v) for k, v in dists.items()},
+        "elapsed_s": elapsed,
+        "points": [],
+    }
+    for i, m in enumerate(machs):
+        for j, h in enumerate(alts):
+            pt: dict[str, Any] = {"mach": float(m), "altitude_m": float(h)}
+            for meth in methods:
+                pt[meth] = rows[meth][i, j].to_dict()
+            if len(methods) == 2:
+                a, b = rows["is"][i, j], rows["mc"][i, j]
+                pt["is_within_mc_interval"] = b.ci_low <= a.probability <= b.ci_high
+                pt["difference_in_std_errors"] = (
+                    (a.probability - b.probability) / math.hypot(a.std_error, b.std_error)
+                    if (a.std_error or b.std_error)
+                    else 0.0
+                )
+            out["points"].append(pt)
+    if args.json:
+        print(json.dumps(out))
+        return 0
+    pc = int(100 * conf)
+    print(f"P(t_cr > {req:g} s), {model.load} load; {pc} % intervals")
+    for pt in out["points"]:
+        head = f"M {pt['mach']:g}, {pt['altitude_m']:g} m:"
+        for meth in methods:
+            e = rows[meth][machs.tolist().index(pt["mach"]), alts.tolist().index(pt["altitude_m"])]
+            label = "importance sampling" if meth == "is" else "brute force       "
+            warn = "" if e.reliable else " (fewer than 10 exceedances: interval unreliable)"
+            print(
+                f"{head} {label} p = {e.probability:.4g} [{e.ci_low:.4g}, {e.ci_high:.4g}] "
+                f"({e.n_evaluations} runs, {e.n_exceed} exceed, {e.n_unconverged} not converged)"
+                f"{warn}"
+            )
+            head = " " * len(head)
+        if "is_within_mc_interval" in pt:
+            print(
+                f"{' ' * len(head)} IS inside the brute-force interval: "
+                f"{pt['is_within_mc_interval']}; difference {pt['difference_in_std_errors']:+.2f} "
+                "standard errors"
+            )
+    print(f"{elapsed:.1f} s ({runner.n_computed} runs computed, {runner.n_resumed} resumed)")
+    return 0
+
+
+def _launch(model: Any, mach: float, altitude: float) -> Any:
+    from dataclasses import replace
+
+    return replace(model.launch, mach=float(mach), altitude_m=float(altitude))
+
+
+# --------------------------------------------------------------------------- sensitivity
+
+
+def _run_sensitivity(args: argparse.Namespace) -> int:
+    from ..envelope.figures import plot_sobol
+    from ..envelope.model import INPUTS
+    from ..envelope.sensitivity import sobol_indices
+    from ..envelope.uncertain import RIG_INPUTS, RigModel, performance
+
+    _check_out(args)
+    rig = args.case == "spin-rig"
+    if rig:
+        dists = _dists(args.vary, DEFAULT_RIG_RANGES, RIG_INPUTS)
+        flight = model_from_args(args)
+        model: Any = RigModel(
+            tuple(dists), options=flight.options, check_convergence=flight.check_convergence
+        )
+    else:
+        dists = _dists(args.vary, DEFAULT_RANGES, tuple(INPUTS))
+        model = model_from_args(args)
+        if args.mach_point is not None or args.altitude_point is not None:
+            model = model.with_(
+                launch=_launch(
+                    model,
+                    quantity("--mach", args.mach_point or model.launch.mach, ""),
+                    quantity("--altitude-m", args.altitude_point or model.launch.altitude_m, "m"),
+                )
+            )
+    n = _int("--samples", args.samples, 8)
+    seed = _int("--seed", args.seed, 0)
+    identity = {
+        "study": "sensitivity",
+        "model": model.identity(),
+        "vary": {k: str(v) for k, v in dists.items()},
+        "n": n,
+        "seed": seed,
+    }
+    store = open_store(args, identity)
+    runner = runner_from_args(args, store)
+    t0 = time.perf_counter()
+    try:
+        ds = sobol_indices(
+            performance(model, runner, "sobol"),
+            dists,
+            n,
+            seed=seed,
+            confidence=quantity("--confidence", args.confidence, ""),
+            resamples=_int("--resamples", args.resamples, 10),
+        )
+    finally:
+        if store is not None:
+            store.close()
+    elapsed = time.perf_counter() - t0
+    ds.attrs["title"] = f"Sobol indices of t_cr, {args.case}" + (
+        "" if rig else f" (M {model.launch.mach:g}, {model.launch.altitude_m:g} m, {model.load})"
+    )
+    _finish(args, store, ds)
+    if args.figure:
+        plot_sobol(ds, args.figure)
+    if args.json:
+        out = {k: ds[k].values.tolist() for k in ("S1", "S1_conf", "ST", "ST_conf")}
+        out["input"] = [str(x) for x in ds["input"].values]
+        out.update({k: v for k, v in ds.attrs.items() if isinstance(v, int | float | str)})
+        out["elapsed_s"] = elapsed
+        print(json.dumps(out))
+        return 0
+    print(ds.attrs["title"])
+    pc = int(100 * float(ds.attrs["confidence"]))
+    print(f"{'input':>14} {'S1':>8} {'+-' + str(pc) + '%':>8} {'ST':>8} {'+-':>8}")
+    for k, name in enumerate(ds["input"].values):
+        print(
+            f"{name!s:>14} {ds.S1.values[k]:8.4f} {ds.S1_conf.values[k]:8.4f} "
+            f"{ds.ST.values[k]:8.4f} {ds.ST_conf.values[k]:8.4f}"
+        )
+    print(
+        f"{ds.attrs['n_evaluations']} runs ({runner.n_computed} computed, {runner.n_resumed} "
+        f"resumed), {ds.attrs['n_censored']} not opened, {ds.attrs['n_unconverged']} not "
+        f"converged; mean t_cr {ds.attrs['mean']:.5g} s, "
+        f"sd {math.sqrt(ds.attrs['variance']):.3g} s; {elapsed:.1f} s"
+    )
+    return 0
+
+
+# --------------------------------------------------------------------------- optimize
+
+
+def _run_optimize(args: argparse.Namespace) -> int:
+    import xarray as xr
+
+    from ..envelope.optimize import (
+        DEFAULT_BOUNDS,
+        DESIGN_VARIABLES,
+        DesignProblem,
+        optimise,
+    )
+    from ..envelope.pareto import pareto_front
+    from ..sweeps import parse_axis
+
+    _check_out(args)
+    model = model_from_args(args)
+    names = [v.strip() for v in args.variables.split(",") if v.strip()]
+    bounds: dict[str, tuple[float, float]] = {}
+    for name in names:
+        if name not in DESIGN_VARIABLES:
+            raise InputError("--variables", f"{name!r}; allowed: {', '.join(DESIGN_VARIABLES)}")
+        bounds[name] = DEFAULT_BOUNDS[name]
+    for text in args.bound or []:
+        if "=" not in text or "," not in text:
+            raise InputError("--bound", f"malformed {text!r}: expected NAME=LO,HI")
+        name, rng = text.split("=", 1)
+        name = name.strip().replace("-", "_")
+        if name not in bounds:
+            raise InputError("--bound", f"{name!r} is not among --variables")
+        lo, hi = rng.split(",", 1)
+        unit = DESIGN_VARIABLES[name].replace("1", "")
+        bounds[name] = (quantity(name, lo, unit), quantity(name, hi, unit))
+    machs = parse_axis(args.grid_mach, "--mach")
+    alts = parse_axis(args.grid_altitude, "--altitude-m")
+    conditions = tuple({"mach": float(m), "altitude_m": float(h)} for m in machs for h in alts)
+    problem = DesignProblem(
+        model,
+        conditions,
+        bounds,
+        objective=args.objective,
+        mass_budget=None
+        if args.mass_budget is None
+        else quantity("--mass-budget", args.mass_budget, "kg"),
+        wall=None if args.wall is None else quantity("--wall", args.wall, "m"),
+        block_margin_deg=quantity("--block-margin-deg", args.block_margin_deg, "deg"),
+    )
+    seed = _int("--seed", args.seed, 0)
+    identity = {"study": "optimize", "problem": problem.identity(), "seed": seed}
+    store = open_store(args, identity)
+    runner = runner_from_args(args, store)
+    t0 = time.perf_counter()
+    try:
+        res = optimise(
+            problem,
+            runner,
+            seed=seed,
+            popsize=_int("--popsize", args.popsize, 2),
+            maxiter=_int("--maxiter", args.maxiter),
+            polish=not args.no_polish,
+        )
+        front = (
+            pareto_front(res, runner, points=_int("--pareto", args.pareto, 2))
+            if args.pareto
+            else None
+        )
+    finally:
+        if store is not None:
+            store.close()
+    elapsed = time.perf_counter() - t0
+    summary = res.to_dict()
+    cond = ("condition",)
+    data: dict[str, Any] = {
+        "mach": (cond, machs.repeat(alts.size)),
+        "altitude_m": (cond, np.tile(alts, machs.size), {"units": "m"}),
+        "t_cr_optimum": (cond, np.array(res.optimum["t_cr"]), {"units": "s"}),
+        "status_optimum": (cond, np.array(res.optimum["status"], dtype=np.int8)),
+        "t_cr_baseline": (cond, np.array(res.baseline["t_cr"]), {"units": "s"}),
+        "status_baseline": (cond, np.array(res.baseline["status"], dtype=np.int8)),
+    }
+    for k, name in enumerate(problem.names):
+        data[f"optimum_{name}"] = ((), float(res.x[k]), {"units": DESIGN_VARIABLES[name]})
+    attrs = {
+        "title": "robust obturator design",
+        "objective": problem.objective,
+        "optimum_objective_s": res.optimum["objective"],
+        "baseline_objective_s": res.baseline["objective"],
+        "improvement": res.improvement,
+        "optimum_mass_kg": res.mass,
+        "baseline_mass_kg": res.baseline_mass,
+        "mass_budget_kg": float(problem.mass_budget),  # type: ignore[arg-type]
+        "load": model.load,
+        "sensitivity": json.dumps(res.sensitivity),
+    }
+    ds = xr.Dataset(data, attrs=attrs)
+    if front is not None:
+        for k in front.data_vars:
+            ds[f"pareto_{k}"] = front[k].rename(point="pareto_point")
+        ds.attrs["pareto_degenerate"] = int(front.attrs["degenerate"])
+    _finish(args, store, ds)
+    if args.figure and front is not None:
+        from ..envelope.figures import plot_pareto
+
+        plot_pareto(front, args.figure)
+    if front is not None:
+        summary["pareto"] = {
+            "mass_kg": front["mass"].values.tolist(),
+            "objective_s": front["objective"].values.tolist(),
+            "feasible": front["feasible"].values.tolist(),
+            "degenerate": bool(front.attrs["degenerate"]),
+        }
+    summary["elapsed_s"] = elapsed
+    if args.json:
+        print(json.dumps(summary, default=float))
+        return 0
+    _print_optimum(problem, res, summary, elapsed, runner)
+    return 0
+
+
+def _print_optimum(problem: Any, res: Any, s: dict[str, Any], elapsed: float, runner: Any) -> None:
+    from ..envelope.optimize import DESIGN_VARIABLES
+
+    base = problem.values(problem.baseline())
+    print(
+        f"objective: {problem.objective} of t_cr over {len(problem.conditions)} conditions "
+        f"({problem.model.load} load)"
+    )
+    print(f"{'variable':>12} {'Table 1':>11} {'optimum':>11} {'unit':>7} {'dJ/dx*x/J':>10} active")
+    for k, name in enumerate(problem.names):
+        sens = res.sensitivity[name]
+        print(
+            f"{name:>12} {base[name]:11.5g} {res.x[k]:11.5g} {DESIGN_VARIABLES[name]:>7} "
+            f"{sens['elasticity']:10.3f} {sens['active'] or '-'}"
+        )
+    from ..envelope.optimize import CONSTRAINT_NAMES
+
+    active = [n for n, g in zip(CONSTRAINT_NAMES, res.constraints, strict=True) if g < 1e-6]
+    print(
+        f"ball mass {1e3 * res.baseline_mass:.3f} g -> {1e3 * res.mass:.3f} g "
+        f"(budget {1e3 * float(problem.mass_budget):.3f} g); active constraints: "
+        + ("; ".join(active) or "none")
+    )
+    print("condition            t_cr Table 1 [s]   t_cr optimum [s]")
+    for c, tb, to, sb, so in zip(
+        problem.conditions,
+        res.baseline["t_cr"],
+        res.optimum["t_cr"],
+        res.baseline["status"],
+        res.optimum["status"],
+        strict=True,
+    ):
+        print(f"M {c['mach']:<5g} {c['altitude_m']:>7g} m   {tb:12.6g} ({sb})   {to:12.6g} ({so})")
+    print(
+        f"{problem.objective}: {res.baseline['objective']:.6g} s -> "
+        f"{res.optimum['objective']:.6g} s "
+        f"({100 * res.improvement:.1f} % better); status 1 = opened and converged"
+    )
+    if "pareto" in s:
+        p = s["pareto"]
+        pts = ", ".join(
+            f"{1e3 * m:.3f} g: {o:.5g} s"
+            for m, o in zip(p["mass_kg"], p["objective_s"], strict=True)
+        )
+        print(f"Pareto front (mass: objective){' (degenerate)' if p['degenerate'] else ''}: {pts}")
+    print(f"{res.n_evaluations} designs evaluated in {elapsed:.1f} s ({res.message})")
+
+
+# --------------------------------------------------------------------------- register
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``probability``, ``sensitivity`` and ``optimize`` sub-commands."""
+    p = subparsers.add_parser(
+        "probability",
+        help="P(t_cr > requirement) under uncertain inputs (importance sampling)",
+        description="Probability that the bore opens later than the requirement, by "
+        "cross-entropy importance sampling (--method is), brute-force Monte Carlo "
+        "(mc) or both, with confidence intervals. Default inputs: " + " ".join(DEFAULT_UNCERTAINTY),
+    )
+    p.add_argument("--mach", dest="grid_mach", default="3", metavar="SPEC", help="muzzle Mach")
+    p.add_argument(
+        "--altitude-m", dest="grid_altitude", default="0", metavar="SPEC", help="altitude [m]"
+    )
+    p.add_argument("--vary", action="append", metavar="NAME=KIND:ARGS", help="uncertain input")
+    p.add_argument("--requirement", default="0.1", metavar="S", help="t_cr requirement [s]")
+    p.add_argument("--method", choices=("is", "mc", "both"), default="is")
+    p.add_argument("--samples", default="2000", metavar="N", help="brute-force samples")
+    p.add_argument("--stage-samples", default="500", metavar="N", help="IS samples per stage")
+    p.add_argument("--final-samples", default="1000", metavar="N", help="IS final samples")
+    p.add_argument("--rho", default="0.1", metavar="X", help="IS elite fraction")
+    p.add_argument("--seed", default="0", metavar="S")
+    p.add_argument("--confidence", default="0.95", metavar="C")
+    add_model_arguments(p, launch_point=False)
+    add_execution_arguments(p)
+    p.add_argument("--out", metavar="FILE.nc", help="NetCDF output (and resume store)")
+    p.set_defaults(func=_run_probability)
+
+    s = subparsers.add_parser(
+        "sensitivity",
+        help="Sobol indices of t_cr (SALib) with bootstrap intervals",
+        description="First-order and total Sobol indices of t_cr. Defaults: flight "
+        + " ".join(DEFAULT_RANGES)
+        + "; spin-rig "
+        + " ".join(DEFAULT_RIG_RANGES),
+    )
+    s.add_argument("--case", choices=("flight", "spin-rig"), default="flight")
+    s.add_argument("--mach", dest="mach_point", metavar="X", help="muzzle Mach (flight, 3)")
+    s.add_argument("--altitude-m", dest="altitude_point", metavar="X", help="altitude [m] (0)")
+    s.add_argument("--vary", action="append", metavar="NAME=KIND:ARGS", help="uncertain input")
+    s.add_argument("--samples", default="256", metavar="N", help="SALib base N (power of 2)")
+    s.add_argument("--resamples", default="1000", metavar="N", help="bootstrap resamples")
+    s.add_argument("--seed", default="0", metavar="S")
+    s.add_argument("--confidence", default="0.95", metavar="C")
+    s.add_argument("--figure", metavar="FILE.png", help="bar chart")
+    add_model_arguments(s, launch_point=False)
+    add_execution_arguments(s)
+    s.add_argument("--out", metavar="FILE.nc", help="NetCDF output (and resume store)")
+    s.set_defaults(func=_run_sensitivity)
+
+    o = subparsers.add_parser(
+        "optimize",
+        help="robust design: minimise the worst case / a quantile of t_cr over the envelope",
+        description="Differential evolution (SciPy) + SLSQP polish over the design "
+        "variables, subject to the bore-able hole, the ball blocking the bore at launch, "
+        "the socket wall and the mass budget; reports the optimum, its sensitivity and "
+        "(--pareto N) the t_cr-mass Pareto front.",
+    )
+    o.add_argument("--mach", dest="grid_mach", default="1.5,2.75,4", metavar="SPEC")
+    o.add_argument("--altitude-m", dest="grid_altitude", default="0,10000", metavar="SPEC")
+    o.add_argument("--objective", default="max", metavar="max|quantile:Q")
+    o.add_argument(
+        "--variables",
+        default="hole_radius,ball_radius,density,gap,mu_s",
+        metavar="A,B,...",
+        help="design variables (default all five)",
+    )
+    o.add_argument("--bound", action="append", metavar="NAME=LO,HI", help="override bounds (SI)")
+    o.add_argument("--mass-budget", metavar="KG", help="largest ball mass (Table 1 ball's)")
+    o.add_argument("--wall", metavar="M", help="smallest socket wall R_p - R_s (2.061 mm)")
+    o.add_argument("--block-margin-deg", default="2", metavar="DEG", help="theta0-beta-beta_s")
+    o.add_argument("--popsize", default="10", metavar="N")
+    o.add_argument("--maxiter", default="30", metavar="N")
+    o.add_argument("--seed", default="0", metavar="S")
+    o.add_argument("--no-polish", action="store_true", help="skip the SLSQP polish")
+    o.add_argument("--pareto", metavar="N", help="trace the t_cr-mass Pareto front with N points")
+    o.add_argument("--figure", metavar="FILE.png", help="Pareto front figure (with --pareto)")
+    add_model_arguments(o, launch_point=False)
+    add_execution_arguments(o)
+    o.add_argument("--out", metavar="FILE.nc", help="NetCDF output (and resume store)")
+    o.set_defaults(func=_run_optimize)

@@ -1,0 +1,469 @@
+"""The obturator integrated along the flight: trajectory-coupled load and spin.
+
+The trajectory does not depend on the ball (one-way coupling: the ball's
+reaction on the projectile's flight is neglected; its spin reaction is
+neglected too, the projectile spin following the aerodynamic roll damping).
+So the flight is integrated first (:func:`obturator.envelope.trajectory.fly`)
+and the obturator is then integrated in segments of length Delta: on segment
+[t_k, t_k + Delta] the thesis's flight case (Table 1 "aerodynamic model",
+Eqs. 43-55, 63) is solved with the load F_p and the projectile spin omega_p
+frozen at their mid-segment values,
+
+    F_p = pi r_p^2 (P_2 - P_1)(M(t_k + Delta/2), P_1(t_k + Delta/2))  (Eqs. 1, 3, 43),
+    omega_p = omega_p(t_k + Delta/2),
+
+restarting from the previous segment's final state through the public
+``simulate(case, options, y0=...)``. The ball's own angular velocity is
+continuous across segment boundaries; the spin is stored as the last state
+component (``y[7]``) and replaced by the new projectile spin. The midpoint rule
+makes the error second order in Delta; :func:`coupled_convergence` halves
+Delta and reports the change together with the package's usual checks
+(tolerances and friction width divided by 10, as in
+:func:`obturator.solve.convergence_check`).
+
+A cleaner route would pass F_p(t) and omega_p(t) into the compiled right-hand
+side (a tabulated load in the parameter vector); that needs a change of the
+numeric core and is not made here.
+
+Where the flight Mach number falls to 1 before the bore opens, the
+normal-shock load model of the thesis ends and the point gets status
+:data:`STATUS_SUBSONIC`.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields, replace
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError, check_range
+from ..flow import pressure_force
+from ..model.case import Case, initial_state
+from ..model.cases import TABLE1, flight_case
+from ..model.geometry import BoredBall
+from ..solve import SolverOptions, convergence_check, opening_time, simulate
+from .trajectory import Launch, Projectile, Trajectory, fly
+
+__all__ = [
+    "STATUS_OPENED",
+    "STATUS_NOT_OPENED",
+    "STATUS_FAILED",
+    "STATUS_INVALID",
+    "STATUS_UNCONVERGED",
+    "STATUS_SUBSONIC",
+    "STATUS_FLAGS",
+    "ObturatorDesign",
+    "CoupledOpening",
+    "CoupledConvergence",
+    "coupled_opening",
+    "coupled_convergence",
+    "constant_case",
+    "cached_flight",
+    "DEFAULT_SEGMENT",
+]
+
+#: Status codes (the first five as in :mod:`obturator.studies_sweep`).
+STATUS_OPENED = 1
+STATUS_NOT_OPENED = 0
+STATUS_FAILED = -1
+STATUS_INVALID = -2
+STATUS_UNCONVERGED = 2
+#: The flight went subsonic before the bore opened (normal-shock load model ends).
+STATUS_SUBSONIC = 3
+STATUS_FLAGS = {
+    STATUS_INVALID: "invalid_input",
+    STATUS_FAILED: "solver_failed_or_step_limit",
+    STATUS_NOT_OPENED: "not_opened_by_t_max",
+    STATUS_OPENED: "opened",
+    STATUS_UNCONVERGED: "opened_not_converged",
+    STATUS_SUBSONIC: "subsonic_before_opening",
+}
+
+#: Default segment length Delta [s] of the piecewise-constant load.
+DEFAULT_SEGMENT = 2e-3
+
+
+@dataclass(frozen=True)
+class ObturatorDesign:
+    """Ball, socket and bore of the obturator (Table 1 flight column by default).
+
+    Parameters
+    ----------
+    mu_s : float
+        Sliding friction coefficient [-] (Table 1: 0.35).
+    theta0_deg : float
+        Initial nutation theta_0 [deg] (87.25).
+    gap : float
+        Ball-socket gap h [m] (5.08e-5).
+    hole_radius : float
+        Hole radius of the ball r_s [m] (4.72e-3).
+    ball_radius : float
+        Ball radius R_s [m] (7.899e-3).
+    density : float
+        Ball density rho [kg/m^3] (7669.6).
+    bore_radius : float
+        Projectile bore radius r_p [m] (4.72e-3): sets F_p and the contact
+        angle beta = asin(r_p / R_s) (Eq. 47).
+    viscosity : float
+        Gap fluid viscosity mu_f [Pa s] (1.917e-5).
+    torque_model : {"thesis", "coulomb"}
+        Friction model of :func:`obturator.cases.flight_case`.
+    gamma : float
+        Ratio of specific heats of air [-] (1.4).
+    """
+
+    mu_s: float = TABLE1["mu_s"]
+    theta0_deg: float = TABLE1["theta0_deg"]
+    gap: float = TABLE1["gap"]
+    hole_radius: float = TABLE1["hole_radius"]
+    ball_radius: float = TABLE1["ball_radius"]
+    density: float = TABLE1["density"]
+    bore_radius: float = TABLE1["bore_radius"]
+    viscosity: float = TABLE1["viscosity"]
+    torque_model: str = "thesis"
+    gamma: float = TABLE1["gamma"]
+
+    def __post_init__(self) -> None:
+        check_range("mu_s", self.mu_s, 0.0, 2.0)
+        check_range("gap", self.gap, 0.0, 1e-3, lo_open=True, unit="m")
+        check_range("viscosity", self.viscosity, 0.0, lo_open=True, unit="Pa s")
+        check_range("gamma", self.gamma, 1.0, 3.0, lo_open=True)
+        check_range(
+            "bore_radius",
+            self.bore_radius,
+            0.0,
+            self.ball_radius,
+            lo_open=True,
+            hi_open=True,
+            unit="m",
+        )
+        # builds the ball and the case once: geometry and theta_0 > beta_s
+        self.case(1.0, 1.0, 1.0)
+
+    def ball(self) -> BoredBall:
+        """The bored ball (R_s, r_s, rho)."""
+        return BoredBall(self.ball_radius, self.hole_radius, self.density)
+
+    @property
+    def mass(self) -> float:
+        """Ball mass [kg]."""
+        return self.ball().mass
+
+    def case(self, force: float, spin_rate: float, t_max: float) -> Case:
+        """Thesis flight case with load F_p = `force` [N] and spin `spin_rate` [rad/s].
+
+        Parameters
+        ----------
+        force : float
+            F_p [N].
+        spin_rate : float
+            omega_p [rad/s].
+        t_max : float
+            Integration limit [s].
+        """
+        return flight_case(
+            spin_rate,
+            self.mu_s,
+            theta0_deg=self.theta0_deg,
+            torque_model=self.torque_model,  # type: ignore[arg-type]
+            pressure_force=force,
+            ball=self.ball(),
+            bore_radius=self.bore_radius,
+            gap=self.gap,
+            viscosity=self.viscosity,
+            t_max=t_max,
+        )
+
+    def with_(self, **changes: Any) -> ObturatorDesign:
+        """A copy with fields replaced (validated again)."""
+        names = {f.name for f in fields(self)}
+        for k in changes:
+            if k not in names:
+                raise InputError("design", f"unknown field {k!r}; allowed: {', '.join(names)}")
+        return replace(self, **changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Field values (SI) as a JSON-ready dict."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def constant_case(design: ObturatorDesign, launch: Launch, t_max: float) -> Case:
+    """The thesis's constant-load flight case at the muzzle conditions of `launch`.
+
+    F_p from the normal shock at the muzzle Mach number and the launch
+    altitude's pressure, omega_p the muzzle spin (:attr:`Launch.muzzle_spin`).
+    """
+    p1 = _pressure(launch.altitude_m)
+    force = float(pressure_force(launch.mach, p1, design.bore_radius, design.gamma))
+    return design.case(force, launch.muzzle_spin, t_max)
+
+
+def _pressure(altitude_m: float) -> float:
+    from .trajectory import air_state
+
+    return air_state(altitude_m)[0]
+
+
+@functools.lru_cache(maxsize=64)
+def cached_flight(projectile: Projectile, launch: Launch, t_end: float) -> Trajectory:
+    """:func:`fly` with a per-process cache (the flight does not depend on the ball)."""
+    return fly(projectile, launch, t_end)
+
+
+@dataclass(frozen=True)
+class CoupledOpening:
+    """Result of one trajectory-coupled opening.
+
+    Attributes
+    ----------
+    t_cr : float
+        Opening time [s]; NaN if the bore did not open.
+    status : int
+        :data:`STATUS_OPENED`, :data:`STATUS_NOT_OPENED`, :data:`STATUS_SUBSONIC`
+        or :data:`STATUS_FAILED`.
+    segment : float
+        Segment length Delta [s].
+    n_segments : int
+        Segments integrated.
+    mach_end, force_end, spin_end : float
+        Flight Mach [-], load F_p [N] and spin [rad/s] at t_cr (or at the end).
+    nfev : int
+        Right-hand-side evaluations of the obturator integrator.
+    history : dict of str to ndarray, optional
+        With ``record=True``: t [s], theta [rad], force [N], spin [rad/s], mach [-].
+    """
+
+    t_cr: float
+    status: int
+    segment: float
+    n_segments: int
+    mach_end: float
+    force_end: float
+    spin_end: float
+    nfev: int
+    history: dict[str, np.ndarray] | None = field(default=None, repr=False)
+
+    @property
+    def opened(self) -> bool:
+        """True when theta reached theta_cr."""
+        return math.isfinite(self.t_cr)
+
+
+def coupled_opening(
+    design: ObturatorDesign,
+    trajectory: Trajectory,
+    options: SolverOptions | None = None,
+    *,
+    segment: float = DEFAULT_SEGMENT,
+    t_max: float | None = None,
+    spin_rate: float | None = None,
+    record: bool = False,
+) -> CoupledOpening:
+    """Integrate the obturator along a flight with piecewise-constant load and spin.
+
+    Parameters
+    ----------
+    design : ObturatorDesign
+    trajectory : Trajectory
+        The flight (:func:`obturator.envelope.trajectory.fly`).
+    options : SolverOptions, optional
+        Obturator integrator settings.
+    segment : float
+        Segment length Delta [s], in (0, 0.1].
+    t_max : float, optional
+        Give up at this time [s]; default the trajectory's end.
+    spin_rate : float, optional
+        Muzzle spin [rad/s] replacing the trajectory's; omega_p(t) is scaled
+        (exact: the roll-damping equation is linear in omega_p and the
+        translational motion does not depend on it).
+    record : bool
+        Keep theta(t), F_p(t), omega_p(t), M(t) (20 samples per segment).
+
+    Returns
+    -------
+    CoupledOpening
+    """
+    options = options or SolverOptions()
+    dt = check_range("segment", segment, 0.0, 0.1, lo_open=True, unit="s")
+    t_end = trajectory.t_end if t_max is None else min(float(t_max), trajectory.t_end)
+    check_range("t_max", t_end, 0.0, lo_open=True, unit="s")
+    scale = 1.0
+    if spin_rate is not None:
+        scale = check_range("spin_rate", spin_rate, 0.0, lo_open=True, unit="rad/s") / float(
+            trajectory.spin_rate(0.0)
+        )
+    starts, lengths, machs, forces, spins = trajectory.segment_loads(
+        dt, t_end, design.bore_radius, design.gamma
+    )
+    y = initial_state(
+        math.radians(design.theta0_deg),
+        scale * float(trajectory.spin_rate(0.0)),
+        formulation=options.formulation,
+    )
+    hist: dict[str, list[np.ndarray]] = {k: [] for k in ("t", "theta", "force", "spin", "mach")}
+    t, k, nfev = 0.0, 0, 0
+    status = STATUS_NOT_OPENED
+    t_cr = math.nan
+    mach = force = spin = math.nan
+    for t, h, mach, force, spin0 in zip(starts, lengths, machs, forces, spins, strict=True):
+        if mach <= 1.0:
+            status = STATUS_SUBSONIC
+            break
+        spin = scale * float(spin0)
+        y = y.copy()
+        y[7] = spin
+        case = design.case(float(force), spin, float(h))
+        te = np.linspace(0.0, h, 21)[1:] if record else np.array([h])
+        res = simulate(case, options, y0=y, t_eval=te)
+        nfev += res.nfev
+        k += 1
+        if record:
+            for name, val in (
+                ("t", t + res.t),
+                ("theta", res.theta),
+                ("force", np.full(res.t.size, force)),
+                ("spin", np.full(res.t.size, spin)),
+                ("mach", np.full(res.t.size, mach)),
+            ):
+                hist[name].append(np.asarray(val))
+        if res.status == 1:
+            t_cr = float(t) + res.opening_time
+            status = STATUS_OPENED
+            break
+        if not res.success:
+            status = STATUS_FAILED
+            break
+        y = res.state[-1]
+    if status == STATUS_NOT_OPENED and trajectory.subsonic and t_end >= trajectory.t_end:
+        status = STATUS_SUBSONIC
+    history = {name: np.concatenate(v) if v else np.empty(0) for name, v in hist.items()}
+    hist_out = history if record else None
+    return CoupledOpening(
+        t_cr, status, dt, k, float(mach), float(force), float(spin), nfev, hist_out
+    )
+
+
+@dataclass(frozen=True)
+class CoupledConvergence:
+    """Change of the coupled t_cr under refinement (cf. :class:`obturator.solve.ConvergenceCheck`).
+
+    Attributes
+    ----------
+    t_cr : float
+        With the given options and segment [s].
+    variants : dict of str to float
+        t_cr [s] with ``"tighter_tolerance"`` (rtol, atol / factor),
+        ``"narrower_width"`` (friction width / factor) and ``"half_segment"``
+        (Delta / 2).
+    threshold : float
+        Largest relative change accepted as converged.
+    """
+
+    t_cr: float
+    variants: dict[str, float]
+    threshold: float = 1e-3
+
+    def change(self, name: str) -> float:
+        """|t_variant - t_cr| / t_cr (0 if neither opened, inf if only one did)."""
+        a, b = self.t_cr, self.variants[name]
+        if math.isnan(a) and math.isnan(b):
+            return 0.0
+        if math.isnan(a) or math.isnan(b):
+            return math.inf
+        return abs(b - a) / abs(a)
+
+    @property
+    def max_change(self) -> float:
+        """Largest relative change over the variants."""
+        return max((self.change(k) for k in self.variants), default=0.0)
+
+    @property
+    def converged(self) -> bool:
+        """Every relative change below the threshold."""
+        return self.max_change < self.threshold
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary (None for NaN / inf)."""
+
+        def clean(x: float) -> float | None:
+            return x if math.isfinite(x) else None
+
+        out: dict[str, Any] = {"converged": self.converged, "threshold": self.threshold}
+        for k in self.variants:
+            out[f"t_cr_{k}_s"] = clean(self.variants[k])
+            out[f"{k}_rel_change"] = clean(self.change(k))
+        return out
+
+
+def coupled_convergence(
+    design: ObturatorDesign,
+    trajectory: Trajectory,
+    options: SolverOptions | None = None,
+    *,
+    segment: float = DEFAULT_SEGMENT,
+    t_max: float | None = None,
+    spin_rate: float | None = None,
+    factor: float = 10.0,
+    threshold: float = 1e-3,
+    t_cr: float | None = None,
+    variants: Mapping[str, SolverOptions] | None = None,
+) -> CoupledConvergence:
+    """Recompute the coupled t_cr with refined tolerances, friction width and segment.
+
+    Parameters
+    ----------
+    design, trajectory, options, segment, t_max, spin_rate
+        As for :func:`coupled_opening`.
+    factor : float
+        Refinement factor of the tolerances and the friction width.
+    threshold : float
+        Relative change accepted as converged.
+    t_cr : float, optional
+        The unrefined t_cr if already computed [s].
+    variants : mapping of str to SolverOptions, optional
+        Solver variants to rerun; default the two of
+        :func:`obturator.solve.convergence_check` (tolerances and friction
+        width divided by `factor`). The half-segment rerun is always added.
+    """
+    options = options or SolverOptions()
+    kw = {"segment": segment, "t_max": t_max, "spin_rate": spin_rate}
+    if t_cr is None:
+        t_cr = coupled_opening(design, trajectory, options, **kw).t_cr  # type: ignore[arg-type]
+    if variants is None:
+        variants = {
+            "tighter_tolerance": options.tighter(factor),
+            "narrower_width": replace(options, friction_width=options.friction_width / factor),
+        }
+    out: dict[str, float] = {}
+    for name, opts in variants.items():
+        out[name] = coupled_opening(design, trajectory, opts, **kw).t_cr  # type: ignore[arg-type]
+    kw["segment"] = 0.5 * segment
+    out["half_segment"] = coupled_opening(design, trajectory, options, **kw).t_cr  # type: ignore[arg-type]
+    return CoupledConvergence(float(t_cr), out, threshold)
+
+
+def constant_opening(
+    design: ObturatorDesign,
+    launch: Launch,
+    options: SolverOptions | None = None,
+    *,
+    t_max: float = 1.0,
+    check: bool = True,
+) -> tuple[float, dict[str, Any] | None]:
+    """Constant-load t_cr [s] at the muzzle conditions and its convergence check.
+
+    Returns
+    -------
+    (float, dict or None)
+        t_cr (NaN if not opened by `t_max`) and
+        :meth:`obturator.solve.ConvergenceCheck.to_dict` (None with ``check=False``).
+    """
+    case = constant_case(design, launch, t_max)
+    t = opening_time(case, options)
+    if not check:
+        return t, None
+    return t, convergence_check(case, options, opening_time_s=t).to_dict()

@@ -1,0 +1,201 @@
+"""Uncertain inputs: distributions, the map from standard-normal space, point functions.
+
+Distributions are the package's :class:`obturator.studies_sweep.Distribution`
+(``normal:MEAN,SD``, ``uniform:LO,HI``, ``lognormal:MEDIAN,SIGMA_LN``,
+``truncnormal:MEAN,SD,LO,HI``). Reliability and sensitivity methods work in a
+space of independent standard normal variables z; :func:`ppf` maps each
+z_i to its input by the inverse-CDF (Rosenblatt) transform x_i = F_i^-1(Phi(z_i)),
+so every input may have any of the four distributions.
+
+:func:`performance` turns a point function (a :class:`~obturator.envelope.model.FlightModel`
+or a :class:`RigModel`) and a :class:`~obturator.envelope.executor.Runner`
+into the vectorised function of input lists that the studies call.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.special import ndtr, ndtri
+from scipy.stats import truncnorm
+
+from ..errors import InputError
+from ..solve import SolverOptions, convergence_check, opening_time
+from ..sweeps import Distribution, SweepSpec
+from .coupled import (
+    STATUS_FAILED,
+    STATUS_INVALID,
+    STATUS_NOT_OPENED,
+    STATUS_OPENED,
+    STATUS_UNCONVERGED,
+)
+from .executor import Runner
+from .model import INPUTS
+
+__all__ = [
+    "RIG_INPUTS",
+    "RigModel",
+    "parse_input_distribution",
+    "ppf",
+    "points_from_normal",
+    "points_from_uniform",
+    "performance",
+    "Performance",
+]
+
+#: Inputs the spin-rig model accepts (as :class:`obturator.studies_sweep.SweepSpec`).
+RIG_INPUTS = ("spin_rate", "mu_s", "theta0_deg", "density", "hole_radius", "gap")
+
+_HELP = "normal:MEAN,SD | uniform:LO,HI | lognormal:MEDIAN,SIGMA_LN | truncnormal:MEAN,SD,LO,HI"
+
+
+def parse_input_distribution(
+    text: str, allowed: Sequence[str] = tuple(INPUTS)
+) -> tuple[str, Distribution]:
+    """Parse ``NAME=KIND:ARGS`` (e.g. ``mu_s=normal:0.35,0.03``); SI units.
+
+    Parameters
+    ----------
+    text : str
+    allowed : sequence of str
+        Input names accepted (hyphens in NAME are read as underscores).
+    """
+    s = text.strip() if isinstance(text, str) else ""
+    if "=" not in s or ":" not in s.split("=", 1)[1]:
+        raise InputError("vary", f"malformed {text!r}: expected NAME=KIND:ARGS ({_HELP})")
+    name, rest = s.split("=", 1)
+    name = name.strip().replace("-", "_")
+    if name not in allowed:
+        raise InputError("vary", f"unknown input {name!r}; allowed: {', '.join(allowed)}")
+    kind, args = rest.split(":", 1)
+    try:
+        numbers = tuple(float(a) for a in args.split(","))
+    except ValueError:
+        raise InputError(name, f"malformed numbers in {args!r} ({_HELP})") from None
+    try:
+        return name, Distribution(kind.strip().lower(), numbers)  # type: ignore[arg-type]
+    except InputError as exc:
+        raise InputError(name, str(exc).split(": ", 1)[-1]) from None
+
+
+def ppf(dist: Distribution, z: np.ndarray) -> np.ndarray:
+    """Input values F^-1(Phi(z)) for standard-normal z (same shape)."""
+    p = dist.params
+    z = np.asarray(z, dtype=float)
+    if dist.kind == "normal":
+        return p[0] + p[1] * z
+    if dist.kind == "lognormal":
+        return p[0] * np.exp(p[1] * z)
+    if dist.kind == "uniform":
+        return p[0] + (p[1] - p[0]) * ndtr(z)
+    a, b = (p[2] - p[0]) / p[1], (p[3] - p[0]) / p[1]
+    return truncnorm.ppf(ndtr(z), a, b, loc=p[0], scale=p[1])
+
+
+def points_from_normal(dists: Mapping[str, Distribution], z: np.ndarray) -> list[dict[str, float]]:
+    """Input dicts for the rows of z (shape (n, d), columns in `dists` order)."""
+    names = list(dists)
+    z = np.atleast_2d(np.asarray(z, dtype=float))
+    if z.shape[1] != len(names):
+        raise InputError("z", f"expected {len(names)} columns, got {z.shape[1]}")
+    cols = [ppf(dists[k], z[:, j]) for j, k in enumerate(names)]
+    return [{k: float(c[i]) for k, c in zip(names, cols, strict=True)} for i in range(z.shape[0])]
+
+
+def points_from_uniform(dists: Mapping[str, Distribution], u: np.ndarray) -> list[dict[str, float]]:
+    """Input dicts for the rows of u in the unit hypercube (probability space)."""
+    u = np.clip(np.asarray(u, dtype=float), 1e-12, 1.0 - 1e-12)
+    return points_from_normal(dists, ndtri(u))
+
+
+@dataclass(frozen=True)
+class RigModel:
+    """t_cr on the spin rig (Table 1 "gravitational model", Eqs. 56-61) for given inputs.
+
+    Built with :meth:`obturator.studies_sweep.SweepSpec.build_case`, so the
+    rig's normal load follows the ball's weight when density or hole radius
+    are varied (thesis Figs. 16-17), as in ``obturator sweep``.
+
+    Parameters
+    ----------
+    varied : tuple of str
+        Names of the inputs that will be given (subset of :data:`RIG_INPUTS`).
+    fixed : mapping
+        Values held fixed (SI).
+    options : SolverOptions
+    check_convergence : bool
+        Status 2 when the package's :func:`obturator.solve.convergence_check`
+        moves t_cr by more than 1e-3.
+    """
+
+    varied: tuple[str, ...] = ()
+    fixed: Mapping[str, float] = field(default_factory=dict)
+    options: SolverOptions = field(default_factory=SolverOptions)
+    check_convergence: bool = True
+
+    def __post_init__(self) -> None:
+        for k in (*self.varied, *self.fixed):
+            if k not in RIG_INPUTS:
+                raise InputError("vary", f"{k!r} is not a rig input; allowed: {RIG_INPUTS}")
+        object.__setattr__(self, "varied", tuple(self.varied))
+        object.__setattr__(self, "fixed", dict(self.fixed))
+
+    def _spec(self) -> SweepSpec:
+        fixed = dict(self.fixed)
+        for k in ("density", "hole_radius"):
+            if k in self.varied and k not in fixed:
+                fixed[k] = {"density": 7669.6, "hole_radius": 4.72e-3}[k]
+        return SweepSpec("spin-rig", {}, fixed, options=self.options)
+
+    def identity(self) -> dict[str, Any]:
+        """JSON-ready description (resume store)."""
+        return {
+            "rig": self._spec().identity(),
+            "varied": list(self.varied),
+            "check_convergence": self.check_convergence,
+        }
+
+    def __call__(self, values: Mapping[str, float]) -> dict[str, Any]:
+        """``t_cr`` [s], ``status`` and ``change`` as :class:`FlightModel` returns them."""
+        try:
+            case = self._spec().build_case(values)
+        except InputError as exc:
+            return {
+                "t_cr": math.nan,
+                "status": STATUS_INVALID,
+                "change": math.nan,
+                "error": str(exc),
+            }
+        try:
+            t = opening_time(case, self.options)
+        except RuntimeError:
+            return {"t_cr": math.nan, "status": STATUS_FAILED, "change": math.nan}
+        if not math.isfinite(t):
+            return {"t_cr": math.nan, "status": STATUS_NOT_OPENED, "change": math.nan}
+        if not self.check_convergence:
+            return {"t_cr": t, "status": STATUS_OPENED, "change": math.nan}
+        c = convergence_check(case, self.options, opening_time_s=t)
+        status = STATUS_OPENED if c.converged else STATUS_UNCONVERGED
+        return {"t_cr": t, "status": status, "change": max(c.tolerance_change, c.width_change)}
+
+
+#: A vectorised performance function: input dicts -> (t_cr [s], status) arrays.
+Performance = Callable[[list[dict[str, float]]], tuple[np.ndarray, np.ndarray]]
+
+
+def performance(
+    model: Callable[[Mapping[str, float]], dict[str, Any]], runner: Runner, label: str
+) -> Performance:
+    """Wrap a point function and a runner as a vectorised :data:`Performance`."""
+
+    def f(points: list[dict[str, float]]) -> tuple[np.ndarray, np.ndarray]:
+        res = runner.map(model, points, label=label)
+        t = np.array([r["t_cr"] for r in res], dtype=float)
+        s = np.array([r["status"] for r in res], dtype=np.int8)
+        return t, s
+
+    return f

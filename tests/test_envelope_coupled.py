@@ -1,0 +1,103 @@
+"""Trajectory-coupled opening: constant-load limit, segment convergence, signs, statuses."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from obturator.envelope.coupled import (
+    STATUS_OPENED,
+    STATUS_SUBSONIC,
+    ObturatorDesign,
+    constant_opening,
+    coupled_convergence,
+    coupled_opening,
+)
+from obturator.envelope.drag import DragTable
+from obturator.envelope.model import FlightModel, exceeds
+from obturator.envelope.trajectory import Launch, Projectile, fly
+from obturator.errors import InputError
+from obturator.model.cases import flight_case
+from obturator.solve import opening_time
+
+STILL = Projectile(drag=DragTable.constant(0.0), roll_damping=0.0)
+
+
+def test_frozen_flight_reproduces_the_constant_load_case():
+    """No drag, gravity or roll damping: the segmented run equals one thesis flight case."""
+    tr = fly(STILL, Launch(mach=3.0, gravity=0.0, spin_rate=12042.0), t_end=0.1)
+    res = coupled_opening(ObturatorDesign(), tr, segment=3e-3)
+    ref = opening_time(flight_case(12042.0, p1=101_325.0))
+    assert res.status == STATUS_OPENED
+    assert res.n_segments == math.ceil(ref / 3e-3)
+    assert res.t_cr == pytest.approx(ref, rel=1e-8)
+
+
+def test_segment_halving_converges():
+    tr = fly(Projectile(), Launch(mach=3.0), t_end=0.1)
+    d = ObturatorDesign()
+    t = {h: coupled_opening(d, tr, segment=h).t_cr for h in (16e-3, 8e-3, 4e-3, 0.5e-3)}
+    ref = t[0.5e-3]
+    e16, e8, e4 = (abs(t[h] / ref - 1.0) for h in (16e-3, 8e-3, 4e-3))
+    assert e8 < 0.5 * e16 and e4 < 0.5 * e8  # (at least) first-order; midpoint rule ~ second
+    assert e4 < 1e-4
+
+
+def test_deceleration_lengthens_and_spin_decay_shortens_the_opening():
+    launch = Launch(mach=1.5, spin_rate=6000.0)
+    d = ObturatorDesign()
+    t_const, conv = constant_opening(d, launch)
+    assert conv is not None and conv["converged"]
+    drag_only = fly(Projectile(roll_damping=0.0), launch, t_end=0.5)
+    spin_only = fly(Projectile(drag=DragTable.constant(0.0)), launch, t_end=0.5)
+    assert coupled_opening(d, drag_only).t_cr > t_const * 1.005  # F_p falls with M
+    assert coupled_opening(d, spin_only).t_cr < t_const  # t_cr ~ omega_p (thesis Eq. 96)
+
+
+def test_spin_override_scales_the_spin_history():
+    tr = fly(Projectile(), Launch(mach=3.0), t_end=0.1)
+    a = coupled_opening(ObturatorDesign(), tr, spin_rate=10_000.0)
+    b = coupled_opening(
+        ObturatorDesign(), fly(Projectile(), Launch(mach=3.0, spin_rate=10_000.0), t_end=0.1)
+    )
+    assert a.t_cr == pytest.approx(b.t_cr, rel=1e-7)
+
+
+def test_convergence_report_for_table1():
+    tr = fly(Projectile(), Launch(mach=3.0), t_end=0.1)
+    conv = coupled_convergence(ObturatorDesign(), tr)
+    assert conv.converged
+    assert set(conv.variants) == {"tighter_tolerance", "narrower_width", "half_segment"}
+    assert conv.to_dict()["converged"] is True
+
+
+def test_subsonic_before_opening():
+    tr = fly(Projectile(drag=DragTable.constant(6.0)), Launch(mach=1.05), t_end=1.0)
+    res = coupled_opening(ObturatorDesign(), tr)
+    assert res.status == STATUS_SUBSONIC and not res.opened
+
+
+def test_design_validation():
+    with pytest.raises(InputError, match="^hole_radius:"):
+        ObturatorDesign(hole_radius=6e-3)
+    with pytest.raises(InputError, match="^bore_radius:"):
+        ObturatorDesign(bore_radius=8e-3)
+    with pytest.raises(InputError, match="^design:"):
+        ObturatorDesign().with_(radius=1.0)
+    assert ObturatorDesign().mass == pytest.approx(0.07987 / 9.80665, rel=3e-3)
+
+
+def test_flight_model_point():
+    m = FlightModel(load="both")
+    r = m({"mach": 3.0})
+    assert r["status"] == 1 and r["status_constant"] == 1
+    assert r["change"] < 1e-3 and r["change_constant"] < 1e-3
+    assert r["t_cr"] > r["t_cr_constant"]
+    bad = m({"hole_radius": 7e-3})
+    assert bad["status"] == -2 and "hole_radius" in bad["error"]
+    with pytest.raises(InputError, match="^load:"):
+        FlightModel(load="other")
+    assert exceeds(0.2, 1, 0.1) and not exceeds(0.05, 2, 0.1) and exceeds(math.nan, 0, 0.1)
+    # spin_factor multiplies the nominal muzzle spin
+    assert m.build({"spin_factor": 0.5})[1].muzzle_spin == pytest.approx(6021.0)

@@ -1,0 +1,155 @@
+"""Resumable execution (store, interruption, local pool, Dask) and the envelope map."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from obturator.envelope.envelope import EnvelopeSpec, envelope_summary, run_envelope
+from obturator.envelope.executor import ResultStore, Runner, store_path, task_key
+from obturator.envelope.model import FlightModel
+from obturator.errors import InputError
+from obturator.flow import choking_mach_freestream
+from obturator.solve import SolverOptions
+
+FAST = SolverOptions(rtol=1e-6, atol=1e-8)
+
+
+@dataclass(frozen=True)
+class Square:
+    """Picklable toy point function."""
+
+    def __call__(self, task):
+        return {"y": task["x"] ** 2}
+
+
+@dataclass
+class Interrupting:
+    """Raises KeyboardInterrupt at its `stop`-th call (in-process runs only)."""
+
+    stop: int
+    calls: int = 0
+
+    def __call__(self, task):
+        self.calls += 1
+        if self.calls == self.stop:
+            raise KeyboardInterrupt
+        return {"y": task["x"] ** 2}
+
+
+def tasks(n=10):
+    return [{"x": float(i)} for i in range(n)]
+
+
+def test_local_pool_and_duplicates():
+    ts = tasks(12) + [{"x": 3.0}]
+    a = Runner(workers=1).map(Square(), ts)
+    b = Runner(workers=2, chunk_size=2).map(Square(), ts)
+    assert a == b and a[-1] == {"y": 9.0}
+    assert task_key({"x": 1.0, "z": 2.0}) == task_key({"z": 2.0, "x": 1.0})
+
+
+def test_interrupted_run_resumes_without_loss_or_duplicates(tmp_path):
+    path = store_path(tmp_path / "out.nc")
+    ident = {"study": "toy"}
+    store = ResultStore(path, ident, restart=False)
+    fn = Interrupting(stop=5)
+    with pytest.raises(KeyboardInterrupt):
+        Runner(workers=1, store=store, chunk_size=1).map(fn, tasks())
+    store.close()
+    lines = path.read_text().splitlines()
+    assert len(lines) == 1 + 4  # header + four finished chunks
+    path.write_text(path.read_text() + '{"keys": ["cut sh')  # a line cut by the interruption
+    store = ResultStore(path, ident, restart=False)
+    assert len(store) == 4
+    counter = Interrupting(stop=-1)
+    runner = Runner(workers=1, store=store)
+    out = runner.map(counter, tasks())
+    assert [r["y"] for r in out] == [float(i * i) for i in range(10)]
+    assert counter.calls == 6 and runner.n_resumed == 4 and runner.n_computed == 6
+    keys = [
+        k
+        for line in path.read_text().splitlines()[1:]
+        if line.startswith('{"keys": [') and line.endswith("}")
+        for k in json.loads(line)["keys"]
+    ]
+    assert len(keys) == len(set(keys)) == 10
+    store.close()
+    with pytest.raises(InputError, match="^out:.*different study"):
+        ResultStore(path, {"study": "other"}, restart=False)
+    fresh = ResultStore(path, {"study": "other"}, restart=True)
+    assert len(fresh) == 0
+    fresh.remove()
+    assert not path.exists()
+
+
+def test_dask_backend():
+    distributed = pytest.importorskip("distributed")
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1) as client:
+        out = Runner(scheduler=client).map(Square(), tasks(5))
+    assert [r["y"] for r in out] == [0.0, 1.0, 4.0, 9.0, 16.0]
+
+
+def test_envelope_map_and_marks():
+    spec = EnvelopeSpec(
+        [1.5, 3.0], [0.0, 10_000.0], model=FlightModel(options=FAST, check_convergence=False)
+    )
+    ds = run_envelope(spec, Runner(workers=1))
+    assert ds["t_cr_coupled"].dims == ("mach", "altitude_m")
+    assert (ds["status_coupled"] == 1).all() and (ds["status_constant"] == 1).all()
+    assert (ds["relative_difference"] > 0).all()
+    # Fanno choking Mach at 10 km (independent call) lies above 1.5: marked choked there
+    m_choke = choking_mach_freestream(76.2 / 9.44, 9.44e-3, altitude_m=10_000.0)
+    assert ds["choke_mach"].sel(altitude_m=10_000.0) == pytest.approx(m_choke)
+    assert m_choke > 1.5 and ds["choked_at_muzzle"].sel(mach=1.5, altitude_m=10_000.0) == 1
+    assert ds["choked_at_muzzle"].sel(mach=3.0).sum() == 0
+    assert (ds["started"] == 1).all()  # constant-area bore
+    # t_cr grows with altitude and falls with Mach
+    t = ds["t_cr_constant"].values
+    assert t[0, 1] > t[0, 0] and t[1, 0] < t[0, 0]
+    s = envelope_summary(ds)
+    assert s["points"] == 4 and s["coupled_opened"] == 4
+    assert s["max_relative_difference_at"]["mach"] == 1.5
+    # a contraction that does not self-start below Mach ~1.6 marks the Mach 1.5 row
+    spec2 = EnvelopeSpec([1.5, 3.0], [0.0], model=spec.model, area_ratio=1.2)
+    ds2 = run_envelope(spec2)
+    assert list(ds2["started"].values) == [0, 1]
+
+
+def test_envelope_resumes(tmp_path, monkeypatch):
+    spec = EnvelopeSpec(
+        [2.0, 3.0, 4.0], [0.0], model=FlightModel(options=FAST, check_convergence=False)
+    )
+    path = store_path(tmp_path / "env.nc")
+    calls = {"n": 0}
+    original = FlightModel.__call__
+
+    def flaky(self, values):
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise KeyboardInterrupt
+        return original(self, values)
+
+    monkeypatch.setattr(FlightModel, "__call__", flaky)
+    store = ResultStore(path, spec.identity(), restart=False)
+    with pytest.raises(KeyboardInterrupt):
+        run_envelope(spec, Runner(workers=1, store=store, chunk_size=1))
+    store.close()
+    monkeypatch.setattr(FlightModel, "__call__", original)
+    runner = Runner(workers=1, store=ResultStore(path, spec.identity(), restart=False))
+    ds = run_envelope(spec, runner)
+    assert runner.n_resumed == 2 and runner.n_computed == 1
+    ref = run_envelope(spec)
+    np.testing.assert_array_equal(ds["t_cr_coupled"].values, ref["t_cr_coupled"].values)
+
+
+def test_envelope_validation():
+    with pytest.raises(InputError, match="^mach:"):
+        EnvelopeSpec([0.8, 2.0], [0.0])
+    with pytest.raises(InputError, match="^altitude_m:"):
+        EnvelopeSpec([2.0], [0.0, 0.0])
+    with pytest.raises(InputError, match="^area_ratio:"):
+        EnvelopeSpec([2.0], [0.0], area_ratio=1.8)
