@@ -20,6 +20,7 @@ from obturator.envelope.trajectory import Launch, Projectile, fly
 from obturator.errors import InputError
 from obturator.model.cases import flight_case
 from obturator.solve import opening_time
+from obturator.status import Status
 
 STILL = Projectile(drag=DragTable.constant(0.0), roll_damping=0.0)
 
@@ -98,6 +99,8 @@ def test_flight_model_point():
     assert bad["status"] == -2 and "hole_radius" in bad["error"]
     with pytest.raises(InputError, match="^load:"):
         FlightModel(load="other")
-    assert exceeds(0.2, 1, 0.1) and not exceeds(0.05, 2, 0.1) and exceeds(math.nan, 0, 0.1)
+    opened, unconverged = int(Status.OPENED), int(Status.UNCONVERGED)
+    assert exceeds(0.2, opened, 0.1) and not exceeds(0.05, unconverged, 0.1)
+    assert exceeds(math.nan, int(Status.T_MAX), 0.1) and exceeds(0.05, int(Status.STEP_LIMIT), 0.1)
     # spin_factor multiplies the nominal muzzle spin
     assert m.build({"spin_factor": 0.5})[1].muzzle_spin == pytest.approx(6021.0)

@@ -26,8 +26,10 @@ class Status(IntEnum):
     ``FAILED`` (-1), ``STIFF`` (3, DOP853 only: the ``auto`` method then reruns
     with Radau IIA, so results never carry it). Study values:
     ``INVALID_INPUT`` (-2, the point is not a valid case and was not
-    integrated) and ``UNCONVERGED`` (4, opened but t_cr moved by more than the
-    threshold in the convergence check).
+    integrated), ``UNCONVERGED`` (4, opened but t_cr moved by more than the
+    threshold in the convergence check) and, for trajectory-coupled flights
+    (:mod:`obturator.envelope`), ``SUBSONIC`` (5, the projectile fell below Mach 1
+    before the bore opened, where the normal-shock load model ends).
     """
 
     INVALID_INPUT = -2
@@ -37,6 +39,7 @@ class Status(IntEnum):
     STEP_LIMIT = 2
     STIFF = 3
     UNCONVERGED = 4
+    SUBSONIC = 5
 
     @property
     def message(self) -> str:
@@ -58,6 +61,7 @@ MESSAGES: dict[Status, str] = {
     Status.STEP_LIMIT: "Step limit reached before the bore opened or t_max.",
     Status.STIFF: "DOP853 stopped: the problem is stiff here (auto reruns with Radau IIA).",
     Status.UNCONVERGED: "The bore opened, but t_cr is not converged (convergence check).",
+    Status.SUBSONIC: "The flight went subsonic before the bore opened (no normal-shock load).",
 }
 
 #: Flag name of each status (CF ``flag_meanings`` in sweep and Monte Carlo files).
@@ -69,4 +73,5 @@ FLAGS: dict[Status, str] = {
     Status.STEP_LIMIT: "step_limit",
     Status.STIFF: "stiff",
     Status.UNCONVERGED: "opened_not_converged",
+    Status.SUBSONIC: "subsonic_before_opening",
 }

@@ -46,6 +46,7 @@ from ..model.case import Case, initial_state
 from ..model.cases import TABLE1, flight_case
 from ..model.geometry import BoredBall
 from ..solve import SolverOptions, convergence_check, opening_time, simulate
+from ..status import FLAGS, Status
 from .trajectory import Launch, Projectile, Trajectory, fly
 
 __all__ = [
@@ -66,21 +67,24 @@ __all__ = [
     "DEFAULT_SEGMENT",
 ]
 
-#: Status codes (the first five as in :mod:`obturator.studies_sweep`).
-STATUS_OPENED = 1
-STATUS_NOT_OPENED = 0
-STATUS_FAILED = -1
-STATUS_INVALID = -2
-STATUS_UNCONVERGED = 2
-#: The flight went subsonic before the bore opened (normal-shock load model ends).
-STATUS_SUBSONIC = 3
+#: Status codes of a coupled opening: members of :class:`obturator.status.Status`.
+STATUS_OPENED = Status.OPENED
+STATUS_NOT_OPENED = Status.T_MAX
+STATUS_FAILED = Status.FAILED  # integrator failure or step limit
+STATUS_INVALID = Status.INVALID_INPUT
+STATUS_UNCONVERGED = Status.UNCONVERGED
+STATUS_SUBSONIC = Status.SUBSONIC
+#: Flag names (CF ``flag_meanings``) of the statuses a coupled opening can have.
 STATUS_FLAGS = {
-    STATUS_INVALID: "invalid_input",
-    STATUS_FAILED: "solver_failed_or_step_limit",
-    STATUS_NOT_OPENED: "not_opened_by_t_max",
-    STATUS_OPENED: "opened",
-    STATUS_UNCONVERGED: "opened_not_converged",
-    STATUS_SUBSONIC: "subsonic_before_opening",
+    s: FLAGS[s]
+    for s in (
+        STATUS_INVALID,
+        STATUS_FAILED,
+        STATUS_NOT_OPENED,
+        STATUS_OPENED,
+        STATUS_UNCONVERGED,
+        STATUS_SUBSONIC,
+    )
 }
 
 #: Default segment length Delta [s] of the piecewise-constant load.
@@ -330,7 +334,7 @@ def coupled_opening(
                 ("mach", np.full(res.t.size, mach)),
             ):
                 hist[name].append(np.asarray(val))
-        if res.status == 1:
+        if res.status == Status.OPENED:
             t_cr = float(t) + res.opening_time
             status = STATUS_OPENED
             break

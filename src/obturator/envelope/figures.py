@@ -12,6 +12,8 @@ from typing import Any
 
 import numpy as np
 
+from ..status import Status
+
 __all__ = ["plot_envelope", "plot_sobol", "plot_pareto", "plot_coupled"]
 
 
@@ -81,7 +83,9 @@ def plot_envelope(ds: Any, path: str | Path) -> str:
         bx.set_ylabel("coupled / constant - 1 [%]")
         ax.set_xlabel(xlabel)
         bx.set_xlabel(xlabel)
-    unconv = (ds["status_coupled"].values.T == 2) | (ds["status_constant"].values.T == 2)
+    unconv = (ds["status_coupled"].values.T == Status.UNCONVERGED) | (
+        ds["status_constant"].values.T == Status.UNCONVERGED
+    )
     if unconv.any() and mach.size > 1 and alt_km.size > 1:
         mm, aa = np.meshgrid(mach, alt_km)
         ax.plot(mm[unconv], aa[unconv], "wx", label="not converged")
