@@ -210,7 +210,7 @@ def test_spawned_pool_equals_in_process(monkeypatch: pytest.MonkeyPatch) -> None
 
     spec = small_spec(axes={"spin_rate": [300.0, 500.0], "mu_s": [0.55]})
     one = run_sweep(spec, workers=1, progress=False)
-    monkeypatch.setattr(executors, "_mp_context", lambda: multiprocessing.get_context("spawn"))
+    monkeypatch.setattr(executors, "mp_context", lambda: multiprocessing.get_context("spawn"))
     xr.testing.assert_identical(one, run_sweep(spec, workers=2, chunk_size=1, progress=False))
 
 

@@ -1,16 +1,15 @@
 """Resumable evaluation of many independent points: local processes or Dask.
 
-An adapter, not a copy, of the sweep machinery. :mod:`obturator.studies_sweep`
-evaluates :class:`~obturator.studies_sweep.SweepSpec` grids whose points are
-single ``opening_time(case)`` calls; the envelope studies need other point
-functions (a trajectory-coupled opening, a design evaluated over several
-flight conditions, muzzle spin tied to muzzle velocity) and task lists that
-are not Cartesian grids (importance-sampling stages, Sobol designs,
-optimiser generations). So this module keeps the same execution model -- tasks
-grouped in chunks, a :class:`concurrent.futures.ProcessPoolExecutor` (forked
-after the compiled integrators are loaded, as the sweep does) or a
-``dask.distributed`` cluster, a rich progress bar on stderr, a JSON-lines
-sidecar flushed after every chunk -- for any picklable point function.
+An adapter of the sweep machinery. :mod:`obturator.sweeps` evaluates
+:class:`~obturator.sweeps.SweepSpec` grids whose points are single
+``opening_time(case)`` calls; the envelope studies need other point functions (a
+trajectory-coupled opening, a design evaluated over several flight conditions,
+muzzle spin tied to muzzle velocity) and task lists that are not Cartesian grids
+(importance-sampling stages, Sobol designs, optimiser generations). :class:`Runner`
+hands chunks of such tasks to the sweeps' executors
+(:func:`obturator.sweeps.executors.choose_executor`: in process, a forked process
+pool, or a Dask cluster, with the same progress bar and fault handling) and keeps
+its own content-addressed store, a JSON-lines sidecar flushed after every chunk.
 
 The store is content-addressed: each finished point is kept under a hash of
 its inputs, and the file's first line holds a hash of the study (the model and
@@ -25,25 +24,29 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import multiprocessing
 import os
-import sys
-import threading
-from collections.abc import Callable, Iterator, Mapping, Sequence
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from contextlib import contextmanager
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ..errors import InputError
-from ..sweeps import default_workers
+from ..sweeps.executors import (
+    Job,
+    ProcessPool,
+    choose_executor,
+    default_workers,
+    make_chunks,
+    probe_cost,
+    progress_bar,
+)
 
 __all__ = ["ResultStore", "Runner", "task_key", "study_digest", "store_path"]
 
 _FORMAT = "obturator-envelope-store/1"
-_CHUNKS_PER_WORKER = 6
-_MAX_CHUNK = 32
 
 Task = Mapping[str, Any]
 Result = dict[str, Any]
@@ -165,12 +168,6 @@ def _run_chunk(fn: Callable[[Task], Result], tasks: list[Task]) -> list[Result]:
     return [fn(t) for t in tasks]
 
 
-def _mp_context() -> multiprocessing.context.BaseContext:
-    if sys.platform == "linux" and threading.active_count() == 1:
-        return multiprocessing.get_context("fork")
-    return multiprocessing.get_context("spawn")
-
-
 def _warm() -> None:
     """Load the compiled integrators once (forked workers inherit them)."""
     from ..model.cases import flight_case
@@ -180,35 +177,6 @@ def _warm() -> None:
         opening_time(flight_case(t_max=1e-3))
     except RuntimeError:  # pragma: no cover - warm-up only
         pass
-
-
-@contextmanager
-def _progress(enabled: bool, total: int, done: int, label: str) -> Iterator[Callable[[int], None]]:
-    if not enabled or total == 0:
-        yield lambda n: None
-        return
-    from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-
-    with Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        TextColumn("eta"),
-        TimeRemainingColumn(),
-        console=Console(stderr=True),
-        transient=True,
-    ) as bar:
-        task = bar.add_task(label, total=total, completed=done)
-        yield lambda n: bar.advance(task, n)
 
 
 @dataclass
@@ -227,7 +195,7 @@ class Runner:
     progress : bool
         Rich progress bar on stderr.
     chunk_size : int, optional
-        Points per task (default: about six tasks per worker, at most 32).
+        Points per task (default as in sweeps: about eight tasks per worker, at most 64).
     """
 
     workers: int | None = None
@@ -286,9 +254,11 @@ class Runner:
                 first_of[k] = i
                 todo.append(i)
         self.n_resumed += sum(r is not None for r in results)
-        chunks = self._chunks(todo)
+        workers = 8 if self.scheduler is not None else max(self.n_workers, 1)
+        chunks = make_chunks(np.asarray(todo, dtype=np.intp), workers, self.chunk_size)
 
-        def sink(idx: list[int], vals: list[Result]) -> None:
+        def sink(idx: np.ndarray, vals: list[Result]) -> None:
+            idx = idx.tolist()
             for i, v in zip(idx, vals, strict=True):
                 results[i] = v
             if self.store is not None:
@@ -296,80 +266,14 @@ class Runner:
             self.n_computed += len(idx)
 
         done = len(tasks) - len(todo)
-        if not chunks:
-            pass
-        elif self.scheduler is not None:
-            with _progress(self.progress, len(tasks), done, label) as advance:
-                self._dask(fn, tasks, chunks, sink, advance)
-        elif min(self.n_workers, len(chunks)) <= 1:
-            with _progress(self.progress, len(tasks), done, label) as advance:
-                for idx in chunks:
-                    sink(idx, _run_chunk(fn, [tasks[i] for i in idx]))
-                    advance(len(idx))
-        else:
-            self._pool(fn, tasks, chunks, sink, (len(tasks), done, label))
+        if chunks:
+            job = Job(_run_chunk, lambda idx: (fn, [tasks[i] for i in idx.tolist()]), _warm)
+            executor = choose_executor(self.n_workers, self.scheduler, len(chunks))
+            if isinstance(executor, ProcessPool):
+                executor = probe_cost(executor, job, chunks, sink)
+            bar = partial(progress_bar, self.progress, len(tasks), done, label)
+            executor.run(job, chunks, sink, bar)
         for i, k in enumerate(keys):
             if results[i] is None:
                 results[i] = results[first_of[k]]
         return results
-
-    def _chunks(self, todo: list[int]) -> list[list[int]]:
-        if not todo:
-            return []
-        workers = 8 if self.scheduler is not None else max(self.n_workers, 1)
-        size = self.chunk_size or max(
-            1, min(_MAX_CHUNK, math.ceil(len(todo) / (_CHUNKS_PER_WORKER * workers)))
-        )
-        n = math.ceil(len(todo) / int(size))
-        return [todo[k::n] for k in range(n)]
-
-    def _pool(self, fn, tasks, chunks, sink, bar) -> None:
-        ctx = _mp_context()
-        if ctx.get_start_method() == "fork":
-            _warm()
-        pool = ProcessPoolExecutor(max_workers=min(self.n_workers, len(chunks)), mp_context=ctx)
-        try:
-            # every task is submitted (with fork: every worker started) before the
-            # progress bar starts its refresh thread, as in obturator.studies_sweep
-            pending = {pool.submit(_run_chunk, fn, [tasks[i] for i in idx]): idx for idx in chunks}
-            with _progress(self.progress, *bar) as advance:
-                while pending:
-                    finished, _ = wait(pending, return_when=FIRST_COMPLETED)
-                    for fut in finished:
-                        idx = pending.pop(fut)
-                        sink(idx, fut.result())
-                        advance(len(idx))
-        except BaseException:
-            pool.shutdown(wait=False, cancel_futures=True)
-            raise
-        pool.shutdown(wait=True)
-
-    def _dask(self, fn, tasks, chunks, sink, advance) -> None:
-        from distributed import Client, as_completed
-
-        client, owned = self.scheduler, False
-        if isinstance(self.scheduler, str):
-            try:
-                client, owned = Client(self.scheduler, timeout="20s"), True
-            except (OSError, TimeoutError, ValueError) as exc:
-                raise InputError(
-                    "scheduler", f"cannot connect to {self.scheduler!r}: {exc}"
-                ) from None
-        futures = []
-        try:
-            index_of = {}
-            for idx in chunks:
-                fut = client.submit(_run_chunk, fn, [tasks[i] for i in idx], pure=False)
-                index_of[fut.key] = idx
-                futures.append(fut)
-            for fut in as_completed(futures):
-                idx = index_of[fut.key]
-                sink(idx, fut.result())
-                advance(len(idx))
-        except BaseException:
-            if futures:
-                client.cancel(futures)
-            raise
-        finally:
-            if owned:
-                client.close()

@@ -30,6 +30,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from contextlib import AbstractContextManager, contextmanager, suppress
 from dataclasses import dataclass
+from functools import partial
 from typing import Any, Protocol
 
 import numpy as np
@@ -42,6 +43,8 @@ __all__ = [
     "CONNECT_TIMEOUT_S",
     "LOST_SCHEDULER_S",
     "Job",
+    "sweep_job",
+    "mp_context",
     "Executor",
     "InProcess",
     "ProcessPool",
@@ -58,8 +61,8 @@ __all__ = [
 _MAX_CHUNK = 64
 _CHUNKS_PER_WORKER = 8
 
-#: ``sink(indices, t_cr, status)``: receives each finished chunk.
-Sink = Callable[[np.ndarray, np.ndarray, np.ndarray], None]
+#: ``sink(indices, result)``: receives each finished chunk's result.
+Sink = Callable[[np.ndarray, Any], None]
 #: ``progress()`` opens the progress display and yields ``advance(n_points)``.
 Progress = Callable[[], AbstractContextManager[Callable[[int], None]]]
 
@@ -91,24 +94,37 @@ def make_chunks(todo: np.ndarray, workers: int, chunk_size: int | None) -> list[
 
 @dataclass(frozen=True)
 class Job:
-    """What every chunk computes: the study and how its points' values are found.
+    """What every chunk computes: ``fn(*args_of(idx))`` for the flat indices `idx`.
 
     Attributes
     ----------
-    spec : SweepSpec
-    names : tuple of str
-        The varied parameters, in the order of the rows.
-    rows_of : callable
-        Flat point indices -> values, shape (len(indices), len(names)).
+    fn : callable
+        Module-level (picklable) function computing one chunk; its result goes to
+        the sink as it is.
+    args_of : callable
+        Flat point indices -> the arguments of `fn` (called in this process).
+    warm : callable, optional
+        Loads the compiled code once before workers are forked (they inherit it)
+        and before a probe chunk is timed.
     """
 
-    spec: SweepSpec
-    names: tuple[str, ...]
-    rows_of: Callable[[np.ndarray], np.ndarray]
+    fn: Callable[..., Any]
+    args_of: Callable[[np.ndarray], tuple[Any, ...]]
+    warm: Callable[[], None] | None = None
 
-    def task(self, idx: np.ndarray) -> tuple[SweepSpec, tuple[str, ...], np.ndarray]:
-        """Arguments of :func:`~obturator.sweeps.points.run_chunk` for one chunk."""
-        return self.spec, self.names, self.rows_of(idx)
+    def run(self, idx: np.ndarray) -> Any:
+        """Compute one chunk in this process."""
+        return self.fn(*self.args_of(idx))
+
+
+def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of) -> Job:
+    """The :class:`Job` of a sweep or Monte Carlo study: :func:`run_chunk` on rows of
+    values of `names` (``rows_of(idx)``), returning ``(t_cr, status)`` per chunk."""
+    return Job(
+        run_chunk,
+        lambda idx: (spec, names, rows_of(idx)),
+        partial(warm, spec.options),
+    )
 
 
 class Executor(Protocol):
@@ -120,7 +136,7 @@ class Executor(Protocol):
     workers: int
 
     def run(self, job: Job, chunks: list[np.ndarray], sink: Sink, progress: Progress) -> None:
-        """Compute every chunk; call ``sink(idx, t_cr, status)`` as each finishes."""
+        """Compute every chunk; call ``sink(idx, result)`` as each finishes."""
 
 
 @dataclass
@@ -134,8 +150,7 @@ class InProcess:
         """See :class:`Executor`."""
         with progress() as advance:
             for idx in chunks:
-                t, s = run_chunk(*job.task(idx))
-                sink(idx, t, s)
+                sink(idx, job.run(idx))
                 advance(idx.size)
 
 
@@ -148,9 +163,9 @@ class ProcessPool:
 
     def run(self, job: Job, chunks: list[np.ndarray], sink: Sink, progress: Progress) -> None:
         """See :class:`Executor`."""
-        ctx = _mp_context()
-        if ctx.get_start_method() == "fork":
-            warm(job.spec.options)  # workers inherit the loaded integrator
+        ctx = mp_context()
+        if ctx.get_start_method() == "fork" and job.warm is not None:
+            job.warm()  # workers inherit the loaded integrator
         pool = ProcessPoolExecutor(
             max_workers=self.workers,
             mp_context=ctx,
@@ -160,15 +175,14 @@ class ProcessPool:
         try:
             # every task is submitted (and, with fork, every worker started) before
             # the progress bar starts its refresh thread
-            pending = {pool.submit(run_chunk, *job.task(idx)): idx for idx in chunks}
+            pending = {pool.submit(job.fn, *job.args_of(idx)): idx for idx in chunks}
             _prefetch_output()  # this process is idle meanwhile
             with progress() as advance:
                 while pending:
                     finished, _ = wait(pending, return_when=FIRST_COMPLETED)
                     for fut in finished:
                         idx = pending.pop(fut)
-                        t, s = fut.result()
-                        sink(idx, t, s)
+                        sink(idx, fut.result())
                         advance(idx.size)
         except BaseException:
             pool.shutdown(wait=False, cancel_futures=True)
@@ -199,7 +213,7 @@ class DaskCluster:
         try:
             index_of = {}
             for idx in chunks:
-                fut = client.submit(run_chunk, *job.task(idx), pure=False)
+                fut = client.submit(job.fn, *job.args_of(idx), pure=False)
                 index_of[fut.key] = idx
                 futures.append(fut)
             _prefetch_output()
@@ -222,11 +236,11 @@ class DaskCluster:
                         if fut.status != "finished":
                             raise ClusterError(f"a Dask task ended with status {fut.status!r}")
                         try:
-                            t, s = fut.result(timeout=LOST_SCHEDULER_S)
+                            result = fut.result(timeout=LOST_SCHEDULER_S)
                         except Exception as exc:
                             raise ClusterError(f"a Dask task failed: {exc}") from None
                         idx = index_of[fut.key]
-                        sink(idx, t, s)
+                        sink(idx, result)
                         advance(idx.size)
         except BaseException:
             if futures:
@@ -279,18 +293,19 @@ def probe_cost(pool: ProcessPool, job: Job, chunks: list[np.ndarray], sink: Sink
     """
     if len(chunks) < 2:
         return pool
-    warm(job.spec.options)  # compile/load once; not part of the per-point cost
+    if job.warm is not None:
+        job.warm()  # compile/load once; not part of the per-point cost
     probe = chunks.pop(0)
     # CPU time of this thread: other threads (or a busy machine) must not inflate it
     t0 = time.thread_time()
-    t, s = run_chunk(*job.task(probe))
-    sink(probe, t, s)
+    sink(probe, job.run(probe))
     per_point = (time.thread_time() - t0) / probe.size
     remaining = per_point * sum(c.size for c in chunks)
     return pool if remaining >= POOL_MIN_SERIAL_S else InProcess()
 
 
-def _mp_context() -> multiprocessing.context.BaseContext:
+def mp_context() -> multiprocessing.context.BaseContext:
+    """fork where it is safe (Linux, no other thread but the signal watcher), else spawn."""
     # fork is cheap and inherits the loaded integrator; it is only used on
     # Linux while this process runs a single thread (the progress bar's thread
     # starts after the workers, see ProcessPool.run); otherwise spawn, which is safe

@@ -25,13 +25,13 @@ import numpy as np
 from ..errors import InputError
 from ..status import Status
 from .executors import (
-    Job,
     ProcessPool,
     choose_executor,
     make_chunks,
     probe_cost,
     progress_bar,
     resolve_workers,
+    sweep_job,
 )
 from .export import check_distinct_outputs, grid_dataset, write_outputs
 from .spec import SweepSpec
@@ -104,7 +104,8 @@ def run_points(
     todo = np.flatnonzero(status == -128)
     n_resumed = n_points - todo.size
 
-    def sink(idx: np.ndarray, t: np.ndarray, s: np.ndarray) -> None:
+    def sink(idx: np.ndarray, result: tuple[np.ndarray, np.ndarray]) -> None:
+        t, s = result
         t_cr[idx], status[idx] = t, s
         if sidecar is not None:
             sidecar.append(idx, t, s)
@@ -112,7 +113,7 @@ def run_points(
     try:
         chunks = make_chunks(todo, n_workers if scheduler is None else 8, chunk_size)
         executor = choose_executor(n_workers, scheduler, len(chunks))
-        job = Job(spec, names, rows_of)
+        job = sweep_job(spec, names, rows_of)
         if isinstance(executor, ProcessPool):
             executor = probe_cost(executor, job, chunks, sink)
         bar = partial(progress_bar, progress, n_points, n_resumed, label)
