@@ -21,6 +21,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--quick", action="store_true", help="fewer points and a smaller bootstrap (seconds)"
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--envelope",
+        action="store_true",
+        help="add the firing-envelope section (t_cr map over Mach x altitude, Sobol indices)",
+    )
     p.set_defaults(func=_reproduce)
 
 
@@ -29,7 +34,11 @@ def _reproduce(args: argparse.Namespace) -> int:
     from ..thesis.reproduce import reproduce
 
     res = reproduce(
-        args.out, quick=args.quick, progress=not args.no_progress, command=command_line()
+        args.out,
+        quick=args.quick,
+        progress=not args.no_progress,
+        command=command_line(),
+        envelope=args.envelope,
     )
     flagged = sum(1 for r in res.rows if r.difference is not None and abs(r.difference) > 2.0)
     print(

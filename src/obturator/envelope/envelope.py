@@ -280,8 +280,8 @@ def envelope_summary(ds: Any) -> dict[str, Any]:
     for load in ("coupled", "constant"):
         s = ds[f"status_{load}"].values
         t = ds[f"t_cr_{load}"].values
-        out[f"{load}_opened"] = int(np.isin(s, (1, 2)).sum())
-        out[f"{load}_not_converged"] = int((s == 2).sum())
+        out[f"{load}_opened"] = int(np.isin(s, (STATUS_OPENED, STATUS_UNCONVERGED)).sum())
+        out[f"{load}_not_converged"] = int((s == STATUS_UNCONVERGED).sum())
         out[f"{load}_meets_requirement"] = int(ds[f"meets_requirement_{load}"].values.sum())
         fin = np.isfinite(t)
         out[f"{load}_t_cr_min_s"] = float(t[fin].min()) if fin.any() else None

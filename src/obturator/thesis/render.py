@@ -77,6 +77,7 @@ def report_context(
         "elapsed": elapsed,
         "images": {},
         "explorer": "",
+        "sections": [],  # extra sections: objects with title, paragraphs, figures
     }
 
 
@@ -101,6 +102,9 @@ def to_markdown(ctx: dict[str, Any]) -> str:
     out += [f"- {r.quantity}: {r.difference:+.1f} % ({r.note})" for r in ctx["flagged"]]
     out += ["", "## Calibration", "", "```", ctx["fit_text"], "```", "", "## Figures", ""]
     out += [f"### {cap}\n\n![{cap}]({name})\n\n{text}\n" for name, cap, text in ctx["figures"]]
+    for sec in ctx["sections"]:
+        out += [f"## {sec.title}", "", *[f"{p}\n" for p in sec.paragraphs]]
+        out += [f"![{cap}]({name})\n" for name, cap in sec.figures]
     out += ["## Provenance", ""]
     out += [f"- {s}" for s in ctx["provenance"]]
     out += ["", "## Versions", ""]
@@ -129,6 +133,16 @@ def to_html(ctx: dict[str, Any]) -> str:
         f'<figure><img src="{src(n)}" alt="{e(c)}" data-file="{e(n)}">'
         f"<figcaption><b>{e(c)}.</b> {e(t)}</figcaption></figure>"
         for n, c, t in ctx["figures"]
+    )
+    sections = "\n".join(
+        f"<h2>{e(sec.title)}</h2>"
+        + "".join(f"<p>{e(p)}</p>" for p in sec.paragraphs)
+        + "".join(
+            f'<figure><img src="{src(n)}" alt="{e(c)}" data-file="{e(n)}">'
+            f"<figcaption><b>{e(c)}.</b></figcaption></figure>"
+            for n, c in sec.figures
+        )
+        for sec in ctx["sections"]
     )
     provenance = "".join(f"<li>{e(s)}</li>" for s in ctx["provenance"])
     versions = "".join(f"<li>{e(k)}: {e(v)}</li>" for k, v in ctx["versions"].items())
@@ -164,6 +178,7 @@ pre {{ background: #f6f6f6; padding: 0.5em; font-size: 0.85em; }}
 <p>t_cr of the exact rig model for several mu_s and theta_0 with the 54 measured runs
 (hover a run for its number, spin, measured and model t_cr), and theta(t) of any run.</p>
 {ctx["explorer"]}
+{sections}
 <h2>Provenance</h2><ul>{provenance}</ul>
 <h2>Versions</h2><ul>{versions}</ul>
 <h2>Solver settings</h2><ul>{solver}</ul>

@@ -292,6 +292,7 @@ def reproduce(
     progress: bool = True,
     options: SolverOptions | None = None,
     command: str | None = None,
+    envelope: bool = False,
 ) -> ReproduceResult:
     """Run every study, write the figures (PNG) and report.md / report.html into `out_dir`.
 
@@ -307,6 +308,9 @@ def reproduce(
         Solver settings for every exact run (default :class:`SolverOptions`).
     command : str, optional
         The command line, recorded in the report's provenance.
+    envelope : bool
+        Add the firing-envelope section (:mod:`obturator.envelope.report`: t_cr map
+        over muzzle Mach x altitude and flight Sobol indices; about 1 minute).
 
     Returns
     -------
@@ -333,6 +337,12 @@ def reproduce(
     rows = checkable_rows(res)
     elapsed = time.perf_counter() - t0
     ctx = report_context(rows, res, [(n, c) for n, c, _ in figs], opts, quick, elapsed, command)
+    if envelope:
+        from ..envelope.report import envelope_section
+
+        section = envelope_section(out, quick=quick)
+        ctx["sections"].append(section)
+        paths.extend(out / name for name, _ in section.figures)
     ctx["images"] = {p.name: base64.b64encode(p.read_bytes()).decode("ascii") for p in paths}
     ctx["explorer"] = explorer_html(res["explorer"])
     md, hp = out / "report.md", out / "report.html"
