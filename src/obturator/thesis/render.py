@@ -102,7 +102,7 @@ def to_markdown(ctx: dict[str, Any]) -> str:
     out += [f"- {r.quantity}: {r.difference:+.1f} % ({r.note})" for r in ctx["flagged"]]
     out += ["", "## Calibration", "", "```", ctx["fit_text"], "```", "", "## Figures", ""]
     out += [f"### {cap}\n\n![{cap}]({name})\n\n{text}\n" for name, cap, text in ctx["figures"]]
-    for sec in ctx["sections"]:
+    for sec in ctx.get("sections", ()):
         out += [f"## {sec.title}", "", *[f"{p}\n" for p in sec.paragraphs]]
         out += [f"![{cap}]({name})\n" for name, cap in sec.figures]
     out += ["## Provenance", ""]
@@ -142,7 +142,7 @@ def to_html(ctx: dict[str, Any]) -> str:
             f"<figcaption><b>{e(c)}.</b></figcaption></figure>"
             for n, c in sec.figures
         )
-        for sec in ctx["sections"]
+        for sec in ctx.get("sections", ())
     )
     provenance = "".join(f"<li>{e(s)}</li>" for s in ctx["provenance"])
     versions = "".join(f"<li>{e(k)}: {e(v)}</li>" for k, v in ctx["versions"].items())
