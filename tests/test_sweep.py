@@ -533,3 +533,34 @@ def test_full_disk_is_one_line_and_loses_nothing(
     assert store.exists() and csv.exists() and not sidecar_path(store).exists()
     full_run = run_sweep(spec, workers=1, progress=False)
     np.testing.assert_array_equal(run.dataset["t_cr"].values, full_run["t_cr"].values)
+
+
+def test_validation_mechanisms_are_sweep_axes() -> None:
+    """theta_dot0, release_phase, speed_ratio and slip_speed sweep like any parameter;
+    each point equals the case built directly (rig_case keywords)."""
+    import math
+
+    from obturator.model.cases import rig_case
+    from obturator.model.torques import SlipSpeedLaw
+    from obturator.solve import opening_time
+
+    spec = SweepSpec(
+        case="spin-rig",
+        axes={"speed_ratio": [0.3, 0.9], "theta_dot0": [-1.0, 1.0]},
+        fixed={"spin_rate": 200.0, "mu_s": 0.75, "slip_speed": 0.12, "release_phase": 1.0},
+        speed_law="strengthening",
+    )
+    ds = run_sweep(spec, workers=1, progress=False)
+    for r in (0.3, 0.9):
+        for td in (-1.0, 1.0):
+            case = rig_case(
+                200.0,
+                0.75,
+                speed_law=SlipSpeedLaw("strengthening", r, 0.12),
+                release_rate=(td, 0.0, 0.0),
+                release_phase=1.0,
+            )
+            got = float(ds["t_cr"].sel(speed_ratio=r, theta_dot0=td))
+            assert math.isfinite(got) and got == opening_time(case)
+    with pytest.raises(InputError, match="^speed_law"):
+        SweepSpec(case="flight", speed_law="weakening")

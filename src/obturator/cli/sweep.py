@@ -34,6 +34,7 @@ from typing import Any
 from ..io import check_output_path
 from ..params import SWEEP_PARAMS
 from ..sweeps import SweepSpec, execute_sweep, parse_axis, sweep_summary
+from ..vocab import SPEED_LAWS
 from . import _json
 from ._args import (
     add_study_flags,
@@ -67,6 +68,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         )
     add_study_flags(p)
     p.add_argument("--out", metavar="FILE.nc", required=True, help="NetCDF output")
+    p.add_argument(
+        "--speed-law",
+        choices=SPEED_LAWS,
+        default="constant",
+        help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed)",
+    )
     p.add_argument(
         "--check-convergence",
         action="store_true",
@@ -105,6 +112,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         options=study_options(args),
         t_max=study_t_max(args),
         check_convergence=args.check_convergence,
+        speed_law=args.speed_law,
     )
     workers = parse_integer("workers", args.workers, 1)
     chunk = parse_integer("chunk_size", args.chunk_size, 1)

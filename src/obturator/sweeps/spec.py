@@ -25,7 +25,7 @@ from ..model.cases import case_from_settings
 from ..params import SWEEP_PARAMS
 from ..reference import TABLE1
 from ..solve import SolverOptions
-from ..vocab import CASE_NAMES, SPIN_MODES, TORQUE_MODELS, check_choice
+from ..vocab import CASE_NAMES, SPEED_LAWS, SPIN_MODES, TORQUE_MODELS, check_choice
 from .grid import MAX_POINTS, as_axis
 
 __all__ = ["SweepSpec"]
@@ -66,6 +66,11 @@ class SweepSpec:
         (four times the cost) and mark points whose t_cr moves by more than
         1e-3 with status ``Status.UNCONVERGED`` (typical at low spin, where
         long near-stick phases need a small width).
+    speed_law : {"constant", "weakening", "strengthening"}
+        Slip-speed law of the rig friction (:class:`~obturator.model.torques.SlipSpeedLaw`);
+        its ``speed_ratio`` and ``slip_speed``, the release transient ``theta_dot0``
+        and the release phase ``release_phase`` are sweep parameters (spin rig only;
+        the mechanisms of :mod:`obturator.validation`).
 
     Notes
     -----
@@ -92,9 +97,13 @@ class SweepSpec:
     options: SolverOptions = field(default_factory=SolverOptions)
     t_max: float | None = None
     check_convergence: bool = False
+    speed_law: str = "constant"
 
     def __post_init__(self) -> None:
         check_choice("case", self.case, CASE_NAMES)
+        check_choice("speed_law", self.speed_law, SPEED_LAWS)
+        if self.speed_law != "constant" and self.case != "spin-rig":
+            raise InputError("speed_law", "applies to --case spin-rig only")
         check_choice("torque_model", self.torque_model, TORQUE_MODELS)
         check_choice("spin_mode", self.spin_mode, SPIN_MODES)
         if not isinstance(self.options, SolverOptions):
@@ -212,6 +221,8 @@ class SweepSpec:
         }
         if self.t_max is not None:
             settings["t_max"] = self.t_max
+        if self.speed_law != "constant":
+            settings["speed_law"] = self.speed_law
         return case_from_settings(settings)
 
     # -- identity
@@ -230,6 +241,7 @@ class SweepSpec:
             "options": opts,
             "t_max": self.t_max,
             "check_convergence": self.check_convergence,
+            "speed_law": self.speed_law,
             "obturator_version": package_version(),
         }
 
