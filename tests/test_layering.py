@@ -32,7 +32,7 @@ FORBIDDEN: dict[str, tuple[str, ...]] = {
     "units": (*EDGE, "core", "model", "solve"),
     "calibration": ("cli", "io", "sweeps", "thesis", "plotting", "validation", "envelope"),
     "sweeps": ("cli", "thesis", "plotting", "calibration", "validation", "envelope"),
-    "thesis": ("cli", "sweeps", "validation"),
+    "thesis": ("cli", "sweeps"),
     "validation": ("cli", "thesis", "envelope"),
     "envelope": ("cli", "thesis", "validation", "calibration"),
     "plotting": ("cli", "sweeps"),

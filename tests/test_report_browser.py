@@ -58,7 +58,7 @@ def lone_report(tmp_path_factory):
 def test_report_is_self_contained(lone_report):
     text = lone_report.read_text(encoding="utf-8")
     sources = re.findall(r'<img[^>]*\ssrc="([^"]+)"', text)
-    assert len(sources) == 21
+    assert len(sources) == 22  # 21 thesis figures and the validation figure
     assert all(s.startswith("data:image/png;base64,") for s in sources)
     for s in sources:  # every figure decodes to a real image
         img = mpimg.imread(io.BytesIO(base64.b64decode(s.split(",", 1)[1])), format="png")

@@ -48,7 +48,7 @@ _COMMANDS: dict[str, tuple[str, str]] = {
     "montecarlo": ("obturator.cli.montecarlo", "t_cr quantiles under uncertain inputs"),
     "validate": (
         "obturator.cli.validate",
-        "fit candidate mechanisms to all spin-rig runs, rank them against the floor",
+        "fit candidate mechanisms to all spin-rig runs and rank them",
     ),
     "trajectory": (
         "obturator.cli.envelope",

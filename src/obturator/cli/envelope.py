@@ -36,7 +36,6 @@ Config file (``--config``): the sections of :mod:`obturator.io` that apply
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 import time
@@ -49,6 +48,7 @@ from ..errors import InputError, check_range
 from ..io import CONFIG_SCHEMA
 from ..solve import SolverOptions
 from ..units import parse_quantity
+from . import _json
 
 __all__ = [
     "register",
@@ -369,7 +369,7 @@ def _run_trajectory(args: argparse.Namespace) -> int:
 
         plot_coupled(res.history, t_const, args.figure)
     if args.json:
-        print(json.dumps(out))
+        print(_json.dumps(out))
         return 0
     conv_txt = "-" if conv is None else ("converged" if conv.converged else "NOT converged")
     cc = (
@@ -440,7 +440,7 @@ def _run_envelope(args: argparse.Namespace) -> int:
         workers=runner.n_workers,
     )
     if args.json:
-        print(json.dumps(summary))
+        print(_json.dumps(summary))
         return 0
     _print_envelope(ds)
     s = summary

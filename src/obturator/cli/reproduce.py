@@ -22,6 +22,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument(
+        "--no-validation",
+        action="store_true",
+        help="leave out the validation section (fits to all 54 runs; ~1 min quick)",
+    )
+    p.add_argument(
         "--envelope",
         action="store_true",
         help="add the firing-envelope section (t_cr map over Mach x altitude, Sobol indices)",
@@ -39,6 +44,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         progress=not args.no_progress,
         command=command_line(),
         envelope=args.envelope,
+        validation=not args.no_validation,
     )
     flagged = sum(1 for r in res.rows if r.difference is not None and abs(r.difference) > 2.0)
     print(

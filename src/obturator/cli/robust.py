@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
+from . import _json
 from .envelope import (
     add_execution_arguments,
     add_model_arguments,
@@ -213,7 +214,7 @@ def _run_probability(args: argparse.Namespace) -> int:
                 )
             out["points"].append(pt)
     if args.json:
-        print(json.dumps(out))
+        print(_json.dumps(out))
         return 0
     pc = int(100 * conf)
     print(f"P(t_cr > {req:g} s), {model.load} load; {pc} % intervals")
@@ -309,7 +310,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         out["input"] = [str(x) for x in ds["input"].values]
         out.update({k: v for k, v in ds.attrs.items() if isinstance(v, int | float | str)})
         out["elapsed_s"] = elapsed
-        print(json.dumps(out))
+        print(_json.dumps(out))
         return 0
     print(ds.attrs["title"])
     pc = int(100 * float(ds.attrs["confidence"]))
@@ -441,7 +442,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
         }
     summary["elapsed_s"] = elapsed
     if args.json:
-        print(json.dumps(summary, default=float))
+        print(_json.dumps(summary))
         return 0
     _print_optimum(problem, res, summary, elapsed, runner)
     return 0

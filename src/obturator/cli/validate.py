@@ -1,4 +1,11 @@
-"""``obturator validate``: fit candidate mechanisms to all spin-rig runs and rank them."""
+"""``obturator validate``: one model for all spin-rig runs (issue 9).
+
+Runs :func:`obturator.validation.run_validation` on the 54 runs of thesis
+Appendix B (or a user CSV in the ``calibrate`` format, see
+:func:`obturator.calibration.data.load_spin_rig_csv`), prints the replicate floor and
+the ranked table (``--json``: one object), and optionally draws the figure and
+writes everything into a folder.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +14,6 @@ import sys
 from pathlib import Path
 
 from ..errors import InputError, check_range
-from ..io import check_output_path
 from . import _json
 
 __all__ = ["register"]
@@ -15,75 +21,140 @@ __all__ = ["register"]
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``validate`` sub-command."""
-    from ..validation.study import CANDIDATES
-
     p = subparsers.add_parser(
         "validate",
-        help="fit candidate mechanisms to all spin-rig runs, rank them against the floor",
-        description="Replicate-scatter floor of the runs, and every candidate model fitted "
-        "to all runs (AIC/BIC, rms per spin band, out-of-band prediction across 200 rad/s). "
-        f"Models: {', '.join(CANDIDATES)}.",
+        help="fit candidate mechanisms to all spin-rig runs and rank them",
+        description="Model discrimination against the spin-rig data: the replicate "
+        "(pure-error) floor, a maximum-likelihood fit of every candidate to all runs, "
+        "the starred runs and each half of the spin range, AIC/BIC and out-of-band rms.",
     )
-    p.add_argument("--data", metavar="FILE.csv", help="runs in the calibrate format (default: "
-                   "the thesis's Appendix B)")  # fmt: skip
-    p.add_argument("--models", metavar="NAME,...", help="candidates (default: all)")
-    p.add_argument("--workers", metavar="N", default="2", help="parallel fits (default 2)")
-    p.add_argument("--t-max", metavar="S", default="10", help="censoring horizon [s] (10)")
+    p.add_argument(
+        "--data",
+        metavar="FILE.csv",
+        help="runs in the calibrate CSV format (default: thesis Appendix B, 54 runs)",
+    )
+    p.add_argument(
+        "--models",
+        metavar="NAME,...",
+        help="candidates, comma-separated (default: the standard set; --list-models)",
+    )
+    p.add_argument("--list-models", action="store_true", help="list the candidates and exit")
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--plot", metavar="FILE.png", help="data, scatter, each model, the floor")
-    p.add_argument("--out", metavar="DIR", help="write validation.json, .txt and .png there")
+    p.add_argument("--plot", metavar="FILE.png", help="draw data, model curves and the floor")
+    p.add_argument(
+        "--out", metavar="DIR", help="write validation.json, validation.txt, validation.png"
+    )
+    p.add_argument("--jobs", metavar="N", default="2", help="worker processes (default 2)")
+    p.add_argument(
+        "--t-max", metavar="S", default="20", help="horizon [s]; later runs are censored (20)"
+    )
+    p.add_argument(
+        "--spin-sd",
+        metavar="RAD_S",
+        default=None,
+        help="spin error SD of the errors-in-variables term [rad/s] "
+        "(default 1.01: uniform on the rig's +-1.75 rad/s; 0: off)",
+    )
+    p.add_argument(
+        "--cluster-gap",
+        metavar="RAD_S",
+        default=None,
+        help="single-linkage gap of the replicate clusters [rad/s] (default 3.49)",
+    )
+    p.add_argument(
+        "--no-profile", action="store_true", help="Wald intervals only (no profile likelihood)"
+    )
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 
 
-def _run(args: argparse.Namespace) -> int:
-    from ..calibration.data import load_spin_rig_csv, load_thesis_data
-    from ..validation.plot import validation_figure
-    from ..validation.study import CANDIDATES, run_validation
-
-    models = (
-        [m.strip() for m in args.models.split(",") if m.strip()]
-        if args.models
-        else list(CANDIDATES)
-    )
+def _number(field: str, text: str, lo: float, hi: float, *, lo_open: bool = False) -> float:
     try:
-        workers = int(args.workers)
+        x = float(text)
     except ValueError:
-        raise InputError("workers", f"expected a whole number, got {args.workers!r}") from None
-    check_range("workers", workers, 1, 64)
-    t_max = check_range("t_max", float(args.t_max), 0.0, 1e4, lo_open=True, unit="s")
-    check_output_path("plot", args.plot, ("png", "pdf", "svg"))
+        raise InputError(field, f"expected a number, got {text!r}") from None
+    return check_range(field, x, lo, hi, lo_open=lo_open)
+
+
+def _writable(field: str, path: str) -> Path:
+    p = Path(path)
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(field, f"{p}: folder {parent} does not exist")
+    return p
+
+
+def _list_models() -> int:
+    from ..validation.candidates import CANDIDATES, DEFAULT_MODELS, PARAMETERS
+
+    for c in CANDIDATES.values():
+        mark = "*" if c.name in DEFAULT_MODELS else " "
+        params = ", ".join(f"{k} [{PARAMETERS[k].unit}]" for k in c.params) or "-"
+        print(f"{mark} {c.name:<27} {params}\n    {c.description}")
+    print("* in the default study")
+    return 0
+
+
+def _run(args: argparse.Namespace) -> int:
+    if args.list_models:
+        return _list_models()
+    from ..calibration.data import load_spin_rig_csv, load_thesis_data
+    from ..validation import get_candidates, run_validation
+    from ..validation.floor import DEFAULT_CLUSTER_GAP
+    from ..validation.likelihood import SPIN_SD
+
+    jobs = int(_number("jobs", args.jobs, 1, 64))
+    if jobs != float(args.jobs):
+        raise InputError("jobs", f"expected an integer, got {args.jobs!r}")
+    t_max = _number("t_max", args.t_max, 0.0, 1e4, lo_open=True)
+    spin_sd = SPIN_SD if args.spin_sd is None else _number("spin_sd", args.spin_sd, 0.0, 100.0)
+    gap = (
+        DEFAULT_CLUSTER_GAP
+        if args.cluster_gap is None
+        else _number("cluster_gap", args.cluster_gap, 0.0, 1e4)
+    )
+    names = get_candidates(args.models)  # validates the names before any work
+    plot = _writable("plot", args.plot) if args.plot else None
     out = Path(args.out) if args.out else None
     if out is not None:
         if out.exists() and not out.is_dir():
-            raise InputError("out", f"{args.out!r} exists and is not a directory")
-        if not out.resolve().parent.is_dir():
-            raise InputError("out", f"parent directory of {args.out!r} does not exist")
-    data = load_spin_rig_csv(args.data) if args.data else load_thesis_data()
-    tty = sys.stderr.isatty()
-    study = run_validation(
+            raise InputError("out", f"{out} exists and is not a folder")
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError("out", f"{out}: cannot create the folder ({exc})") from None
+    try:
+        data = load_spin_rig_csv(args.data) if args.data else load_thesis_data()
+    except InputError as exc:
+        if exc.field != "path":
+            raise
+        raise InputError("data", str(exc).split(": ", 1)[1]) from None
+    result = run_validation(
         data,
-        models,
+        models=[c.name for c in names],
+        jobs=jobs,
         t_max=t_max,
-        workers=workers,
-        progress=(lambda n: print(f"fitting {n} ...", file=sys.stderr)) if tty else None,
+        spin_sd=spin_sd,
+        gap=gap,
+        profile=not args.no_profile,
+        progress=not args.no_progress and sys.stderr.isatty(),
     )
-    text = study.table() + (
-        f"\nspin regulation (+-1.75 rad/s) adds {study.spin_fluctuation_rms_s:.4f} s rms"
-    )
+    from ..validation.textreport import format_report
+
+    text = format_report(result)
+    if plot is not None or out is not None:
+        from ..validation.plotting import save_validation_figure
+
+        if plot is not None:
+            save_validation_figure(result, plot)
+        if out is not None:
+            save_validation_figure(result, out / "validation.png")
+            (out / "validation.txt").write_text(text + "\n", encoding="utf-8")
+            (out / "validation.json").write_text(
+                _json.dumps(result.to_dict(), indent=1) + "\n", encoding="utf-8"
+            )
     if args.json:
-        print(_json.dumps(study.to_dict()))
+        print(_json.dumps(result.to_dict()))
     else:
         print(text)
-    if args.plot or out is not None:
-        from ..plotting import save
-
-        fig = validation_figure(study, data, t_max)
-        if args.plot:
-            save(fig, args.plot)
-        if out is not None:
-            out.mkdir(parents=True, exist_ok=True)
-            save(fig, out / "validation.png")
-    if out is not None:
-        (out / "validation.json").write_text(_json.dumps(study.to_dict(), indent=1))
-        (out / "validation.txt").write_text(text + "\n")
     return 0

@@ -104,6 +104,7 @@ def to_markdown(ctx: dict[str, Any]) -> str:
     out += [f"### {cap}\n\n![{cap}]({name})\n\n{text}\n" for name, cap, text in ctx["figures"]]
     for sec in ctx.get("sections", ()):
         out += [f"## {sec.title}", "", *[f"{p}\n" for p in sec.paragraphs]]
+        out += [f"```\n{block}\n```\n" for block in getattr(sec, "pre", ())]
         out += [f"![{cap}]({name})\n" for name, cap in sec.figures]
     out += ["## Provenance", ""]
     out += [f"- {s}" for s in ctx["provenance"]]
@@ -137,6 +138,7 @@ def to_html(ctx: dict[str, Any]) -> str:
     sections = "\n".join(
         f"<h2>{e(sec.title)}</h2>"
         + "".join(f"<p>{e(p)}</p>" for p in sec.paragraphs)
+        + "".join(f"<pre>{e(block)}</pre>" for block in getattr(sec, "pre", ()))
         + "".join(
             f'<figure><img src="{src(n)}" alt="{e(c)}" data-file="{e(n)}">'
             f"<figcaption><b>{e(c)}.</b></figcaption></figure>"

@@ -293,6 +293,7 @@ def reproduce(
     options: SolverOptions | None = None,
     command: str | None = None,
     envelope: bool = False,
+    validation: bool = True,
 ) -> ReproduceResult:
     """Run every study, write the figures (PNG) and report.md / report.html into `out_dir`.
 
@@ -308,6 +309,10 @@ def reproduce(
         Solver settings for every exact run (default :class:`SolverOptions`).
     command : str, optional
         The command line, recorded in the report's provenance.
+    validation : bool
+        Add the validation section (:mod:`obturator.validation.report`: every candidate
+        fitted to all 54 runs; quick mode: three candidates, Wald intervals), with
+        ``validation.png`` and ``validation.json``.
     envelope : bool
         Add the firing-envelope section (:mod:`obturator.envelope.report`: t_cr map
         over muzzle Mach x altitude and flight Sobol indices; about 1 minute).
@@ -327,9 +332,13 @@ def reproduce(
     paths: list[Path] = []
     from ..plotting import save
 
-    with _progress(progress, len(tasks) + 1) as run:
+    with _progress(progress, len(tasks) + 1 + int(validation)) as run:
         for key, label, fn in tasks:
             res[key] = run(label, fn)
+        if validation:
+            from ..validation.report import run_for_report
+
+            res["validation"] = run("validation (all 54 runs)", lambda: run_for_report(quick))
         figs = _figures(res)
         run("figures", lambda: paths.extend(save(make(), out / name) for name, _, make in figs))
     from .explorer import explorer_html
@@ -337,6 +346,12 @@ def reproduce(
     rows = checkable_rows(res)
     elapsed = time.perf_counter() - t0
     ctx = report_context(rows, res, [(n, c) for n, c, _ in figs], opts, quick, elapsed, command)
+    if validation:
+        from ..validation.report import validation_section
+
+        vsec = validation_section(res["validation"], out, quick=quick)
+        ctx["sections"].append(vsec)
+        paths.extend(out / name for name, _ in vsec.figures)
     if envelope:
         from ..envelope.report import envelope_section
 

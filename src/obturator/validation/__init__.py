@@ -1,19 +1,47 @@
-"""Validation of the model against the spin-rig measurements (thesis Appendix B).
+"""Validation of the spin-rig model against all 54 runs of thesis Appendix B (issue 9).
 
-:mod:`~obturator.validation.floor`: the replicate-scatter floor, from the data alone;
-:mod:`~obturator.validation.study`: candidate mechanisms fitted to all runs, ranked.
+One concern per module:
+
+* :mod:`.floor` - replicate clusters and the pure-error floor;
+* :mod:`.candidates` - the registry of candidate mechanisms, their parameters,
+  bounds and physical ranges;
+* :mod:`.likelihood` - the censored Gaussian likelihood with the spin
+  error-in-variables term;
+* :mod:`.evaluate` - cached exact-model t_cr per (parameter vector, spin);
+* :mod:`.fit` - maximum-likelihood fit, Wald and profile-likelihood intervals;
+* :mod:`.results` - result objects (numbers, JSON);
+* :mod:`.textreport` - text and Markdown tables;
+* :mod:`.plotting` - the validation figure;
+* :mod:`.study` - the whole study (``obturator validate``).
 """
 
-from .floor import BANDS, CLUSTER_GAP, ReplicateFloor, cluster_runs, replicate_floor
-from .study import CANDIDATES, ValidationStudy, run_validation
+from .candidates import CANDIDATES, DEFAULT_MODELS, PARAMETERS, Candidate, Parameter, get_candidates
+from .fit import fit_candidate, profile_interval
+from .floor import BANDS, ReplicateFloor, cluster_runs, replicate_floor
+from .likelihood import SPIN_SD, nll_terms
+from .results import CandidateFit, ModelResult, ValidationResult
+from .study import recommend, run_validation
+from .textreport import format_report
 
 __all__ = [
     "BANDS",
     "CANDIDATES",
-    "CLUSTER_GAP",
+    "DEFAULT_MODELS",
+    "PARAMETERS",
+    "SPIN_SD",
+    "Candidate",
+    "CandidateFit",
+    "ModelResult",
+    "Parameter",
     "ReplicateFloor",
-    "ValidationStudy",
+    "ValidationResult",
     "cluster_runs",
+    "fit_candidate",
+    "format_report",
+    "get_candidates",
+    "nll_terms",
+    "profile_interval",
+    "recommend",
     "replicate_floor",
     "run_validation",
 ]

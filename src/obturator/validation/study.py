@@ -1,288 +1,553 @@
-"""Model discrimination against all spin-rig runs: candidates, fits, ranking.
+"""The whole validation study: floor, fits, out-of-band prediction, ranking (issue 9).
 
-Each candidate is a named set of fitted parameters of the exact rig model
-(:func:`obturator.calibration.fit_exact`) plus fixed model options:
+:func:`run_validation` runs, for every candidate,
 
-========================  ==================================================
-``thesis``                mu_s; theta_0 = 87.25 deg (Table 1)
-``theta0``                mu_s, theta_0 (the thesis says +-1 deg; its laser
-                          alignment may be worse)
-``release``               mu_s, theta_dot_0 (plunger/holding-jet kick)
-``phase``                 mu_s, psi_0 (release azimuth; gravity breaks the
-                          symmetry about Z)
-``strengthening``         mu_s, r, v_s: mu(v) from r mu_s at rest to mu_s
-``weakening``             mu_s, r, v_s: mu(v) from mu_s at rest to r mu_s
-``coulomb-patch``         mu_s, patch radius: exact contact with pivoting
-``theta0+strengthening``  the two strongest single mechanisms together
-========================  ==================================================
+1. the fit to all runs (ranked by AIC);
+2. the fit to the starred runs (the thesis's selection) and its rms on all runs;
+3. out-of-band prediction: a fit to the runs whose cluster-mean spin is
+   >= 200 rad/s, predicting the runs below, and the reverse (the split is by
+   cluster mean, as the bands of the floor, so the replicate cluster at
+   199.4 rad/s is not cut in two);
+4. the t_cr(omega_p) curve of the all-run fit and a convergence check
+   (:func:`obturator.solve.convergence_check`: tolerances / 10, width / 10
+   and another regularisation family) of its prediction at every run;
 
-Fits are least squares on t_cr with runs that do not open within the horizon
-right-censored (residual at t_max). AIC = n ln(RSS/n) + 2k and
-BIC = n ln(RSS/n) + k ln n (Gaussian errors of one variance). Out-of-band
-prediction: fit on runs >= 200 rad/s and predict those below, and the reverse.
-Spin-rate fluctuation (+-1.75 rad/s regulation) is not a fitted mechanism: its
-effect is reported as the rms of (dt_cr/d omega_p) sigma_omega over the runs,
-with sigma_omega = 1.75/sqrt(3) rad/s (uniform within the regulation).
+then profile-likelihood intervals for the recommended model's parameters and
+the spread of its t_cr over the release phase psi_0.
+
+Work is spread over ``jobs`` processes (a process pool; each task is one fit,
+one curve or one profile side), each with its own t_cr cache; subset fits start
+from the all-run fit.
+
+Recommendation rule
+-------------------
+Among candidates whose fitted parameters all lie in their physically argued
+ranges (:data:`~.candidates.PARAMETERS`), the lowest AIC; a plausible candidate
+with fewer parameters within 2 AIC units of it is preferred (Burnham and
+Anderson's "substantial support" band). If no candidate is plausible, the
+lowest AIC overall, and the recommendation says so.
 """
 
 from __future__ import annotations
 
 import math
-import os
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+import multiprocessing
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
-from ..calibration import SpinRigData, fit_exact, model_opening_times
-from ..errors import InputError
-from ..params import FIT_PARAMS
-from .floor import BANDS, replicate_floor
+from ..calibration.data import SpinRigData, load_thesis_data
+from ..errors import InputError, check_range
+from ..solve import SolverOptions, convergence_check
+from .candidates import CANDIDATES, PARAMETERS, get_candidates
+from .evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS, ModelEvaluator
+from .fit import fit_candidate, profile_interval
+from .floor import DEFAULT_CLUSTER_GAP, ReplicateFloor, band_of, lack_of_fit, replicate_floor
+from .likelihood import SPIN_SD
+from .results import CandidateFit, ModelResult, ValidationResult
 
-__all__ = ["CANDIDATES", "Candidate", "ModelResult", "ValidationStudy", "run_validation"]
+__all__ = ["OUT_OF_BAND_SPLIT", "recommend", "run_validation"]
 
-#: +-1.75 rad/s regulation as a uniform distribution: its standard deviation [rad/s].
-SPIN_SD = 1.75 / math.sqrt(3.0)
-#: Band split of the out-of-band prediction [rad/s].
-SPLIT = 200.0
-
-
-@dataclass(frozen=True)
-class Candidate:
-    """One model: fitted parameter names, fixed model options, starting values."""
-
-    name: str
-    fit: tuple[str, ...]
-    options: dict[str, Any] = field(default_factory=dict)
-    initial: dict[str, float] = field(default_factory=dict)
+#: Spin [rad/s] separating the two halves of the out-of-band test (by cluster mean).
+OUT_OF_BAND_SPLIT = 200.0
+_CURVE_POINTS = 48
+_PHASES = 8
 
 
-CANDIDATES: dict[str, Candidate] = {
-    c.name: c
-    for c in (
-        Candidate("thesis", ("mu_s",)),
-        Candidate("theta0", ("mu_s", "theta0_deg"), initial={"theta0_deg": 85.0}),
-        Candidate("release", ("mu_s", "theta_dot0"), initial={"theta_dot0": 0.5}),
-        Candidate("phase", ("mu_s", "release_phase"), initial={"release_phase": 1.0}),
-        Candidate(
-            "strengthening",
-            ("mu_s", "speed_ratio", "slip_speed"),
-            {"speed_law": "strengthening"},
-        ),
-        Candidate("weakening", ("mu_s", "speed_ratio", "slip_speed"), {"speed_law": "weakening"}),
-        Candidate("coulomb-patch", ("mu_s", "patch_radius"), {"torque_model": "coulomb"}),
-        Candidate(
-            "theta0+strengthening",
-            ("mu_s", "theta0_deg", "speed_ratio", "slip_speed"),
-            {"speed_law": "strengthening"},
-            {"theta0_deg": 85.0},
-        ),
-    )
-}
+# --------------------------------------------------------------------------- tasks
+# Module-level functions so that a process pool can run them.
 
 
-@dataclass(frozen=True)
-class ModelResult:
-    """One candidate fitted to all runs, with its out-of-band predictions."""
-
-    name: str
-    params: dict[str, dict[str, float | None]]
-    rms_all_s: float
-    rms_by_band_s: dict[str, float | None]
-    aic: float
-    bic: float
-    out_of_band_rms_s: dict[str, float | None]
-    censored_runs: list[int]
-    n_params: int
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready (the schema of ``obturator validate --json``)."""
-        return {
-            "name": self.name,
-            "params": self.params,
-            "rms_all_s": self.rms_all_s,
-            "rms_by_band_s": self.rms_by_band_s,
-            "aic": self.aic,
-            "bic": self.bic,
-            "out_of_band_rms_s": self.out_of_band_rms_s,
-            "censored_runs": self.censored_runs,
-            "n_params": self.n_params,
-        }
-
-
-@dataclass(frozen=True)
-class ValidationStudy:
-    """Floor, ranked model results and the spin-fluctuation contribution."""
-
-    floor: dict[str, Any]
-    models: list[ModelResult]
-    spin_fluctuation_rms_s: float | None
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "floor_rms_s": self.floor["floor_rms_s"],
-            "floor_rms_by_band_s": self.floor["floor_rms_by_band_s"],
-            "floor": self.floor,
-            "spin_fluctuation_rms_s": self.spin_fluctuation_rms_s,
-            "models": [m.to_dict() for m in self.models],
-        }
-
-    def table(self) -> str:
-        """Ranked text table (by AIC)."""
-        bands = [b[0] for b in BANDS]
-        head = f"{'model':<22} {'k':>2} {'rms all':>8} " + " ".join(f"{b:>8}" for b in bands)
-        head += f" {'AIC':>8} {'BIC':>8} {'fit>=200->lo':>12} {'fit<200->hi':>11}"
-        lines = [head]
-
-        def f(x: float | None) -> str:
-            return "-" if x is None else f"{x:.4f}"
-
-        for m in self.models:
-            lines.append(
-                f"{m.name:<22} {m.n_params:>2} {m.rms_all_s:>8.4f} "
-                + " ".join(f"{f(m.rms_by_band_s[b]):>8}" for b in bands)
-                + f" {m.aic:>8.1f} {m.bic:>8.1f} {f(m.out_of_band_rms_s['high_to_low']):>12}"
-                + f" {f(m.out_of_band_rms_s['low_to_high']):>11}"
-            )
-        fl = self.floor
-        lines.append(
-            f"{'replicate floor':<22} {'':>2} {f(fl['floor_rms_s']):>8} "
-            + " ".join(f"{f(fl['floor_rms_by_band_s'][b]):>8}" for b in bands)
-            + f"   (pooled SD, df {fl['df']}, {fl['n_clusters']} clusters)"
-        )
-        return "\n".join(lines)
-
-
-def _rms(r: np.ndarray) -> float | None:
-    return float(np.sqrt(np.mean(r**2))) if r.size else None
-
-
-def _predict(fit: Any, spins: np.ndarray, cand: Candidate, t_max: float) -> np.ndarray:
-    names = set(FIT_PARAMS)
-    kw = {k: v for k, v in fit.values.items() if k in names}
-    t = model_opening_times(spins, **kw, t_max=t_max, **cand.options)
-    return np.where(np.isfinite(t), t, t_max)
-
-
-def _fit(cand: Candidate, data: SpinRigData, t_max: float) -> Any:
-    return fit_exact(
-        data,
-        fit=cand.fit,
-        initial=cand.initial,
-        min_spin=0.0,
+def _fit_task(
+    name: str,
+    selection: str,
+    w: NDArray[np.float64],
+    y: NDArray[np.float64],
+    band: NDArray[np.str_],
+    run: NDArray[np.int64],
+    start: dict[str, float] | None,
+    predict_w: NDArray[np.float64] | None,
+    spin_sd: float,
+    t_max: float,
+    options: SolverOptions | None,
+) -> tuple[CandidateFit, NDArray[np.float64] | None]:
+    cand = CANDIDATES[name]
+    ev = ModelEvaluator(cand, t_max, options)
+    fit = fit_candidate(
+        cand,
+        w,
+        y,
+        band=band,
+        run=run,
+        selection=selection,
+        start=start,
+        spin_sd=spin_sd,
         t_max=t_max,
-        bootstrap=0,
-        **cand.options,
+        options=options,
+        evaluator=ev,
     )
+    pred = None
+    if predict_w is not None:
+        pred = ev.opening_times([fit.values[k] for k in cand.params], predict_w)
+    return fit, pred
 
 
-def _fit_candidate(cand: Candidate, data: SpinRigData, t_max: float) -> ModelResult:
-    """Fit one candidate to all runs and predict across the 200 rad/s split."""
-    w, t = data.spin_rate, data.opening_time
-    hi_mask = w >= SPLIT
-    fit = _fit(cand, data, t_max)
-    r = fit.residuals
-    n, k = r.size, len(cand.fit)
-    rss = float(r @ r)
-    by_band = {}
-    for band, lo, hi in BANDS:
-        sel = (fit.spin_rate >= lo) & (fit.spin_rate < hi)
-        by_band[band] = _rms(r[sel])
-    oob: dict[str, float | None] = {"high_to_low": None, "low_to_high": None}
-    if hi_mask.sum() >= 2 and (~hi_mask).sum() >= 2:
-        f_hi = _fit(cand, data.select(hi_mask), t_max)
-        oob["high_to_low"] = _rms(_predict(f_hi, w[~hi_mask], cand, t_max) - t[~hi_mask])
-        f_lo = _fit(cand, data.select(~hi_mask), t_max)
-        oob["low_to_high"] = _rms(_predict(f_lo, w[hi_mask], cand, t_max) - t[hi_mask])
-    params = {
-        p: {
-            "value": fit.values[p],
-            "stderr": fit.stderr.get(p),
-            "ci95": list(fit.ci95[p]),
-            "unit": FIT_PARAMS[p].unit,
-        }
-        for p in cand.fit
+def _curve_task(
+    name: str,
+    values: dict[str, float],
+    grid: NDArray[np.float64],
+    run_w: NDArray[np.float64],
+    run_t: NDArray[np.float64],
+    t_max: float,
+    options: SolverOptions | None,
+) -> tuple[NDArray[np.float64], dict[str, Any]]:
+    cand = CANDIDATES[name]
+    ev = ModelEvaluator(cand, t_max, options)
+    curve = ev.opening_times([values[k] for k in cand.params], grid)
+    tol = wid = fam = 0.0
+    n_bad = 0
+    worst_w = math.nan
+    for w, t in zip(run_w, run_t, strict=True):
+        chk = convergence_check(
+            cand.build(float(w), values, t_max), options, opening_time_s=float(t)
+        )
+        change = max(chk.tolerance_change, chk.width_change, chk.family_change)
+        if change > max(tol, wid, fam):
+            worst_w = float(w)
+        tol = max(tol, chk.tolerance_change)
+        wid = max(wid, chk.width_change)
+        fam = max(fam, chk.family_change)
+        n_bad += int(not chk.converged)
+    conv = {
+        "n_runs": int(run_w.size),
+        "max_tolerance_rel_change": tol,
+        "max_width_rel_change": wid,
+        "max_family_rel_change": fam,
+        "max_rel_change": max(tol, wid, fam),
+        "worst_spin_rate_rad_s": worst_w,
+        "n_not_converged": n_bad,
+        "threshold": 1e-3,
+        "other_family": "linear",
     }
-    return ModelResult(
-        cand.name,
-        params,
-        float(np.sqrt(rss / n)),
-        by_band,
-        n * math.log(rss / n) + 2 * k,
-        n * math.log(rss / n) + k * math.log(n),
-        oob,
-        fit.censored_runs,
-        k,
+    return curve, conv
+
+
+def _profile_task(
+    fit: CandidateFit,
+    name: str,
+    param: str,
+    side: int,
+    spin_sd: float,
+    options: SolverOptions | None,
+) -> tuple[str, int, float]:
+    lo, hi = profile_interval(
+        fit, CANDIDATES[name], param, spin_sd=spin_sd, options=options, sides=(side,)
     )
+    return param, side, lo if side < 0 else hi
+
+
+def _phase_task(
+    name: str,
+    values: dict[str, float],
+    spins: NDArray[np.float64],
+    t_max: float,
+    options: SolverOptions | None,
+) -> dict[str, Any]:
+    cand = CANDIDATES[name]
+    phases = np.linspace(0.0, math.pi, _PHASES, endpoint=False)
+    table = np.array(
+        [
+            [
+                _opening(
+                    cand.build(float(w), {**values, "release_phase": float(ph)}, t_max), options
+                )
+                for ph in phases
+            ]
+            for w in spins
+        ]
+    )
+    sd = np.nanstd(table, axis=1, ddof=1)
+    return {
+        "model": name,
+        "phases_rad": phases.tolist(),
+        "spin_rate_rad_s": spins.tolist(),
+        "t_cr_s": table.tolist(),
+        "sd_over_phase_s": sd.tolist(),
+        "note": "psi_0 uniform per run (switch thrown at an arbitrary instant): "
+        "this SD is part of the replicate scatter the model itself predicts",
+    }
+
+
+def _opening(case: Any, options: SolverOptions | None) -> float:
+    from ..solve import opening_time
+
+    try:
+        return opening_time(case, options)
+    except RuntimeError:
+        return math.nan
+
+
+# --------------------------------------------------------------------------- executor
+
+
+def _mp_context() -> multiprocessing.context.BaseContext:
+    # fork inherits the loaded integrator; only while this process is
+    # single-threaded (the progress bar starts after the workers)
+    if sys.platform == "linux" and threading.active_count() == 1:
+        return multiprocessing.get_context("fork")
+    return multiprocessing.get_context("spawn")
+
+
+class _Serial:
+    """Stand-in for a pool with one worker: runs each task at submit time."""
+
+    def submit(self, fn: Callable[..., Any], *args: Any) -> Future[Any]:
+        fut: Future[Any] = Future()
+        try:
+            fut.set_result(fn(*args))
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller
+            fut.set_exception(exc)
+        return fut
+
+    def shutdown(self, wait: bool = True, cancel_futures: bool = False) -> None:
+        """Nothing to release."""
+
+
+@contextmanager
+def _progress(enabled: bool, total: int) -> Iterator[Callable[[int, int | None], None]]:
+    if not enabled:
+        yield lambda n, new_total=None: None
+        return
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+    )
+
+    with Progress(
+        TextColumn("validate"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    ) as bar:
+        task = bar.add_task("validate", total=total)
+
+        def advance(n: int, new_total: int | None = None) -> None:
+            if new_total is not None:
+                bar.update(task, total=new_total)
+            bar.advance(task, n)
+
+        yield advance
+
+
+def _drain(pending: dict[Future[Any], Any], advance: Callable[..., None]) -> list[tuple[Any, Any]]:
+    done: list[tuple[Any, Any]] = []
+    while pending:
+        finished, _ = wait(list(pending), return_when=FIRST_COMPLETED)
+        for fut in finished:
+            done.append((pending.pop(fut), fut.result()))
+            advance(1)
+    return done
+
+
+# --------------------------------------------------------------------------- ranking
+
+
+def recommend(models: Sequence[ModelResult]) -> tuple[str, str]:
+    """The recommended model and the reason (rule in the module notes)."""
+    fitted = [m for m in models if m.fit.params]
+    pool = [m for m in fitted if m.fit.all_plausible]
+    caveat = ""
+    if not pool:
+        pool = fitted or list(models)
+        caveat = " No candidate has all its parameters in their physical ranges."
+    best = min(pool, key=lambda m: m.fit.aic)
+    near = [m for m in pool if m.fit.aic - best.fit.aic <= 2.0]
+    choice = min(near, key=lambda m: (len(m.fit.params), m.fit.aic))
+    others = sorted((m for m in models if m is not choice), key=lambda m: m.fit.aic)
+    f = choice.fit
+    vals = ", ".join(
+        f"{k} = {f.values[k]:.4g} {PARAMETERS[k].unit}".replace(" 1", "") for k in f.params
+    )
+    why = (
+        f"'{choice.name}' ({vals}): lowest AIC among candidates with every parameter in "
+        f"its physical range"
+    )
+    if choice is not best:
+        why += (
+            f" within 2 AIC units of '{best.name}' ({best.fit.aic - choice.fit.aic:+.2f}) "
+            "and with fewer parameters"
+        )
+    why += f"; all-run rms {f.rms:.4f} s."
+    if others:
+        nxt = others[0]
+        why += f" Next by AIC: '{nxt.name}' (delta AIC {nxt.fit.aic - f.aic:+.2f})."
+    oob = choice.out_of_band_rms.get("high->low")
+    if oob is not None and math.isfinite(oob):
+        rivals = [
+            m for m in others[:4] if math.isfinite(m.out_of_band_rms.get("high->low", math.nan))
+        ]
+        why += (
+            f" Fitted only to the runs at >= {OUT_OF_BAND_SPLIT:g} rad/s it predicts those "
+            f"below with rms {oob:.3f} s"
+        )
+        if rivals:
+            why += (
+                " ("
+                + ", ".join(f"{m.name}: {m.out_of_band_rms['high->low']:.3f} s" for m in rivals)
+                + ")"
+            )
+        why += "."
+    implausible = [m.name for m in fitted if not m.fit.all_plausible]
+    if implausible:
+        why += " Outside their physical ranges: " + ", ".join(implausible) + "."
+    return choice.name, why + caveat
+
+
+# --------------------------------------------------------------------------- study
+
+
+def _aic(m: ModelResult) -> float:
+    return m.fit.aic
+
+
+def _subset(mask: NDArray[np.bool_], *arrays: NDArray[Any]) -> list[NDArray[Any]]:
+    return [a[mask] for a in arrays]
+
+
+def _resid(pred: NDArray[np.float64], y: NDArray[np.float64], t_max: float) -> NDArray[np.float64]:
+    return np.where(np.isfinite(pred), pred, t_max) - y
+
+
+def _oob_rms(pred: NDArray[np.float64] | None, y: NDArray[np.float64], t_max: float) -> float:
+    if pred is None or pred.size == 0:
+        return math.nan
+    r = np.where(np.isfinite(pred), pred, t_max) - y
+    return float(np.sqrt(np.mean(r * r)))
 
 
 def run_validation(
-    data: SpinRigData,
-    models: Sequence[str] = tuple(CANDIDATES),
+    data: SpinRigData | None = None,
     *,
-    t_max: float = 10.0,
-    progress: Callable[[str], None] | None = None,
-    workers: int = 1,
-) -> ValidationStudy:
-    """Fit every candidate to all runs, predict across the 200 rad/s split, rank by AIC.
+    models: Sequence[str] | str | None = None,
+    jobs: int = 2,
+    t_max: float = DEFAULT_T_MAX,
+    spin_sd: float = SPIN_SD,
+    gap: float = DEFAULT_CLUSTER_GAP,
+    options: SolverOptions | None = None,
+    profile: bool = True,
+    curve_points: int = _CURVE_POINTS,
+    progress: bool = False,
+) -> ValidationResult:
+    """Run the validation study (see the module notes).
 
     Parameters
     ----------
-    data : SpinRigData
-        The runs (all are used; none is dropped).
-    models : sequence of str
-        Names from :data:`CANDIDATES`.
+    data : SpinRigData, optional
+        Runs (default: the 54 runs of thesis Appendix B).
+    models : sequence of str or str, optional
+        Candidate names (default :data:`~.candidates.DEFAULT_MODELS`).
+    jobs : int
+        Worker processes (1: in this process).
     t_max : float
-        Horizon [s]; a run not opened by then is right-censored.
-    progress : callable, optional
-        Called with each candidate's name (before its fit, or as it is collected).
-    workers : int
-        Candidates fitted in parallel processes (1: in this process).
+        Horizon [s]; runs not opened by then are censored.
+    spin_sd : float
+        Spin error SD [rad/s] of the error-in-variables term (0: off).
+    gap : float
+        Clustering gap of the replicate floor [rad/s].
+    options : SolverOptions, optional
+        Solver settings (default :data:`~.evaluate.VALIDATION_OPTIONS`).
+    profile : bool
+        Profile-likelihood intervals for the recommended model.
+    curve_points : int
+        Points of each model's t_cr(omega_p) curve.
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    ValidationResult
     """
-    unknown = [m for m in models if m not in CANDIDATES]
-    if unknown or not models:
-        raise InputError("models", f"{unknown or '[]'}; allowed: {', '.join(CANDIDATES)}")
-    w = data.spin_rate
-    floor = replicate_floor(w, data.opening_time)
-    jobs = [(CANDIDATES[name], data, t_max) for name in models]
-    if workers > 1 and len(jobs) > 1:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
+    t_start = time.perf_counter()
+    options = options or VALIDATION_OPTIONS
+    data = load_thesis_data() if data is None else data
+    cands = get_candidates(models)
+    jobs = int(check_range("jobs", jobs, 1, 64))
+    check_range("curve_points", curve_points, 2, 10_000)
+    w, y, run = data.spin_rate, data.opening_time, data.run
+    floor: ReplicateFloor = replicate_floor(w, y, gap=gap)
+    mean_w = floor.cluster_mean_spin()
+    band = band_of(mean_w)
+    high = mean_w >= OUT_OF_BAND_SPLIT
+    if len(w) < 5:
+        raise InputError("data", f"{len(w)} runs; the study needs at least 5")
+    common = (spin_sd, t_max, options)
+    grid = np.geomspace(0.9 * float(w.min()), 1.05 * float(w.max()), int(curve_points))
 
-        ctx = multiprocessing.get_context("spawn")
-        from ..sweeps.spec import _die_with_parent
-
-        with ProcessPoolExecutor(
-            min(workers, len(jobs)),
-            mp_context=ctx,
-            initializer=_die_with_parent,
-            initargs=(os.getpid(),),
-        ) as pool:
-            futures = [pool.submit(_fit_candidate, *job) for job in jobs]
-            results = []
-            for name, fut in zip(models, futures, strict=True):
-                if progress:
-                    progress(name)
-                results.append(fut.result())
+    pool: Any
+    if jobs > 1:
+        pool = ProcessPoolExecutor(max_workers=jobs, mp_context=_mp_context())
     else:
-        results = []
-        for job in jobs:
-            if progress:
-                progress(job[0].name)
-            results.append(_fit_candidate(*job))
-    results.sort(key=lambda m: m.aic)
-    best = CANDIDATES[results[0].name]
-    spin_sd = _spin_fluctuation(results[0], best, w, t_max)
-    return ValidationStudy(floor.to_dict(), results, spin_sd)
+        pool = _Serial()
+    # on the thesis data the starred runs are exactly the high half: fit once
+    same_split = bool(np.array_equal(data.starred, high))
+    try:
+        # phase 1: every all-run fit (submitting them starts every worker)
+        pending = {
+            pool.submit(_fit_task, c.name, "all", w, y, band, run, None, None, *common): c.name
+            for c in cands
+        }
+        timings: dict[str, float] = {}
+        with _progress(progress, len(cands)) as advance:
+            fits = {name: res[0] for name, res in _drain(pending, advance)}
+            timings["all_run_fits"] = time.perf_counter() - t_start
+            # the ranking needs the all-run fits only: the recommended model is
+            # known now, and its profile intervals run alongside phase 2
+            prelim = sorted((ModelResult(c.name, fits[c.name]) for c in cands), key=_aic)
+            rec_name, why = recommend(prelim)
+            rec_fit = fits[rec_name]
+            # phase 2: profile sides (longest first), subset fits, curves, checks
+            pending = {}
+            if profile and rec_fit.params:
+                for k in rec_fit.params:
+                    for side in (-1, 1):
+                        fut = pool.submit(
+                            _profile_task, rec_fit, rec_name, k, side, spin_sd, options
+                        )
+                        pending[fut] = ("profile", k, side)
+            centres = np.array(sorted({round(float(x), 6) for x in mean_w}))
+            fut = pool.submit(_phase_task, rec_name, dict(rec_fit.values), centres, t_max, options)
+            pending[fut] = ("phase", "", None)
+            for c in sorted(cands, key=lambda c: -c.n_params):
+                f = fits[c.name]
+                start = dict(f.values)
+                subsets = []
+                if data.starred.any() and not same_split:
+                    subsets.append(("starred", data.starred, np.ones_like(high)))
+                if high.any() and (~high).any():
+                    subsets.append((f"omega_p >= {OUT_OF_BAND_SPLIT:g}", high, ~high))
+                    subsets.append((f"omega_p < {OUT_OF_BAND_SPLIT:g}", ~high, high))
+                for label, m_fit, m_pred in subsets:
+                    if int(m_fit.sum()) < c.n_params + 2:
+                        continue
+                    ws, ys, bs, rs = _subset(m_fit, w, y, band, run)
+                    fut = pool.submit(
+                        _fit_task, c.name, label, ws, ys, bs, rs, start, w[m_pred], *common
+                    )
+                    pending[fut] = (c.name, label, m_pred)
+                model_t = np.where(np.isfinite(f.model), f.model, np.nan)
+                ok = np.isfinite(model_t)
+                fut = pool.submit(
+                    _curve_task, c.name, start, grid, w[ok], model_t[ok], t_max, options
+                )
+                pending[fut] = (c.name, "curve", None)
+            advance(0, len(cands) + len(pending))
+            sub: dict[str, dict[str, Any]] = {c.name: {} for c in cands}
+            prof: dict[str, dict[int, float]] = {}
+            phase: dict[str, Any] = {}
+            for (name, label, m_pred), res in _drain(pending, advance):
+                if name == "profile":
+                    prof.setdefault(label, {})[int(m_pred)] = res[2]
+                elif name == "phase":
+                    phase = res
+                else:
+                    sub[name][label] = (res, m_pred)
+            timings["subset_fits_curves_checks_profiles"] = (
+                time.perf_counter() - t_start - timings["all_run_fits"]
+            )
+            results = []
+            for c in cands:
+                s = sub[c.name]
+                curve, conv = s.pop("curve")[0]
+                kw: dict[str, Any] = {"out_of_band_rms": {}}
+                for label, ((fit, pred), m_pred) in s.items():
+                    if label == "starred":
+                        kw["starred"] = fit
+                        kw["out_of_band_rms"]["starred->all"] = _oob_rms(pred, y[m_pred], t_max)
+                    elif label.startswith("omega_p >="):
+                        kw["high"] = fit
+                        kw["out_of_band_rms"]["high->low"] = _oob_rms(pred, y[m_pred], t_max)
+                        if same_split:  # the starred fit; its rms on all runs
+                            kw["starred"] = fit
+                            r_all = np.concatenate([fit.residuals, _resid(pred, y[m_pred], t_max)])
+                            kw["out_of_band_rms"]["starred->all"] = float(
+                                np.sqrt(np.mean(r_all**2))
+                            )
+                    else:
+                        kw["low"] = fit
+                        kw["out_of_band_rms"]["low->high"] = _oob_rms(pred, y[m_pred], t_max)
+                results.append(
+                    ModelResult(
+                        c.name,
+                        fits[c.name],
+                        curve_spin=grid,
+                        curve_t=curve,
+                        convergence=conv,
+                        lack_of_fit=lack_of_fit(floor, fits[c.name].residuals, c.n_params),
+                        **kw,
+                    )
+                )
+            results.sort(key=_aic)
+            rec_name, why = recommend(results)  # same choice, now with out-of-band numbers
+    except BaseException:
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
+    if prof:
+        f = rec_fit
+        ci = {**f.ci95, **{k: (v[-1], v[1]) for k, v in prof.items()}}
+        method = {**f.ci_method, **{k: "profile" for k in prof}}
+        new_fit = _replace_ci(f, ci, method)
+        results = [_replace_model_fit(m, new_fit) if m.name == rec_name else m for m in results]
+    opts = options
+    settings = {
+        "source": data.source,
+        "n_runs": int(len(w)),
+        "t_max_s": t_max,
+        "spin_sd_rad_s": spin_sd,
+        "cluster_gap_rad_s": gap,
+        "out_of_band_split_rad_s": OUT_OF_BAND_SPLIT,
+        "jobs": jobs,
+        "solver": f"{opts.method} rtol={opts.rtol:g} atol={opts.atol:g} "
+        f"friction_width={opts.friction_width:g} family={opts.friction_family}",
+        "likelihood": "Gaussian, sigma fitted, + (dt/domega sigma_w)^2 error-in-variables; "
+        "runs not opened by t_max censored (survival term)",
+        "ranking": "AIC of the all-run fit",
+        "starred_runs_are_high_half": same_split,
+        "timings_s": timings,
+    }
+    return ValidationResult(
+        floor=floor,
+        models=results,
+        recommended=rec_name,
+        recommendation=why,
+        settings=settings,
+        elapsed_s=time.perf_counter() - t_start,
+        phase_scatter=phase,
+    )
 
 
-def _spin_fluctuation(res: ModelResult, cand: Candidate, w: np.ndarray, t_max: float) -> float:
-    """rms over the runs of (dt_cr/d omega_p) SPIN_SD for the best model [s]."""
-    kw = {p: v["value"] for p, v in res.params.items()}
-    h = 0.5
-    up = model_opening_times(w + h, **kw, t_max=t_max, **cand.options)
-    dn = model_opening_times(w - h, **kw, t_max=t_max, **cand.options)
-    slope = (up - dn) / (2 * h)
-    ok = np.isfinite(slope)
-    return float(np.sqrt(np.mean((slope[ok] * SPIN_SD) ** 2))) if ok.any() else math.nan
+def _replace_ci(
+    f: CandidateFit, ci: dict[str, tuple[float, float]], method: dict[str, str]
+) -> CandidateFit:
+    from dataclasses import replace
+
+    return replace(f, ci95=ci, ci_method=method)
+
+
+def _replace_model_fit(m: ModelResult, fit: CandidateFit) -> ModelResult:
+    from dataclasses import replace
+
+    return replace(m, fit=fit)

@@ -1,0 +1,349 @@
+"""Result objects of the validation study (numbers only; text in :mod:`.textreport`).
+
+:class:`CandidateFit` is one fit of one candidate to one selection of runs;
+:class:`ModelResult` gathers a candidate's fits (all runs, starred runs, the
+two out-of-band fits), its t_cr(omega_p) curve and its convergence check;
+:class:`ValidationResult` is the whole study with the replicate floor, the
+ranking and the recommendation.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .candidates import CANDIDATES, PARAMETERS
+from .floor import ReplicateFloor, band_labels
+
+__all__ = ["CandidateFit", "ModelResult", "ValidationResult", "rms_by_band"]
+
+
+def _clean(x: Any) -> Any:
+    """NaN/inf -> None, numpy scalars -> Python, recursively."""
+    if isinstance(x, dict):
+        return {str(k): _clean(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_clean(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return [_clean(v) for v in x.tolist()]
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return float(x) if math.isfinite(float(x)) else None
+    return x
+
+
+def rms_by_band(residuals: NDArray[np.float64], band: NDArray[np.str_]) -> dict[str, float]:
+    """rms of the residuals [s] per band label (NaN for an empty band)."""
+    out = {}
+    for label in band_labels():
+        m = band == label
+        out[label] = float(np.sqrt(np.mean(residuals[m] ** 2))) if m.any() else math.nan
+    return out
+
+
+@dataclass(frozen=True)
+class CandidateFit:
+    """Maximum-likelihood fit of one candidate to a selection of runs.
+
+    Attributes
+    ----------
+    name : str
+        Candidate name.
+    selection : str
+        Which runs ("all", "starred", "omega_p >= 200", "omega_p < 200").
+    params : tuple of str
+        Fitted physical parameters.
+    values : dict of str to float
+        Best values (physical units, see :data:`~.candidates.PARAMETERS`).
+    stderr : dict of str to float
+        Standard errors (Wald: inverse Gauss-Newton information at the optimum).
+    ci95 : dict of str to (float, float)
+        95 % intervals; method per parameter in `ci_method`.
+    ci_method : dict of str to str
+        "wald" (Student-t on the optimiser scale, log10 for scale parameters)
+        or "profile" (profile likelihood, 2 delta(-log L) <= 3.84).
+    plausible : dict of str to bool
+        Whether each value lies in its physically argued range.
+    sigma : float
+        ML run-to-run scatter [s].
+    nll : float
+        Minimised -log L.
+    k : int
+        Free parameters (physical + sigma).
+    spin_rate, measured, model, slope, sd : ndarray
+        Per run: omega_p [rad/s], y [s], model t_cr [s] (NaN: censored),
+        dt_cr/domega_p [s^2], effective SD s_i [s].
+    band : ndarray of str
+        Spin band of each run (by its cluster's mean spin).
+    run : ndarray of int
+        Run numbers.
+    t_max : float
+        Horizon [s].
+    covariance : ndarray
+        Covariance of the physical parameters (delta method).
+    success : bool
+    message : str
+    nfev : int
+        Objective evaluations (each one t_cr per run).
+    n_integrations : int
+        Trajectories integrated (cache misses).
+    n_failed : int
+        Integrations that failed (counted as censored).
+    elapsed_s : float
+        Wall time of the fit [s].
+    """
+
+    name: str
+    selection: str
+    params: tuple[str, ...]
+    values: dict[str, float]
+    stderr: dict[str, float]
+    ci95: dict[str, tuple[float, float]]
+    ci_method: dict[str, str]
+    plausible: dict[str, bool]
+    sigma: float
+    nll: float
+    k: int
+    spin_rate: NDArray[np.float64]
+    measured: NDArray[np.float64]
+    model: NDArray[np.float64]
+    slope: NDArray[np.float64]
+    sd: NDArray[np.float64]
+    band: NDArray[np.str_]
+    run: NDArray[np.int64]
+    t_max: float
+    covariance: NDArray[np.float64]
+    success: bool = True
+    message: str = ""
+    nfev: int = 0
+    n_integrations: int = 0
+    n_failed: int = 0
+    elapsed_s: float = math.nan
+
+    @property
+    def ndata(self) -> int:
+        """Number of runs fitted."""
+        return int(self.measured.size)
+
+    @property
+    def censored(self) -> NDArray[np.bool_]:
+        """Runs the model did not open by ``t_max``."""
+        return ~np.isfinite(self.model)
+
+    @property
+    def n_censored(self) -> int:
+        """Number of censored runs."""
+        return int(self.censored.sum())
+
+    @property
+    def residuals(self) -> NDArray[np.float64]:
+        """Model - measured [s]; a censored run counts as opening at ``t_max``."""
+        return np.where(self.censored, self.t_max, self.model) - self.measured
+
+    @property
+    def rms(self) -> float:
+        """rms of :attr:`residuals` over the fitted runs [s]."""
+        return float(np.sqrt(np.mean(self.residuals**2)))
+
+    @property
+    def rms_by_band(self) -> dict[str, float]:
+        """rms per spin band [s]."""
+        return rms_by_band(self.residuals, self.band)
+
+    @property
+    def aic(self) -> float:
+        """2k + 2 nll."""
+        return 2.0 * self.k + 2.0 * self.nll
+
+    @property
+    def bic(self) -> float:
+        """k ln n + 2 nll."""
+        return self.k * math.log(self.ndata) + 2.0 * self.nll
+
+    @property
+    def all_plausible(self) -> bool:
+        """Every fitted value in its physical range."""
+        return all(self.plausible.values())
+
+    def params_dict(self) -> dict[str, dict[str, Any]]:
+        """{name: {value, stderr, ci95, ci_method, unit, plausible_range, plausible}}."""
+        return {
+            k: {
+                "value": self.values[k],
+                "stderr": self.stderr.get(k, math.nan),
+                "ci95": list(self.ci95.get(k, (math.nan, math.nan))),
+                "ci_method": self.ci_method.get(k, "wald"),
+                "unit": PARAMETERS[k].unit,
+                "plausible_range": list(PARAMETERS[k].plausible),
+                "plausible": self.plausible.get(k, True),
+            }
+            for k in self.params
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary."""
+        return _clean(
+            {
+                "name": self.name,
+                "selection": self.selection,
+                "params": self.params_dict(),
+                "sigma_s": self.sigma,
+                "nll": self.nll,
+                "k": self.k,
+                "ndata": self.ndata,
+                "aic": self.aic,
+                "bic": self.bic,
+                "rms_s": self.rms,
+                "rms_by_band_s": self.rms_by_band,
+                "n_censored": self.n_censored,
+                "n_failed": self.n_failed,
+                "success": self.success,
+                "message": self.message,
+                "nfev": self.nfev,
+                "n_integrations": self.n_integrations,
+                "elapsed_s": self.elapsed_s,
+            }
+        )
+
+
+@dataclass(frozen=True)
+class ModelResult:
+    """Everything the study computed for one candidate.
+
+    Attributes
+    ----------
+    name : str
+    fit : CandidateFit
+        Fit to all runs (the ranked one).
+    starred : CandidateFit or None
+        Fit to the starred runs (the thesis's selection), None if the data have none.
+    high, low : CandidateFit or None
+        Fits to runs with cluster-mean omega_p >= 200 rad/s and < 200 rad/s.
+    out_of_band_rms : dict of str to float
+        rms [s] of the predictions of `high` on the low runs ("high->low") and
+        of `low` on the high runs ("low->high"), and of `starred` on all runs
+        ("starred->all").
+    curve_spin, curve_t : ndarray
+        t_cr(omega_p) of the all-run fit on a grid [rad/s], [s] (NaN: censored).
+    convergence : dict
+        Max relative changes of t_cr at every run under
+        :func:`obturator.solve.convergence_check` (empty if not run).
+    lack_of_fit : dict
+        Lack-of-fit F test of the all-run fit (:func:`.floor.lack_of_fit`).
+    """
+
+    name: str
+    fit: CandidateFit
+    starred: CandidateFit | None = None
+    high: CandidateFit | None = None
+    low: CandidateFit | None = None
+    out_of_band_rms: dict[str, float] = field(default_factory=dict)
+    curve_spin: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))
+    curve_t: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))
+    convergence: dict[str, Any] = field(default_factory=dict)
+    lack_of_fit: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def description(self) -> str:
+        """The candidate's one-line description."""
+        c = CANDIDATES.get(self.name)
+        return c.description if c is not None else self.name
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON entry of ``models`` (schema of ``obturator validate --json``)."""
+        f = self.fit
+        return _clean(
+            {
+                "name": self.name,
+                "description": self.description,
+                "params": f.params_dict(),
+                "sigma_s": f.sigma,
+                "k": f.k,
+                "ndata": f.ndata,
+                "rms_all_s": f.rms,
+                "rms_by_band_s": f.rms_by_band,
+                "aic": f.aic,
+                "bic": f.bic,
+                "nll": f.nll,
+                "n_censored": f.n_censored,
+                "all_plausible": f.all_plausible,
+                "out_of_band_rms_s": self.out_of_band_rms,
+                "fits": {
+                    sel.selection: sel.to_dict()
+                    for sel in (self.starred, self.high, self.low)
+                    if sel is not None
+                },
+                "convergence": self.convergence,
+                "lack_of_fit": self.lack_of_fit,
+                "fit_elapsed_s": f.elapsed_s,
+                "runs": {
+                    "run": f.run,
+                    "spin_rate_rad_s": f.spin_rate,
+                    "measured_s": f.measured,
+                    "model_s": f.model,
+                    "slope_s2": f.slope,
+                    "sd_s": f.sd,
+                },
+            }
+        )
+
+
+@dataclass(frozen=True)
+class ValidationResult:
+    """The whole study.
+
+    Attributes
+    ----------
+    floor : ReplicateFloor
+    models : list of ModelResult
+        Ranked: ascending AIC of the all-run fit.
+    recommended : str
+        Name of the recommended model (see :func:`.study.recommend`).
+    recommendation : str
+        Why (one paragraph).
+    settings : dict
+        Data source, horizon, solver, spin SD, workers.
+    elapsed_s : float
+        Wall time of the study [s].
+    phase_scatter : dict
+        Spread of the recommended model's t_cr over the release phase psi_0.
+    """
+
+    floor: ReplicateFloor
+    models: list[ModelResult]
+    recommended: str
+    recommendation: str
+    settings: dict[str, Any] = field(default_factory=dict)
+    elapsed_s: float = math.nan
+    phase_scatter: dict[str, Any] = field(default_factory=dict)
+
+    def model(self, name: str) -> ModelResult:
+        """The result of one candidate by name."""
+        for m in self.models:
+            if m.name == name:
+                return m
+        raise KeyError(name)
+
+    def to_dict(self) -> dict[str, Any]:
+        """One JSON object (``obturator validate --json``)."""
+        fl = self.floor
+        return _clean(
+            {
+                "floor_rms_s": fl.floor_rms,
+                "floor_rms_by_band_s": {k: b.floor_rms for k, b in fl.bands.items()},
+                "floor": fl.to_dict(),
+                "models": [m.to_dict() for m in self.models],
+                "recommended": self.recommended,
+                "recommendation": self.recommendation,
+                "phase_scatter": self.phase_scatter,
+                "settings": self.settings,
+                "elapsed_s": self.elapsed_s,
+            }
+        )

@@ -1,0 +1,227 @@
+"""Plain-text and Markdown tables of a :class:`~.results.ValidationResult`."""
+
+from __future__ import annotations
+
+import math
+
+from .candidates import PARAMETERS
+from .floor import band_labels
+from .results import CandidateFit, ModelResult, ValidationResult
+
+__all__ = [
+    "floor_table",
+    "format_report",
+    "markdown_summary",
+    "params_table",
+    "ranked_table",
+    "thesis_line",
+]
+
+
+def _f(x: float, fmt: str = ".4f") -> str:
+    return "-" if x is None or not math.isfinite(x) else format(x, fmt)
+
+
+def floor_table(result: ValidationResult) -> list[str]:
+    """Lines: the replicate floor overall and per band."""
+    fl = result.floor
+    lines = [
+        f"Replicate floor ({fl.n_clusters} clusters, single linkage in omega_p, "
+        f"gap {fl.gap:.2f} rad/s)",
+        f"  {'band':<8} {'runs':>4} {'clust':>5} {'df':>3} {'pooled SD [s]':>13} "
+        f"{'saturated rms':>13}",
+    ]
+    for b in (fl.overall, *fl.bands.values()):
+        lines.append(
+            f"  {b.label:<8} {b.n_runs:>4d} {b.n_clusters:>5d} {b.dof:>3d} "
+            f"{_f(b.pooled_sd):>13} {_f(b.saturated_rms):>13}"
+        )
+    lines.append("  (a perfect model's expected rms is the pooled SD; the saturated cluster-mean")
+    lines.append("   model's in-sample rms is the lower bound no smooth model reaches)")
+    return lines
+
+
+def ranked_table(result: ValidationResult) -> list[str]:
+    """Lines: every model ranked by AIC, with rms overall/per band, BIC, out-of-band rms."""
+    bands = band_labels()
+    best_aic = min(m.fit.aic for m in result.models)
+    head = (
+        f"  {'#':>2} {'model':<27} {'k':>2} {'rms all':>8} "
+        + " ".join(f"{b:>8}" for b in bands)
+        + f" {'AIC':>8} {'dAIC':>6} {'BIC':>8} {'hi->lo':>7} {'lo->hi':>7} {'st->all':>7} phys"
+    )
+    lines = ["Models ranked by AIC (all-run fit; rms [s]; out-of-band rms [s])", head]
+    floor = result.floor
+    lines.append(
+        f"  {'':>2} {'replicate floor':<27} {'':>2} {_f(floor.floor_rms):>8} "
+        + " ".join(f"{_f(floor.bands[b].floor_rms):>8}" for b in bands)
+    )
+    for i, m in enumerate(result.models, 1):
+        f = m.fit
+        rb = f.rms_by_band
+        oob = m.out_of_band_rms
+        mark = "*" if m.name == result.recommended else " "
+        lines.append(
+            f"  {i:>2} {(m.name + mark):<27} {f.k:>2d} {_f(f.rms):>8} "
+            + " ".join(f"{_f(rb[b]):>8}" for b in bands)
+            + f" {_f(f.aic, '.2f'):>8} {_f(f.aic - best_aic, '.2f'):>6} {_f(f.bic, '.2f'):>8}"
+            + f" {_f(oob.get('high->low', math.nan)):>7} {_f(oob.get('low->high', math.nan)):>7}"
+            + f" {_f(oob.get('starred->all', math.nan)):>7}"
+            + f" {'yes' if f.all_plausible else 'NO'}"
+        )
+    lines.append(
+        "  k counts sigma; hi->lo: fit omega_p >= 200, rms on < 200; lo->hi: the reverse; "
+        "st->all: fit to starred runs, rms on all; * recommended"
+    )
+    return lines
+
+
+def params_table(fit: CandidateFit, indent: str = "  ") -> list[str]:
+    """Lines: value, stderr, 95 % interval and physical range of each parameter."""
+    lines = []
+    for k in fit.params:
+        p = PARAMETERS[k]
+        lo, hi = fit.ci95[k]
+        plaus = "in range" if fit.plausible[k] else "OUT of range"
+        lines.append(
+            f"{indent}{k:<16} {fit.values[k]:>10.5g} +- {_f(fit.stderr[k], '.3g'):<9} "
+            f"95% [{_f(lo, '.5g')}, {_f(hi, '.5g')}] ({fit.ci_method[k]}) {p.unit:<5} "
+            f"physical {p.plausible[0]:g}..{p.plausible[1]:g}: {plaus}"
+        )
+    lines.append(f"{indent}{'sigma':<16} {fit.sigma:>10.5g} s (ML run-to-run scatter)")
+    return lines
+
+
+def _model_lines(m: ModelResult) -> list[str]:
+    f = m.fit
+    lines = [f"{m.name}: {m.description}"]
+    lines += params_table(f, "    ")
+    conv = m.convergence
+    if conv:
+        lines.append(
+            f"    convergence at {conv['n_runs']} runs: max rel change "
+            f"{conv['max_rel_change']:.2g} (tol {conv['max_tolerance_rel_change']:.2g}, "
+            f"width {conv['max_width_rel_change']:.2g}, family "
+            f"{conv['max_family_rel_change']:.2g}); not converged: {conv['n_not_converged']}"
+        )
+    lof = m.lack_of_fit
+    if lof and math.isfinite(lof.get("F", math.nan)):
+        lines.append(
+            f"    lack of fit: F({lof['df_lof']}, {lof['df_pe']}) = {lof['F']:.2f}, "
+            f"p = {lof['p_value']:.3g}"
+        )
+    if f.n_censored:
+        lines.append(f"    censored runs (not opened by {f.t_max:g} s): {f.n_censored}")
+    seen: list[CandidateFit] = []
+    for sub in (m.starred, m.high, m.low):
+        if sub is None or any(sub is x for x in seen):
+            continue
+        seen.append(sub)
+        vals = ", ".join(f"{k}={sub.values[k]:.4g}" for k in sub.params)
+        lines.append(f"    fit to {sub.selection} ({sub.ndata} runs): {vals}; rms {sub.rms:.4f} s")
+    return lines
+
+
+def format_report(result: ValidationResult, *, details: bool = True) -> str:
+    """The study as text: floor, ranked table, recommendation, per-model details."""
+    lines = floor_table(result) + [""] + ranked_table(result) + [""]
+    rec = result.model(result.recommended)
+    lines.append("Recommended: " + result.recommendation)
+    lines += params_table(rec.fit)
+    th = next((m for m in result.models if m.name == "thesis-1980"), None)
+    if th is not None:
+        lines.append(_thesis_line(th, result))
+    if result.phase_scatter:
+        ps = result.phase_scatter
+        sds = [x for x in ps["sd_over_phase_s"] if x is not None and math.isfinite(x)]
+        if sds:
+            lines.append(
+                f"Release phase psi_0 (uniform per run): SD of t_cr over psi_0 for "
+                f"'{ps['model']}' is {min(sds):.4f}-{max(sds):.4f} s across the cluster spins."
+            )
+    if details:
+        lines.append("")
+        for m in result.models:
+            lines += _model_lines(m)
+    lines.append("")
+    lines.append(f"elapsed {result.elapsed_s:.1f} s, {result.settings.get('jobs', 1)} worker(s)")
+    return "\n".join(lines)
+
+
+def thesis_line(result: ValidationResult) -> str:
+    """What the thesis's mu_s = 0.5473 and theta_0 = 87.25 +- 1 deg look like on all runs
+    ("" if the study has no "thesis-1980" candidate)."""
+    th = next((m for m in result.models if m.name == "thesis-1980"), None)
+    return "" if th is None else _thesis_line(th, result)
+
+
+def _thesis_line(th: ModelResult, result: ValidationResult) -> str:
+    f = th.fit
+    rb = f.rms_by_band
+    fl = result.floor
+    text = (
+        "Thesis (mu_s = 0.5473, theta_0 = 87.25 deg) against all runs: rms "
+        f"{f.rms:.4f} s = {f.rms / fl.floor_rms:.1f} x the floor; per band "
+        + ", ".join(
+            f"{b} {_f(rb[b])} s ({rb[b] / fl.bands[b].floor_rms:.1f} x)"
+            if math.isfinite(fl.bands[b].floor_rms)
+            else f"{b} {_f(rb[b])} s"
+            for b in band_labels()
+        )
+        + "."
+    )
+    for m in result.models:
+        if m.name == "theta0":
+            v, lo, hi = m.fit.values["theta0_deg"], *m.fit.ci95["theta0_deg"]
+            inside = 86.25 <= v <= 88.25
+            text += (
+                f" The thesis's +-1 deg: fitted alone with mu_s, theta_0 = {v:.2f} deg "
+                f"(95 % {lo:.2f}-{hi:.2f}), {'inside' if inside else 'outside'} 86.25-88.25 deg."
+            )
+        if m.name == "mu":
+            v, lo, hi = m.fit.values["mu_s"], *m.fit.ci95["mu_s"]
+            text += (
+                f" mu_s alone fitted to all runs: {v:.3f} ({lo:.3f}-{hi:.3f}), rms "
+                f"{m.fit.rms:.3f} s: no mu_s serves both ends of the spin range."
+            )
+    return text
+
+
+def markdown_summary(result: ValidationResult) -> list[str]:
+    """Markdown lines for the report's validation section (table + recommendation)."""
+    bands = band_labels()
+    fl = result.floor
+    best_aic = min(m.fit.aic for m in result.models)
+    out = [
+        f"Replicate floor (pure error of {fl.n_clusters} clusters, df {fl.overall.dof}): "
+        f"a perfect model's rms is **{fl.floor_rms:.4f} s** overall; per band "
+        + ", ".join(f"{b} {_f(fl.bands[b].floor_rms)} s (df {fl.bands[b].dof})" for b in bands)
+        + ".",
+        "",
+        "| # | model | k | rms all [s] | "
+        + " | ".join(bands)
+        + " | AIC | dAIC | BIC | hi->lo | lo->hi | physical |",
+        "|---|---|---|---|" + "---|" * len(bands) + "---|---|---|---|---|---|",
+        f"| | replicate floor | | {_f(fl.floor_rms)} | "
+        + " | ".join(_f(fl.bands[b].floor_rms) for b in bands)
+        + " | | | | | | |",
+    ]
+    for i, m in enumerate(result.models, 1):
+        f = m.fit
+        rb = f.rms_by_band
+        oob = m.out_of_band_rms
+        name = f"**{m.name}**" if m.name == result.recommended else m.name
+        out.append(
+            f"| {i} | {name} | {f.k} | {_f(f.rms)} | "
+            + " | ".join(_f(rb[b]) for b in bands)
+            + f" | {_f(f.aic, '.1f')} | {_f(f.aic - best_aic, '.1f')} | {_f(f.bic, '.1f')} | "
+            f"{_f(oob.get('high->low', math.nan))} | {_f(oob.get('low->high', math.nan))} | "
+            f"{'yes' if f.all_plausible else 'no'} |"
+        )
+    rec = result.model(result.recommended)
+    out += ["", "**Recommended:** " + result.recommendation, ""]
+    out += ["```"] + params_table(rec.fit) + ["```"]
+    th = next((m for m in result.models if m.name == "thesis-1980"), None)
+    if th is not None:
+        out += ["", _thesis_line(th, result)]
+    return out
