@@ -44,7 +44,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--out", metavar="DIR", help="write validation.json, validation.txt, validation.png"
     )
-    p.add_argument("--jobs", metavar="N", default="2", help="worker processes (default 2)")
+    p.add_argument(
+        "--workers", "--jobs", dest="jobs", metavar="N", default="2", help="worker processes (2)"
+    )
     p.add_argument(
         "--t-max", metavar="S", default="20", help="horizon [s]; later runs are censored (20)"
     )

@@ -45,6 +45,7 @@ __all__ = [
     "Job",
     "sweep_job",
     "mp_context",
+    "die_with_parent",
     "Executor",
     "InProcess",
     "ProcessPool",
@@ -169,7 +170,7 @@ class ProcessPool:
         pool = ProcessPoolExecutor(
             max_workers=self.workers,
             mp_context=ctx,
-            initializer=_die_with_parent,
+            initializer=die_with_parent,
             initargs=(os.getpid(),),
         )
         try:
@@ -348,7 +349,7 @@ def progress_bar(
         yield lambda n: bar.advance(task, n)
 
 
-def _die_with_parent(parent: int) -> None:
+def die_with_parent(parent: int) -> None:
     """Worker initializer: end this worker when the main process ends, however it ends.
 
     Linux ``prctl(PR_SET_PDEATHSIG, SIGKILL)``: a SIGKILL or SIGTERM of the main

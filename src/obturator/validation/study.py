@@ -31,9 +31,7 @@ lowest AIC overall, and the recommendation says so.
 from __future__ import annotations
 
 import math
-import multiprocessing
-import sys
-import threading
+import os
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
@@ -46,6 +44,7 @@ from numpy.typing import NDArray
 from ..calibration.data import SpinRigData, load_thesis_data
 from ..errors import InputError, check_range
 from ..solve import SolverOptions, convergence_check
+from ..sweeps.executors import die_with_parent, mp_context
 from .candidates import CANDIDATES, PARAMETERS, get_candidates
 from .evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS, ModelEvaluator
 from .fit import fit_candidate, profile_interval
@@ -195,14 +194,6 @@ def _opening(case: Any, options: SolverOptions | None) -> float:
 
 
 # --------------------------------------------------------------------------- executor
-
-
-def _mp_context() -> multiprocessing.context.BaseContext:
-    # fork inherits the loaded integrator; only while this process is
-    # single-threaded (the progress bar starts after the workers)
-    if sys.platform == "linux" and threading.active_count() == 1:
-        return multiprocessing.get_context("fork")
-    return multiprocessing.get_context("spawn")
 
 
 class _Serial:
@@ -398,7 +389,14 @@ def run_validation(
 
     pool: Any
     if jobs > 1:
-        pool = ProcessPoolExecutor(max_workers=jobs, mp_context=_mp_context())
+        # the sweeps' start method (fork where safe) and worker initializer (workers
+        # end with this process, Ctrl-C is the main process's)
+        pool = ProcessPoolExecutor(
+            max_workers=jobs,
+            mp_context=mp_context(),
+            initializer=die_with_parent,
+            initargs=(os.getpid(),),
+        )
     else:
         pool = _Serial()
     # on the thesis data the starred runs are exactly the high half: fit once
