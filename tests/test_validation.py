@@ -298,8 +298,8 @@ def test_cli_validate_json_schema_and_files(tiny_csv, tmp_path, capsys):
     "argv, field",
     [
         (["--models", "nonsense"], "models"),
-        (["--jobs", "0"], "jobs"),
-        (["--jobs", "1.5"], "jobs"),
+        (["--workers", "0"], "workers"),
+        (["--jobs", "1.5"], "workers"),
         (["--t-max", "-1"], "t_max"),
         (["--spin-sd", "x"], "spin_sd"),
         (["--data", "/nonexistent/runs.csv"], "data"),

@@ -105,9 +105,9 @@ def _run(args: argparse.Namespace) -> int:
     from ..validation.floor import DEFAULT_CLUSTER_GAP
     from ..validation.likelihood import SPIN_SD
 
-    jobs = int(_number("jobs", args.jobs, 1, 64))
+    jobs = int(_number("workers", args.jobs, 1, 64))
     if jobs != float(args.jobs):
-        raise InputError("jobs", f"expected an integer, got {args.jobs!r}")
+        raise InputError("workers", f"expected an integer, got {args.jobs!r}")
     t_max = _number("t_max", args.t_max, 0.0, 1e4, lo_open=True)
     spin_sd = SPIN_SD if args.spin_sd is None else _number("spin_sd", args.spin_sd, 0.0, 100.0)
     gap = (
