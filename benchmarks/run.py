@@ -28,6 +28,8 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
   with 1 and 2 workers, each with an accuracy check on 100 random points.
 * Command-line latency (:mod:`benchmarks.latency`): ``simulate`` and a 20-point
   ``sweep`` against a plain LSODA loop, process start included.
+* Other integrators (:mod:`benchmarks.alternatives`, optional ``.[bench]`` extra):
+  numbalsoda's DOP853 and LSODA and diffrax's Tsit5 and Dopri8 on the same trajectory.
 """
 
 from __future__ import annotations
@@ -561,10 +563,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         for k in (1, 2)
     ]
     rec["cli_latency"] = latency.cli_latency(2 if args.quick else 5)
+    from benchmarks import alternatives
+
+    rec["alternatives"] = alternatives.alternatives(5 if args.quick else 20)
     _print_report(rec)
     _print_low_spin(rec["low_spin"])
     operating_range.print_range(rec["cost_per_point"], rec["throughput"])
     latency.print_latency(rec["cli_latency"])
+    alternatives.print_alternatives(rec["alternatives"])
     if args.plot:
         operating_range.plot_cost(rec["cost_per_point"], args.plot)
     if args.json:

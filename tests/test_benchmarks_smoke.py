@@ -91,3 +91,14 @@ def test_agreement_summary():
     out = _agreement(a, b)
     assert out["both_opened"] == 2 and out["open_status_mismatches"] == 1
     assert out["max_rel_diff"] == pytest.approx(1 - 2.0 / 2.002)
+
+
+def test_alternatives_table_has_the_package_row_and_notes_missing_libraries():
+    """benchmarks.alternatives runs without the optional libraries (rows skipped, noted)."""
+    from benchmarks import alternatives
+
+    rec = alternatives.alternatives(repeat=1, rtols=(1e-6,))
+    own = [r for r in rec["rows"] if r["solver"].startswith("obturator")]
+    assert len(own) == 1 and abs(own[0]["t_cr_rel_error"]) < 1e-5
+    names = " ".join(r["solver"] for r in rec["rows"]) + " ".join(rec["notes"])
+    assert "numbalsoda" in names and "diffrax" in names
