@@ -104,9 +104,9 @@ def check_range(
         x = float(value)
     except (TypeError, ValueError):
         raise InputError(field, f"expected a number, got {value!r}") from None
-    interval = _fmt_interval(lo, hi, lo_open, hi_open)
-    suffix = f" {unit}" if unit else ""
     ok = math.isfinite(x) and (x > lo if lo_open else x >= lo) and (x < hi if hi_open else x <= hi)
-    if not ok:
+    if not ok:  # the message is built only when needed (sweeps check ~20 fields a point)
+        interval = _fmt_interval(lo, hi, lo_open, hi_open)
+        suffix = f" {unit}" if unit else ""
         raise InputError(field, f"{x:g}{suffix} is outside the allowed range {interval}{suffix}")
     return x
