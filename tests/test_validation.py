@@ -428,3 +428,24 @@ def test_report_section_and_text(tiny_csv, tmp_path):
     html = to_html(ctx)
     assert "<pre>" in html and "validation.png" in html
     assert "Recommended" in format_report(res)
+
+
+def test_profile_intervals_for_every_candidate(tiny_csv):
+    """``profile="all"``: every fitted parameter of every candidate gets a profile interval
+    that brackets its estimate; ``"none"`` leaves Wald intervals."""
+    from obturator.calibration.data import load_spin_rig_csv
+    from obturator.validation import run_validation
+
+    data = load_spin_rig_csv(tiny_csv)
+    res = run_validation(data, models="thesis-1980,mu,theta0", jobs=1, profile="all")
+    assert res.settings["profile"] == "all"
+    for name in ("mu", "theta0"):
+        fit = res.model(name).fit
+        for k in fit.params:
+            assert fit.ci_method[k] == "profile"
+            lo, hi = fit.ci95[k]
+            assert lo < fit.values[k] < hi
+    none = run_validation(data, models="thesis-1980,mu", jobs=1, profile="none")
+    assert none.model("mu").fit.ci_method["mu_s"] == "wald"
+    with pytest.raises(InputError, match="^profile"):
+        run_validation(data, models="mu", jobs=1, profile="some")

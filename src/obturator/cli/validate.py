@@ -66,6 +66,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--no-profile", action="store_true", help="Wald intervals only (no profile likelihood)"
     )
+    p.add_argument(
+        "--profile-all",
+        action="store_true",
+        help="profile-likelihood intervals for every candidate (default: the recommended one)",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
 
@@ -138,7 +143,7 @@ def _run(args: argparse.Namespace) -> int:
         t_max=t_max,
         spin_sd=spin_sd,
         gap=gap,
-        profile=not args.no_profile,
+        profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
         progress=not args.no_progress and sys.stderr.isatty(),
     )
     from ..validation.textreport import format_report

@@ -338,7 +338,7 @@ def run_validation(
     spin_sd: float = SPIN_SD,
     gap: float = DEFAULT_CLUSTER_GAP,
     options: SolverOptions | None = None,
-    profile: bool = True,
+    profile: bool | str = True,
     curve_points: int = _CURVE_POINTS,
     progress: bool = False,
 ) -> ValidationResult:
@@ -360,8 +360,10 @@ def run_validation(
         Clustering gap of the replicate floor [rad/s].
     options : SolverOptions, optional
         Solver settings (default :data:`~.evaluate.VALIDATION_OPTIONS`).
-    profile : bool
-        Profile-likelihood intervals for the recommended model.
+    profile : bool or {"recommended", "all", "none"}
+        Profile-likelihood intervals for the recommended model (True, the default),
+        for every candidate (``"all"``: two one-sided profile searches per parameter,
+        about 2-3 times the study's time), or none (False: Wald intervals).
     curve_points : int
         Points of each model's t_cr(omega_p) curve.
     progress : bool
@@ -376,6 +378,12 @@ def run_validation(
     data = load_thesis_data() if data is None else data
     cands = get_candidates(models)
     jobs = int(check_range("jobs", jobs, 1, 64))
+    if isinstance(profile, str):
+        if profile not in ("recommended", "all", "none"):
+            raise InputError("profile", f"{profile!r}; allowed: recommended, all, none")
+        profile_all, profile = profile == "all", profile != "none"
+    else:
+        profile_all = False
     check_range("curve_points", curve_points, 2, 10_000)
     w, y, run = data.spin_rate, data.opening_time, data.run
     floor: ReplicateFloor = replicate_floor(w, y, gap=gap)
@@ -418,13 +426,14 @@ def run_validation(
             rec_fit = fits[rec_name]
             # phase 2: profile sides (longest first), subset fits, curves, checks
             pending = {}
-            if profile and rec_fit.params:
-                for k in rec_fit.params:
+            profiled = [c.name for c in cands] if profile_all else [rec_name] if profile else []
+            for pname in profiled:
+                for k in fits[pname].params:
                     for side in (-1, 1):
                         fut = pool.submit(
-                            _profile_task, rec_fit, rec_name, k, side, spin_sd, options
+                            _profile_task, fits[pname], pname, k, side, spin_sd, options
                         )
-                        pending[fut] = ("profile", k, side)
+                        pending[fut] = ("profile", (pname, k), side)
             centres = np.array(sorted({round(float(x), 6) for x in mean_w}))
             fut = pool.submit(_phase_task, rec_name, dict(rec_fit.values), centres, t_max, options)
             pending[fut] = ("phase", "", None)
@@ -453,11 +462,12 @@ def run_validation(
                 pending[fut] = (c.name, "curve", None)
             advance(0, len(cands) + len(pending))
             sub: dict[str, dict[str, Any]] = {c.name: {} for c in cands}
-            prof: dict[str, dict[int, float]] = {}
+            prof: dict[str, dict[str, dict[int, float]]] = {}
             phase: dict[str, Any] = {}
             for (name, label, m_pred), res in _drain(pending, advance):
                 if name == "profile":
-                    prof.setdefault(label, {})[int(m_pred)] = res[2]
+                    pname, k = label
+                    prof.setdefault(pname, {}).setdefault(k, {})[int(m_pred)] = res[2]
                 elif name == "phase":
                     phase = res
                 else:
@@ -503,12 +513,12 @@ def run_validation(
         pool.shutdown(wait=False, cancel_futures=True)
         raise
     pool.shutdown(wait=True)
-    if prof:
-        f = rec_fit
-        ci = {**f.ci95, **{k: (v[-1], v[1]) for k, v in prof.items()}}
-        method = {**f.ci_method, **{k: "profile" for k in prof}}
+    for pname, pk in prof.items():
+        f = fits[pname]
+        ci = {**f.ci95, **{k: (v[-1], v[1]) for k, v in pk.items()}}
+        method = {**f.ci_method, **{k: "profile" for k in pk}}
         new_fit = _replace_ci(f, ci, method)
-        results = [_replace_model_fit(m, new_fit) if m.name == rec_name else m for m in results]
+        results = [_replace_model_fit(m, new_fit) if m.name == pname else m for m in results]
     opts = options
     settings = {
         "source": data.source,
@@ -518,6 +528,7 @@ def run_validation(
         "cluster_gap_rad_s": gap,
         "out_of_band_split_rad_s": OUT_OF_BAND_SPLIT,
         "jobs": jobs,
+        "profile": "all" if profile_all else "recommended" if profile else "none",
         "solver": f"{opts.method} rtol={opts.rtol:g} atol={opts.atol:g} "
         f"friction_width={opts.friction_width:g} family={opts.friction_family}",
         "likelihood": "Gaussian, sigma fitted, + (dt/domega sigma_w)^2 error-in-variables; "
