@@ -23,7 +23,7 @@ class Status(IntEnum):
     """Outcome of one integration or one study point.
 
     Integrator values: ``OPENED`` (1), ``T_MAX`` (0), ``STEP_LIMIT`` (2),
-    ``FAILED`` (-1), ``STIFF`` (3, DOP853 only: the ``auto`` method then reruns
+    ``FAILED`` (-1), ``STIFF`` (3, DOP853 only: the ``auto`` method then continues
     with Radau IIA, so results never carry it). Study values:
     ``INVALID_INPUT`` (-2, the point is not a valid case and was not
     integrated), ``UNCONVERGED`` (4, opened but t_cr moved by more than the
@@ -59,7 +59,7 @@ MESSAGES: dict[Status, str] = {
     Status.T_MAX: "Reached t_max before the bore opened.",
     Status.OPENED: "The bore opened: theta reached theta_cr.",
     Status.STEP_LIMIT: "Step limit reached before the bore opened or t_max.",
-    Status.STIFF: "DOP853 stopped: the problem is stiff here (auto reruns with Radau IIA).",
+    Status.STIFF: "DOP853 stopped: the problem is stiff here (auto continues with Radau IIA).",
     Status.UNCONVERGED: "The bore opened, but t_cr is not converged (convergence check).",
     Status.SUBSONIC: "The flight went subsonic before the bore opened (no normal-shock load).",
 }

@@ -5,7 +5,8 @@ equations of motion are not stiff (the friction Jacobian is ~ mu N R_s / (A
 |omega_r|), small once the ball slips at several rad/s), so an explicit
 high-order pair needs far fewer right-hand-side evaluations than the implicit
 methods and no Jacobian. In sticking phases it is hopeless, and it says so
-(status ``STIFF``) so that the caller can fall back to Radau IIA.
+(status ``STIFF``, with its last accepted state) so that ``auto`` can continue with
+Radau IIA from there.
 
 * Method: the eighth-order pair of Hairer, Norsett & Wanner, *Solving
   Ordinary Differential Equations I*, 2nd ed., Sec. II.10 (code DOP853), with
@@ -26,12 +27,14 @@ methods and no Jacobian. In sticking phases it is hopeless, and it says so
 * t_eval output re-steps from the start of the step that contains each output
   time (11 right-hand sides per point), so output values carry the accuracy
   of an accepted step (no interpolation error); it is not used for t_cr.
-* Stiffness guard: the run stops with status ``STIFF`` once the number of
-  accepted plus rejected steps exceeds ``STEPS_PER_PERIOD`` per spin period of
-  simulated time plus ``STEP_ALLOWANCE`` (200 and 1000; non-stiff runs need
-  ~15-70 steps per period at requested rtol 1e-6..1e-11, h_max being a tenth
-  of a period; a sticking phase needs ~1e5), when the step size collapses, or
-  when the state turns non-finite.
+* Stiffness: the run stops with status ``STIFF`` when Hairer's test (dop853.f)
+  finds h*lambda = h |f(y_new) - f(y_12)| / |y_new - y_12| beyond the stability
+  boundary 6.1 on 15 accepted steps in a row (detects a sticking phase within a few
+  dozen steps), when the number of accepted plus rejected steps exceeds
+  ``STEPS_PER_PERIOD`` per spin period of simulated time plus ``STEP_ALLOWANCE`` (200
+  and 1000; a backstop: non-stiff runs need ~15-70 steps per period), when the step
+  size collapses, or when the state turns non-finite. The state it returns is the
+  last accepted one.
 """
 
 from __future__ import annotations
