@@ -45,7 +45,13 @@ from ..flow import pressure_force
 from ..model.case import Case, initial_state
 from ..model.cases import TABLE1, flight_case
 from ..model.geometry import BoredBall
-from ..solve import SolverOptions, convergence_check, opening_time, simulate
+from ..solve import (
+    SolverOptions,
+    alternative_family,
+    convergence_check,
+    opening_time,
+    simulate,
+)
 from ..status import FLAGS, Status
 from .trajectory import Launch, Projectile, Trajectory, fly
 
@@ -361,7 +367,7 @@ class CoupledConvergence:
         With the given options and segment [s].
     variants : dict of str to float
         t_cr [s] with ``"tighter_tolerance"`` (rtol, atol / factor),
-        ``"narrower_width"`` (friction width / factor) and ``"half_segment"``
+        ``"narrower_width"`` (friction width / factor), ``"other_family"`` and ``"half_segment"``
         (Delta / 2).
     threshold : float
         Largest relative change accepted as converged.
@@ -429,9 +435,12 @@ def coupled_convergence(
     t_cr : float, optional
         The unrefined t_cr if already computed [s].
     variants : mapping of str to SolverOptions, optional
-        Solver variants to rerun; default the two of
-        :func:`obturator.solve.convergence_check` (tolerances and friction
-        width divided by `factor`). The half-segment rerun is always added.
+        Solver variants to rerun; default the three of
+        :func:`obturator.solve.convergence_check`: tolerances divided by `factor`,
+        friction width divided by `factor` (tolerances too, so slip speeds of order
+        the width stay resolved), and the other regularisation family
+        (:func:`obturator.solve.alternative_family`), since a width study alone cannot
+        show convergence to the wrong limit. The half-segment rerun is always added.
     """
     options = options or SolverOptions()
     kw = {"segment": segment, "t_max": t_max, "spin_rate": spin_rate}
@@ -440,7 +449,12 @@ def coupled_convergence(
     if variants is None:
         variants = {
             "tighter_tolerance": options.tighter(factor),
-            "narrower_width": replace(options, friction_width=options.friction_width / factor),
+            "narrower_width": replace(
+                options.tighter(factor), friction_width=options.friction_width / factor
+            ),
+            "other_family": replace(
+                options, friction_family=alternative_family(options.friction_family)
+            ),
         }
     out: dict[str, float] = {}
     for name, opts in variants.items():
