@@ -157,3 +157,23 @@ def test_sobol_on_the_models():
     assert ds["S1"].sel(input="spin_rate") > 0.8
     with pytest.raises(InputError, match="^n_base:"):
         sobol_indices(performance(rig, runner, "t"), rdists, 12)
+
+
+def test_sobol_intervals_are_reproducible_at_seed_0():
+    """The default seed 0 gives the same indices and bootstrap intervals twice."""
+    import numpy as np
+
+    from obturator.envelope.sensitivity import sobol_indices
+    from obturator.envelope.uncertain import parse_input_distribution
+
+    dists = dict(parse_input_distribution(t, ("mu_s", "gap")) for t in
+                 ("mu_s=uniform:0.3,0.4", "gap=uniform:4e-5,6e-5"))  # fmt: skip
+
+    def f(points):
+        y = np.array([p["mu_s"] + 1e3 * p["gap"] for p in points])
+        return y, np.ones(len(points), dtype=np.int8)
+
+    a = sobol_indices(f, dists, 16, seed=0, resamples=50)
+    b = sobol_indices(f, dists, 16, seed=0, resamples=50)
+    np.testing.assert_array_equal(a["ST_conf"].values, b["ST_conf"].values)
+    np.testing.assert_array_equal(a["S1_conf"].values, b["S1_conf"].values)

@@ -106,7 +106,9 @@ def sobol_indices(
         num_resamples=resamples,
         conf_level=confidence,
         print_to_console=False,
-        seed=int(seed),
+        # SALib's analyze seeds its bootstrap only `if seed:`, so seed 0 would leave the
+        # intervals unseeded (not reproducible, nor identical after a resume)
+        seed=int(seed) + 1,
     )
     data = {
         key: ("input", np.asarray(si[key], dtype=float), {"units": "1", "long_name": text})
