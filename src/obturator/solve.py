@@ -46,6 +46,7 @@ from .core.layout import (
     P_WIDTH,
     SPIN_CODES,
 )
+from .core.specialised import specialise
 from .errors import InputError, SolverError, check_range
 from .model.case import Case
 from .result import NutationResult
@@ -219,7 +220,7 @@ def pack_parameters(case: Case, options: SolverOptions, y0: np.ndarray | None = 
     p[P_KE0] = 0.0
     obs = observables(y0[None, :], p)
     p[P_KE0] = obs[0, 5] + 0.5 * case.projectile_inertia * case.spin_rate**2
-    return p
+    return specialise(p)
 
 
 def error_scale(case: Case, formulation: str) -> np.ndarray:

@@ -40,6 +40,7 @@ from .layout import (
     FRIC_NONE,
     FRIC_THESIS_FLIGHT,
     FRIC_THESIS_RIG,
+    KERNEL_THESIS,
     P_A,
     P_C,
     P_FAMILY,
@@ -47,6 +48,7 @@ from .layout import (
     P_FRIC,
     P_IP,
     P_KE0,
+    P_KERNEL,
     P_SPEED,
     P_SPIN_MODE,
     P_VISC,
@@ -57,6 +59,7 @@ from .layout import (
     SPIN_FREE,
     SPIN_THESIS_ENERGY,
 )
+from .specialised import rhs_thesis
 
 configure_cache()  # before any @njit(cache=True) below or in the integrators
 
@@ -321,7 +324,16 @@ def rhs(t: float, y: np.ndarray, p: np.ndarray, dy: np.ndarray) -> None:
         Packed parameters.
     dy : ndarray, shape (8,)
         Output.
+
+    Notes
+    -----
+    Cases that the thesis's specialised kernel covers (``p[P_KERNEL]``, see
+    :mod:`obturator.core.specialised`) run that kernel instead; it agrees
+    with the code below to rounding.
     """
+    if p[P_KERNEL] == KERNEL_THESIS:
+        rhs_thesis(y, p, dy)
+        return
     r, w1, w2, w3 = _attitude_and_rates(y, p)
     wp = _spin(y, p, w1, w2, w3)
     g1, g2, g3, gz, _, _, _ = _torque_body(r, w1, w2, w3, wp, p)

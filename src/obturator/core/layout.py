@@ -26,6 +26,10 @@ __all__ = [
     "P_FRIC",
     "P_FAMILY",
     "P_SPEED",
+    "P_KERNEL",
+    "P_DERIVED",
+    "KERNEL_GENERIC",
+    "KERNEL_THESIS",
     "FORM_CODES",
     "SPIN_CODES",
     "FAMILY_CODES",
@@ -43,7 +47,13 @@ P_VISC = 8  # code, S, K_turb, omega_transition
 P_FRIC = 12  # code, moment scale, R_s, beta, n_contacts, pivot arm eps
 P_FAMILY = 18  # regularisation family of the Coulomb magnitude
 P_SPEED = 19  # slip-speed law of mu: code, ratio r, reference speed v_s [m/s]
-N_PARAM = 22
+# Right-hand-side kernel code and the derived coefficients of the specialised kernel
+# (filled by obturator.core.specialised.specialise, from the slots above):
+# 1/A, 1/C, C - A, free-spin factor 1/I_p (0 for a constant spin), moment M,
+# 1/delta, arm coefficients a_X, a_Z (arm^2 = 1 - a_X u_X^2 - a_Z u_Z^2).
+P_KERNEL = 22
+P_DERIVED = 23
+N_PARAM = 31
 
 FORM_QUATERNION, FORM_EULER = 0, 1
 SPIN_CONSTANT, SPIN_FREE, SPIN_THESIS_ENERGY = 0, 1, 2
@@ -51,6 +61,7 @@ FAMILY_ALGEBRAIC, FAMILY_TANH, FAMILY_LINEAR = 0, 1, 2
 SPEED_CONSTANT, SPEED_WEAKENING, SPEED_STRENGTHENING = 0, 1, 2
 VISC_NONE, VISC_LINEAR = 0, 1
 FRIC_NONE, FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT, FRIC_COULOMB = 0, 1, 2, 3
+KERNEL_GENERIC, KERNEL_THESIS = 0, 1
 
 # name (obturator.vocab) -> code
 FORM_CODES = dict(zip(FORMULATIONS, (FORM_QUATERNION, FORM_EULER), strict=True))

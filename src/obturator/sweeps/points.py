@@ -61,8 +61,14 @@ def run_chunk(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Evaluate the points of one chunk (rows of values in ``names`` order).
 
-    Module level so that process pools and dask workers can import it.
+    In lanes (:mod:`obturator.sweeps.batch`) where the options allow, else one
+    :func:`evaluate_point` per row; the results are the same. Module level so
+    that process pools and dask workers can import it.
     """
+    from .batch import batchable, run_rows
+
+    if batchable(spec.options, spec.check_convergence):
+        return run_rows(spec, names, rows)
     t = np.empty(len(rows))
     s = np.empty(len(rows), dtype=np.int8)
     for k, row in enumerate(rows):
@@ -72,8 +78,14 @@ def run_chunk(
 
 def warm(options: SolverOptions) -> None:
     """Load (or compile) the integrators once: a short rig run with these options that
-    turns stiff (150 rad/s, 10 ms), so ``auto`` loads DOP853 and Radau IIA."""
+    turns stiff (150 rad/s, 10 ms), so ``auto`` loads DOP853 and Radau IIA, and the
+    same run in lanes (:mod:`obturator.sweeps.batch`)."""
+    from .batch import batchable, opening_times
+
+    case = rig_case(150.0, 0.5, t_max=1e-2)
     try:
-        opening_time(rig_case(150.0, 0.5, t_max=1e-2), options)
+        opening_time(case, options)
+        if batchable(options):
+            opening_times([case], options)
     except RuntimeError:  # pragma: no cover - warm-up only
         pass

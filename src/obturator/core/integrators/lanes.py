@@ -1,0 +1,481 @@
+"""Batched DOP853: many trajectories advanced together in lanes (structure of arrays).
+
+:func:`integrate_lanes` runs the method of :mod:`.dop853` on a whole set of
+points at once. ``n_lanes`` trajectories are held side by side, component by
+component (state ``Y[i, lane]``, stages ``K[s, i, lane]``), so each stage's
+right-hand side is one loop over lanes that the compiler vectorises (SIMD);
+every lane keeps its own time, step size, error control, stiffness test,
+opening event and termination. A lane whose trajectory ends (opened, t_max,
+step limit, failure, or stiff) is refilled at once with the next point of the
+queue, so no lane waits for the slowest one; when the queue is empty the live
+lanes are packed to the front and the loops shorten. Points enter in the order
+given (callers put the costliest first, so the tail is short).
+
+Same answers as the one-trajectory path: per lane the arithmetic is that of
+:func:`.dop853.integrate` (same stages, error norm, step-size control,
+stiffness test, event location by re-stepping), and the right-hand side of
+the thesis's kernel (:mod:`obturator.core.specialised`) is the same compiled
+function in both; ``tests/test_lanes.py`` compares every point of sweeps with
+the scalar path. Lanes that turn stiff end with status ``STIFF`` and their
+last accepted state, for the caller to hand to Radau IIA exactly as ``auto``
+does (:func:`obturator.core.integrators.integrate`). Points with the generic
+kernel run here too, calling the scalar right-hand side lane by lane.
+
+Only the opening time is returned (no recorded steps, no t_eval): this is the
+path of sweeps, Monte Carlo and fits.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, uint64
+
+from ..dynamics import nutation_angle_of_state, rhs
+from ..layout import KERNEL_THESIS, N_STATE, P_DERIVED, P_KERNEL, P_THETA_CR, P_VISC
+from ..specialised import thesis_rates
+from .common import bracket_closed, crossed, illinois_trial, illinois_update, underflow
+from .contract import Status
+from .dop853 import STEP_ALLOWANCE, STEPS_PER_PERIOD, STIFF_HLAMBDA, STIFF_STEPS, TOL_FACTOR
+from .dop853 import _stages as _stages_scalar
+from .dop853_coefficients import E3 as _E3
+from .dop853_coefficients import E5 as _E5
+from .dop853_coefficients import A as _A
+from .dop853_coefficients import B as _B
+
+__all__ = ["integrate_lanes", "LANES", "DEFAULT_LANES"]
+
+#: Lanes advanced together. Lane arrays are flat, component-major with this
+#: compile-time stride (``x[i * LANES + lane]``): with a constant stride LLVM can
+#: prove that the rows do not overlap, so the lane loops vectorise without runtime
+#: alias checks (with 2-D arrays of runtime stride they did not vectorise at all).
+#: 16 measured fastest on the 2-core AVX2 development machine (benchmarks/lanes.py).
+LANES = 16
+DEFAULT_LANES = LANES
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def _rhs_lanes(kernel, y, yo, p, dy, do, nl) -> None:
+    """Right-hand side of lanes 0..nl-1: state y[yo + i*LANES + j] into dy[do + ...],
+    parameters p[i*LANES + j].
+    """
+    if kernel == KERNEL_THESIS:  # one branch per stage, none in the lane loop
+        d = P_DERIVED
+        for j in range(nl):
+            r0, r1, r2, r3, r4, r5, r6, r7 = thesis_rates(
+                y[yo + j], y[yo + LANES + j], y[yo + 2 * LANES + j], y[yo + 3 * LANES + j],
+                y[yo + 4 * LANES + j], y[yo + 5 * LANES + j], y[yo + 6 * LANES + j],
+                y[yo + 7 * LANES + j],
+                (
+                    p[(P_VISC + 1) * LANES + j], p[(P_VISC + 2) * LANES + j],
+                    p[(P_VISC + 3) * LANES + j], p[d * LANES + j], p[(d + 1) * LANES + j],
+                    p[(d + 2) * LANES + j], p[(d + 3) * LANES + j], p[(d + 4) * LANES + j],
+                    p[(d + 5) * LANES + j], p[(d + 6) * LANES + j], p[(d + 7) * LANES + j],
+                ),
+            )  # fmt: skip
+            dy[do + j] = r0
+            dy[do + LANES + j] = r1
+            dy[do + 2 * LANES + j] = r2
+            dy[do + 3 * LANES + j] = r3
+            dy[do + 4 * LANES + j] = r4
+            dy[do + 5 * LANES + j] = r5
+            dy[do + 6 * LANES + j] = r6
+            dy[do + 7 * LANES + j] = r7
+        return
+    n_par = p.shape[0] // LANES
+    ys = np.empty(N_STATE)
+    ds = np.empty(N_STATE)
+    ps = np.empty(n_par)
+    for j in range(nl):
+        for i in range(N_STATE):
+            ys[i] = y[yo + i * LANES + j]
+        for i in range(n_par):
+            ps[i] = p[i * LANES + j]
+        rhs(0.0, ys, ps, ds)
+        for i in range(N_STATE):
+            dy[do + i * LANES + j] = ds[i]
+
+
+_KS = N_STATE * LANES  # stride of one stage in K
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def _combine(y, h, k, coef, n_terms, out, nl) -> None:
+    """out = y + h * sum_m coef[m] k_m for every component and lane (zero coefficients
+    skipped; per lane the sum runs in the order of :func:`.dop853._stages`).
+
+    Offset indices are cast to unsigned: numba wraps negative indices, and a
+    signed offset it cannot prove non-negative makes the address non-affine,
+    which kept LLVM from vectorising these loops (measured: a stage set cost
+    ~750 ns per lane and step that way; row views instead cost as much in
+    reference counting).
+    """
+    for i in range(N_STATE):
+        r = i * LANES
+        for j in range(nl):
+            out[uint64(r + j)] = 0.0
+        for m in range(n_terms):
+            a = coef[m]
+            if a != 0.0:
+                km = m * _KS + r
+                for j in range(nl):
+                    out[uint64(r + j)] += a * k[uint64(km + j)]
+        for j in range(nl):
+            out[uint64(r + j)] = y[uint64(r + j)] + h[j] * out[uint64(r + j)]
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def _stages_lanes(kernel, y, h, p, k, ynew, work, nl) -> None:
+    """Stages k[1..11] and the 8th-order solution of every lane (k[0] given)."""
+    for s in range(1, 12):
+        _combine(y, h, k, _A[s], s, work, nl)
+        _rhs_lanes(kernel, work, 0, p, k, s * _KS, nl)
+    _combine(y, h, k, _B, 12, ynew, nl)
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3, e5, e3, nl) -> None:
+    """DOP853's combined error estimate of every lane (as :func:`.dop853._error_norm`;
+    per lane the same sums in the same order, with the lane loop innermost)."""
+    for j in range(nl):
+        s5[j] = 0.0
+        s3[j] = 0.0
+    for i in range(N_STATE):
+        r = i * LANES
+        for j in range(nl):
+            e5[j] = 0.0
+            e3[j] = 0.0
+        for m in range(12):
+            a5 = _E5[m]
+            a3 = _E3[m]
+            km = m * _KS + r
+            for j in range(nl):
+                e5[j] += a5 * k[uint64(km + j)]
+                e3[j] += a3 * k[uint64(km + j)]
+        for j in range(nl):
+            u = uint64(r + j)
+            sc = atol * scale[u] + rtol * max(abs(y[u]), abs(ynew[u]))
+            x5 = e5[j] / sc
+            x3 = e3[j] / sc
+            s5[j] += x5 * x5
+            s3[j] += x3 * x3
+    for j in range(nl):
+        if s5[j] == 0.0 and s3[j] == 0.0:
+            err[j] = 0.0
+        else:
+            err[j] = abs(h[j]) * s5[j] / math.sqrt((s5[j] + 0.01 * s3[j]) * N_STATE)
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def _cos_nutation_lanes(y, out, nl) -> None:
+    """cos(theta) = 1 - 2 (q1^2 + q2^2) / |q|^2 of quaternion-form lanes (vectorised)."""
+    for j in range(nl):
+        q0 = y[j]
+        q1 = y[uint64(LANES + j)]
+        q2 = y[uint64(2 * LANES + j)]
+        q3 = y[uint64(3 * LANES + j)]
+        out[j] = 1.0 - 2.0 * (q1 * q1 + q2 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+
+
+@njit(cache=True)
+def _locate_event(t, h, y, k0, p, g_old, g_new, ynew, event_tol):
+    """Illinois false position inside the step (t, t + h] of one lane, as in
+    :func:`.dop853.integrate`; returns (t_event, y_event, right-hand sides spent)."""
+    n = N_STATE
+    k = np.empty((12, n))
+    for i in range(n):
+        k[0, i] = k0[i]
+    ytry = np.empty(n)
+    work = np.empty(n)
+    y_event = ynew.copy()
+    theta_cr = p[P_THETA_CR]
+    s_lo, s_hi = 0.0, 1.0
+    g_lo, g_hi = g_old, g_new
+    side = 0
+    nfev = 0
+    for _ in range(200):
+        if bracket_closed(s_lo, s_hi, h, event_tol):
+            break
+        s = illinois_trial(s_lo, g_lo, s_hi, g_hi)
+        _stages_scalar(t, y, s * h, p, k, ytry, work)
+        nfev += 11
+        g = nutation_angle_of_state(ytry, p) - theta_cr
+        s_lo, g_lo, s_hi, g_hi, side = illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side)
+        if not g > 0.0:
+            for i in range(n):
+                y_event[i] = ytry[i]
+    return t + s_hi * h, y_event, nfev
+
+
+@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy")
+def integrate_lanes(
+    y0, p, scale, t_max, h0, h_max, order, rtol, atol, max_steps, event_tol, n_lanes
+):
+    """Integrate points until theta = theta_cr (terminal) or t_max, `n_lanes` at a time.
+
+    Parameters
+    ----------
+    y0 : ndarray, shape (n, 8)
+        Initial states.
+    p : ndarray, shape (n, N_PARAM)
+        Packed parameters; every row must have the same ``P_KERNEL``.
+    scale : ndarray, shape (n, 8)
+        Error-weight scales (as in :class:`.contract.Problem`).
+    t_max, h0, h_max : ndarray, shape (n,)
+        End time, initial step and largest step of each point [s].
+    order : ndarray of int, shape (n,)
+        The order in which points enter the lanes (a permutation of 0..n-1).
+    rtol, atol : float
+        Tolerances (transformed as in :mod:`.dop853`).
+    max_steps : int
+        Accepted-step limit per point.
+    event_tol : float
+        Bracket width of the event time [s].
+    n_lanes : int
+        Lanes advanced together, 1 to :data:`LANES`.
+
+    Returns
+    -------
+    tuple
+        (status int8 (n,), t_event (n,), t_end (n,), y_end (n, 8), nfev (n,),
+        n_steps (n,), n_rejected (n,)); statuses as :func:`.dop853.integrate`
+        (``STIFF`` with the last accepted state in y_end / t_end).
+    """
+    n_pts = y0.shape[0]
+    n = N_STATE
+    n_par = p.shape[1]
+    kernel = p[0, P_KERNEL] if n_pts > 0 else 0.0
+    nl = max(1, min(n_lanes, LANES, n_pts))
+    out = (
+        np.zeros(n_pts, dtype=np.int8),
+        np.full(n_pts, math.nan),
+        np.zeros(n_pts),
+        np.zeros((n_pts, n)),
+        np.zeros(n_pts, dtype=np.int64),
+        np.zeros(n_pts, dtype=np.int64),
+        np.zeros(n_pts, dtype=np.int64),
+    )
+    # lane state, flat and component-major (x[i * LANES + lane])
+    Y = np.zeros(n * LANES)
+    YN = np.zeros(n * LANES)
+    W = np.zeros(n * LANES)
+    F1 = np.zeros(n * LANES)
+    K = np.zeros(12 * n * LANES)
+    PL = np.zeros(n_par * LANES)
+    SC = np.ones(n * LANES)
+    T = np.zeros(LANES)
+    H = np.zeros(LANES)
+    ERR = np.zeros(LANES)
+    S5 = np.zeros(LANES)
+    S3 = np.zeros(LANES)
+    E5 = np.zeros(LANES)
+    E3 = np.zeros(LANES)
+    COSN = np.zeros(LANES)  # cos(theta) at the step ends (quaternion form)
+    TMAX = np.zeros(LANES)
+    HMAX = np.zeros(LANES)
+    SPT = np.zeros(LANES)  # step budget per second of simulated time
+    GOLD = np.zeros(LANES)
+    COS_CR = np.zeros(LANES)
+    IDX = np.zeros(LANES, dtype=np.int64)
+    CNT = np.zeros((5, LANES), dtype=np.int64)  # nfev, steps, rejected, stiff run, calm run
+    REJ = np.zeros(LANES, dtype=np.bool_)
+    LIVE = np.zeros(LANES, dtype=np.bool_)
+    lanes = (Y, K, PL, SC, T, H, TMAX, HMAX, SPT, GOLD, COS_CR, IDX, CNT, REJ, LIVE)
+    quaternion = kernel == KERNEL_THESIS  # the thesis kernel is quaternion-form
+    tol_f = max(TOL_FACTOR, 1e-14 / rtol)
+    rtol = tol_f * rtol
+    atol = tol_f * atol
+    ys = np.empty(n)
+    ps = np.empty(n_par)
+    fs = np.empty(n)
+    yn_s = np.empty(n)
+    k0s = np.empty(n)
+    nxt = 0  # next entry of `order` to load
+    while True:
+        # ---- (re)fill free lanes; a point may end before its first step ----
+        for j in range(nl):
+            while not LIVE[j] and nxt < n_pts:
+                q = order[nxt]
+                nxt += 1
+                IDX[j] = q
+                w0 = 0.0
+                for i in range(n_par):
+                    PL[i * LANES + j] = p[q, i]
+                    ps[i] = p[q, i]
+                for i in range(n):
+                    Y[i * LANES + j] = y0[q, i]
+                    SC[i * LANES + j] = scale[q, i]
+                    w0 = max(w0, scale[q, i])
+                    ys[i] = y0[q, i]
+                rhs(0.0, ys, ps, fs)
+                for i in range(n):
+                    K[i * LANES + j] = fs[i]
+                T[j] = 0.0
+                TMAX[j] = t_max[q]
+                HMAX[j] = h_max[q]
+                SPT[j] = STEPS_PER_PERIOD * w0 / (2.0 * math.pi)
+                H[j] = min(h0[q], h_max[q], t_max[q])
+                GOLD[j] = nutation_angle_of_state(ys, ps) - ps[P_THETA_CR]
+                COS_CR[j] = math.cos(ps[P_THETA_CR])
+                CNT[:, j] = 0
+                CNT[0, j] = 1
+                REJ[j] = False
+                LIVE[j] = _top_of_step(j, T, H, TMAX, SPT, CNT, max_steps, Y, IDX, out)
+        # ---- once the queue is empty, pack the live lanes to the front ----
+        if nxt >= n_pts:
+            j = 0
+            while j < nl:
+                if LIVE[j]:
+                    j += 1
+                    continue
+                if nl - 1 > j:
+                    _move_lane(nl - 1, j, lanes)
+                nl -= 1
+            if nl == 0:
+                break
+        # ---- one trial step in every lane ----
+        _stages_lanes(kernel, Y, H, PL, K, YN, W, nl)
+        _error_lanes(K, H, Y, YN, rtol, atol, SC, ERR, S5, S3, E5, E3, nl)
+        _rhs_lanes(kernel, YN, 0, PL, F1, 0, nl)
+        if quaternion:
+            _cos_nutation_lanes(YN, COSN, nl)
+        for j in range(nl):
+            CNT[0, j] += 11
+            err = ERR[j]
+            if not (err == err):
+                err = 1e10
+            if err > 1.0:
+                CNT[2, j] += 1
+                REJ[j] = True
+                H[j] *= max(0.2, 0.9 * err ** (-1.0 / 8.0))
+                if underflow(H[j], T[j]):
+                    LIVE[j] = _finish(j, Status.STIFF, math.nan, Y, T, IDX, CNT, out)
+                    continue
+            else:
+                CNT[0, j] += 1
+                h = H[j]
+                t_new = T[j] + h
+                # Hairer's stiffness test, as in dop853.integrate
+                num = 0.0
+                den = 0.0
+                for i in range(n):
+                    num += (F1[i * LANES + j] - K[11 * _KS + i * LANES + j]) ** 2
+                    den += (YN[i * LANES + j] - W[i * LANES + j]) ** 2
+                if den > 0.0 and h * math.sqrt(num / den) > STIFF_HLAMBDA:
+                    CNT[4, j] = 0
+                    CNT[3, j] += 1
+                    if CNT[3, j] >= STIFF_STEPS:
+                        LIVE[j] = _finish(j, Status.STIFF, math.nan, Y, T, IDX, CNT, out)
+                        continue
+                else:
+                    CNT[4, j] += 1
+                    if CNT[4, j] >= 6:
+                        CNT[3, j] = 0
+                # opening test: theta_new is well above theta_cr unless cos(theta_new)
+                # comes near cos(theta_cr); only then the exact g = theta - theta_cr
+                # of dop853.integrate (atan2) is needed
+                if quaternion and COSN[j] < COS_CR[j] - 1e-9:
+                    g_new = math.inf  # positive: its sign is all the test needs
+                else:
+                    for i in range(n):
+                        yn_s[i] = YN[i * LANES + j]
+                    for i in range(n_par):
+                        ps[i] = PL[i * LANES + j]
+                    g_new = nutation_angle_of_state(yn_s, ps) - ps[P_THETA_CR]
+                if crossed(GOLD[j], g_new, math.nan):
+                    for i in range(n):
+                        yn_s[i] = YN[i * LANES + j]
+                    for i in range(n_par):
+                        ps[i] = PL[i * LANES + j]
+                    if GOLD[j] == math.inf:  # the exact g at the step start
+                        for i in range(n):
+                            ys[i] = Y[i * LANES + j]
+                        GOLD[j] = nutation_angle_of_state(ys, ps) - ps[P_THETA_CR]
+                    for i in range(n):
+                        ys[i] = Y[i * LANES + j]
+                        k0s[i] = K[i * LANES + j]
+                    t_ev, y_ev, nf = _locate_event(
+                        T[j], h, ys, k0s, ps, GOLD[j], g_new, yn_s, event_tol
+                    )
+                    CNT[0, j] += nf
+                    for i in range(n):
+                        Y[i * LANES + j] = y_ev[i]
+                    T[j] = t_ev
+                    LIVE[j] = _finish(j, Status.OPENED, t_ev, Y, T, IDX, CNT, out)
+                    continue
+                GOLD[j] = g_new
+                T[j] = t_new
+                for i in range(n):
+                    Y[i * LANES + j] = YN[i * LANES + j]
+                    K[i * LANES + j] = F1[i * LANES + j]
+                CNT[1, j] += 1
+                if not (Y[j] == Y[j]):
+                    LIVE[j] = _finish(j, Status.STIFF, math.nan, Y, T, IDX, CNT, out)
+                    continue
+                fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** (-1.0 / 8.0)))
+                if REJ[j]:
+                    fac = min(fac, 1.0)
+                REJ[j] = False
+                H[j] = min(h * fac, HMAX[j])
+            LIVE[j] = _top_of_step(j, T, H, TMAX, SPT, CNT, max_steps, Y, IDX, out)
+    return out
+
+
+@njit(cache=True)
+def _top_of_step(j, T, H, TMAX, SPT, CNT, max_steps, Y, IDX, out) -> bool:
+    """The checks at the top of :func:`.dop853.integrate`'s loop for lane j (t0 = 0).
+
+    Returns True to go on (the step is cut to end at t_max where needed), else
+    ends the lane's point with ``T_MAX``, ``STEP_LIMIT`` or ``STIFF`` (step budget).
+    """
+    if not T[j] < TMAX[j]:
+        return _finish(j, Status.T_MAX, math.nan, Y, T, IDX, CNT, out)
+    if CNT[1, j] >= max_steps:
+        return _finish(j, Status.STEP_LIMIT, math.nan, Y, T, IDX, CNT, out)
+    if CNT[1, j] + CNT[2, j] > SPT[j] * T[j] + STEP_ALLOWANCE:
+        return _finish(j, Status.STIFF, math.nan, Y, T, IDX, CNT, out)
+    if T[j] + 1.01 * H[j] >= TMAX[j]:
+        H[j] = TMAX[j] - T[j]
+    return True
+
+
+@njit(cache=True)
+def _finish(j, status, t_event, Y, T, IDX, CNT, out) -> bool:
+    """Write the outcome of lane j to its point's slots; False (the lane is free)."""
+    st, tev, tend, yend, nfev, steps, rej = out[:7]
+    q = IDX[j]
+    st[q] = status
+    tev[q] = t_event
+    tend[q] = T[j]
+    for i in range(N_STATE):
+        yend[q, i] = Y[i * LANES + j]
+    nfev[q] = CNT[0, j]
+    steps[q] = CNT[1, j]
+    rej[q] = CNT[2, j]
+    return False
+
+
+@njit(cache=True)
+def _move_lane(a, b, lanes) -> None:
+    """Copy every per-lane quantity of lane a into lane b."""
+    Y, K, PL, SC, T, H, TMAX, HMAX, SPT, GOLD, COS_CR, IDX, CNT, REJ, LIVE = lanes
+    for i in range(N_STATE):
+        Y[i * LANES + b] = Y[i * LANES + a]
+        SC[i * LANES + b] = SC[i * LANES + a]
+        for s in range(12):
+            K[s * _KS + i * LANES + b] = K[s * _KS + i * LANES + a]
+    for i in range(PL.shape[0] // LANES):
+        PL[i * LANES + b] = PL[i * LANES + a]
+    T[b] = T[a]
+    H[b] = H[a]
+    TMAX[b] = TMAX[a]
+    HMAX[b] = HMAX[a]
+    SPT[b] = SPT[a]
+    GOLD[b] = GOLD[a]
+    COS_CR[b] = COS_CR[a]
+    IDX[b] = IDX[a]
+    CNT[:, b] = CNT[:, a]
+    REJ[b] = REJ[a]
+    LIVE[b] = LIVE[a]
+    LIVE[a] = False
