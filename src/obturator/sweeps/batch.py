@@ -10,14 +10,14 @@ points together in the lanes of :func:`obturator.core.integrators.lanes.integrat
 2. each group runs in lanes, highest spin rate first (spin sets the steps per
    second of simulated time, so the costliest enter first and the tail of the
    batch is short);
-3. with method ``"auto"`` a lane that DOP853 finds stiff continues with Radau IIA
+3. a lane that DOP853 finds stiff continues with Radau IIA
    from its last accepted state, exactly as
    :func:`obturator.core.integrators.integrate` does for one trajectory.
 
 Per lane the arithmetic is that of the one-trajectory DOP853, so t_cr agrees
 with the scalar path to the last bit on the cases checked
 (``tests/test_lanes.py``). Options the lanes do not cover (methods other than
-``auto``/``dop853``, the convergence check) fall back to the per-point path.
+``auto``, the convergence check) fall back to the per-point path.
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ from ..status import Status
 
 __all__ = ["BATCH_METHODS", "batchable", "opening_times"]
 
-#: Methods the lanes integrate (``auto`` hands stiff lanes to Radau IIA).
-BATCH_METHODS = ("auto", "dop853")
+#: Methods the lanes integrate (``auto``: DOP853, stiff lanes handed to Radau IIA).
+BATCH_METHODS = ("auto",)
 
 
 def batchable(options: SolverOptions, check_convergence: bool = False) -> bool:
@@ -64,7 +64,7 @@ def opening_times(
         The points; an :class:`~obturator.errors.InputError` in place of a case
         marks a point that is not a valid case (status ``INVALID_INPUT``).
     options : SolverOptions
-        Solver options (method ``"auto"`` or ``"dop853"``).
+        Solver options (method ``"auto"``).
     n_lanes : int
         Lanes advanced together (1 to 16).
 
@@ -123,7 +123,7 @@ def _run_group(idx, packed, cases, options, n_lanes, t_cr, status, stats) -> Non
     for g, k in enumerate(idx):
         s = Status(int(st[g]))
         t = float(t_ev[g])
-        if s == Status.STIFF and options.method == "auto":
+        if s == Status.STIFF:
             stats["n_stiff"] += 1
             controls = Controls(
                 t_max[g], options.rtol, options.atol, h0[g], h_max[g], int(options.max_steps),
