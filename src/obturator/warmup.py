@@ -23,6 +23,7 @@ __all__ = ["WARMUP_TARGETS", "warm_up"]
 WARMUP_TARGETS: dict[str, str] = {
     "dop853": "explicit DOP853 (every auto run)",
     "radau": "Radau IIA (auto runs that stick; method radau)",
+    "lanes": "batched DOP853 lanes (sweeps, Monte Carlo)",
     "rosenbrock": "Rosenbrock ode23s (method rosenbrock)",
 }
 
@@ -36,6 +37,11 @@ def _compile(method: str) -> tuple[str, float, str | None]:
 
     # a short run that stays non-stiff: "auto" compiles DOP853 alone; each process
     # also compiles what every run needs (parameter packing), so none waits for another
+    if method == "lanes":
+        from .sweeps.batch import opening_times
+
+        opening_times([rig_case(300.0, 0.5, t_max=1e-3)], SolverOptions())
+        return method, time.perf_counter() - t0, configure_cache()
     opening_time(
         rig_case(300.0, 0.5, t_max=1e-3),
         SolverOptions(method="auto" if method == "dop853" else method),  # type: ignore[arg-type]
