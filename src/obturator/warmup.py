@@ -37,10 +37,20 @@ def _compile(method: str) -> tuple[str, float, str | None]:
 
     # a short run that stays non-stiff: "auto" compiles DOP853 alone; each process
     # also compiles what every run needs (parameter packing), so none waits for another
-    if method == "lanes":
-        from .sweeps.batch import opening_times
+    if method == "lanes":  # the batched kernel itself (sweeps.batch drives it)
+        import numpy as np
 
-        opening_times([rig_case(300.0, 0.5, t_max=1e-3)], SolverOptions())
+        from .core.integrators.lanes import integrate_lanes
+        from .solve import error_scale, pack_parameters
+
+        case, opts = rig_case(300.0, 0.5, t_max=1e-3), SolverOptions()
+        y0 = case.initial_state(opts.formulation)
+        one = np.ones(1)
+        integrate_lanes(
+            y0[None], pack_parameters(case, opts, y0)[None],
+            error_scale(case, opts.formulation)[None], 1e-3 * one, 1e-6 * one, 1e-3 * one,
+            np.zeros(1, dtype=np.int64), opts.rtol, opts.atol, 1000, opts.event_tol, 16,
+        )  # fmt: skip
         return method, time.perf_counter() - t0, configure_cache()
     opening_time(
         rig_case(300.0, 0.5, t_max=1e-3),
