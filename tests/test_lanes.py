@@ -171,3 +171,45 @@ def test_sweep_results_identical_with_and_without_lanes(monkeypatch):
     scalar = run_sweep(spec, workers=1, progress=False)
     np.testing.assert_array_equal(lanes["status"].values, scalar["status"].values)
     np.testing.assert_allclose(lanes["t_cr"].values, scalar["t_cr"].values, rtol=1e-12)
+
+
+def test_point_status_mapping_matches_evaluate_point():
+    from obturator.sweeps.batch import _point_status
+
+    assert _point_status(Status.OPENED, 0.25) == (0.25, Status.OPENED)
+    t, s = _point_status(Status.T_MAX, math.nan)
+    assert math.isnan(t) and s == Status.T_MAX
+    assert _point_status(Status.STEP_LIMIT, math.nan)[1] == Status.STEP_LIMIT
+    assert _point_status(Status.FAILED, math.nan)[1] == Status.FAILED
+    assert _point_status(Status.STIFF, math.nan)[1] == Status.FAILED
+
+
+def test_lanes_sweep_resumes_after_interruption(monkeypatch, tmp_path):
+    """A chunk computed in lanes is stored as it finishes; an interrupted sweep resumes
+    without recomputing finished chunks and gives the uninterrupted result."""
+    import xarray as xr
+
+    from obturator.sweeps import batch, execute_sweep
+
+    spec = SweepSpec(
+        case="spin-rig", axes={"spin_rate": np.linspace(250.0, 650.0, 8)}, fixed={"mu_s": MU_S}
+    )
+    store = tmp_path / "s.nc"
+    original = batch.run_rows
+    chunks: list[int] = []
+
+    def exploding(sp, names, rows):
+        if len(chunks) == 2:
+            raise KeyboardInterrupt
+        chunks.append(len(rows))
+        return original(sp, names, rows)
+
+    monkeypatch.setattr(batch, "run_rows", exploding)
+    with pytest.raises(KeyboardInterrupt):
+        execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
+    chunks.clear()
+    monkeypatch.setattr(batch, "run_rows", lambda *a: (chunks.append(1), original(*a))[1])
+    run = execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
+    assert run.n_resumed == 4 and run.n_computed == 4 and len(chunks) == 2
+    monkeypatch.setattr(batch, "run_rows", original)
+    xr.testing.assert_identical(run.dataset, run_sweep(spec, workers=1, progress=False))

@@ -152,9 +152,15 @@ def test_error_shrinks_with_tolerance():
     ids=["rig200", "rig300", "rig700", "flight"],
 )
 def test_agrees_with_rosenbrock(case, formulation):
-    """Same t_cr as the Rosenbrock pair at tight tolerance, to 1e-6 relative."""
+    """Same t_cr as the Rosenbrock pair at tight tolerance, to 1e-6 relative.
+
+    Radau runs at rtol 1e-11: on rig200 (a near-stick release) its t_cr at rtol 1e-10
+    moves by 0.35e-6-1.7e-6 relative under rounding-level changes of the right-hand
+    side (generic vs specialised kernel, measured), while at 1e-11 the two kernels
+    agree to 3e-9.
+    """
     tight = dict(rtol=1e-10, atol=1e-12, formulation=formulation)
-    t_rad = opening_time(case, radau(**tight))
+    t_rad = opening_time(case, radau(**(tight | {"rtol": 1e-11, "atol": 1e-13})))
     t_ros = opening_time(case, SolverOptions(method="rosenbrock", friction_width=1e-6, **tight))
     assert math.isfinite(t_rad)
     assert t_rad == pytest.approx(t_ros, rel=1e-6)
