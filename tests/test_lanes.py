@@ -213,3 +213,16 @@ def test_lanes_sweep_resumes_after_interruption(monkeypatch, tmp_path):
     assert run.n_resumed == 4 and run.n_computed == 4 and len(chunks) == 2
     monkeypatch.setattr(batch, "run_rows", original)
     xr.testing.assert_identical(run.dataset, run_sweep(spec, workers=1, progress=False))
+
+
+def test_generated_lane_sums_are_current():
+    """src/obturator/core/integrators/lane_sums.py is what tools/gen_lane_sums.py writes
+    from the published DOP853 coefficients."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    tool = Path(__file__).resolve().parents[1] / "tools" / "gen_lane_sums.py"
+    if not tool.exists():  # pragma: no cover - installed package without the repository
+        pytest.skip("tools/ not present")
+    assert subprocess.run([sys.executable, str(tool), "--check"]).returncode == 0

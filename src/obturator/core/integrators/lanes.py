@@ -39,19 +39,11 @@ from .common import bracket_closed, crossed, illinois_trial, illinois_update, un
 from .contract import Status
 from .dop853 import STEP_ALLOWANCE, STEPS_PER_PERIOD, STIFF_HLAMBDA, STIFF_STEPS, TOL_FACTOR
 from .dop853 import _stages as _stages_scalar
-from .dop853_coefficients import E3 as _E3
-from .dop853_coefficients import E5 as _E5
-from .dop853_coefficients import A as _A
-from .dop853_coefficients import B as _B
+from .lane_sums import error_sums, stage_sum
+from .lanes_layout import LANES
 
 __all__ = ["integrate_lanes", "LANES", "DEFAULT_LANES"]
 
-#: Lanes advanced together. Lane arrays are flat, component-major with this
-#: compile-time stride (``x[i * LANES + lane]``): with a constant stride LLVM can
-#: prove that the rows do not overlap, so the lane loops vectorise without runtime
-#: alias checks (with 2-D arrays of runtime stride they did not vectorise at all).
-#: 16 measured fastest on the 2-core AVX2 development machine (benchmarks/lanes.py).
-LANES = 16
 DEFAULT_LANES = LANES
 
 
@@ -101,65 +93,18 @@ _KS = N_STATE * LANES  # stride of one stage in K
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def _combine(y, h, k, coef, n_terms, out, nl) -> None:
-    """out = y + h * sum_m coef[m] k_m for every component and lane (zero coefficients
-    skipped; per lane the sum runs in the order of :func:`.dop853._stages`).
-
-    Offset indices are cast to unsigned: numba wraps negative indices, and a
-    signed offset it cannot prove non-negative makes the address non-affine,
-    which kept LLVM from vectorising these loops (measured: a stage set cost
-    ~750 ns per lane and step that way; row views instead cost as much in
-    reference counting).
-    """
-    for i in range(N_STATE):
-        r = i * LANES
-        for j in range(nl):
-            out[uint64(r + j)] = 0.0
-        for m in range(n_terms):
-            a = coef[m]
-            if a != 0.0:
-                km = m * _KS + r
-                for j in range(nl):
-                    out[uint64(r + j)] += a * k[uint64(km + j)]
-        for j in range(nl):
-            out[uint64(r + j)] = y[uint64(r + j)] + h[j] * out[uint64(r + j)]
-
-
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
 def _stages_lanes(kernel, y, h, p, k, ynew, work, nl) -> None:
     """Stages k[1..11] and the 8th-order solution of every lane (k[0] given)."""
     for s in range(1, 12):
-        _combine(y, h, k, _A[s], s, work, nl)
+        stage_sum(s, y, h, k, work, nl)
         _rhs_lanes(kernel, work, 0, p, k, s * _KS, nl)
-    _combine(y, h, k, _B, 12, ynew, nl)
+    stage_sum(12, y, h, k, ynew, nl)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3, e5, e3, nl) -> None:
-    """DOP853's combined error estimate of every lane (as :func:`.dop853._error_norm`;
-    per lane the same sums in the same order, with the lane loop innermost)."""
-    for j in range(nl):
-        s5[j] = 0.0
-        s3[j] = 0.0
-    for i in range(N_STATE):
-        r = i * LANES
-        for j in range(nl):
-            e5[j] = 0.0
-            e3[j] = 0.0
-        for m in range(12):
-            a5 = _E5[m]
-            a3 = _E3[m]
-            km = m * _KS + r
-            for j in range(nl):
-                e5[j] += a5 * k[uint64(km + j)]
-                e3[j] += a3 * k[uint64(km + j)]
-        for j in range(nl):
-            u = uint64(r + j)
-            sc = atol * scale[u] + rtol * max(abs(y[u]), abs(ynew[u]))
-            x5 = e5[j] / sc
-            x3 = e3[j] / sc
-            s5[j] += x5 * x5
-            s3[j] += x3 * x3
+def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3, nl) -> None:
+    """DOP853's combined error estimate of every lane (as :func:`.dop853._error_norm`)."""
+    error_sums(k, y, ynew, rtol, atol, scale, s5, s3, nl)
     for j in range(nl):
         if s5[j] == 0.0 and s3[j] == 0.0:
             err[j] = 0.0
@@ -269,8 +214,6 @@ def integrate_lanes(
     ERR = np.zeros(LANES)
     S5 = np.zeros(LANES)
     S3 = np.zeros(LANES)
-    E5 = np.zeros(LANES)
-    E3 = np.zeros(LANES)
     COSN = np.zeros(LANES)  # cos(theta) at the step ends (quaternion form)
     TMAX = np.zeros(LANES)
     HMAX = np.zeros(LANES)
@@ -336,7 +279,7 @@ def integrate_lanes(
                 break
         # ---- one trial step in every lane ----
         _stages_lanes(kernel, Y, H, PL, K, YN, W, nl)
-        _error_lanes(K, H, Y, YN, rtol, atol, SC, ERR, S5, S3, E5, E3, nl)
+        _error_lanes(K, H, Y, YN, rtol, atol, SC, ERR, S5, S3, nl)
         _rhs_lanes(kernel, YN, 0, PL, F1, 0, nl)
         if quaternion:
             _cos_nutation_lanes(YN, COSN, nl)
