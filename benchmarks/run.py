@@ -28,6 +28,9 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
   with 1 and 2 workers, each with an accuracy check on 100 random points.
 * Command-line latency (:mod:`benchmarks.latency`): ``simulate`` and a 20-point
   ``sweep`` against a plain LSODA loop, process start included.
+* Batched sweeps (:mod:`benchmarks.lanes`): points/s of the DOP853 lanes against the
+  scalar path for rig (100-700 rad/s) and flight (Mach 1.5-4) sweeps of 1,000 and
+  10,000 points with 1 and 2 workers, every point compared with the scalar path.
 * Other integrators (:mod:`benchmarks.alternatives`, optional ``.[bench]`` extra):
   numbalsoda's DOP853 and LSODA and diffrax's Tsit5 and Dopri8 on the same trajectory.
 """
@@ -536,6 +539,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         default=None,
         help="points of the throughput sweeps (default 10000; --quick 200)",
     )
+    ap.add_argument(
+        "--lanes-sizes",
+        default=None,
+        help="point counts of the lanes-vs-scalar sweeps (default 1000,10000; --quick 100)",
+    )
     args = ap.parse_args(argv)
     n_sweep = args.sweep_points or (7 if args.quick else 200)
     repeat, repeat_base = (5, 1) if args.quick else (30, 3)
@@ -562,6 +570,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         for rng in ((100.0, 700.0), (40.0, 1000.0))
         for k in (1, 2)
     ]
+    from benchmarks import lanes
+
+    lanes.warm()
+    rec["lanes"] = [
+        lanes.measure(case, int(n), k)
+        for n in (args.lanes_sizes or ("100" if args.quick else "1000,10000")).split(",")
+        for case in ("rig", "flight")
+        for k in (1, 2)
+    ]
     rec["cli_latency"] = latency.cli_latency(2 if args.quick else 5)
     from benchmarks import alternatives
 
@@ -569,6 +586,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     _print_report(rec)
     _print_low_spin(rec["low_spin"])
     operating_range.print_range(rec["cost_per_point"], rec["throughput"])
+    lanes.print_table(rec["lanes"])
     latency.print_latency(rec["cli_latency"])
     alternatives.print_alternatives(rec["alternatives"])
     if args.plot:
@@ -581,4 +599,5 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     agree = rec["sweep"].get("agreement_vs_baseline", {})
     ok = ok and not (agree.get("max_rel_diff", 0.0) > AGREEMENT)
+    ok = ok and all(r["same_nan"] and r["max_rel_diff_vs_scalar"] < 1e-12 for r in rec["lanes"])
     return 0 if ok else 1

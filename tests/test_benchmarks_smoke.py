@@ -102,3 +102,13 @@ def test_alternatives_table_has_the_package_row_and_notes_missing_libraries():
     assert len(own) == 1 and abs(own[0]["t_cr_rel_error"]) < 1e-5
     names = " ".join(r["solver"] for r in rec["rows"]) + " ".join(rec["notes"])
     assert "numbalsoda" in names and "diffrax" in names
+
+
+def test_lanes_benchmark_record():
+    """benchmarks.lanes times both paths and checks every point against the scalar one."""
+    from benchmarks import lanes
+
+    rec = lanes.measure("flight", 12, 1)
+    assert rec["same_nan"] and rec["max_rel_diff_vs_scalar"] < 1e-12
+    assert rec["lanes_points_per_s"] > 0 and rec["scalar_points_per_s"] > 0
+    assert rec["max_rel_error_vs_reference"] < 1e-6

@@ -130,6 +130,35 @@ def _error_norm(k, h, y, ynew, rtol, atol, scale) -> float:
     return abs(h) * s5 / math.sqrt((s5 + 0.01 * s3) * n)
 
 
+@njit(cache=True)
+def locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol):
+    """Opening time inside the accepted step (t, t + h] (g_old > 0 >= g_new).
+
+    Illinois false position on g(s) = theta(step(y, s h)) - theta_cr, re-stepping
+    from (t, y) (k[0] = f(t, y) is unchanged by the trial steps), to a bracket of
+    `event_tol`; `y_event` (holding the step's end state) receives the state of the
+    last trial at or past theta_cr. Returns (t_event, right-hand sides spent).
+    Shared with the batched lanes (:mod:`.lanes`).
+    """
+    theta_cr = p[P_THETA_CR]
+    s_lo, s_hi = 0.0, 1.0
+    g_lo, g_hi = g_old, g_new
+    side = 0
+    nfev = 0
+    for _ in range(200):
+        if bracket_closed(s_lo, s_hi, h, event_tol):
+            break
+        s = illinois_trial(s_lo, g_lo, s_hi, g_hi)
+        _stages(t, y, s * h, p, k, ytry, work)
+        nfev += 11
+        g = nutation_angle_of_state(ytry, p) - theta_cr
+        s_lo, g_lo, s_hi, g_hi, side = illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side)
+        if not g > 0.0:  # same branch as illinois_update (NaN included)
+            for i in range(N_STATE):
+                y_event[i] = ytry[i]
+    return t + s_hi * h, nfev
+
+
 @njit(cache=True, nogil=True)  # nogil: the CLI watcher thread can stop a long run
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`.
@@ -223,25 +252,10 @@ def integrate(problem, controls):
                 n_stiff = 0
         g_new = nutation_angle_of_state(ynew, p) - theta_cr
         if crossed(g_old, g_new, t_event):
-            # Illinois false position on g(s) = theta(step(y, s h)) - theta_cr;
-            # k[0] = f(t, y) is unchanged by the trial steps.
-            s_lo, s_hi = 0.0, 1.0
-            g_lo, g_hi = g_old, g_new
             for i in range(n):
                 y_event[i] = ynew[i]
-            side = 0
-            for _ in range(200):
-                if bracket_closed(s_lo, s_hi, h, event_tol):
-                    break
-                s = illinois_trial(s_lo, g_lo, s_hi, g_hi)
-                _stages(t, y, s * h, p, k, ytry, work)
-                nfev += 11
-                g = nutation_angle_of_state(ytry, p) - theta_cr
-                s_lo, g_lo, s_hi, g_hi, side = illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side)
-                if not g > 0.0:  # same branch as illinois_update (NaN included)
-                    for i in range(n):
-                        y_event[i] = ytry[i]
-            t_event = t + s_hi * h
+            t_event, nf = locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol)
+            nfev += nf
             if terminal:
                 status = Status.OPENED
                 t_stop = t_event

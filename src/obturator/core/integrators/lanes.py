@@ -35,10 +35,16 @@ from numba import njit, uint64
 from ..dynamics import nutation_angle_of_state, rhs
 from ..layout import KERNEL_THESIS, N_STATE, P_DERIVED, P_KERNEL, P_THETA_CR, P_VISC
 from ..specialised import thesis_rates
-from .common import bracket_closed, crossed, illinois_trial, illinois_update, underflow
+from .common import crossed, underflow
 from .contract import Status
-from .dop853 import STEP_ALLOWANCE, STEPS_PER_PERIOD, STIFF_HLAMBDA, STIFF_STEPS, TOL_FACTOR
-from .dop853 import _stages as _stages_scalar
+from .dop853 import (
+    STEP_ALLOWANCE,
+    STEPS_PER_PERIOD,
+    STIFF_HLAMBDA,
+    STIFF_STEPS,
+    TOL_FACTOR,
+    locate_event,
+)
 from .lane_sums import error_sums, stage_sum
 from .lanes_layout import LANES
 
@@ -125,32 +131,15 @@ def _cos_nutation_lanes(y, out, nl) -> None:
 
 @njit(cache=True)
 def _locate_event(t, h, y, k0, p, g_old, g_new, ynew, event_tol):
-    """Illinois false position inside the step (t, t + h] of one lane, as in
-    :func:`.dop853.integrate`; returns (t_event, y_event, right-hand sides spent)."""
-    n = N_STATE
-    k = np.empty((12, n))
-    for i in range(n):
+    """:func:`.dop853.locate_event` for one lane; returns (t_event, y_event, nfev)."""
+    k = np.empty((12, N_STATE))
+    for i in range(N_STATE):
         k[0, i] = k0[i]
-    ytry = np.empty(n)
-    work = np.empty(n)
     y_event = ynew.copy()
-    theta_cr = p[P_THETA_CR]
-    s_lo, s_hi = 0.0, 1.0
-    g_lo, g_hi = g_old, g_new
-    side = 0
-    nfev = 0
-    for _ in range(200):
-        if bracket_closed(s_lo, s_hi, h, event_tol):
-            break
-        s = illinois_trial(s_lo, g_lo, s_hi, g_hi)
-        _stages_scalar(t, y, s * h, p, k, ytry, work)
-        nfev += 11
-        g = nutation_angle_of_state(ytry, p) - theta_cr
-        s_lo, g_lo, s_hi, g_hi, side = illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side)
-        if not g > 0.0:
-            for i in range(n):
-                y_event[i] = ytry[i]
-    return t + s_hi * h, y_event, nfev
+    t_ev, nfev = locate_event(
+        t, y, h, p, k, np.empty(N_STATE), np.empty(N_STATE), y_event, g_old, g_new, event_tol
+    )
+    return t_ev, y_event, nfev
 
 
 @njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy")
