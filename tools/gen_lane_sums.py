@@ -42,11 +42,16 @@ _KS = N_STATE * LANES
 __all__ = ["stage_sum", "error_sums"]'''
 
 
+# inlined into the caller (same flags): a call per sum and step would cost the
+# reference counting of its array arguments
+_DECORATOR = '@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")'
+
+
 def _function(name: str, coef: list[tuple[int, float]]) -> str:
     lines = [
         "",
         "",
-        '@njit(cache=True, fastmath={"contract"}, error_model="numpy")',
+        _DECORATOR,
         f"def {name}(y, h, k, out, nl):  # pragma: no cover - compiled",
         "    for i in range(N_STATE):",
         "        r = i * LANES",
@@ -67,7 +72,7 @@ def _error_function() -> str:
     lines = [
         "",
         "",
-        '@njit(cache=True, fastmath={"contract"}, error_model="numpy")',
+        _DECORATOR,
         "def error_sums(k, y, ynew, rtol, atol, scale, s5, s3, nl):  # pragma: no cover",
         '    """s5, s3 = sum_i (e5_i / sc_i)^2, sum_i (e3_i / sc_i)^2 per lane, e5 and e3 the',
         '    E5- and E3-weighted stage sums (as dop853._error_norm, in its order)."""',
@@ -103,7 +108,7 @@ def source() -> str:
     body = [
         "",
         "",
-        '@njit(cache=True, fastmath={"contract"}, error_model="numpy")',
+        _DECORATOR,
         "def stage_sum(s, y, h, k, out, nl):  # pragma: no cover - compiled",
         '    """out = y + h * sum_m A[s, m] k_m (s = 1..11), or the B-weighted sum (s = 12)."""',
     ]

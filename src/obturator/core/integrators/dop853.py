@@ -101,6 +101,22 @@ def _stages(t, y, h, p, k, ynew, work) -> None:
 
 
 @njit(cache=True)
+def step_factor(err) -> float:
+    """0.9 err^(-1/8), DOP853's step-size factor before its bounds (err > 0; inf at 0).
+
+    Written with square roots instead of pow so that the lanes' loop over lanes
+    vectorises (pow does not without a vector math library); both paths use this.
+    """
+    return 0.9 / math.sqrt(math.sqrt(math.sqrt(err)))
+
+
+@njit(cache=True)
+def stiffness_product(h, num, den) -> float:
+    """Hairer's h |lambda| estimate h sqrt(num / den), or -1 when den = 0."""
+    return h * math.sqrt(num / den) if den > 0.0 else -1.0
+
+
+@njit(cache=True)
 def error_weight(atol, scale, rtol, y, ynew) -> float:
     """atol * scale + rtol * max(|y|, |ynew|), compiled without FMA contraction: with it,
     a * b + c * d may fuse either product, and the scalar and the vectorised lane code
@@ -221,7 +237,7 @@ def integrate(problem, controls):
         if err > 1.0:
             n_rej += 1
             rejected = True
-            h *= max(0.2, 0.9 * err ** (-1.0 / 8.0))
+            h *= max(0.2, step_factor(err))
             if underflow(h, t):
                 status = Status.STIFF
                 break
@@ -240,7 +256,7 @@ def integrate(problem, controls):
         for i in range(n):
             num += (f1[i] - k[11, i]) ** 2
             den += (ynew[i] - work[i]) ** 2
-        if den > 0.0 and h * math.sqrt(num / den) > STIFF_HLAMBDA:
+        if stiffness_product(h, num, den) > STIFF_HLAMBDA:
             n_calm = 0
             n_stiff += 1
             if n_stiff >= STIFF_STEPS:
@@ -283,7 +299,7 @@ def integrate(problem, controls):
         if not (y[0] == y[0]):
             status = Status.STIFF
             break
-        fac = 10.0 if err == 0.0 else min(10.0, max(0.2, 0.9 * err ** (-1.0 / 8.0)))
+        fac = min(10.0, max(0.2, step_factor(err)))  # err = 0: inf -> 10
         if rejected:
             fac = min(fac, 1.0)
         rejected = False
