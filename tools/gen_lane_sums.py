@@ -55,7 +55,7 @@ def _function(name: str, coef: list[tuple[int, float]]) -> str:
         f"def {name}(y, h, k, out, nl):  # pragma: no cover - compiled",
         "    for i in range(N_STATE):",
         "        r = i * LANES",
-        "        for j in range(nl):",
+        "        for j in range(LANES):",
         "            u = uint64(r + j)",
     ]
     # acc starts at 0.0 as in dop853._stages: with `acc = a0 * k0 + a1 * k1` either
@@ -76,12 +76,12 @@ def _error_function() -> str:
         "def error_sums(k, y, ynew, rtol, atol, scale, s5, s3, nl):  # pragma: no cover",
         '    """s5, s3 = sum_i (e5_i / sc_i)^2, sum_i (e3_i / sc_i)^2 per lane, e5 and e3 the',
         '    E5- and E3-weighted stage sums (as dop853._error_norm, in its order)."""',
-        "    for j in range(nl):",
+        "    for j in range(LANES):",
         "        s5[j] = 0.0",
         "        s3[j] = 0.0",
         "    for i in range(N_STATE):",
         "        r = i * LANES",
-        "        for j in range(nl):",
+        "        for j in range(LANES):",
         "            u = uint64(r + j)",
         "            sc = error_weight(atol, scale[u], rtol, y[u], ynew[u])",
     ]

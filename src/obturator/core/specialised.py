@@ -62,7 +62,7 @@ from .layout import (
 
 configure_cache()
 
-__all__ = ["specialise", "coefficients", "thesis_rates", "rhs_thesis"]
+__all__ = ["specialise", "thesis_rates", "rhs_thesis"]
 
 # offsets in the P_DERIVED block
 _INV_A, _INV_C, _C_MINUS_A, _FREE_INV_IP, _MOMENT, _INV_DELTA, _ARM_X, _ARM_Z = range(8)
@@ -126,7 +126,8 @@ def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef):
     q0, q1, q2, q3, w1, w2, w3, wp : float
         State (attitude quaternion, body rates [rad/s], spin omega_p [rad/s]).
     coef : tuple of float
-        :func:`coefficients` of the case.
+        (S, K_turb, omega_transition, 1/A, 1/C, C - A, 1/I_p or 0, M, 1/delta,
+        a_X, a_Z): the viscous slots and the derived block of ``p``.
 
     Returns
     -------
@@ -173,29 +174,23 @@ def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef):
     )
 
 
-@njit(cache=True, error_model="numpy")
-def coefficients(p, j):
-    """The kernel's coefficients of column `j` of lane parameters `p` (N_PARAM, lanes)."""
-    d = P_DERIVED
-    return (
-        p[P_VISC + 1, j],
-        p[P_VISC + 2, j],
-        p[P_VISC + 3, j],
-        p[d + _INV_A, j],
-        p[d + _INV_C, j],
-        p[d + _C_MINUS_A, j],
-        p[d + _FREE_INV_IP, j],
-        p[d + _MOMENT, j],
-        p[d + _INV_DELTA, j],
-        p[d + _ARM_X, j],
-        p[d + _ARM_Z, j],
-    )
-
-
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
 def rhs_thesis(y, p, dy) -> None:
     """:func:`thesis_rates` of one state `y` into `dy` (the scalar path's kernel)."""
-    c = coefficients(p.reshape((-1, 1)), 0)
+    d = P_DERIVED
+    c = (
+        p[P_VISC + 1],
+        p[P_VISC + 2],
+        p[P_VISC + 3],
+        p[d + _INV_A],
+        p[d + _INV_C],
+        p[d + _C_MINUS_A],
+        p[d + _FREE_INV_IP],
+        p[d + _MOMENT],
+        p[d + _INV_DELTA],
+        p[d + _ARM_X],
+        p[d + _ARM_Z],
+    )
     r = thesis_rates(y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7], c)
     for i in range(8):
         dy[i] = r[i]

@@ -25,7 +25,7 @@ __all__ = ["stage_sum", "error_sums"]
 def _sum1(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.05260015195876773 * k[u]
@@ -36,7 +36,7 @@ def _sum1(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum2(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.0197250569845379 * k[u]
@@ -48,7 +48,7 @@ def _sum2(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum3(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.02958758547680685 * k[u]
@@ -60,7 +60,7 @@ def _sum3(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum4(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.2413651341592667 * k[u]
@@ -73,7 +73,7 @@ def _sum4(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum5(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.037037037037037035 * k[u]
@@ -86,7 +86,7 @@ def _sum5(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum6(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.037109375 * k[u]
@@ -100,7 +100,7 @@ def _sum6(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum7(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.03709200011850479 * k[u]
@@ -115,7 +115,7 @@ def _sum7(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum8(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.6241109587160757 * k[u]
@@ -131,7 +131,7 @@ def _sum8(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum9(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.47766253643826434 * k[u]
@@ -148,7 +148,7 @@ def _sum9(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum10(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += -0.9371424300859873 * k[u]
@@ -166,7 +166,7 @@ def _sum10(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum11(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 2.273310147516538 * k[u]
@@ -185,7 +185,7 @@ def _sum11(y, h, k, out, nl):  # pragma: no cover - compiled
 def _sum12(y, h, k, out, nl):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
             acc += 0.054293734116568765 * k[u]
@@ -232,12 +232,12 @@ def stage_sum(s, y, h, k, out, nl):  # pragma: no cover - compiled
 def error_sums(k, y, ynew, rtol, atol, scale, s5, s3, nl):  # pragma: no cover
     """s5, s3 = sum_i (e5_i / sc_i)^2, sum_i (e3_i / sc_i)^2 per lane, e5 and e3 the
     E5- and E3-weighted stage sums (as dop853._error_norm, in its order)."""
-    for j in range(nl):
+    for j in range(LANES):
         s5[j] = 0.0
         s3[j] = 0.0
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             sc = error_weight(atol, scale[u], rtol, y[u], ynew[u])
             e5 = 0.0

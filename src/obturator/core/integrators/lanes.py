@@ -21,6 +21,11 @@ last accepted state, for the caller to hand to Radau IIA exactly as ``auto``
 does (:func:`obturator.core.integrators.integrate`). Points with the generic
 kernel run here too, calling the scalar right-hand side lane by lane.
 
+The vector loops always run over all :data:`LANES` lanes, live or not: with a
+trip count below the vector width part of the lanes would run through LLVM's
+scalar remainder loop, whose FMA contraction may differ, and a point's t_cr
+would depend on how many points shared its batch (observed at the last digit).
+
 Only the opening time is returned (no recorded steps, no t_eval): this is the
 path of sweeps, Monte Carlo and fits.
 """
@@ -66,7 +71,7 @@ def _rhs_lanes(kernel, y, yo, p, dy, do, nl) -> None:
     """
     if kernel == KERNEL_THESIS:  # one branch per stage, none in the lane loop
         d = P_DERIVED
-        for j in range(nl):
+        for j in range(LANES):
             o = yo + j
             c = (
                 p[uint64((P_VISC + 1) * LANES + j)],
@@ -126,7 +131,7 @@ def _stages_lanes(kernel, y, h, p, k, ynew, work, nl) -> None:
 def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3, nl) -> None:
     """DOP853's combined error estimate of every lane (as :func:`.dop853._error_norm`)."""
     error_sums(k, y, ynew, rtol, atol, scale, s5, s3, nl)
-    for j in range(nl):
+    for j in range(LANES):
         if s5[j] == 0.0 and s3[j] == 0.0:
             err[j] = 0.0
         else:
@@ -143,7 +148,7 @@ def _control_lanes(err, fac, hl, h, f1, k, ynew, work, num, den, nl) -> None:
     with num = |f(y_new) - k_12|^2 and den = |y_new - y_12|^2. num and den
     reuse the error sums' scratch arrays.
     """
-    for j in range(nl):
+    for j in range(LANES):
         e = err[j]
         e = e if e == e else 1e10
         err[j] = e
@@ -152,18 +157,18 @@ def _control_lanes(err, fac, hl, h, f1, k, ynew, work, num, den, nl) -> None:
         den[j] = 0.0
     for i in range(N_STATE):
         r = i * LANES
-        for j in range(nl):
+        for j in range(LANES):
             u = uint64(r + j)
             num[j] += (f1[u] - k[uint64(11 * _KS + r + j)]) ** 2
             den[j] += (ynew[u] - work[u]) ** 2
-    for j in range(nl):
+    for j in range(LANES):
         hl[j] = stiffness_product(h[j], num[j], den[j])
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
 def _cos_nutation_lanes(y, out, nl) -> None:
     """cos(theta) = 1 - 2 (q1^2 + q2^2) / |q|^2 of quaternion-form lanes (vectorised)."""
-    for j in range(nl):
+    for j in range(LANES):
         q0 = y[j]
         q1 = y[uint64(LANES + j)]
         q2 = y[uint64(2 * LANES + j)]
