@@ -230,3 +230,14 @@ def test_generated_lane_sums_are_current():
     if not tool.exists():  # pragma: no cover - installed package without the repository
         pytest.skip("tools/ not present")
     assert subprocess.run([sys.executable, str(tool), "--check"]).returncode == 0
+
+
+def test_step_factor_at_zero_error_is_the_upper_bound():
+    """err = 0 (an exactly integrated step, or an idle lane) must not raise: the factor is
+    inf and DOP853's bound makes it 10 (Hairer's dop853.f: facmax)."""
+    from obturator.core.integrators.dop853 import step_factor
+
+    assert step_factor(0.0) == math.inf
+    assert min(10.0, max(0.2, step_factor(0.0))) == 10.0
+    assert step_factor(1.0) == pytest.approx(0.9, rel=1e-15)
+    assert step_factor(2.0**8) == pytest.approx(0.45, rel=1e-15)  # 0.9 * (2^8)^(-1/8)

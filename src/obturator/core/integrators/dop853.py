@@ -100,23 +100,25 @@ def _stages(t, y, h, p, k, ynew, work) -> None:
         ynew[i] = y[i] + h * acc
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def step_factor(err) -> float:
-    """0.9 err^(-1/8), DOP853's step-size factor before its bounds (err > 0; inf at 0).
+    """0.9 err^(-1/8), DOP853's step-size factor before its bounds (inf at err = 0).
 
     Written with square roots instead of pow so that the lanes' loop over lanes
     vectorises (pow does not without a vector math library); both paths use this.
+    NumPy error model: err = 0 gives inf (the caller's bound makes it 10), and the
+    lanes call it for idle lanes too.
     """
     return 0.9 / math.sqrt(math.sqrt(math.sqrt(err)))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def stiffness_product(h, num, den) -> float:
     """Hairer's h |lambda| estimate h sqrt(num / den), or -1 when den = 0."""
     return h * math.sqrt(num / den) if den > 0.0 else -1.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def error_weight(atol, scale, rtol, y, ynew) -> float:
     """atol * scale + rtol * max(|y|, |ynew|), compiled without FMA contraction: with it,
     a * b + c * d may fuse either product, and the scalar and the vectorised lane code
