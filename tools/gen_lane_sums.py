@@ -21,7 +21,7 @@ TARGET = ROOT / "src" / "obturator" / "core" / "integrators" / "lane_sums.py"
 
 HEADER = '''"""DOP853's stage and error sums over lanes, unrolled (by ``tools/gen_lane_sums.py``).
 
-``stage_sum(s, y, h, k, out, nl)`` writes ``out = y + h * sum_m A[s, m] k_m`` for
+``stage_sum(s, y, h, k, out)`` writes ``out = y + h * sum_m A[s, m] k_m`` for
 every component and lane (s = 12: the eighth-order solution with the weights B).
 Each sum is its own function with the nonzero coefficients as literals, so the
 loop over lanes is the only loop and LLVM vectorises it; offsets are cast to
@@ -52,7 +52,7 @@ def _function(name: str, coef: list[tuple[int, float]]) -> str:
         "",
         "",
         _DECORATOR,
-        f"def {name}(y, h, k, out, nl):  # pragma: no cover - compiled",
+        f"def {name}(y, h, k, out):  # pragma: no cover - compiled",
         "    for i in range(N_STATE):",
         "        r = i * LANES",
         "        for j in range(LANES):",
@@ -73,7 +73,7 @@ def _error_function() -> str:
         "",
         "",
         _DECORATOR,
-        "def error_sums(k, y, ynew, rtol, atol, scale, s5, s3, nl):  # pragma: no cover",
+        "def error_sums(k, y, ynew, rtol, atol, scale, s5, s3):  # pragma: no cover",
         '    """s5, s3 = sum_i (e5_i / sc_i)^2, sum_i (e3_i / sc_i)^2 per lane, e5 and e3 the',
         '    E5- and E3-weighted stage sums (as dop853._error_norm, in its order)."""',
         "    for j in range(LANES):",
@@ -109,13 +109,13 @@ def source() -> str:
         "",
         "",
         _DECORATOR,
-        "def stage_sum(s, y, h, k, out, nl):  # pragma: no cover - compiled",
+        "def stage_sum(s, y, h, k, out):  # pragma: no cover - compiled",
         '    """out = y + h * sum_m A[s, m] k_m (s = 1..11), or the B-weighted sum (s = 12)."""',
     ]
     for s in range(1, 13):
         kw = "if" if s == 1 else "elif"
         body.append(f"    {kw} s == {s}:")
-        body.append(f"        _sum{s}(y, h, k, out, nl)")
+        body.append(f"        _sum{s}(y, h, k, out)")
     parts.append("\n".join(body))
     parts.append(_error_function())
     return "\n".join(parts) + "\n"

@@ -1,6 +1,6 @@
 """DOP853's stage and error sums over lanes, unrolled (by ``tools/gen_lane_sums.py``).
 
-``stage_sum(s, y, h, k, out, nl)`` writes ``out = y + h * sum_m A[s, m] k_m`` for
+``stage_sum(s, y, h, k, out)`` writes ``out = y + h * sum_m A[s, m] k_m`` for
 every component and lane (s = 12: the eighth-order solution with the weights B).
 Each sum is its own function with the nonzero coefficients as literals, so the
 loop over lanes is the only loop and LLVM vectorises it; offsets are cast to
@@ -22,7 +22,7 @@ __all__ = ["stage_sum", "error_sums"]
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum1(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum1(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -33,7 +33,7 @@ def _sum1(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum2(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum2(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -45,7 +45,7 @@ def _sum2(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum3(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum3(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -57,7 +57,7 @@ def _sum3(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum4(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum4(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -70,7 +70,7 @@ def _sum4(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum5(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum5(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -83,7 +83,7 @@ def _sum5(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum6(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum6(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -97,7 +97,7 @@ def _sum6(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum7(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum7(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -112,7 +112,7 @@ def _sum7(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum8(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum8(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -128,7 +128,7 @@ def _sum8(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum9(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum9(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -145,7 +145,7 @@ def _sum9(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum10(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum10(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -163,7 +163,7 @@ def _sum10(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum11(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum11(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -182,7 +182,7 @@ def _sum11(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _sum12(y, h, k, out, nl):  # pragma: no cover - compiled
+def _sum12(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
         for j in range(LANES):
@@ -200,36 +200,36 @@ def _sum12(y, h, k, out, nl):  # pragma: no cover - compiled
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def stage_sum(s, y, h, k, out, nl):  # pragma: no cover - compiled
+def stage_sum(s, y, h, k, out):  # pragma: no cover - compiled
     """out = y + h * sum_m A[s, m] k_m (s = 1..11), or the B-weighted sum (s = 12)."""
     if s == 1:
-        _sum1(y, h, k, out, nl)
+        _sum1(y, h, k, out)
     elif s == 2:
-        _sum2(y, h, k, out, nl)
+        _sum2(y, h, k, out)
     elif s == 3:
-        _sum3(y, h, k, out, nl)
+        _sum3(y, h, k, out)
     elif s == 4:
-        _sum4(y, h, k, out, nl)
+        _sum4(y, h, k, out)
     elif s == 5:
-        _sum5(y, h, k, out, nl)
+        _sum5(y, h, k, out)
     elif s == 6:
-        _sum6(y, h, k, out, nl)
+        _sum6(y, h, k, out)
     elif s == 7:
-        _sum7(y, h, k, out, nl)
+        _sum7(y, h, k, out)
     elif s == 8:
-        _sum8(y, h, k, out, nl)
+        _sum8(y, h, k, out)
     elif s == 9:
-        _sum9(y, h, k, out, nl)
+        _sum9(y, h, k, out)
     elif s == 10:
-        _sum10(y, h, k, out, nl)
+        _sum10(y, h, k, out)
     elif s == 11:
-        _sum11(y, h, k, out, nl)
+        _sum11(y, h, k, out)
     elif s == 12:
-        _sum12(y, h, k, out, nl)
+        _sum12(y, h, k, out)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def error_sums(k, y, ynew, rtol, atol, scale, s5, s3, nl):  # pragma: no cover
+def error_sums(k, y, ynew, rtol, atol, scale, s5, s3):  # pragma: no cover
     """s5, s3 = sum_i (e5_i / sc_i)^2, sum_i (e3_i / sc_i)^2 per lane, e5 and e3 the
     E5- and E3-weighted stage sums (as dop853._error_norm, in its order)."""
     for j in range(LANES):

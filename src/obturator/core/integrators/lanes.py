@@ -8,7 +8,7 @@ every lane keeps its own time, step size, error control, stiffness test,
 opening event and termination. A lane whose trajectory ends (opened, t_max,
 step limit, failure, or stiff) is refilled at once with the next point of the
 queue, so no lane waits for the slowest one; when the queue is empty the live
-lanes are packed to the front and the loops shorten. Points enter in the order
+lanes are packed to the front, so the per-lane bookkeeping shortens. Points enter in the order
 given (callers put the costliest first, so the tail is short).
 
 Same answers as the one-trajectory path: per lane the arithmetic is that of
@@ -61,9 +61,10 @@ DEFAULT_LANES = LANES
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def _rhs_lanes(kernel, y, yo, p, dy, do, nl) -> None:
-    """Right-hand side of lanes 0..nl-1: state y[yo + i*LANES + j] into dy[do + ...],
-    parameters p[i*LANES + j].
+def _rhs_lanes(kernel, y, p, dy, do, nl) -> None:
+    """Right-hand side of the lanes: state y[i*LANES + j] into dy[do + i*LANES + j],
+    parameters p[i*LANES + j] (the thesis kernel for all lanes, the generic one for
+    lanes 0..nl-1).
 
     Indices are cast to unsigned (see :mod:`.lane_sums`): with signed offsets numba's
     negative-index wrap-around kept this loop scalar (measured ~32 ns per lane and
@@ -72,7 +73,6 @@ def _rhs_lanes(kernel, y, yo, p, dy, do, nl) -> None:
     if kernel == KERNEL_THESIS:  # one branch per stage, none in the lane loop
         d = P_DERIVED
         for j in range(LANES):
-            o = yo + j
             c = (
                 p[uint64((P_VISC + 1) * LANES + j)],
                 p[uint64((P_VISC + 2) * LANES + j)],
@@ -87,9 +87,9 @@ def _rhs_lanes(kernel, y, yo, p, dy, do, nl) -> None:
                 p[uint64((d + 7) * LANES + j)],
             )
             r0, r1, r2, r3, r4, r5, r6, r7 = thesis_rates(
-                y[uint64(o)], y[uint64(o + LANES)], y[uint64(o + 2 * LANES)],
-                y[uint64(o + 3 * LANES)], y[uint64(o + 4 * LANES)], y[uint64(o + 5 * LANES)],
-                y[uint64(o + 6 * LANES)], y[uint64(o + 7 * LANES)], c,
+                y[j], y[uint64(j + LANES)], y[uint64(j + 2 * LANES)],
+                y[uint64(j + 3 * LANES)], y[uint64(j + 4 * LANES)], y[uint64(j + 5 * LANES)],
+                y[uint64(j + 6 * LANES)], y[uint64(j + 7 * LANES)], c,
             )  # fmt: skip
             o = do + j
             dy[uint64(o)] = r0
@@ -107,7 +107,7 @@ def _rhs_lanes(kernel, y, yo, p, dy, do, nl) -> None:
     ps = np.empty(n_par)
     for j in range(nl):
         for i in range(N_STATE):
-            ys[i] = y[yo + i * LANES + j]
+            ys[i] = y[i * LANES + j]
         for i in range(n_par):
             ps[i] = p[i * LANES + j]
         rhs(0.0, ys, ps, ds)
@@ -122,15 +122,15 @@ _KS = N_STATE * LANES  # stride of one stage in K
 def _stages_lanes(kernel, y, h, p, k, ynew, work, nl) -> None:
     """Stages k[1..11] and the 8th-order solution of every lane (k[0] given)."""
     for s in range(1, 12):
-        stage_sum(s, y, h, k, work, nl)
-        _rhs_lanes(kernel, work, 0, p, k, s * _KS, nl)
-    stage_sum(12, y, h, k, ynew, nl)
+        stage_sum(s, y, h, k, work)
+        _rhs_lanes(kernel, work, p, k, s * _KS, nl)
+    stage_sum(12, y, h, k, ynew)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3, nl) -> None:
+def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3) -> None:
     """DOP853's combined error estimate of every lane (as :func:`.dop853._error_norm`)."""
-    error_sums(k, y, ynew, rtol, atol, scale, s5, s3, nl)
+    error_sums(k, y, ynew, rtol, atol, scale, s5, s3)
     for j in range(LANES):
         if s5[j] == 0.0 and s3[j] == 0.0:
             err[j] = 0.0
@@ -139,7 +139,7 @@ def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3, nl) -> None:
 
 
 @njit(cache=True, error_model="numpy")
-def _control_lanes(err, fac, hl, h, f1, k, ynew, work, num, den, nl) -> None:
+def _control_lanes(err, fac, hl, h, f1, k, ynew, work, num, den) -> None:
     """Step-size factor and stiffness estimate of every lane, in vector loops.
 
     As :func:`.dop853.integrate` computes them (compiled, like it, without FMA
@@ -166,7 +166,7 @@ def _control_lanes(err, fac, hl, h, f1, k, ynew, work, num, den, nl) -> None:
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def _cos_nutation_lanes(y, out, nl) -> None:
+def _cos_nutation_lanes(y, out) -> None:
     """cos(theta) = 1 - 2 (q1^2 + q2^2) / |q|^2 of quaternion-form lanes (vectorised)."""
     for j in range(LANES):
         q0 = y[j]
@@ -317,11 +317,11 @@ def integrate_lanes(
                 break
         # ---- one trial step in every lane ----
         _stages_lanes(kernel, Y, H, PL, K, YN, W, nl)
-        _error_lanes(K, H, Y, YN, rtol, atol, SC, ERR, S5, S3, nl)
-        _rhs_lanes(kernel, YN, 0, PL, F1, 0, nl)
+        _error_lanes(K, H, Y, YN, rtol, atol, SC, ERR, S5, S3)
+        _rhs_lanes(kernel, YN, PL, F1, 0, nl)
         if quaternion:
-            _cos_nutation_lanes(YN, COSN, nl)
-        _control_lanes(ERR, FAC, HL, H, F1, K, YN, W, S5, S3, nl)
+            _cos_nutation_lanes(YN, COSN)
+        _control_lanes(ERR, FAC, HL, H, F1, K, YN, W, S5, S3)
         for j in range(nl):
             CNT[0, j] += 11
             err = ERR[j]
@@ -358,18 +358,12 @@ def integrate_lanes(
                     for i in range(n_par):
                         ps[i] = PL[i * LANES + j]
                     g_new = nutation_angle_of_state(yn_s, ps) - ps[P_THETA_CR]
-                if crossed(GOLD[j], g_new, math.nan):
-                    for i in range(n):
-                        yn_s[i] = YN[i * LANES + j]
-                    for i in range(n_par):
-                        ps[i] = PL[i * LANES + j]
-                    if GOLD[j] == math.inf:  # the exact g at the step start
-                        for i in range(n):
-                            ys[i] = Y[i * LANES + j]
-                        GOLD[j] = nutation_angle_of_state(ys, ps) - ps[P_THETA_CR]
+                if crossed(GOLD[j], g_new, math.nan):  # g_new <= 0: yn_s, ps filled above
                     for i in range(n):
                         ys[i] = Y[i * LANES + j]
                         k0s[i] = K[i * LANES + j]
+                    if GOLD[j] == math.inf:  # the exact g at the step start
+                        GOLD[j] = nutation_angle_of_state(ys, ps) - ps[P_THETA_CR]
                     t_ev, y_ev, nf = _locate_event(
                         T[j], h, ys, k0s, ps, GOLD[j], g_new, yn_s, event_tol
                     )
