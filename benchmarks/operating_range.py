@@ -20,9 +20,9 @@ from typing import Any
 
 import numpy as np
 
-from obturator.core.integrators import Controls, Problem, method_module
+from obturator.core.integrators import method_module
 from obturator.model.cases import rig_case
-from obturator.solve import SolverOptions, error_scale, opening_time, pack_parameters, simulate
+from obturator.solve import SolverOptions, integration_setup, opening_time, simulate
 
 MU_S = 0.5473
 RANGE_SPINS = (40.0, 60.0, 78.0, 100.0, 125.0, 150.0, 200.0, 300.0, 500.0, 700.0, 1000.0)
@@ -41,14 +41,7 @@ def _best(fn, repeat: int) -> tuple[float, Any]:
 
 def _raw(case, method: str):
     """One compiled integrator on `case` with the default options (no hand-over)."""
-    opts = SolverOptions()
-    y0 = case.initial_state(opts.formulation)
-    period = 2.0 * math.pi / case.spin_rate
-    controls = Controls(
-        case.t_max, opts.rtol, opts.atol, 1e-4 * period, 0.1 * period, opts.max_steps,
-        np.empty(0), False, True, opts.event_tol,
-    )  # fmt: skip
-    problem = Problem(y0, pack_parameters(case, opts, y0), error_scale(case, opts.formulation))
+    problem, controls = integration_setup(case, SolverOptions())
     return method_module(method).integrate(problem, controls)
 
 

@@ -72,6 +72,7 @@ __all__ = [
     "error_scale",
     "OPENING_TIME_ACCURACY",
     "tolerances_for_opening_time",
+    "integration_setup",
 ]
 
 
@@ -231,21 +232,31 @@ def error_scale(case: Case, formulation: str) -> np.ndarray:
     return np.array([1.0, 1.0, 1.0, 1.0, w, w, w, w])
 
 
-def _run(
+def integration_setup(
     case: Case,
     options: SolverOptions,
-    y0: np.ndarray | None,
-    record: bool,
-    t_eval: np.ndarray | None,
-    terminal: bool,
-) -> tuple[np.ndarray, RawSolution]:
-    """Pack the case, call the compiled integrator; return the parameters and its solution."""
+    y0: np.ndarray | None = None,
+    *,
+    record: bool = False,
+    t_eval: np.ndarray | None = None,
+    terminal: bool = True,
+) -> tuple[Problem, Controls]:
+    """What the compiled integrators take for one case: the packed problem and controls.
+
+    The initial step is 1e-4 spin periods and the largest ``options.max_step`` or a
+    tenth of a period. Shared by the one-trajectory path and the batched lanes
+    (:mod:`obturator.sweeps.batch`), so both start from the same numbers.
+
+    Raises
+    ------
+    InputError
+        `y0` not of shape (8,), or `t_eval` not non-negative and increasing.
+    """
     if y0 is None:
         y0 = case.initial_state(options.formulation)
     y0 = np.asarray(y0, dtype=float)
     if y0.shape != (N_STATE,):
         raise InputError("y0", f"expected shape ({N_STATE},), got {y0.shape}")
-    p = pack_parameters(case, options, y0)
     period = 2.0 * math.pi / case.spin_rate
     te = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)
     if te.size and (np.any(np.diff(te) < 0) or te[0] < 0):
@@ -262,8 +273,23 @@ def _run(
         terminal=terminal,
         event_tol=options.event_tol,
     )
-    problem = Problem(y0, p, error_scale(case, options.formulation))
-    return p, integrate(options.method, problem, controls)
+    p = pack_parameters(case, options, y0)
+    return Problem(y0, p, error_scale(case, options.formulation)), controls
+
+
+def _run(
+    case: Case,
+    options: SolverOptions,
+    y0: np.ndarray | None,
+    record: bool,
+    t_eval: np.ndarray | None,
+    terminal: bool,
+) -> tuple[np.ndarray, RawSolution]:
+    """Pack the case, call the compiled integrator; return the parameters and its solution."""
+    problem, controls = integration_setup(
+        case, options, y0, record=record, t_eval=t_eval, terminal=terminal
+    )
+    return problem.p, integrate(options.method, problem, controls)
 
 
 def simulate(

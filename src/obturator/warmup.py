@@ -35,23 +35,22 @@ def _compile(method: str) -> tuple[str, float, str | None]:
     from .model.cases import rig_case
     from .solve import SolverOptions, opening_time
 
-    # a short run that stays non-stiff: "auto" compiles DOP853 alone; each process
-    # also compiles what every run needs (parameter packing), so none waits for another
     if method == "lanes":  # the batched kernel itself (sweeps.batch drives it)
         import numpy as np
 
         from .core.integrators.lanes import integrate_lanes
-        from .solve import error_scale, pack_parameters
+        from .solve import integration_setup
 
-        case, opts = rig_case(300.0, 0.5, t_max=1e-3), SolverOptions()
-        y0 = case.initial_state(opts.formulation)
+        pr, c = integration_setup(rig_case(300.0, 0.5, t_max=1e-3), SolverOptions())
         one = np.ones(1)
         integrate_lanes(
-            y0[None], pack_parameters(case, opts, y0)[None],
-            error_scale(case, opts.formulation)[None], 1e-3 * one, 1e-6 * one, 1e-3 * one,
-            np.zeros(1, dtype=np.int64), opts.rtol, opts.atol, 1000, opts.event_tol, 16,
+            pr.y0[None], pr.p[None], pr.scale[None], c.t_max * one, c.h0 * one,
+            c.h_max * one, np.zeros(1, dtype=np.int64), c.rtol, c.atol, c.max_steps,
+            c.event_tol, 16,
         )  # fmt: skip
         return method, time.perf_counter() - t0, configure_cache()
+    # a short run that stays non-stiff: "auto" compiles DOP853 alone; each process
+    # also compiles what every run needs (parameter packing), so none waits for another
     opening_time(
         rig_case(300.0, 0.5, t_max=1e-3),
         SolverOptions(method="auto" if method == "dop853" else method),  # type: ignore[arg-type]

@@ -28,11 +28,11 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..core.integrators import Controls, Problem, RawSolution, _hand_over
+from ..core.integrators import RawSolution, _hand_over
 from ..core.integrators.lanes import DEFAULT_LANES, integrate_lanes
 from ..core.layout import N_STATE, P_KERNEL
 from ..errors import InputError
-from ..solve import SolverOptions, error_scale, pack_parameters
+from ..solve import SolverOptions, integration_setup
 from ..status import Status
 
 __all__ = ["BATCH_METHODS", "batchable", "opening_times"]
@@ -88,35 +88,24 @@ def opening_times(
     valid = [k for k, c in enumerate(cases) if not isinstance(c, InputError)]
     if not valid:
         return t_cr, status, stats
-    packed = [_pack(cases[k], options) for k in valid]
-    kernels = np.array([pk[1][P_KERNEL] for pk in packed])
+    packed = [(*integration_setup(cases[k], options), cases[k]) for k in valid]
+    kernels = np.array([pk[0].p[P_KERNEL] for pk in packed])
     for kernel in np.unique(kernels):
         sel = [i for i in range(len(valid)) if kernels[i] == kernel]
-        _run_group([valid[i] for i in sel], [packed[i] for i in sel], cases, options, n_lanes,
+        _run_group([valid[i] for i in sel], [packed[i] for i in sel], options, n_lanes,
                    t_cr, status, stats)  # fmt: skip
     return t_cr, status, stats
 
 
-def _pack(case, options: SolverOptions):
-    y0 = case.initial_state(options.formulation)
-    period = 2.0 * math.pi / case.spin_rate
-    h_max = options.max_step if options.max_step is not None else 0.1 * period
-    return (
-        y0,
-        pack_parameters(case, options, y0),
-        error_scale(case, options.formulation),
-        (float(case.t_max), 1e-4 * period, h_max, case.spin_rate),
-    )
-
-
-def _run_group(idx, packed, cases, options, n_lanes, t_cr, status, stats) -> None:
-    y0 = np.array([pk[0] for pk in packed])
-    p = np.array([pk[1] for pk in packed])
-    scale = np.array([pk[2] for pk in packed])
-    t_max, h0, h_max, spin = (np.array(col) for col in zip(*(pk[3] for pk in packed), strict=True))
-    order = np.argsort(-spin, kind="stable")
+def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
+    problems = [pk[0] for pk in packed]
+    controls = [pk[1] for pk in packed]
+    spin = np.array([c.spin_rate for c in (pk[2] for pk in packed)])
     st, t_ev, t_end, y_end, nfev, n_steps, n_rej = integrate_lanes(
-        y0, p, scale, t_max, h0, h_max, order, options.rtol, options.atol,
+        np.array([pr.y0 for pr in problems]), np.array([pr.p for pr in problems]),
+        np.array([pr.scale for pr in problems]), np.array([c.t_max for c in controls]),
+        np.array([c.h0 for c in controls]), np.array([c.h_max for c in controls]),
+        np.argsort(-spin, kind="stable"), options.rtol, options.atol,
         int(options.max_steps), options.event_tol, n_lanes,
     )  # fmt: skip
     stats["nfev"] += int(nfev.sum())
@@ -125,15 +114,11 @@ def _run_group(idx, packed, cases, options, n_lanes, t_cr, status, stats) -> Non
         t = float(t_ev[g])
         if s == Status.STIFF:
             stats["n_stiff"] += 1
-            controls = Controls(
-                t_max[g], options.rtol, options.atol, h0[g], h_max[g], int(options.max_steps),
-                np.empty(0), False, True, options.event_tol,
-            )  # fmt: skip
             dop = RawSolution(
                 s, t, np.full(N_STATE, math.nan), np.empty(0), np.empty((0, N_STATE)),
                 int(nfev[g]), 0, int(n_steps[g]), int(n_rej[g]), float(t_end[g]), y_end[g],
             )  # fmt: skip
-            out = _hand_over(dop, Problem(y0[g], p[g], scale[g]), controls)
+            out = _hand_over(dop, problems[g], controls[g])
             stats["nfev"] += int(out.nfev) - int(nfev[g])
             s, t = Status(out.status), float(out.t_event)
         t_cr[k], status[k] = _point_status(s, t)
