@@ -48,7 +48,7 @@ def _assert_same(cases, options, rel=0.0, **kw):
 # ------------------------------------------------------------ the specialised kernel
 
 
-def _near_stick_states(p, rng, n):
+def _near_stick_states(rng, n):
     """Random attitudes with body rates omega_p R^T Z plus a slip of 1e-9..1e2 rad/s."""
     from obturator.core.dynamics import _rotation_from_quaternion
 
@@ -92,7 +92,7 @@ def test_specialised_rhs_matches_generic(case):
     generic = p.copy()
     generic[P_KERNEL] = KERNEL_GENERIC
     rng = np.random.default_rng(7)
-    for k, y in enumerate(_near_stick_states(p, rng, 300) + [rng.normal(size=8) * 300] * 300):
+    for k, y in enumerate(_near_stick_states(rng, 300) + [rng.normal(size=8) * 300] * 300):
         a, b = np.empty(8), np.empty(8)
         rhs(0.0, y, p, a)
         rhs(0.0, y, generic, b)
@@ -178,14 +178,14 @@ def test_sweep_results_identical_with_and_without_lanes(monkeypatch):
 
 
 def test_point_status_mapping_matches_evaluate_point():
-    from obturator.sweeps.batch import _point_status
+    from obturator.sweeps.points import point_status
 
-    assert _point_status(Status.OPENED, 0.25) == (0.25, Status.OPENED)
-    t, s = _point_status(Status.T_MAX, math.nan)
+    assert point_status(Status.OPENED, 0.25) == (0.25, Status.OPENED)
+    t, s = point_status(Status.T_MAX, math.nan)
     assert math.isnan(t) and s == Status.T_MAX
-    assert _point_status(Status.STEP_LIMIT, math.nan)[1] == Status.STEP_LIMIT
-    assert _point_status(Status.FAILED, math.nan)[1] == Status.FAILED
-    assert _point_status(Status.STIFF, math.nan)[1] == Status.FAILED
+    assert point_status(Status.STEP_LIMIT, math.nan)[1] == Status.STEP_LIMIT
+    assert point_status(Status.FAILED, math.nan)[1] == Status.FAILED
+    assert point_status(Status.STIFF, math.nan)[1] == Status.FAILED
 
 
 def test_lanes_sweep_resumes_after_interruption(monkeypatch, tmp_path):

@@ -34,6 +34,7 @@ from ..core.layout import N_STATE, P_KERNEL
 from ..errors import InputError
 from ..solve import SolverOptions, integration_setup
 from ..status import Status
+from .points import point_status
 
 __all__ = ["BATCH_METHODS", "batchable", "opening_times"]
 
@@ -121,14 +122,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
             out = _hand_over(dop, problems[g], controls[g])
             stats["nfev"] += int(out.nfev) - int(nfev[g])
             s, t = Status(out.status), float(out.t_event)
-        t_cr[k], status[k] = _point_status(s, t)
-
-
-def _point_status(s: Status, t: float) -> tuple[float, int]:
-    """(t_cr, status) of a point as evaluate_point maps opening_time's outcome."""
-    if not s.success:
-        return math.nan, Status.STEP_LIMIT if s == Status.STEP_LIMIT else Status.FAILED
-    return (t, Status.OPENED) if math.isfinite(t) else (math.nan, Status.T_MAX)
+        t_cr[k], status[k] = point_status(s, t)
 
 
 def run_rows(spec, names: tuple[str, ...], rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

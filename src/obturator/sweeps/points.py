@@ -20,7 +20,7 @@ from ..solve import SolverOptions, convergence_check, opening_time
 from ..status import Status
 from .spec import SweepSpec
 
-__all__ = ["POINT_STATUSES", "evaluate_point", "run_chunk", "warm"]
+__all__ = ["POINT_STATUSES", "evaluate_point", "point_status", "run_chunk", "warm"]
 
 #: The statuses a study point can have (the ``status`` variable's flag values).
 POINT_STATUSES: tuple[Status, ...] = (
@@ -31,6 +31,18 @@ POINT_STATUSES: tuple[Status, ...] = (
     Status.STEP_LIMIT,
     Status.UNCONVERGED,
 )
+
+
+def point_status(status: Status, t: float) -> tuple[float, int]:
+    """(t_cr, status) of a point from an integration's status and t_event [s].
+
+    ``FAILED`` or ``STEP_LIMIT`` when the integration failed (t_cr NaN), ``T_MAX``
+    when it did not open, else ``OPENED``. Shared by the per-point path and the
+    lanes (:mod:`obturator.sweeps.batch`).
+    """
+    if not status.success:
+        return math.nan, Status.STEP_LIMIT if status == Status.STEP_LIMIT else Status.FAILED
+    return (t, Status.OPENED) if math.isfinite(t) else (math.nan, Status.T_MAX)
 
 
 def evaluate_point(spec: SweepSpec, values: Mapping[str, float]) -> tuple[float, int]:
@@ -51,9 +63,9 @@ def evaluate_point(spec: SweepSpec, values: Mapping[str, float]) -> tuple[float,
             if not convergence_check(case, spec.options, opening_time_s=t).converged:
                 return t, Status.UNCONVERGED
     except RuntimeError as exc:  # SolverError, or anything else the integrator raised
-        status = getattr(exc, "status", None)
-        return math.nan, Status.STEP_LIMIT if status == Status.STEP_LIMIT else Status.FAILED
-    return (t, Status.OPENED) if math.isfinite(t) else (math.nan, Status.T_MAX)
+        limit = getattr(exc, "status", None) == Status.STEP_LIMIT
+        return point_status(Status.STEP_LIMIT if limit else Status.FAILED, math.nan)
+    return point_status(Status.OPENED, t)
 
 
 def run_chunk(
