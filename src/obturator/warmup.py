@@ -16,7 +16,7 @@ from multiprocessing import get_context
 
 from .errors import InputError
 
-__all__ = ["WARMUP_TARGETS", "warm_up"]
+__all__ = ["WARMUP_TARGETS", "load_radau_lanes", "warm_up"]
 
 #: Integrator -> what compiling it takes: ``auto`` runs need DOP853 and Radau IIA;
 #: Rosenbrock is compiled only with ``everything``.
@@ -24,6 +24,7 @@ WARMUP_TARGETS: dict[str, str] = {
     "dop853": "explicit DOP853 (every auto run)",
     "radau": "Radau IIA (auto runs that stick; method radau)",
     "lanes": "batched DOP853 lanes (sweeps, Monte Carlo)",
+    "radau-lanes": "batched Radau IIA lanes (stiff points of sweeps and Monte Carlo)",
     "rosenbrock": "Rosenbrock ode23s (method rosenbrock)",
 }
 
@@ -35,6 +36,9 @@ def _compile(method: str) -> tuple[str, float, str | None]:
     from .model.cases import rig_case
     from .solve import SolverOptions, opening_time
 
+    if method == "radau-lanes":
+        load_radau_lanes()
+        return method, time.perf_counter() - t0, configure_cache()
     if method == "lanes":  # the batched kernel itself (sweeps.batch drives it)
         import numpy as np
 
@@ -56,6 +60,24 @@ def _compile(method: str) -> tuple[str, float, str | None]:
         SolverOptions(method="auto" if method == "dop853" else method),  # type: ignore[arg-type]
     )
     return method, time.perf_counter() - t0, configure_cache()
+
+
+def load_radau_lanes() -> None:
+    """Load (or compile) the Radau IIA lanes: one short near-stick rig point (1 ms)."""
+    import numpy as np
+
+    from .core.integrators.lanes_layout import LANES
+    from .core.integrators.radau_lanes import integrate_radau_lanes
+    from .model.cases import rig_case
+    from .solve import SolverOptions, integration_setup
+
+    pr, c = integration_setup(rig_case(150.0, 0.5, t_max=1e-3), SolverOptions())
+    one = np.ones(1)
+    integrate_radau_lanes(
+        pr.y0[None], 0.0 * one, pr.p[None], pr.scale[None], c.t_max * one, c.h0 * one,
+        c.h_max * one, np.full(1, c.max_steps), np.zeros(1, dtype=np.int64), c.rtol, c.atol,
+        c.event_tol, LANES, LANES,
+    )  # fmt: skip
 
 
 def warm_up(*, jobs: int = 2, everything: bool = False) -> dict[str, object]:

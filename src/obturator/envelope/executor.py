@@ -195,7 +195,7 @@ class Runner:
     progress : bool
         Rich progress bar on stderr.
     chunk_size : int, optional
-        Points per task (default as in sweeps: about eight tasks per worker, at most 64).
+        Points per task (default as in sweeps: about eight tasks per worker, at most 256).
     """
 
     workers: int | None = None

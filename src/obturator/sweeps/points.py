@@ -91,7 +91,8 @@ def run_chunk(
 def warm(options: SolverOptions) -> None:
     """Load (or compile) the integrators once: a short rig run with these options that
     turns stiff (150 rad/s, 10 ms), so ``auto`` loads DOP853 and Radau IIA, and the
-    same run in lanes (:mod:`obturator.sweeps.batch`)."""
+    same run in lanes (:mod:`obturator.sweeps.batch`), and the Radau IIA lanes."""
+    from ..warmup import load_radau_lanes
     from .batch import batchable, opening_times
 
     case = rig_case(150.0, 0.5, t_max=1e-2)
@@ -99,5 +100,6 @@ def warm(options: SolverOptions) -> None:
         opening_time(case, options)
         if batchable(options):
             opening_times([case], options)
+            load_radau_lanes()
     except RuntimeError:  # pragma: no cover - warm-up only
         pass

@@ -231,7 +231,7 @@ def run_sweep(
     restart : bool
         Discard a sidecar left by a *different* study instead of failing.
     chunk_size : int, optional
-        Points per task (default: about 8 tasks per worker, at most 64 points).
+        Points per task (default: about 8 tasks per worker, at most 256 points).
 
     Returns
     -------

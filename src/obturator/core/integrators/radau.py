@@ -285,6 +285,69 @@ def _restep(t, y, h, s, p, scal, jac, zacc, stage, lu, scratch, fnewt, ytry) -> 
     return nfev
 
 
+@njit(cache=True, fastmath={"contract"})
+def locate_opening(
+    t, y, h, z, ynew, g_old, g_new, p, scal, jac, zacc, stage, lu, scratch, fnewt, event_tol,
+    ytry, y_event,
+):  # fmt: skip
+    """Look for the opening inside the accepted step (t, y, h, z) and locate it.
+
+    The first node (c1, c2, 1) at which the collocation solution is past
+    theta_cr brackets the crossing (g_old > 0 at the step start, g_new at its
+    end); Illinois false position on g(s) = theta(step(y, s h)) - theta_cr then
+    re-solves the step from its start (:func:`_restep`), so the event state is
+    as accurate as an accepted step. `zacc` receives a copy of z, `lu` and
+    `stage` are overwritten (trial steps). Shared by :func:`integrate` and the
+    batched Radau lanes.
+
+    Returns
+    -------
+    tuple
+        (found, t_event, nfev); the event state is written into `y_event`.
+    """
+    n = N_STATE
+    theta_cr = p[P_THETA_CR]
+    cos_cr = math.cos(theta_cr)
+    s_hi = 0.0
+    g_hi = 0.0
+    for k in range(2):
+        for i in range(n):
+            ytry[i] = y[i] + z[k, i]
+        if _cos_nutation(ytry, p) >= cos_cr:  # cheap pre-test, then the angle
+            gk = nutation_angle_of_state(ytry, p) - theta_cr
+            if gk <= 0.0:
+                s_hi = C1 if k == 0 else C2
+                g_hi = gk
+                break
+    if s_hi == 0.0 and g_new <= 0.0:
+        s_hi = 1.0
+        g_hi = g_new
+        for i in range(n):
+            ytry[i] = ynew[i]
+    if s_hi == 0.0:
+        return False, math.nan, 0
+    for k in range(3):
+        for i in range(n):
+            zacc[k, i] = z[k, i]
+    for i in range(n):
+        y_event[i] = ytry[i]
+    s_lo = 0.0
+    g_lo = g_old
+    side = 0
+    nfev = 0
+    for _ in range(200):
+        if bracket_closed(s_lo, s_hi, h, event_tol):
+            break
+        s = illinois_trial(s_lo, g_lo, s_hi, g_hi)
+        nfev += _restep(t, y, h, s, p, scal, jac, zacc, stage, lu, scratch, fnewt, ytry)
+        g = nutation_angle_of_state(ytry, p) - theta_cr
+        s_lo, g_lo, s_hi, g_hi, side = illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side)
+        if not g > 0.0:  # same branch as illinois_update (NaN included)
+            for i in range(n):
+                y_event[i] = ytry[i]
+    return True, t + s_hi * h, nfev
+
+
 @njit(cache=True, nogil=True, fastmath={"contract"})
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
@@ -296,7 +359,6 @@ def integrate(problem, controls):
     f0 = np.empty(n)
     ynew = np.empty(n)
     ytry = np.empty(n)
-    ybest = np.empty(n)
     work = np.empty(n)
     fwork = np.empty(n)
     scal = np.empty(n)
@@ -350,7 +412,6 @@ def integrate(problem, controls):
     h_gus = 0.0  # previous accepted step and error (predictive controller)
     err_gus = 1.0
     g_old = nutation_angle_of_state(y, p) - theta_cr
-    cos_cr = math.cos(theta_cr)
     h_lim = math.inf
     while t < t_max:
         if n_steps >= max_steps:
@@ -445,51 +506,14 @@ def integrate(problem, controls):
         t_stop = t_new
         g_new = nutation_angle_of_state(ynew, p) - theta_cr
         if g_old > 0.0 and t_event != t_event:
-            # first node (c1, c2, 1) at which the collocation solution is past theta_cr
-            s_hi = 0.0
-            g_hi = 0.0
-            for k in range(2):
-                for i in range(n):
-                    ytry[i] = y[i] + z[k, i]
-                if _cos_nutation(ytry, p) >= cos_cr:  # cheap pre-test, then the angle
-                    gk = nutation_angle_of_state(ytry, p) - theta_cr
-                    if gk <= 0.0:
-                        s_hi = C1 if k == 0 else C2
-                        g_hi = gk
-                        break
-            if s_hi == 0.0 and g_new <= 0.0:
-                s_hi = 1.0
-                g_hi = g_new
-                for i in range(n):
-                    ytry[i] = ynew[i]
-            if s_hi > 0.0:
-                # Illinois false position on g(s) = theta(step(y, s h)) - theta_cr
-                for k in range(3):
-                    for i in range(n):
-                        zacc[k, i] = z[k, i]
-                for i in range(n):
-                    ybest[i] = ytry[i]
-                s_lo = 0.0
-                g_lo = g_old
-                side = 0
-                for _ in range(200):
-                    if bracket_closed(s_lo, s_hi, h, event_tol):
-                        break
-                    s = illinois_trial(s_lo, g_lo, s_hi, g_hi)
-                    nfev += _restep(
-                        t, y, h, s, p, scal, jac, zacc, stage_ev, lu, scratch, fnewt, ytry
-                    )
-                    g = nutation_angle_of_state(ytry, p) - theta_cr
-                    s_lo, g_lo, s_hi, g_hi, side = illinois_update(
-                        s, g, s_lo, g_lo, s_hi, g_hi, side
-                    )
-                    if not g > 0.0:  # same branch as illinois_update (NaN included)
-                        for i in range(n):
-                            ybest[i] = ytry[i]
+            found, t_ev, nf = locate_opening(
+                t, y, h, z, ynew, g_old, g_new, p, scal, jac, zacc, stage_ev, lu, scratch,
+                fnewt, event_tol, ytry, y_event,
+            )  # fmt: skip
+            nfev += nf
+            if found:
                 h_lu = math.nan  # the LU now belongs to a trial step
-                t_event = t + s_hi * h
-                for i in range(n):
-                    y_event[i] = ybest[i]
+                t_event = t_ev
                 if terminal:
                     status = Status.OPENED
                     t_stop = t_event

@@ -1,0 +1,272 @@
+"""The vector phases of the batched Radau IIA (:mod:`.radau_lanes`), one loop over lanes each.
+
+Per lane each phase does what the named part of :func:`.radau.integrate` does
+(forward-difference Jacobian, the two iteration matrices, the stage guess, the
+transformed Newton residual and update, the Newton and error norms), on the
+structure-of-arrays layout of :mod:`.lanes` (``x[i * LANES + lane]``, stage k of
+a three-stage quantity at offset ``k * N_STATE * LANES``). Every function takes
+``vw``, the lane count passed at run time (see :mod:`.lane_linalg`).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit, uint64
+
+from ..layout import KERNEL_THESIS, N_STATE
+from .lanes import _rhs_lanes
+from .lanes_layout import LANES
+from .radau_coefficients import (
+    ALPHA,
+    BETA,
+    C1,
+    C2,
+    E1,
+    E2,
+    E3,
+    GAMMA,
+    RD1,
+    RD2,
+    RD3,
+    T00,
+    T01,
+    T02,
+    T10,
+    T11,
+    T12,
+    T20,
+    T21,
+    T22,
+    TI00,
+    TI01,
+    TI02,
+    TI10,
+    TI11,
+    TI12,
+    TI20,
+    TI21,
+    TI22,
+)
+
+__all__ = [
+    "jacobian_lanes",
+    "build_lanes",
+    "guess_lanes",
+    "to_w",
+    "residual_lanes",
+    "update_lanes",
+    "wnorm_lanes",
+    "error_lanes",
+    "error_rhs_lanes",
+    "stages_rhs",
+    "f0_masked",
+    "lane_vector",
+]
+
+_N = N_STATE
+_V = N_STATE * LANES
+
+
+@njit(cache=True, inline="always")
+def _u(x):
+    return uint64(x)
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, vw) -> None:
+    """Forward-difference Jacobian of every lane (as :func:`.common.jacobian`),
+    stored for the lanes with NJ set.
+
+    dj_cap[i * LANES + lane] holds the increment cap of component i (1e-4 delta
+    for rates, 1e-4 delta / omega_ref for quaternion components).
+    """
+    eps = math.sqrt(2.220446049250313e-16)
+    for c in range(_N):
+        for v in range(_N * vw):
+            WORK[v] = Y[v]
+        for j in range(vw):
+            u = _u(c * LANES + j)
+            y = Y[u]
+            dj = eps * max(abs(y), SC[u])
+            dj = min(dj, dj_cap[u])
+            WORK[u] = y + dj
+            dj_row[j] = WORK[u] - y  # the increment actually taken
+        _rhs_lanes(KERNEL_THESIS, WORK, PL, FW, 0, LANES)
+        for i in range(_N):
+            for j in range(vw):
+                a = _u((i * _N + c) * LANES + j)
+                d = (FW[_u(i * LANES + j)] - F0[_u(i * LANES + j)]) / dj_row[j]
+                JAC[a] = d if NJ[j] else JAC[a]
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def build_lanes(JAC, H, LUR, LUCR, LUCI, vw) -> None:
+    """gamma/h I - J and (alpha + i beta)/h I - J of every lane (as :func:`.radau._factor`)."""
+    for i in range(_N):
+        for c in range(_N):
+            for j in range(vw):
+                a = _u((i * _N + c) * LANES + j)
+                LUR[a] = -JAC[a]
+                LUCR[a] = -JAC[a]
+                LUCI[a] = 0.0
+        for j in range(vw):
+            a = _u((i * _N + i) * LANES + j)
+            LUR[a] += GAMMA / H[j]
+            LUCR[a] += ALPHA / H[j]
+            LUCI[a] = BETA / H[j]
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def guess_lanes(Z, ZACC, H, HACC, POLY, vw) -> None:
+    """Stage guess: the last collocation polynomial extrapolated (0 for a first step)."""
+    for k in range(3):
+        ck = C1 if k == 0 else (C2 if k == 1 else 1.0)
+        for j in range(vw):
+            s = 1.0 + ck * H[j] / HACC[j]
+            l1 = s * (s - C2) * (s - 1.0) * RD1
+            l2 = s * (s - C1) * (s - 1.0) * RD2
+            l3 = s * (s - C1) * (s - C2) * RD3
+            for i in range(_N):
+                u = _u(i * LANES + j)
+                z = (
+                    l1 * ZACC[u] + l2 * ZACC[_u(_V + u)] + l3 * ZACC[_u(2 * _V + u)]
+                    - ZACC[_u(2 * _V + u)]
+                )  # fmt: skip
+                Z[_u(k * _V + u)] = z if POLY[j] else 0.0
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def to_w(Z, W, vw) -> None:
+    """W = (T^-1 x I) Z, every lane."""
+    for u in range(_N * vw):
+        z0 = Z[u]
+        z1 = Z[_u(_V + u)]
+        z2 = Z[_u(2 * _V + u)]
+        W[u] = TI00 * z0 + TI01 * z1 + TI02 * z2
+        W[_u(_V + u)] = TI10 * z0 + TI11 * z1 + TI12 * z2
+        W[_u(2 * _V + u)] = TI20 * z0 + TI21 * z1 + TI22 * z2
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def residual_lanes(F, W, H, WORK, CBR, CBI, FIN, vw) -> None:
+    """Transformed Newton residual of every lane; FIN[lane] False where non-finite."""
+    for j in range(vw):
+        FIN[j] = True
+    for i in range(_N):
+        for j in range(vw):
+            u = _u(i * LANES + j)
+            fr = GAMMA / H[j]
+            ar = ALPHA / H[j]
+            br = BETA / H[j]
+            f0 = F[u]
+            f1 = F[_u(_V + u)]
+            f2 = F[_u(2 * _V + u)]
+            g1 = TI00 * f0 + TI01 * f1 + TI02 * f2
+            g2 = TI10 * f0 + TI11 * f1 + TI12 * f2
+            g3 = TI20 * f0 + TI21 * f1 + TI22 * f2
+            w1 = W[_u(_V + u)]
+            w2 = W[_u(2 * _V + u)]
+            r1 = g1 - fr * W[u]
+            r2 = g2 - (ar * w1 - br * w2)
+            r3 = g3 - (br * w1 + ar * w2)
+            FIN[j] = FIN[j] & (r1 == r1) & (r2 == r2) & (r3 == r3)
+            WORK[u] = r1
+            CBR[u] = r2
+            CBI[u] = r3
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def update_lanes(W, Z, WORK, CBR, CBI, RUN, vw) -> None:
+    """W += the Newton correction in the running lanes; Z = (T x I) W, every lane."""
+    for i in range(_N):
+        for j in range(vw):
+            u = _u(i * LANES + j)
+            if RUN[j]:
+                W[u] += WORK[u]
+                W[_u(_V + u)] += CBR[u]
+                W[_u(2 * _V + u)] += CBI[u]
+    for u in range(_N * vw):
+        w0 = W[u]
+        w1 = W[_u(_V + u)]
+        w2 = W[_u(2 * _V + u)]
+        Z[u] = T00 * w0 + T01 * w1 + T02 * w2
+        Z[_u(_V + u)] = T10 * w0 + T11 * w1 + T12 * w2
+        Z[_u(2 * _V + u)] = T20 * w0 + T21 * w1 + T22 * w2
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def wnorm_lanes(A, B, C, SCAL, out, vw) -> None:
+    """sqrt(mean over components and the three vectors of (x scal)^2), every lane."""
+    for j in range(vw):
+        out[j] = 0.0
+    for i in range(_N):
+        for j in range(vw):
+            u = _u(i * LANES + j)
+            d1 = A[u] * SCAL[u]
+            d2 = B[u] * SCAL[u]
+            d3 = C[u] * SCAL[u]
+            out[j] += d1 * d1 + d2 * d2 + d3 * d3
+    for j in range(vw):
+        out[j] = math.sqrt(out[j] / (3 * _N))
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def error_lanes(Y, YN, WORK, rtol, atol, SC, out, vw) -> None:
+    """:func:`.common.rms_norm` of WORK, every lane."""
+    for j in range(vw):
+        out[j] = 0.0
+    for i in range(_N):
+        for j in range(vw):
+            u = _u(i * LANES + j)
+            sc = atol * SC[u] + rtol * max(abs(Y[u]), abs(YN[u]))
+            q = WORK[u] / sc
+            out[j] += q * q
+    for j in range(vw):
+        out[j] = math.sqrt(out[j] / _N)
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def stages_rhs(Y, Z, PL, F, WORK, vw) -> None:
+    """The three stage derivatives f(y + Z_k) of every lane (the kernel is autonomous)."""
+    for k in range(3):
+        for u in range(_N * vw):
+            WORK[u] = Y[u] + Z[_u(k * _V + u)]
+        _rhs_lanes(KERNEL_THESIS, WORK, PL, F, k * _V, LANES)
+
+
+@njit(cache=True)
+def lane_vector(X, j, k, out) -> None:
+    """Copy lane j of the k-th vector of X into out."""
+    for i in range(_N):
+        out[i] = X[k * _V + i * LANES + j]
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def f0_masked(Y, PL, F0, FW, ACC, CNT, vw) -> None:
+    """F0 = f(Y) in the lanes with ACC set (one vector evaluation for all)."""
+    any_acc = False
+    for j in range(vw):
+        any_acc = any_acc or ACC[j]
+    if not any_acc:
+        return
+    _rhs_lanes(KERNEL_THESIS, Y, PL, FW, 0, LANES)
+    for i in range(_N):
+        for j in range(vw):
+            u = _u(i * LANES + j)
+            F0[u] = FW[u] if ACC[j] else F0[u]
+    for j in range(vw):
+        if ACC[j]:
+            CNT[0, j] += 1
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def error_rhs_lanes(Y, Z, F0, H, YN, ERRV, WORK, vw) -> None:
+    """y_new = y + Z_3 and the right side of the embedded error estimate (H&W IV.8),
+    f0 + (e1 Z1 + e2 Z2 + e3 Z3) / h, into ERRV and WORK, every lane."""
+    for i in range(_N):
+        for j in range(vw):
+            u = _u(i * LANES + j)
+            YN[u] = Y[u] + Z[_u(2 * _V + u)]
+            ERRV[u] = F0[u] + (E1 * Z[u] + E2 * Z[_u(_V + u)] + E3 * Z[_u(2 * _V + u)]) / H[j]
+            WORK[u] = ERRV[u]
