@@ -109,6 +109,9 @@ def test_lanes_benchmark_record():
     from benchmarks import lanes
 
     rec = lanes.measure("flight", 12, 1)
-    assert rec["same_nan"] and rec["max_rel_diff_vs_scalar"] < 1e-12
+    assert rec["same_nan"] and rec["max_rel_diff_vs_scalar"] < 1e-12  # DOP853 lanes: exact
     assert rec["lanes_points_per_s"] > 0 and rec["scalar_points_per_s"] > 0
+    assert rec["stiff_one_by_one_points_per_s"] > 0 and lanes.agrees(rec)
     assert rec["max_rel_error_vs_reference"] < 1e-6
+    # a record beyond the stated accuracy is reported as disagreeing
+    assert not lanes.agrees(rec | {"tcr_rtol": "1e-6", "max_rel_diff_vs_scalar": 2e-6})

@@ -62,6 +62,7 @@ __all__ = [
     "stages_rhs",
     "f0_masked",
     "lane_vector",
+    "node_states",
 ]
 
 _N = N_STATE
@@ -270,3 +271,12 @@ def error_rhs_lanes(Y, Z, F0, H, YN, ERRV, WORK, vw) -> None:
             YN[u] = Y[u] + Z[_u(2 * _V + u)]
             ERRV[u] = F0[u] + (E1 * Z[u] + E2 * Z[_u(_V + u)] + E3 * Z[_u(2 * _V + u)]) / H[j]
             WORK[u] = ERRV[u]
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def node_states(Y, Z, k, out, vw) -> None:
+    """y + Z_k (the collocation solution at node c_k), every lane."""
+    for i in range(_N):
+        for j in range(vw):
+            u = _u(i * LANES + j)
+            out[u] = Y[u] + Z[_u(k * _V + u)]

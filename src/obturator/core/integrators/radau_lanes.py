@@ -71,6 +71,7 @@ from .radau_lane_steps import (
     guess_lanes,
     jacobian_lanes,
     lane_vector,
+    node_states,
     residual_lanes,
     stages_rhs,
     to_w,
@@ -177,6 +178,7 @@ def integrate_radau_lanes(
     GOLD = np.zeros(LANES)
     COS_CR = np.zeros(LANES)
     COSN = np.zeros(LANES)
+    COSK = np.zeros(LANES)
     VMAX = np.zeros(LANES)
     MAXST = np.zeros(LANES, dtype=np.int64)
     IDX = np.zeros(LANES, dtype=np.int64)
@@ -391,7 +393,13 @@ def integrate_radau_lanes(
                 if ACC[j]:
                     CNT[0, j] += 1
                     ERR[j] = DYNO[j]
+        # largest cos(theta) over the nodes c1, c2 and the step end (the opening pre-test)
         _cos_nutation_lanes(YN, COSN)
+        for k in range(2):
+            node_states(Y, Z, k, WORK, vw)
+            _cos_nutation_lanes(WORK, COSK)
+            for j in range(vw):
+                COSN[j] = max(COSN[j], COSK[j])
         # ---- per lane: acceptance, event, step size ----
         for j in range(nl):
             ACC[j] = False
@@ -423,17 +431,7 @@ def integrate_radau_lanes(
             ERRGUS[j] = max(1e-2, err)
             # opening: the nodes and the step end are well above theta_cr unless one of
             # their cos(theta) comes near cos(theta_cr); only then the scalar test
-            near = COSN[j] >= COS_CR[j] - 1e-9 or not (COSN[j] == COSN[j])
-            if not near:
-                for k in range(2):
-                    lane_vector(Y, j, 0, ys)
-                    lane_vector(Z, j, k, zs[k])
-                    for i in range(_N):
-                        yns[i] = ys[i] + zs[k, i]
-                    q2 = yns[0] ** 2 + yns[1] ** 2 + yns[2] ** 2 + yns[3] ** 2
-                    if 1.0 - 2.0 * (yns[1] ** 2 + yns[2] ** 2) / q2 >= COS_CR[j] - 1e-9:
-                        near = True
-            if near:
+            if COSN[j] >= COS_CR[j] - 1e-9 or not (COSN[j] == COSN[j]):
                 for i in range(n_par):
                     ps[i] = PL[i * LANES + j]
                 lane_vector(Y, j, 0, ys)
