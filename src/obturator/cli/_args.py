@@ -89,8 +89,8 @@ def add_study_flags(p: argparse.ArgumentParser) -> None:
         "--tcr-rtol",
         metavar="X",
         help="set the tolerances for this relative t_cr accuracy (>= 2.2e-7; measured table "
-        "in obturator.solve.OPENING_TIME_ACCURACY; the default rtol 1e-8 gives <= 4e-5 near "
-        "stick, below ~105 rad/s on the rig, and <= 3e-7 elsewhere)",
+        "in obturator.solve.OPENING_TIME_ACCURACY; the default rtol 1e-8 gives <= 2e-4 near "
+        "stick, below ~220 rad/s on the rig, and <= 3e-7 elsewhere)",
     )
     p.add_argument("--method", choices=METHODS, default=None, help="integrator")
     p.add_argument(
