@@ -36,6 +36,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..errors import ClusterError, InputError
+from .batch import RADAU_LANES_MIN
 from .points import run_chunk, warm
 from .spec import SweepSpec
 
@@ -122,13 +123,17 @@ class Job:
         return self.fn(*self.args_of(idx))
 
 
-def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of) -> Job:
+def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: int = 0) -> Job:
     """The :class:`Job` of a sweep or Monte Carlo study: :func:`run_chunk` on rows of
-    values of `names` (``rows_of(idx)``), returning ``(t_cr, status)`` per chunk."""
+    values of `names` (``rows_of(idx)``), returning ``(t_cr, status)`` per chunk.
+
+    The warm-up loads the Radau IIA lanes only when a chunk (`largest_chunk` points)
+    can hold enough stiff points to use them: a small sweep does not pay their load.
+    """
     return Job(
         run_chunk,
         lambda idx: (spec, names, rows_of(idx)),
-        partial(warm, spec.options),
+        partial(warm, spec.options, radau_lanes=largest_chunk >= RADAU_LANES_MIN),
     )
 
 
@@ -285,14 +290,19 @@ def choose_executor(workers: int, scheduler: Any, n_chunks: int) -> Executor:
 #: reference machine (``python -m benchmarks``: 200 rig points took 0.32 s in a loop
 #: and 0.196 s on a 2-process pool), so below ~0.1 s of work the pool cannot win.
 POOL_MIN_SERIAL_S = 0.1
+#: Points of the probe (from the first chunk). Timing it in this process delays the
+#: workers; with whole 256-point chunks the probe was ~4 % of a 10,000-point rig sweep
+#: and left an odd number of chunks for 2 workers.
+PROBE_POINTS = 32
 
 
 def probe_cost(pool: ProcessPool, job: Job, chunks: list[np.ndarray], sink: Sink) -> Executor:
-    """Run the first chunk here, timed, and keep the rest here if that is cheaper.
+    """Run the first :data:`PROBE_POINTS` points of the first chunk here, timed, and keep
+    the rest here if that is cheaper.
 
-    The probe chunk takes every k-th point of the study (see :func:`make_chunks`), so
-    its cost per point is representative. Its results go to `sink` (and the resume
-    store) like any other chunk's; it is removed from `chunks`. Returns `pool`, or an
+    Chunks take every k-th point of the study (see :func:`make_chunks`), so the probe's
+    cost per point is representative. Its results go to `sink` (and the resume store)
+    like any other chunk's; they are removed from `chunks`. Returns `pool`, or an
     :class:`InProcess` executor when the remaining points would take less than
     :data:`POOL_MIN_SERIAL_S` here.
     """
@@ -300,7 +310,13 @@ def probe_cost(pool: ProcessPool, job: Job, chunks: list[np.ndarray], sink: Sink
         return pool
     if job.warm is not None:
         job.warm()  # compile/load once; not part of the per-point cost
-    probe = chunks.pop(0)
+    # the probe runs here before the workers start: a slice of the first chunk is
+    # enough to time, and the rest of the chunk goes to the workers like the others
+    probe, rest = chunks[0][:PROBE_POINTS], chunks[0][PROBE_POINTS:]
+    if rest.size:
+        chunks[0] = rest
+    else:
+        chunks.pop(0)
     # CPU time of this thread: other threads (or a busy machine) must not inflate it
     t0 = time.thread_time()
     sink(probe, job.run(probe))

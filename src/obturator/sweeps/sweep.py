@@ -113,7 +113,7 @@ def run_points(
     try:
         chunks = make_chunks(todo, n_workers if scheduler is None else 8, chunk_size)
         executor = choose_executor(n_workers, scheduler, len(chunks))
-        job = sweep_job(spec, names, rows_of)
+        job = sweep_job(spec, names, rows_of, max((c.size for c in chunks), default=0))
         if isinstance(executor, ProcessPool):
             executor = probe_cost(executor, job, chunks, sink)
         bar = partial(progress_bar, progress, n_points, n_resumed, label)
