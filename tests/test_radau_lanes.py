@@ -156,7 +156,7 @@ def test_few_stiff_points_go_one_by_one(monkeypatch):
 
 
 def test_lane_lu_solves_match_numpy():
-    """The lane LU (generated, per-lane pivoting) solves random real and complex systems
+    """The lane LU (per-lane pivoting, generated solves) solves random real and complex systems
     as numpy.linalg.solve does, with row interchanges in some lanes and a singular lane
     reported as such."""
     from obturator.core.integrators.lane_linalg import (
@@ -204,8 +204,7 @@ def test_lane_lu_solves_match_numpy():
 
 
 def test_generated_lane_lu_is_current():
-    """lane_lu_real.py, lane_lu_complex.py and lane_solve_pair.py are what
-    tools/gen_lane_linalg.py writes."""
+    """lane_solves.py is what tools/gen_lane_linalg.py writes."""
     import subprocess
     import sys
     from pathlib import Path
