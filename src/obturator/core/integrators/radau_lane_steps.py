@@ -137,16 +137,23 @@ def guess_lanes(Z, ZACC, H, HACC, POLY, vw) -> None:
                 Z[_u(k * _V + u)] = z if POLY[j] else 0.0
 
 
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+def _stage_transform(S, D, c, vw) -> None:
+    """D = (C x I) S for a 3x3 matrix C (row-major tuple c) over the three stages."""
+    c00, c01, c02, c10, c11, c12, c20, c21, c22 = c
+    for u in range(_N * vw):
+        s0 = S[u]
+        s1 = S[_u(_V + u)]
+        s2 = S[_u(2 * _V + u)]
+        D[u] = c00 * s0 + c01 * s1 + c02 * s2
+        D[_u(_V + u)] = c10 * s0 + c11 * s1 + c12 * s2
+        D[_u(2 * _V + u)] = c20 * s0 + c21 * s1 + c22 * s2
+
+
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
 def to_w(Z, W, vw) -> None:
     """W = (T^-1 x I) Z, every lane."""
-    for u in range(_N * vw):
-        z0 = Z[u]
-        z1 = Z[_u(_V + u)]
-        z2 = Z[_u(2 * _V + u)]
-        W[u] = TI00 * z0 + TI01 * z1 + TI02 * z2
-        W[_u(_V + u)] = TI10 * z0 + TI11 * z1 + TI12 * z2
-        W[_u(2 * _V + u)] = TI20 * z0 + TI21 * z1 + TI22 * z2
+    _stage_transform(Z, W, (TI00, TI01, TI02, TI10, TI11, TI12, TI20, TI21, TI22), vw)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
@@ -187,13 +194,7 @@ def update_lanes(W, Z, WORK, CBR, CBI, RUN, vw) -> None:
                 W[u] += WORK[u]
                 W[_u(_V + u)] += CBR[u]
                 W[_u(2 * _V + u)] += CBI[u]
-    for u in range(_N * vw):
-        w0 = W[u]
-        w1 = W[_u(_V + u)]
-        w2 = W[_u(2 * _V + u)]
-        Z[u] = T00 * w0 + T01 * w1 + T02 * w2
-        Z[_u(_V + u)] = T10 * w0 + T11 * w1 + T12 * w2
-        Z[_u(2 * _V + u)] = T20 * w0 + T21 * w1 + T22 * w2
+    _stage_transform(W, Z, (T00, T01, T02, T10, T11, T12, T20, T21, T22), vw)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
