@@ -25,6 +25,7 @@ import pytest
 
 from obturator.core.integrators.lanes_layout import LANES
 from obturator.core.integrators.radau_lanes import integrate_radau_lanes
+from obturator.errors import InputError
 from obturator.model.cases import rig_case
 from obturator.solve import (
     OPENING_TIME_ACCURACY,
@@ -213,3 +214,13 @@ def test_generated_lane_lu_is_current():
     if not tool.exists():  # pragma: no cover - installed package without the repository
         pytest.skip("tools/ not present")
     assert subprocess.run([sys.executable, str(tool), "--check"]).returncode == 0
+
+
+@pytest.mark.parametrize("name", ["OBTURATOR_LANES", "OBTURATOR_RADAU_LANES"])
+def test_path_switches_refuse_other_values(monkeypatch, name):
+    """Only 0 and 1: a typo must not silently select a path."""
+    monkeypatch.setenv(name, "yes")
+    cases = [rig_case(float(w), MU_S) for w in STIFF_BAND]
+    with pytest.raises(InputError, match=name):
+        if batch.batchable(SolverOptions()):  # OBTURATOR_LANES is read here
+            opening_times(cases, SolverOptions())  # OBTURATOR_RADAU_LANES here

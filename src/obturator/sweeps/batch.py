@@ -55,6 +55,20 @@ BATCH_METHODS = ("auto",)
 RADAU_LANES_MIN = 32
 
 
+def env_switch(name: str) -> bool:
+    """An on/off environment variable: unset or ``1`` is on, ``0`` off.
+
+    Raises
+    ------
+    InputError
+        Any other value (a typo must not silently select a path).
+    """
+    value = os.environ.get(name, "1")
+    if value not in ("0", "1"):
+        raise InputError(name, f"{value!r}; allowed: 0 (off), 1 (on)")
+    return value == "1"
+
+
 def batchable(options: SolverOptions, check_convergence: bool = False) -> bool:
     """True when points with these options run in lanes.
 
@@ -62,7 +76,7 @@ def batchable(options: SolverOptions, check_convergence: bool = False) -> bool:
     through :func:`~obturator.sweeps.points.evaluate_point`, the scalar path):
     for benchmarks and for cross-checks; results are the same.
     """
-    if os.environ.get("OBTURATOR_LANES", "1") == "0":
+    if not env_switch("OBTURATOR_LANES"):
         return False
     return options.method in BATCH_METHODS and not check_convergence
 
@@ -128,7 +142,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
     if (
         lanes_ok.size < RADAU_LANES_MIN
         or kernel_of(problems) != KERNEL_THESIS
-        or os.environ.get("OBTURATOR_RADAU_LANES", "1") == "0"
+        or not env_switch("OBTURATOR_RADAU_LANES")
     ):
         lanes_ok = lanes_ok[:0]
     if lanes_ok.size:
