@@ -62,11 +62,27 @@ __all__ = [
     "stages_rhs",
     "f0_masked",
     "lane_vector",
+    "NW_F",
+    "NW_W",
+    "NW_Z",
+    "NW_R1",
+    "NW_R2",
+    "NW_R3",
+    "NW_SCAL",
+    "NW_SIZE",
     "node_states",
 ]
 
 _N = N_STATE
 _V = N_STATE * LANES
+# The Newton workspace of the driver, one array (see radau_lanes): stage derivatives F,
+# transformed increments W, increments Z (three vectors each), the residual / correction
+# R1 (real), R2 + i R3 (complex) and the reciprocal error weights. One array with
+# constant offsets: LLVM then needs no runtime alias checks between them (with separate
+# arrays these loops needed more than it allows and stayed scalar).
+NW_F, NW_W, NW_Z = 0, 3 * _V, 6 * _V
+NW_R1, NW_R2, NW_R3, NW_SCAL = 9 * _V, 10 * _V, 11 * _V, 12 * _V
+NW_SIZE = 13 * _V
 
 
 @njit(cache=True, inline="always")
@@ -119,7 +135,7 @@ def build_lanes(JAC, H, LUR, LUCR, LUCI, vw) -> None:
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def guess_lanes(Z, ZACC, H, HACC, POLY, vw) -> None:
+def guess_lanes(NW, ZACC, H, HACC, POLY, vw) -> None:
     """Stage guess: the last collocation polynomial extrapolated (0 for a first step)."""
     for k in range(3):
         ck = C1 if k == 0 else (C2 if k == 1 else 1.0)
@@ -134,31 +150,32 @@ def guess_lanes(Z, ZACC, H, HACC, POLY, vw) -> None:
                     l1 * ZACC[u] + l2 * ZACC[_u(_V + u)] + l3 * ZACC[_u(2 * _V + u)]
                     - ZACC[_u(2 * _V + u)]
                 )  # fmt: skip
-                Z[_u(k * _V + u)] = z if POLY[j] else 0.0
+                NW[_u(NW_Z + k * _V + u)] = z if POLY[j] else 0.0
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
-def _stage_transform(S, D, c, vw) -> None:
-    """D = (C x I) S for a 3x3 matrix C (row-major tuple c) over the three stages."""
+def _stage_transform(X, src, dst, c, vw) -> None:
+    """X[dst] = (C x I) X[src] for a 3x3 matrix C (row-major tuple c), three stages."""
     c00, c01, c02, c10, c11, c12, c20, c21, c22 = c
     for u in range(_N * vw):
-        s0 = S[u]
-        s1 = S[_u(_V + u)]
-        s2 = S[_u(2 * _V + u)]
-        D[u] = c00 * s0 + c01 * s1 + c02 * s2
-        D[_u(_V + u)] = c10 * s0 + c11 * s1 + c12 * s2
-        D[_u(2 * _V + u)] = c20 * s0 + c21 * s1 + c22 * s2
+        s0 = X[_u(src + u)]
+        s1 = X[_u(src + _V + u)]
+        s2 = X[_u(src + 2 * _V + u)]
+        X[_u(dst + u)] = c00 * s0 + c01 * s1 + c02 * s2
+        X[_u(dst + _V + u)] = c10 * s0 + c11 * s1 + c12 * s2
+        X[_u(dst + 2 * _V + u)] = c20 * s0 + c21 * s1 + c22 * s2
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def to_w(Z, W, vw) -> None:
-    """W = (T^-1 x I) Z, every lane."""
-    _stage_transform(Z, W, (TI00, TI01, TI02, TI10, TI11, TI12, TI20, TI21, TI22), vw)
+def to_w(NW, vw) -> None:
+    """W = (T^-1 x I) Z in the Newton workspace, every lane."""
+    _stage_transform(NW, NW_Z, NW_W, (TI00, TI01, TI02, TI10, TI11, TI12, TI20, TI21, TI22), vw)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def residual_lanes(F, W, H, WORK, CBR, CBI, FIN, vw) -> None:
-    """Transformed Newton residual of every lane; FIN[lane] False where non-finite."""
+def residual_lanes(NW, H, FIN, vw) -> None:
+    """Transformed Newton residual of every lane into R1, R2, R3 of the workspace;
+    FIN[lane] False where non-finite."""
     for j in range(vw):
         FIN[j] = True
     for i in range(_N):
@@ -167,47 +184,48 @@ def residual_lanes(F, W, H, WORK, CBR, CBI, FIN, vw) -> None:
             fr = GAMMA / H[j]
             ar = ALPHA / H[j]
             br = BETA / H[j]
-            f0 = F[u]
-            f1 = F[_u(_V + u)]
-            f2 = F[_u(2 * _V + u)]
+            f0 = NW[_u(NW_F + u)]
+            f1 = NW[_u(NW_F + _V + u)]
+            f2 = NW[_u(NW_F + 2 * _V + u)]
             g1 = TI00 * f0 + TI01 * f1 + TI02 * f2
             g2 = TI10 * f0 + TI11 * f1 + TI12 * f2
             g3 = TI20 * f0 + TI21 * f1 + TI22 * f2
-            w1 = W[_u(_V + u)]
-            w2 = W[_u(2 * _V + u)]
-            r1 = g1 - fr * W[u]
+            w1 = NW[_u(NW_W + _V + u)]
+            w2 = NW[_u(NW_W + 2 * _V + u)]
+            r1 = g1 - fr * NW[_u(NW_W + u)]
             r2 = g2 - (ar * w1 - br * w2)
             r3 = g3 - (br * w1 + ar * w2)
             FIN[j] = FIN[j] & (r1 == r1) & (r2 == r2) & (r3 == r3)
-            WORK[u] = r1
-            CBR[u] = r2
-            CBI[u] = r3
+            NW[_u(NW_R1 + u)] = r1
+            NW[_u(NW_R2 + u)] = r2
+            NW[_u(NW_R3 + u)] = r3
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def update_lanes(W, Z, WORK, CBR, CBI, RUN, vw) -> None:
-    """W += the Newton correction in the running lanes; Z = (T x I) W, every lane."""
+def update_lanes(NW, RUN, vw) -> None:
+    """W += the Newton correction (R1, R2, R3) in the running lanes; Z = (T x I) W."""
     for i in range(_N):
         for j in range(vw):
             u = _u(i * LANES + j)
             if RUN[j]:
-                W[u] += WORK[u]
-                W[_u(_V + u)] += CBR[u]
-                W[_u(2 * _V + u)] += CBI[u]
-    _stage_transform(W, Z, (T00, T01, T02, T10, T11, T12, T20, T21, T22), vw)
+                NW[_u(NW_W + u)] += NW[_u(NW_R1 + u)]
+                NW[_u(NW_W + _V + u)] += NW[_u(NW_R2 + u)]
+                NW[_u(NW_W + 2 * _V + u)] += NW[_u(NW_R3 + u)]
+    _stage_transform(NW, NW_W, NW_Z, (T00, T01, T02, T10, T11, T12, T20, T21, T22), vw)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def wnorm_lanes(A, B, C, SCAL, out, vw) -> None:
-    """sqrt(mean over components and the three vectors of (x scal)^2), every lane."""
+def wnorm_lanes(NW, out, vw) -> None:
+    """sqrt(mean over components of (R1 scal)^2 + (R2 scal)^2 + (R3 scal)^2), every lane."""
     for j in range(vw):
         out[j] = 0.0
     for i in range(_N):
         for j in range(vw):
             u = _u(i * LANES + j)
-            d1 = A[u] * SCAL[u]
-            d2 = B[u] * SCAL[u]
-            d3 = C[u] * SCAL[u]
+            sc = NW[_u(NW_SCAL + u)]
+            d1 = NW[_u(NW_R1 + u)] * sc
+            d2 = NW[_u(NW_R2 + u)] * sc
+            d3 = NW[_u(NW_R3 + u)] * sc
             out[j] += d1 * d1 + d2 * d2 + d3 * d3
     for j in range(vw):
         out[j] = math.sqrt(out[j] / (3 * _N))

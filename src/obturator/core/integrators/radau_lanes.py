@@ -64,6 +64,13 @@ from .radau import (
     locate_opening,
 )
 from .radau_lane_steps import (
+    NW_F,
+    NW_R1,
+    NW_R2,
+    NW_R3,
+    NW_SCAL,
+    NW_SIZE,
+    NW_Z,
     build_lanes,
     error_lanes,
     error_rhs_lanes,
@@ -139,16 +146,19 @@ def integrate_radau_lanes(
     YN = np.zeros(_V)
     F0 = np.zeros(_V)
     SC = np.ones(_V)
-    SCAL = np.ones(_V)
+    # the Newton workspace (radau_lane_steps.NW_*), and views of its vectors
+    NW = np.zeros(NW_SIZE)
+    F = NW[NW_F : NW_F + 3 * _V]
+    Z = NW[NW_Z : NW_Z + 3 * _V]
+    WORK = NW[NW_R1 : NW_R1 + _V]
+    CBR = NW[NW_R2 : NW_R2 + _V]
+    CBI = NW[NW_R3 : NW_R3 + _V]
+    SCAL = NW[NW_SCAL : NW_SCAL + _V]
+    for u in range(_V):
+        SCAL[u] = 1.0
     CAP = np.ones(_V)
-    WORK = np.zeros(_V)
     FW = np.zeros(_V)
-    CBR = np.zeros(_V)
-    CBI = np.zeros(_V)
     ERRV = np.zeros(_V)
-    Z = np.zeros(3 * _V)
-    W = np.zeros(3 * _V)
-    F = np.zeros(3 * _V)
     ZACC = np.zeros(3 * _V)
     JAC = np.zeros(_M)
     LUR = np.zeros(_M)
@@ -299,8 +309,8 @@ def integrate_radau_lanes(
             for j in range(vw):
                 u = i * LANES + j
                 SCAL[u] = 1.0 / (atol * SC[u] + rtol * abs(Y[u]))
-        guess_lanes(Z, ZACC, H, HACC, POLY, vw)
-        to_w(Z, W, vw)
+        guess_lanes(NW, ZACC, H, HACC, POLY, vw)
+        to_w(NW, vw)
         for j in range(nl):
             if STATE[j] == _RUNNING:
                 FACCON[j] = max(FACCON[j], _UROUND) ** 0.8
@@ -320,9 +330,9 @@ def integrate_radau_lanes(
             if not running:
                 break
             stages_rhs(Y, Z, PL, F, WORK, vw)
-            residual_lanes(F, W, H, WORK, CBR, CBI, FIN, vw)
+            residual_lanes(NW, H, FIN, vw)
             lu_solve_pair_lanes(LUR, PIVR, SWR, WORK, LUCR, LUCI, PIVC, SWC, CBR, CBI, vw)
-            wnorm_lanes(WORK, CBR, CBI, SCAL, DYNO, vw)
+            wnorm_lanes(NW, DYNO, vw)
             for j in range(vw):
                 RUN[j] = False
             for j in range(nl):
@@ -356,7 +366,7 @@ def integrate_radau_lanes(
                         continue
                 DYNOLD[j] = max(dyno, _UROUND)
                 RUN[j] = True
-            update_lanes(W, Z, WORK, CBR, CBI, RUN, vw)
+            update_lanes(NW, RUN, vw)
             for j in range(nl):
                 if RUN[j] and FACCON[j] * DYNO[j] <= fnewt:
                     STATE[j] = _CONVERGED
