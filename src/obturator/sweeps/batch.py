@@ -141,7 +141,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
     lanes_ok = stiff[np.all(np.isfinite(y_end[stiff]), axis=1) & (t_end[stiff] > 0.0)]
     if (
         lanes_ok.size < RADAU_LANES_MIN
-        or kernel_of(problems) != KERNEL_THESIS
+        or _kernel_of(problems) != KERNEL_THESIS
         or not env_switch("OBTURATOR_RADAU_LANES")
     ):
         lanes_ok = lanes_ok[:0]
@@ -183,7 +183,7 @@ def _radau_lanes(problems, controls, y, t, steps_done, order, options, n_lanes):
     return st, t_ev, nfev
 
 
-def kernel_of(problems) -> float:
+def _kernel_of(problems) -> float:
     """The right-hand-side kernel of a group of problems (all share one)."""
     return float(problems[0].p[P_KERNEL])
 
