@@ -39,6 +39,7 @@ __all__ = [
     "illinois_update",
     "bracket_closed",
     "jacobian",
+    "increment_cap",
     "rms_norm",
     "underflow",
 ]
@@ -141,6 +142,22 @@ def underflow(h, t):
 
 
 @njit(cache=True)
+def increment_cap(scale_j, delta, w_ref, quaternion) -> float:
+    """Largest forward-difference increment of component j (see :func:`jacobian`).
+
+    Rates (scale != 1): 1e-4 delta; quaternion components: 1e-4 delta / w_ref (they move
+    omega_r by about omega_p per unit); Euler angles and delta = 0: none (inf). Shared by
+    :func:`jacobian` and the Radau IIA lanes.
+    """
+    if delta > 0.0:
+        if scale_j != 1.0:
+            return 1e-4 * delta
+        if quaternion:  # Euler angles fare better uncapped
+            return 1e-4 * delta / w_ref
+    return math.inf
+
+
+@njit(cache=True)
 def jacobian(t, y, f0, p, scale, jac, work, fwork) -> None:
     """Forward-difference Jacobian of the right-hand side at (t, y), f0 = f(t, y).
 
@@ -159,11 +176,7 @@ def jacobian(t, y, f0, p, scale, jac, work, fwork) -> None:
         for i in range(N_STATE):
             work[i] = y[i]
         dj = eps * max(abs(y[j]), scale[j])
-        if delta > 0.0:
-            if scale[j] != 1.0:
-                dj = min(dj, 1e-4 * delta)
-            elif p[P_FORM] == 0.0:  # quaternion components (Euler angles fare better uncapped)
-                dj = min(dj, 1e-4 * delta / w_ref)
+        dj = min(dj, increment_cap(scale[j], delta, w_ref, p[P_FORM] == 0.0))
         work[j] = y[j] + dj
         dj = work[j] - y[j]
         rhs(t, work, p, fwork)

@@ -40,7 +40,7 @@ from numba import njit
 
 from ..dynamics import nutation_angle_of_state
 from ..layout import KERNEL_THESIS, N_STATE, P_THETA_CR, P_WIDTH
-from .common import underflow
+from .common import increment_cap, underflow
 from .contract import Status
 from .lane_linalg import (
     lu_factor_complex_lanes,
@@ -513,15 +513,11 @@ def _fill(j, q, y0, t0, p, scale, t_max, h0, h_max, max_steps, PL, Y, SC, CAP, T
     w_ref = 1.0
     for i in range(_N):
         w_ref = max(w_ref, scale[q, i])
-    delta = ps[P_WIDTH]
-    for i in range(_N):  # increment caps of the forward-difference Jacobian (common.jacobian)
+    for i in range(_N):
         Y[i * LANES + j] = y0[q, i]
         SC[i * LANES + j] = scale[q, i]
         ys[i] = y0[q, i]
-        cap = math.inf
-        if delta > 0.0:
-            cap = 1e-4 * delta if scale[q, i] != 1.0 else 1e-4 * delta / w_ref
-        CAP[i * LANES + j] = cap
+        CAP[i * LANES + j] = increment_cap(scale[q, i], ps[P_WIDTH], w_ref, True)
     T[j] = t0[q]
     TMAX[j] = t_max[q]
     HMAX[j] = h_max[q]
