@@ -150,6 +150,73 @@ def _factor(h, jac, lu) -> bool:
     return lu_factor_complex(lu_cr, lu_ci, piv_c)
 
 
+@njit(cache=True, fastmath={"contract"}, inline="always")
+def newton_contraction(newt, dyno, dynold, thqold, theta, faccon, fnewt):
+    """RADAU5's convergence test after Newton iteration `newt` with correction norm dyno.
+
+    From the second iteration on, the contraction rate theta (geometric mean of the last
+    two ratios) predicts the size of the last iterate after _NIT iterations; the step
+    fails when that stays above the Newton tolerance, or when theta >= 0.99. Shared by
+    :func:`_newton` and the Radau lanes.
+
+    Returns
+    -------
+    tuple
+        (failed, theta, thqold, faccon, h_factor): h_factor the step reduction after a
+        failure.
+    """
+    if newt > 1 and newt < _NIT:
+        thq = dyno / dynold
+        theta = thq if newt == 2 else math.sqrt(thq * thqold)
+        thqold = thq
+        if theta < 0.99:
+            faccon = theta / (1.0 - theta)
+            # predicted size of the last iterate after _NIT iterations
+            dyth = faccon * dyno * theta ** (_NIT - 1 - newt) / fnewt
+            if dyth >= 1.0:
+                qnewt = max(1e-4, min(20.0, dyth))
+                return True, theta, thqold, faccon, 0.8 * qnewt ** (-1.0 / (4 + _NIT - 1 - newt))
+        else:
+            return True, theta, thqold, faccon, 0.5
+    return False, theta, thqold, faccon, 1.0
+
+
+@njit(cache=True, fastmath={"contract"}, inline="always")
+def step_quotient(err, newt, h, first, h_gus, err_gus):
+    """h / h_new after a step with scaled error err (H&W IV.8): the standard factor with
+    RADAU5's Newton-dependent safety, and after the first step Gustafsson's predictive
+    controller (Eq. 8.21) where it asks for less. Returns (quot, quot_standard); a
+    rejected step uses the standard one. Shared by :func:`integrate` and the Radau lanes.
+    """
+    fac = min(_SAFE, (2 * _NIT + 1.0) / (2 * _NIT + newt))
+    quot = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, math.sqrt(math.sqrt(err)) / fac))
+    if first or err >= 1.0:
+        return quot, quot
+    facgus = (h_gus / h) * math.sqrt(math.sqrt(err * err / err_gus)) / fac
+    facgus = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, facgus))
+    return max(quot, facgus), quot
+
+
+@njit(cache=True, fastmath={"contract"}, inline="always")
+def next_step(h, h_new, h_lim, h_max, rejected, theta):
+    """After an accepted step of length h: (h_next, h_lim, need_jac).
+
+    The proposal is capped by the Newton-failure cap (which then relaxes by _LIM_GROW)
+    and h_max, and does not grow right after a rejection; h, the Jacobian and the LU are
+    kept when Newton contracted fast and the change would be within [_QUOT1, _QUOT2];
+    a slow contraction asks for a new Jacobian. Shared by :func:`integrate` and the
+    Radau lanes.
+    """
+    h_new = min(h_new, h_lim, h_max)
+    h_lim *= _LIM_GROW
+    if rejected:
+        h_new = min(h_new, h)  # no growth right after a rejection
+    qt = h_new / h
+    if theta <= _THET and _QUOT1 <= qt <= _QUOT2:
+        return h, h_lim, False  # keep h, the Jacobian and the LU factors
+    return h_new, h_lim, theta > _THET
+
+
 @njit(cache=True, fastmath={"contract"})
 def _newton(t, y, h, p, scal, stage, lu, scratch, faccon0, fnewt):
     """Simplified Newton iterations for the stage increments Z (initial guess in z).
@@ -214,19 +281,11 @@ def _newton(t, y, h, p, scal, stage, lu, scratch, faccon0, fnewt):
             d3 = cbi[i] * scal[i]
             dyno += d1 * d1 + d2 * d2 + d3 * d3
         dyno = math.sqrt(dyno / (3 * n))
-        if newt > 1 and newt < _NIT:
-            thq = dyno / dynold
-            theta = thq if newt == 2 else math.sqrt(thq * thqold)
-            thqold = thq
-            if theta < 0.99:
-                faccon = theta / (1.0 - theta)
-                # predicted size of the last iterate after _NIT iterations
-                dyth = faccon * dyno * theta ** (_NIT - 1 - newt) / fnewt
-                if dyth >= 1.0:
-                    qnewt = max(1e-4, min(20.0, dyth))
-                    return False, newt, theta, faccon, 0.8 * qnewt ** (-1.0 / (4 + _NIT - 1 - newt))
-            else:
-                return False, newt, theta, faccon, 0.5
+        failed, theta, thqold, faccon, hfac = newton_contraction(
+            newt, dyno, dynold, thqold, theta, faccon, fnewt
+        )
+        if failed:
+            return False, newt, theta, faccon, hfac
         dynold = max(dyno, _UROUND)
         for i in range(n):
             w[0, i] += work[i]
@@ -481,13 +540,11 @@ def integrate(problem, controls):
             err = rms_norm(work, y, ynew, rtol, atol, scale)
         if not (err == err):
             err = 1e10
-        fac = min(_SAFE, (2 * _NIT + 1.0) / (2 * _NIT + newt))
-        quot = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, math.sqrt(math.sqrt(err)) / fac))
-        h_new = h / quot
+        quot, quot_std = step_quotient(err, newt, h, first, h_gus, err_gus)
         if err >= 1.0:
             n_rej += 1
             rejected = True
-            h = h * 0.1 if first else h_new
+            h = h * 0.1 if first else h / quot_std
             if not jac_fresh:
                 need_jac = True
             if underflow(h, t):
@@ -495,11 +552,7 @@ def integrate(problem, controls):
                 break
             continue
         # ---- accepted ----
-        if not first:  # Gustafsson's predictive controller (H&W IV.8, Eq. 8.21)
-            facgus = (h_gus / h) * math.sqrt(math.sqrt(err * err / err_gus)) / fac
-            facgus = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, facgus))
-            quot = max(quot, facgus)
-            h_new = h / quot
+        h_new = h / quot
         h_gus = h
         err_gus = max(1e-2, err)
         t_new = t + h
@@ -546,20 +599,11 @@ def integrate(problem, controls):
         if not (y[0] == y[0]):
             status = Status.FAILED
             break
-        h_new = min(h_new, h_lim, h_max)
-        h_lim *= _LIM_GROW
-        if rejected:
-            h_new = min(h_new, h)  # no growth right after a rejection
+        h, h_lim, slow = next_step(h, h_new, h_lim, h_max, rejected, theta)
+        need_jac = need_jac or slow
         first = False
         rejected = False
         jac_fresh = False
-        qt = h_new / h
-        if theta <= _THET and _QUOT1 <= qt <= _QUOT2:
-            pass  # keep h, the Jacobian and the LU factors
-        else:
-            h = h_new
-            if theta > _THET:
-                need_jac = True
     return RawSolution(
         status, t_event, y_event, ts[:n_out], ys[:n_out], nfev, njev, n_steps, n_rej, t, y
     )

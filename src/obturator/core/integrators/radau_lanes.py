@@ -51,17 +51,14 @@ from .lane_linalg import (
 from .lanes import _cos_nutation_lanes, _rhs_lanes
 from .lanes_layout import LANES
 from .radau import (
-    _FAC_MAX,
-    _FAC_MIN,
-    _LIM_GROW,
     _LIM_SHRINK,
     _NIT,
-    _QUOT1,
-    _QUOT2,
-    _SAFE,
     _THET,
     _UROUND,
     locate_opening,
+    newton_contraction,
+    next_step,
+    step_quotient,
 )
 from .radau_lane_steps import (
     NW_F,
@@ -346,24 +343,12 @@ def integrate_radau_lanes(
                     HFAC[j] = 0.5
                     continue
                 dyno = DYNO[j]
-                if newt > 1 and newt < _NIT:
-                    thq = dyno / DYNOLD[j]
-                    theta = thq if newt == 2 else math.sqrt(thq * THQOLD[j])
-                    THETA[j] = theta
-                    THQOLD[j] = thq
-                    if theta < 0.99:
-                        faccon = theta / (1.0 - theta)
-                        FACCON[j] = faccon
-                        dyth = faccon * dyno * theta ** (_NIT - 1 - newt) / fnewt
-                        if dyth >= 1.0:
-                            qnewt = max(1e-4, min(20.0, dyth))
-                            STATE[j] = _FAILED
-                            HFAC[j] = 0.8 * qnewt ** (-1.0 / (4 + _NIT - 1 - newt))
-                            continue
-                    else:
-                        STATE[j] = _FAILED
-                        HFAC[j] = 0.5
-                        continue
+                failed, THETA[j], THQOLD[j], FACCON[j], HFAC[j] = newton_contraction(
+                    newt, dyno, DYNOLD[j], THQOLD[j], THETA[j], FACCON[j], fnewt
+                )
+                if failed:
+                    STATE[j] = _FAILED
+                    continue
                 DYNOLD[j] = max(dyno, _UROUND)
                 RUN[j] = True
             update_lanes(NW, RUN, vw)
@@ -419,24 +404,18 @@ def integrate_radau_lanes(
             if not (err == err):
                 err = 1e10
             h = H[j]
-            fac = min(_SAFE, (2 * _NIT + 1.0) / (2 * _NIT + NEWT[j]))
-            quot = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, math.sqrt(math.sqrt(err)) / fac))
-            h_new = h / quot
+            quot, quot_std = step_quotient(err, NEWT[j], h, FIRST[j], HGUS[j], ERRGUS[j])
             if err >= 1.0:
                 CNT[2, j] += 1
                 REJ[j] = True
-                H[j] = h * 0.1 if FIRST[j] else h_new
+                H[j] = h * 0.1 if FIRST[j] else h / quot_std
                 if not FRESH[j]:
                     NJ[j] = True
                 if underflow(H[j], T[j]):
                     LIVE[j] = _finish(j, Status.FAILED, math.nan, IDX, CNT, st_out, tev_out,
                                       cnt_out)  # fmt: skip
                 continue
-            if not FIRST[j]:  # Gustafsson's predictive controller
-                facgus = (HGUS[j] / h) * math.sqrt(math.sqrt(err * err / ERRGUS[j])) / fac
-                facgus = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, facgus))
-                quot = max(quot, facgus)
-                h_new = h / quot
+            h_new = h / quot
             HGUS[j] = h
             ERRGUS[j] = max(1e-2, err)
             # opening: the nodes and the step end are well above theta_cr unless one of
@@ -482,18 +461,11 @@ def integrate_radau_lanes(
                 LIVE[j] = _finish(j, Status.FAILED, math.nan, IDX, CNT, st_out, tev_out, cnt_out)
                 ACC[j] = False
                 continue
-            h_new = min(h_new, HLIM[j], HMAX[j])
-            HLIM[j] *= _LIM_GROW
-            if REJ[j]:
-                h_new = min(h_new, h)
+            H[j], HLIM[j], slow = next_step(h, h_new, HLIM[j], HMAX[j], REJ[j], THETA[j])
+            NJ[j] = NJ[j] or slow
             FIRST[j] = False
             REJ[j] = False
             FRESH[j] = False
-            qt = h_new / h
-            if not (THETA[j] <= _THET and _QUOT1 <= qt <= _QUOT2):
-                H[j] = h_new
-                if THETA[j] > _THET:
-                    NJ[j] = True
         for j in range(nl, LANES):
             ACC[j] = False
         f0_masked(Y, PL, F0, FW, ACC, CNT, vw)
