@@ -99,22 +99,18 @@ from .radau_coefficients import (
     TI21,
     TI22,
 )
+from .radau_control import (
+    _LIM_SHRINK,
+    _NIT,
+    _THET,
+    newton_contraction,
+    next_step,
+    step_quotient,
+)
 
 __all__ = ["integrate"]
 
 _UROUND = 2.220446049250313e-16
-_NIT = 7  # Newton iterations per step before the step is cut (RADAU5 default)
-_THET = 0.01  # keep the Jacobian while Newton contracts faster than this (RADAU5: 0.001)
-_QUOT1 = 1.0  # keep h, J and the LU when h_new / h falls in [_QUOT1, _QUOT2] (RADAU5)
-_QUOT2 = 1.2
-_SAFE = 0.9
-_FAC_MIN = 0.2  # h_new / h bounds
-_FAC_MAX = 8.0
-# Newton-limited regime (Coulomb sticking): after a Newton failure at h, cap the
-# step at _LIM_SHRINK h and let the cap grow by _LIM_GROW per accepted step, so
-# the error-based controller does not keep proposing steps that fail again.
-_LIM_SHRINK = 0.7
-_LIM_GROW = 1.2
 
 
 @njit(cache=True, fastmath={"contract"})
@@ -148,73 +144,6 @@ def _factor(h, jac, lu) -> bool:
     if not lu_factor(lu_r, piv_r):
         return False
     return lu_factor_complex(lu_cr, lu_ci, piv_c)
-
-
-@njit(cache=True, fastmath={"contract"}, inline="always")
-def newton_contraction(newt, dyno, dynold, thqold, theta, faccon, fnewt):
-    """RADAU5's convergence test after Newton iteration `newt` with correction norm dyno.
-
-    From the second iteration on, the contraction rate theta (geometric mean of the last
-    two ratios) predicts the size of the last iterate after _NIT iterations; the step
-    fails when that stays above the Newton tolerance, or when theta >= 0.99. Shared by
-    :func:`_newton` and the Radau lanes.
-
-    Returns
-    -------
-    tuple
-        (failed, theta, thqold, faccon, h_factor): h_factor the step reduction after a
-        failure.
-    """
-    if newt > 1 and newt < _NIT:
-        thq = dyno / dynold
-        theta = thq if newt == 2 else math.sqrt(thq * thqold)
-        thqold = thq
-        if theta < 0.99:
-            faccon = theta / (1.0 - theta)
-            # predicted size of the last iterate after _NIT iterations
-            dyth = faccon * dyno * theta ** (_NIT - 1 - newt) / fnewt
-            if dyth >= 1.0:
-                qnewt = max(1e-4, min(20.0, dyth))
-                return True, theta, thqold, faccon, 0.8 * qnewt ** (-1.0 / (4 + _NIT - 1 - newt))
-        else:
-            return True, theta, thqold, faccon, 0.5
-    return False, theta, thqold, faccon, 1.0
-
-
-@njit(cache=True, fastmath={"contract"}, inline="always")
-def step_quotient(err, newt, h, first, h_gus, err_gus):
-    """h / h_new after a step with scaled error err (H&W IV.8): the standard factor with
-    RADAU5's Newton-dependent safety, and after the first step Gustafsson's predictive
-    controller (Eq. 8.21) where it asks for less. Returns (quot, quot_standard); a
-    rejected step uses the standard one. Shared by :func:`integrate` and the Radau lanes.
-    """
-    fac = min(_SAFE, (2 * _NIT + 1.0) / (2 * _NIT + newt))
-    quot = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, math.sqrt(math.sqrt(err)) / fac))
-    if first or err >= 1.0:
-        return quot, quot
-    facgus = (h_gus / h) * math.sqrt(math.sqrt(err * err / err_gus)) / fac
-    facgus = max(1.0 / _FAC_MAX, min(1.0 / _FAC_MIN, facgus))
-    return max(quot, facgus), quot
-
-
-@njit(cache=True, fastmath={"contract"}, inline="always")
-def next_step(h, h_new, h_lim, h_max, rejected, theta):
-    """After an accepted step of length h: (h_next, h_lim, need_jac).
-
-    The proposal is capped by the Newton-failure cap (which then relaxes by _LIM_GROW)
-    and h_max, and does not grow right after a rejection; h, the Jacobian and the LU are
-    kept when Newton contracted fast and the change would be within [_QUOT1, _QUOT2];
-    a slow contraction asks for a new Jacobian. Shared by :func:`integrate` and the
-    Radau lanes.
-    """
-    h_new = min(h_new, h_lim, h_max)
-    h_lim *= _LIM_GROW
-    if rejected:
-        h_new = min(h_new, h)  # no growth right after a rejection
-    qt = h_new / h
-    if theta <= _THET and _QUOT1 <= qt <= _QUOT2:
-        return h, h_lim, False  # keep h, the Jacobian and the LU factors
-    return h_new, h_lim, theta > _THET
 
 
 @njit(cache=True, fastmath={"contract"})

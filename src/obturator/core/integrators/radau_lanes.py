@@ -50,16 +50,8 @@ from .lane_linalg import (
 )
 from .lanes import _cos_nutation_lanes, _rhs_lanes
 from .lanes_layout import LANES
-from .radau import (
-    _LIM_SHRINK,
-    _NIT,
-    _THET,
-    _UROUND,
-    locate_opening,
-    newton_contraction,
-    next_step,
-    step_quotient,
-)
+from .radau import _UROUND, locate_opening
+from .radau_control import _LIM_SHRINK, _NIT, _THET, newton_contraction, next_step, step_quotient
 from .radau_lane_steps import (
     NW_F,
     NW_R1,
