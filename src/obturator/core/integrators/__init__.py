@@ -25,7 +25,21 @@ import numpy as np
 
 from .contract import Controls, Problem, RawSolution, Status
 
-__all__ = ["Controls", "Problem", "RawSolution", "Status", "integrate", "method_module"]
+__all__ = [
+    "AUTO_RADAU_TOL_FACTOR",
+    "Controls",
+    "Problem",
+    "RawSolution",
+    "Status",
+    "integrate",
+    "method_module",
+]
+
+#: ``auto`` runs Radau IIA at this fraction of the requested tolerances. The stiff
+#: stretches are near-stick, where t_cr amplifies local errors (stick-slip twice per
+#: revolution): on 1,786 near-stick rig points (100-207 rad/s) Radau at rtol 1e-8 left
+#: t_cr errors up to 9.7e-5, at 3.3e-9 at most 8e-8, for ~13 % more Radau work.
+AUTO_RADAU_TOL_FACTOR = 1.0 / 3.0
 
 #: Method name -> module defining ``integrate(problem, controls)``.
 _MODULES = {"dop853": "dop853", "radau": "radau", "rosenbrock": "rosenbrock"}
@@ -52,8 +66,11 @@ def _hand_over(dop: RawSolution, problem: Problem, controls: Controls) -> RawSol
     Restarting from t = 0 (as before) repeated the whole non-stiff stretch with the
     costlier implicit method; the hand-over state is an accepted DOP853 step, as
     accurate as any other. A non-finite state (DOP853 diverged) restarts from t0.
+    Radau IIA runs at :data:`AUTO_RADAU_TOL_FACTOR` of the tolerances.
     """
     radau = method_module("radau").integrate
+    f = AUTO_RADAU_TOL_FACTOR
+    controls = controls._replace(rtol=controls.rtol * f, atol=controls.atol * f)
     if not (np.all(np.isfinite(dop.y_end)) and dop.t_end > problem.t0):
         rad = radau(problem, controls)
         return rad._replace(nfev=rad.nfev + dop.nfev, n_rejected=rad.n_rejected + dop.n_rejected)

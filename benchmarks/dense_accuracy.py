@@ -1,0 +1,118 @@
+"""Every point of a rig sweep against an independent reference: the accuracy behind
+``OPENING_TIME_ACCURACY``.
+
+``python -m benchmarks.dense_accuracy [--points 10000] [--rtols 1e-8,3e-9,1e-9,1e-10]
+[--json FILE]``
+
+A sample of 100 points (``benchmarks.lanes``) misses isolated outliers; this check
+takes every point of the issue's sweep (rig, mu_s = 0.5473, omega_p over 100-700
+rad/s) and compares:
+
+* the sweep path (:func:`obturator.sweeps.batch.opening_times`: DOP853 lanes, stiff
+  points in Radau IIA lanes) at each rtol (atol = rtol/100) with
+* a reference by another method: Radau IIA alone (in lanes) from release at rtol
+  1e-12 (near stick Radau IIA at rtol 1e-11 is itself up to 1e-7 off), and
+* the one-trajectory ``auto`` path (:func:`obturator.solve.opening_time`) at the same
+  rtol, for the batched-vs-scalar agreement.
+
+Printed per rtol: the worst relative t_cr error over all points and per spin band,
+how many points exceed 1e-7, 3e-7 and 1e-6, and the worst batched-vs-scalar gap.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from typing import Any
+
+import numpy as np
+
+from obturator.core.integrators.lanes import LANES
+from obturator.core.integrators.radau_lanes import integrate_radau_lanes
+from obturator.model.cases import rig_case
+from obturator.solve import SolverOptions, integration_setup, opening_time
+from obturator.sweeps.batch import opening_times
+
+MU_S = 0.5473
+REFERENCE_RTOL = 1e-12
+BANDS = ((100.0, 210.0), (210.0, 300.0), (300.0, 400.0), (400.0, 500.0), (500.0, 600.0),
+         (600.0, 700.0 + 1e-9))  # fmt: skip
+
+
+def reference(spins: np.ndarray) -> np.ndarray:
+    """t_cr [s] of every spin by Radau IIA alone (in lanes) from release, rtol 1e-12."""
+    o = SolverOptions(method="radau", rtol=REFERENCE_RTOL, atol=REFERENCE_RTOL * 1e-2)
+    setups = [integration_setup(rig_case(float(w), MU_S), o) for w in spins]
+    pr = [s[0] for s in setups]
+    ct = [s[1] for s in setups]
+    st, t_ev, *_ = integrate_radau_lanes(
+        np.array([p.y0 for p in pr]), np.zeros(len(pr)), np.array([p.p for p in pr]),
+        np.array([p.scale for p in pr]), np.array([c.t_max for c in ct]),
+        np.array([c.h0 for c in ct]), np.array([c.h_max for c in ct]),
+        np.array([c.max_steps for c in ct]), np.argsort(spins, kind="stable"), o.rtol, o.atol,
+        o.event_tol, LANES, LANES,
+    )  # fmt: skip
+    return np.asarray(t_ev, dtype=float)
+
+
+def measure(spins: np.ndarray, ref: np.ndarray, rtol: float) -> dict[str, Any]:
+    """Errors of the sweep path and of the scalar path at `rtol` against `ref`."""
+    o = SolverOptions(rtol=rtol, atol=rtol * 1e-2)
+    cases = [rig_case(float(w), MU_S) for w in spins]
+    t0 = time.perf_counter()
+    batched, _, stats = opening_times(cases, o)
+    elapsed = time.perf_counter() - t0
+    scalar = np.array([opening_time(c, o) for c in cases])
+    err = np.abs(batched / ref - 1.0)
+    rec: dict[str, Any] = {
+        "rtol": rtol,
+        "n_points": int(spins.size),
+        "n_stiff": int(stats["n_stiff"]),
+        "batched_s_one_process": elapsed,
+        "max_error": float(np.nanmax(err)),
+        "worst_spin": float(spins[int(np.nanargmax(err))]),
+        "n_over_1e-7": int(np.sum(err > 1e-7)),
+        "n_over_3e-7": int(np.sum(err > 3e-7)),
+        "n_over_1e-6": int(np.sum(err > 1e-6)),
+        "max_batched_vs_scalar": float(np.nanmax(np.abs(batched / scalar - 1.0))),
+        "same_nan": bool(np.array_equal(np.isnan(batched), np.isnan(ref))),
+        "bands": {},
+    }
+    for lo, hi in BANDS:
+        m = (spins >= lo) & (spins < hi)
+        rec["bands"][f"{lo:g}-{min(hi, 700.0):g}"] = float(np.nanmax(err[m]))
+    return rec
+
+
+def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
+    """Run the dense check and print one block per rtol."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--points", type=int, default=10_000)
+    ap.add_argument("--rtols", default="1e-8,3e-9,1e-9,1e-10")
+    ap.add_argument("--json", default=None, help="also write the records to this file")
+    a = ap.parse_args(argv)
+    spins = np.linspace(100.0, 700.0, a.points)
+    t0 = time.perf_counter()
+    ref = reference(spins)
+    print(f"reference (Radau IIA lanes, rtol {REFERENCE_RTOL:g}): {time.perf_counter() - t0:.1f} s")
+    rows = []
+    for rtol in (float(r) for r in a.rtols.split(",")):
+        rec = measure(spins, ref, rtol)
+        rows.append(rec)
+        bands = "  ".join(f"{k}: {v:.1e}" for k, v in rec["bands"].items())
+        print(
+            f"rtol {rtol:g}: worst {rec['max_error']:.2e} at {rec['worst_spin']:.2f} rad/s; "
+            f"> 1e-7: {rec['n_over_1e-7']}, > 3e-7: {rec['n_over_3e-7']}, "
+            f"> 1e-6: {rec['n_over_1e-6']} of {rec['n_points']} ({rec['n_stiff']} stiff); "
+            f"batched vs scalar <= {rec['max_batched_vs_scalar']:.1e}; "
+            f"one process {rec['batched_s_one_process']:.2f} s\n    per band: {bands}"
+        )
+    if a.json:
+        with open(a.json, "w") as fh:
+            json.dump(rows, fh, indent=1)
+    return rows
+
+
+if __name__ == "__main__":
+    main()
