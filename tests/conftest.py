@@ -11,7 +11,7 @@ from obturator import Case, SolverOptions
 from obturator.core.integrators import Controls, Problem, RawSolution, integrate
 from obturator.model.cases import flight_case, rig_case
 from obturator.reference import THESIS_MU_S
-from obturator.solve import MAX_STEP_PERIODS, error_scale, pack_parameters
+from obturator.solve import error_scale, max_step_periods, pack_parameters
 
 #: The thesis's cases the integrator tests run: the rig (Table 1 gravitational model) at
 #: chapter IV's mu_s over the spin range of Figs. 32-37, the flight case (aerodynamic
@@ -59,7 +59,7 @@ def raw_solve(
         rtol=options.rtol if rtol is None else rtol,
         atol=options.atol if atol is None else atol,
         h0=1e-4 * period,
-        h_max=MAX_STEP_PERIODS * period,
+        h_max=max_step_periods(case) * period,
         max_steps=int(options.max_steps if max_steps is None else max_steps),
         t_eval=np.empty(0) if t_eval is None else np.asarray(t_eval, float),
         record=record,

@@ -6,16 +6,22 @@ The references are Radau IIA runs at rtol 1e-11 (a different integrator from the
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from obturator.errors import InputError
 from obturator.model.cases import flight_case, rig_case
 from obturator.solve import (
+    MAX_STEP_PERIODS,
+    MAX_STEP_PERIODS_SHARP,
     OPENING_TIME_ACCURACY,
     SolverOptions,
+    integration_setup,
+    max_step_periods,
     opening_time,
     tolerances_for_opening_time,
 )
@@ -73,3 +79,28 @@ def test_cli_refuses_tcr_rtol_with_rtol(tmp_path):
     assert out.stderr.strip() == (
         "obturator: error: tcr_rtol: sets the tolerances: give it or rtol, not both"
     )
+
+
+def test_largest_default_step_is_finer_where_the_moment_arm_vanishes():
+    """A twentieth of a spin period on the rig (Eq. 61's arm has a zero, and the rig's
+    single Coulomb contact nearly one), a tenth in flight; ``max_step`` overrides."""
+    rig, flight = rig_case(300.0, MU), flight_case(mach=2.0)
+    assert max_step_periods(rig) == MAX_STEP_PERIODS_SHARP == 0.05
+    assert max_step_periods(rig_case(300.0, MU, torque_model="coulomb")) == 0.05
+    assert max_step_periods(flight) == MAX_STEP_PERIODS == 0.1
+    assert max_step_periods(flight_case(mach=2.0, torque_model="coulomb")) == 0.1
+    _, c = integration_setup(rig, SolverOptions())
+    assert c.h_max == pytest.approx(0.05 * 2 * math.pi / 300.0, rel=1e-15)
+    _, c = integration_setup(rig, SolverOptions(max_step=1e-3))
+    assert c.h_max == 1e-3
+
+
+def test_no_outlier_where_a_long_step_crossed_the_arm_minimum():
+    """At 307.98 rad/s a step of a tenth of a period jumped across the sharp minimum of
+    the rig's moment arm with an error estimate that missed it: t_cr was 4.5e-7 off at
+    the default rtol 1e-8 while its neighbours were within ~3e-9 (the state error grew
+    300x in that one step). With a twentieth it is within 1e-7 of Radau IIA at 1e-12."""
+    case = rig_case(float(np.linspace(100.0, 700.0, 10_000)[3466]), MU)
+    assert case.spin_rate == pytest.approx(307.98, abs=0.01)
+    ref = opening_time(case, SolverOptions(method="radau", rtol=1e-12, atol=1e-14))
+    assert abs(opening_time(case) / ref - 1.0) < 1e-7

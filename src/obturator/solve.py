@@ -72,6 +72,8 @@ __all__ = [
     "error_scale",
     "OPENING_TIME_ACCURACY",
     "MAX_STEP_PERIODS",
+    "MAX_STEP_PERIODS_SHARP",
+    "max_step_periods",
     "tolerances_for_opening_time",
     "integration_setup",
 ]
@@ -109,8 +111,8 @@ class SolverOptions:
     event_tol : float
         Bracket width at which the opening time is accepted [s].
     max_step : float or None
-        Largest step [s]; default :data:`MAX_STEP_PERIODS` (a twentieth) of a
-        spin period.
+        Largest step [s]; default :func:`max_step_periods` of a spin period (a
+        twentieth on the rig, a tenth in flight).
     method : {"auto", "radau", "rosenbrock"}
         Compiled integrator. ``"auto"`` (default): the explicit eighth-order
         Dormand-Prince pair DOP853 (no Jacobian; the problem is not stiff
@@ -184,7 +186,7 @@ class SolverOptions:
 #: points over 40-1000 rad/s; and the flight case at Mach 1.5-4, mu_s 0.35 and
 #: 0.5473. Worst errors: rtol 1e-8: 3.4e-7 (40 rad/s; the dense sweep 3.0e-7, one
 #: point beyond 3e-7, 56 beyond 1e-7); 3e-9: 1.5e-7; 1e-9: 6.3e-8; 1e-10: 5.0e-8
-#: (near stick; the reference's own floor is ~2e-8). Flight errors are <= 5e-11.
+#: (near stick; the reference's own floor is ~2e-8). Flight errors are <= 4e-10.
 OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
     (1.1e-6, 1e-8),
     (4.5e-7, 3e-9),
@@ -193,15 +195,26 @@ OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
 )
 
 
-#: Largest default step, in spin periods. With a tenth, DOP853 now and then took a
-#: step of that length across the sharp minimum of the rig's moment arm (Eq. 61:
-#: sqrt(1 - u_X^2), small while omega_r points near the gravity axis X, twice per
-#: revolution) with an error estimate that missed it: isolated t_cr outliers of up
-#: to 8e-7 at rtol 1e-8 (0.3 % of a 10,000-point rig sweep over 100-700 rad/s, the
-#: state error jumping 300x in one step) where neighbouring spins were within
-#: ~3e-9. A twentieth cut the worst to 3e-7 (1.2e-7 -> 1.7e-8 at rtol 1e-9) for
-#: ~10 % more DOP853 work.
-MAX_STEP_PERIODS = 0.05
+#: Largest default step, in spin periods: a tenth, and :data:`MAX_STEP_PERIODS_SHARP`
+#: where the friction torque's moment arm vanishes in some slip direction (the rig's
+#: single bottom contact; :func:`max_step_periods`).
+MAX_STEP_PERIODS = 0.1
+#: With a tenth on the rig, DOP853 now and then took a step of that length across the
+#: sharp minimum of the moment arm (Eq. 61: sqrt(1 - u_X^2), small while omega_r
+#: points near the gravity axis X, twice per revolution) with an error estimate that
+#: missed it: isolated t_cr outliers of up to 8e-7 at rtol 1e-8 (0.3 % of a
+#: 10,000-point rig sweep over 100-700 rad/s, the state error jumping 300x in one step)
+#: where neighbouring spins were within ~3e-9. A twentieth cut the worst to 3e-7
+#: (1.2e-7 -> 1.7e-8 at rtol 1e-9) for ~10 % more DOP853 work. In flight (no such
+#: minimum) it only doubled the steps.
+MAX_STEP_PERIODS_SHARP = 0.05
+
+
+def max_step_periods(case: Case) -> float:
+    """Largest default step of `case`, in spin periods (see :data:`MAX_STEP_PERIODS`)."""
+    friction = case.torque.friction
+    sharp = friction is not None and friction.arm_vanishes
+    return MAX_STEP_PERIODS_SHARP if sharp else MAX_STEP_PERIODS
 
 
 def tolerances_for_opening_time(tcr_rtol: float) -> float:
@@ -261,7 +274,7 @@ def integration_setup(
     """What the compiled integrators take for one case: the packed problem and controls.
 
     The initial step is 1e-4 spin periods and the largest ``options.max_step`` or
-    :data:`MAX_STEP_PERIODS` of a period. Shared by the one-trajectory path and the batched lanes
+    :func:`max_step_periods` of a period. Shared by the one-trajectory path and the batched lanes
     (:mod:`obturator.sweeps.batch`), so both start from the same numbers.
 
     Raises
@@ -283,7 +296,7 @@ def integration_setup(
         rtol=options.rtol,
         atol=options.atol,
         h0=1e-4 * period,
-        h_max=options.max_step if options.max_step is not None else MAX_STEP_PERIODS * period,
+        h_max=options.max_step if options.max_step is not None else max_step_periods(case) * period,
         max_steps=int(options.max_steps),
         t_eval=te,
         record=record,

@@ -224,6 +224,12 @@ class ThesisRigFriction:
         """mu_s W R_s [N m]."""
         return self.mu_s * self.weight * self.ball_radius
 
+    @property
+    def arm_vanishes(self) -> bool:
+        """True: the arm sqrt(1 - u_X^2) is zero along X (no torque about the contact
+        normal), so it has a sharp minimum whenever omega_r swings past X."""
+        return True
+
     def pack(self) -> tuple[float, float, float, float, float, float]:
         """(code, moment scale, R_s, beta, n_contacts, pivot arm (unused))."""
         return (FRIC_THESIS_RIG, self.moment_scale, self.ball_radius, math.pi / 2.0, 1.0, 0.0)
@@ -275,6 +281,11 @@ class ThesisFlightFriction:
     def moment_scale(self) -> float:
         """mu_s F_p cos(beta) R_s [N m]."""
         return self.mu_s * self.pressure_force * math.cos(self.contact_angle) * self.ball_radius
+
+    @property
+    def arm_vanishes(self) -> bool:
+        """False: Appendix A's arm is at least sqrt(1 - max(sin^2 beta, cos^2 beta)) > 0."""
+        return False
 
     def pack(self) -> tuple[float, float, float, float, float, float]:
         """(code, moment scale, R_s, beta, n_contacts, pivot arm (unused))."""
@@ -373,6 +384,12 @@ class CoulombContactFriction:
         if self.normal_load == "thesis":
             return self.normal_force * c / self.n_contacts
         return self.normal_force / (self.n_contacts * c)
+
+    @property
+    def arm_vanishes(self) -> bool:
+        """True for one contact: it holds no torque about its normal but through the
+        small pivot arm of its patch, a sharp minimum as omega_r swings past the normal."""
+        return self.n_contacts == 1
 
     def pack(self) -> tuple[float, float, float, float, float, float]:
         """(code, mu_s N_k, R_s, beta, n_contacts, pivot arm eps)."""
