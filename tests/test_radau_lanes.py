@@ -8,9 +8,9 @@ implementation of the same method, and a few points with Radau IIA at rtol
 near stick the trajectory amplifies rounding, so agreement is required to 1e-6
 relative, not to the bit. Measured on the 1,786 near-stick points (100-207 rad/s)
 of a 10,000-point sweep (``python -m benchmarks.dense_accuracy``): lanes vs scalar
-<= 4.2e-8 at the default rtol 1e-8 and <= 1.3e-8 at rtol 3e-9
+<= 4.2e-8 at the default rtol 1e-8 and <= 4.2e-10 at rtol 1e-10
 (``SolverOptions.for_opening_time_accuracy(1e-6)``), the lanes within 1.1e-7 and
-7.7e-8 of Radau IIA at rtol 1e-12. (Before ``auto`` ran Radau IIA at a third of
+5.0e-8 of Radau IIA at rtol 1e-12. (Before ``auto`` ran Radau IIA at a third of
 the tolerances, rtol 1e-8 left single near-stick points up to 1.7e-4 apart.)
 """
 
@@ -81,12 +81,14 @@ def test_against_tight_radau(stiff_batch, w):
 
 
 def test_default_tolerances_statuses_and_accuracy():
-    """At the default rtol 1e-8: every point opens, within 1e-6 of the scalar path (the
-    default's stated accuracy, ``OPENING_TIME_ACCURACY``, is 1.1e-6)."""
+    """At the default rtol 1e-8: every point opens, within 1e-6 of the scalar path (on
+    the 1,786 near-stick points of the dense check at most 4.2e-8 apart; the range-wide
+    accuracy of rtol 1e-8 in ``OPENING_TIME_ACCURACY`` is set by the runs below 100
+    rad/s, and the lanes hold it here too)."""
     cases = [rig_case(float(w), MU_S) for w in STIFF_BAND]
     t, s, stats = opening_times(cases, SolverOptions())
     assert stats["n_stiff"] >= RADAU_LANES_MIN and np.all(s == Status.OPENED)
-    assert OPENING_TIME_ACCURACY[0] == (1.1e-6, 1e-8)
+    assert OPENING_TIME_ACCURACY[0][1] == 1e-8 and OPENING_TIME_ACCURACY[0][0] >= 1e-6
     ref = np.array([opening_time(c) for c in cases])
     np.testing.assert_allclose(t, ref, rtol=1e-6, atol=0.0)
 
