@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -89,6 +90,8 @@ def test_largest_default_step_is_finer_where_the_moment_arm_vanishes():
     assert max_step_periods(rig_case(300.0, MU, torque_model="coulomb")) == 0.05
     assert max_step_periods(flight) == MAX_STEP_PERIODS == 0.1
     assert max_step_periods(flight_case(mach=2.0, torque_model="coulomb")) == 0.1
+    f = flight.torque.friction  # Table 1: beta = 36.7 deg, the arm stays >= 0.6
+    assert not f.arm_vanishes and replace(f, contact_angle=0.1).arm_vanishes
     _, c = integration_setup(rig, SolverOptions())
     assert c.h_max == pytest.approx(0.05 * 2 * math.pi / 300.0, rel=1e-15)
     _, c = integration_setup(rig, SolverOptions(max_step=1e-3))

@@ -284,8 +284,10 @@ class ThesisFlightFriction:
 
     @property
     def arm_vanishes(self) -> bool:
-        """False: Appendix A's arm is at least sqrt(1 - max(sin^2 beta, cos^2 beta)) > 0."""
-        return False
+        """Whether Appendix A's arm, at least min(sin beta, cos beta) over slip directions,
+        comes as near zero as the rig's does when omega_r passes close to X (below
+        0.2); False for Table 1's beta = 36.7 deg (0.60)."""
+        return min(math.sin(self.contact_angle), math.cos(self.contact_angle)) < 0.2
 
     def pack(self) -> tuple[float, float, float, float, float, float]:
         """(code, moment scale, R_s, beta, n_contacts, pivot arm (unused))."""
