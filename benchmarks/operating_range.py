@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from obturator.core.integrators import AUTO_RADAU_TOL_FACTOR, method_module
+from obturator.core.integrators import auto_radau_tolerances, method_module
 from obturator.model.cases import rig_case
 from obturator.solve import SolverOptions, integration_setup, opening_time, simulate
 
@@ -39,11 +39,13 @@ def _best(fn, repeat: int) -> tuple[float, Any]:
     return best, out
 
 
-def _raw(case, method: str, tol_factor: float = 1.0):
-    """One compiled integrator on `case` with the default options (no hand-over), its
-    tolerances times `tol_factor`."""
+def _raw(case, method: str, as_in_auto: bool = False):
+    """One compiled integrator on `case` with the default options (no hand-over); with
+    `as_in_auto` at the tolerances ``auto`` gives its Radau IIA stretches."""
     problem, controls = integration_setup(case, SolverOptions())
-    controls = controls._replace(rtol=controls.rtol * tol_factor, atol=controls.atol * tol_factor)
+    if as_in_auto:
+        rtol, atol = auto_radau_tolerances(controls.rtol, controls.atol)
+        controls = controls._replace(rtol=rtol, atol=atol)
     return method_module(method).integrate(problem, controls)
 
 
@@ -66,7 +68,7 @@ def cost_per_point(spins: Sequence[float], repeat: int) -> list[dict[str, Any]]:
         if handed:  # the former fallback: the DOP853 attempt, then Radau from t = 0
             # (at the tolerances auto gives its Radau stretches, for a like comparison)
             w_dop, _ = _best(lambda c=case: _raw(c, "dop853"), repeat)
-            w_rad, rad = _best(lambda c=case: _raw(c, "radau", AUTO_RADAU_TOL_FACTOR), repeat)
+            w_rad, rad = _best(lambda c=case: _raw(c, "radau", as_in_auto=True), repeat)
             row["restart_wall_s"] = w_dop + w_rad
             row["restart_nfev"] = int(dop.nfev + rad.nfev)
         rows.append(row)

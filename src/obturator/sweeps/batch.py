@@ -34,7 +34,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..core.integrators import AUTO_RADAU_TOL_FACTOR, RawSolution, _hand_over
+from ..core.integrators import RawSolution, _hand_over, auto_radau_tolerances
 from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes
 from ..core.integrators.radau_lanes import integrate_radau_lanes
 from ..core.layout import KERNEL_THESIS, N_STATE, P_KERNEL
@@ -173,15 +173,15 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
 
 def _radau_lanes(problems, controls, y, t, steps_done, order, options, n_lanes):
     """Continue points from (t, y) in Radau IIA lanes, at ``auto``'s Radau tolerances
-    (:data:`~obturator.core.integrators.AUTO_RADAU_TOL_FACTOR`); (status, t_event, nfev)
+    (:func:`~obturator.core.integrators.auto_radau_tolerances`); (status, t_event, nfev)
     per point."""
+    rtol, atol = auto_radau_tolerances(options.rtol, options.atol)
     st, t_ev, nfev, _, _ = integrate_radau_lanes(
         y, t, np.array([pr.p for pr in problems]), np.array([pr.scale for pr in problems]),
         np.array([c.t_max for c in controls]), np.array([c.h0 for c in controls]),
         np.array([c.h_max for c in controls]),
         np.array([max(c.max_steps - int(k), 1) for c, k in zip(controls, steps_done, strict=True)]),
-        order, options.rtol * AUTO_RADAU_TOL_FACTOR, options.atol * AUTO_RADAU_TOL_FACTOR,
-        options.event_tol, n_lanes, LANES,
+        order, rtol, atol, options.event_tol, n_lanes, LANES,
     )  # fmt: skip
     return st, t_ev, nfev
 

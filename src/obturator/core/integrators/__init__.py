@@ -27,6 +27,7 @@ from .contract import Controls, Problem, RawSolution, Status
 
 __all__ = [
     "AUTO_RADAU_TOL_FACTOR",
+    "auto_radau_tolerances",
     "Controls",
     "Problem",
     "RawSolution",
@@ -40,6 +41,13 @@ __all__ = [
 #: revolution): on 1,786 near-stick rig points (100-207 rad/s) Radau at rtol 1e-8 left
 #: t_cr errors up to 9.7e-5, at 3.3e-9 at most 8e-8, for ~13 % more Radau work.
 AUTO_RADAU_TOL_FACTOR = 1.0 / 3.0
+
+
+def auto_radau_tolerances(rtol: float, atol: float) -> tuple[float, float]:
+    """(rtol, atol) of ``auto``'s Radau IIA stretches for requested (rtol, atol): both
+    times :data:`AUTO_RADAU_TOL_FACTOR`. Used by the scalar hand-over and the Radau lanes."""
+    return rtol * AUTO_RADAU_TOL_FACTOR, atol * AUTO_RADAU_TOL_FACTOR
+
 
 #: Method name -> module defining ``integrate(problem, controls)``.
 _MODULES = {"dop853": "dop853", "radau": "radau", "rosenbrock": "rosenbrock"}
@@ -69,8 +77,8 @@ def _hand_over(dop: RawSolution, problem: Problem, controls: Controls) -> RawSol
     Radau IIA runs at :data:`AUTO_RADAU_TOL_FACTOR` of the tolerances.
     """
     radau = method_module("radau").integrate
-    f = AUTO_RADAU_TOL_FACTOR
-    controls = controls._replace(rtol=controls.rtol * f, atol=controls.atol * f)
+    rtol, atol = auto_radau_tolerances(controls.rtol, controls.atol)
+    controls = controls._replace(rtol=rtol, atol=atol)
     if not (np.all(np.isfinite(dop.y_end)) and dop.t_end > problem.t0):
         rad = radau(problem, controls)
         return rad._replace(nfev=rad.nfev + dop.nfev, n_rejected=rad.n_rejected + dop.n_rejected)
