@@ -42,14 +42,12 @@ Q3
 from numba import njit, uint64
 
 from .lane_pivot import IMPORTS
-from .lanes_layout import LANES
+from .lanes_layout import LANE_KERNEL, LANES
 
 if LANES != 16:  # pragma: no cover - the offsets below are literals for 16 lanes
     raise ImportError("written for 16 lanes: run tools/gen_lane_linalg.py")
 
-__all__ = [NAMES]
-
-_FLAGS = {"cache": True, "fastmath": {"contract"}, "error_model": "numpy"}"""
+__all__ = [NAMES]"""
 
 #: generated module -> (first docstring line, pivot helpers it uses, functions)
 FILES = {
@@ -118,7 +116,7 @@ def _solve(pair: bool) -> list[str]:
     sig = [f"def {name}({args}):  # pragma: no cover"]
     if len(sig[0]) > 100:  # as ruff format writes it
         sig = [f"def {name}(", f"    {args}", "):  # pragma: no cover"]
-    out = ["", "", "@njit(**_FLAGS)", *sig, doc]
+    out = ["", "", "@njit(**LANE_KERNEL)", *sig, doc]
     out.append("    permute(piv, swapped, b, vw)")
     out += _substitution(False)
     if pair:

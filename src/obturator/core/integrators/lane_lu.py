@@ -18,19 +18,19 @@ from numba import njit, uint64
 
 from ..layout import N_STATE
 from .lane_pivot import interchange, pivot_search
-from .lanes_layout import LANES
+from .lanes_layout import LANE_KERNEL, LANES
 
 __all__ = ["lu_factor_lanes", "lu_factor_complex_lanes"]
 
 _N = N_STATE
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(inline="always", **LANE_KERNEL)
 def _at(i, j, lane):
     return uint64((i * _N + j) * LANES + lane)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def lu_factor_lanes(m, piv, swapped, ok, vmax, vw) -> None:
     """In-place LU with partial pivoting of every lane's real matrix.
 
@@ -63,7 +63,7 @@ def lu_factor_lanes(m, piv, swapped, ok, vmax, vw) -> None:
                     m[_at(i, c, j)] -= m[_at(i, k, j)] * m[_at(k, c, j)]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def lu_factor_complex_lanes(ar, ai, piv, swapped, ok, vmax, vw) -> None:
     """In-place LU with partial pivoting of every lane's complex matrix ar + i ai.
 

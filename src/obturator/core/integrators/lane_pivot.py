@@ -11,19 +11,19 @@ from __future__ import annotations
 from numba import njit, uint64
 
 from ..layout import N_STATE
-from .lanes_layout import LANES
+from .lanes_layout import LANE_KERNEL, LANES
 
 __all__ = ["pivot_search", "interchange", "permute"]
 
 _N = N_STATE
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(inline="always", **LANE_KERNEL)
 def _at(i, j, lane):
     return uint64((i * _N + j) * LANES + lane)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(inline="always", **LANE_KERNEL)
 def pivot_search(k, ar, ai, piv, vmax, vw) -> bool:
     """Pivot row of column k in every lane (|re| + |im|; ai None for real matrices).
 
@@ -51,7 +51,7 @@ def pivot_search(k, ar, ai, piv, vmax, vw) -> bool:
     return rare > 0
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(inline="always", **LANE_KERNEL)
 def interchange(k, ar, ai, piv, vmax, ok, swapped, vw) -> None:
     """Row interchanges of column k, lane by lane, and the singular lanes."""
     for j in range(vw):
@@ -70,7 +70,7 @@ def interchange(k, ar, ai, piv, vmax, ok, swapped, vw) -> None:
                     ai[_at(r, c, j)] = ti
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(inline="always", **LANE_KERNEL)
 def permute(piv, swapped, b, vw) -> None:
     """Apply the row interchanges of the factorisation to b, lane by lane where any."""
     for k in range(_N):

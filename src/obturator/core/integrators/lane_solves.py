@@ -15,17 +15,15 @@ LLVM unrolled the loop into scalar code instead).
 from numba import njit, uint64
 
 from .lane_pivot import permute
-from .lanes_layout import LANES
+from .lanes_layout import LANE_KERNEL, LANES
 
 if LANES != 16:  # pragma: no cover - the offsets below are literals for 16 lanes
     raise ImportError("written for 16 lanes: run tools/gen_lane_linalg.py")
 
 __all__ = ["lu_solve_lanes", "lu_solve_pair_lanes"]
 
-_FLAGS = {"cache": True, "fastmath": {"contract"}, "error_model": "numpy"}
 
-
-@njit(**_FLAGS)
+@njit(**LANE_KERNEL)
 def lu_solve_lanes(lu, piv, swapped, b, vw):  # pragma: no cover
     """Solve lu x = b in place in every lane (factors of :func:`lu_factor_lanes`)."""
     permute(piv, swapped, b, vw)
@@ -112,7 +110,7 @@ def lu_solve_lanes(lu, piv, swapped, b, vw):  # pragma: no cover
         b[uint64(112 + j)] = b7
 
 
-@njit(**_FLAGS)
+@njit(**LANE_KERNEL)
 def lu_solve_pair_lanes(
     lu, piv, swapped, b, ar, ai, pivc, swapped_c, br, bi, vw
 ):  # pragma: no cover

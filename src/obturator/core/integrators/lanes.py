@@ -53,54 +53,58 @@ from .dop853 import (
     stiffness_product,
 )
 from .lane_sums import error_sums, stage_sum
-from .lanes_layout import LANES
+from .lanes_layout import LANE_KERNEL, LANES, NO_REFCOUNT
 
 __all__ = ["integrate_lanes", "LANES", "DEFAULT_LANES"]
 
 DEFAULT_LANES = LANES
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def _rhs_lanes(kernel, y, p, dy, do, nl) -> None:
-    """Right-hand side of the lanes: state y[i*LANES + j] into dy[do + i*LANES + j],
-    parameters p[i*LANES + j] (the thesis kernel for all lanes, the generic one for
-    lanes 0..nl-1).
+@njit(**LANE_KERNEL)
+def _rhs_thesis_lanes(y, p, dy, do) -> None:
+    """:func:`~obturator.core.specialised.thesis_rates` of every lane, one vector loop.
+
+    A lane kernel (:data:`.lanes_layout.LANE_KERNEL`: no reference counting), kept
+    apart from the generic right-hand side, which allocates.
 
     Indices are cast to unsigned (see :mod:`.lane_sums`): with signed offsets numba's
     negative-index wrap-around kept this loop scalar (measured ~32 ns per lane and
     call against ~10 ns vectorised).
     """
-    if kernel == KERNEL_THESIS:  # one branch per stage, none in the lane loop
-        d = P_DERIVED
-        for j in range(LANES):
-            c = (
-                p[uint64((P_VISC + 1) * LANES + j)],
-                p[uint64((P_VISC + 2) * LANES + j)],
-                p[uint64((P_VISC + 3) * LANES + j)],
-                p[uint64(d * LANES + j)],
-                p[uint64((d + 1) * LANES + j)],
-                p[uint64((d + 2) * LANES + j)],
-                p[uint64((d + 3) * LANES + j)],
-                p[uint64((d + 4) * LANES + j)],
-                p[uint64((d + 5) * LANES + j)],
-                p[uint64((d + 6) * LANES + j)],
-                p[uint64((d + 7) * LANES + j)],
-            )
-            r0, r1, r2, r3, r4, r5, r6, r7 = thesis_rates(
-                y[j], y[uint64(j + LANES)], y[uint64(j + 2 * LANES)],
-                y[uint64(j + 3 * LANES)], y[uint64(j + 4 * LANES)], y[uint64(j + 5 * LANES)],
-                y[uint64(j + 6 * LANES)], y[uint64(j + 7 * LANES)], c,
-            )  # fmt: skip
-            o = do + j
-            dy[uint64(o)] = r0
-            dy[uint64(o + LANES)] = r1
-            dy[uint64(o + 2 * LANES)] = r2
-            dy[uint64(o + 3 * LANES)] = r3
-            dy[uint64(o + 4 * LANES)] = r4
-            dy[uint64(o + 5 * LANES)] = r5
-            dy[uint64(o + 6 * LANES)] = r6
-            dy[uint64(o + 7 * LANES)] = r7
-        return
+    d = P_DERIVED
+    for j in range(LANES):
+        c = (
+            p[uint64((P_VISC + 1) * LANES + j)],
+            p[uint64((P_VISC + 2) * LANES + j)],
+            p[uint64((P_VISC + 3) * LANES + j)],
+            p[uint64(d * LANES + j)],
+            p[uint64((d + 1) * LANES + j)],
+            p[uint64((d + 2) * LANES + j)],
+            p[uint64((d + 3) * LANES + j)],
+            p[uint64((d + 4) * LANES + j)],
+            p[uint64((d + 5) * LANES + j)],
+            p[uint64((d + 6) * LANES + j)],
+            p[uint64((d + 7) * LANES + j)],
+        )
+        r0, r1, r2, r3, r4, r5, r6, r7 = thesis_rates(
+            y[j], y[uint64(j + LANES)], y[uint64(j + 2 * LANES)],
+            y[uint64(j + 3 * LANES)], y[uint64(j + 4 * LANES)], y[uint64(j + 5 * LANES)],
+            y[uint64(j + 6 * LANES)], y[uint64(j + 7 * LANES)], c,
+        )  # fmt: skip
+        o = do + j
+        dy[uint64(o)] = r0
+        dy[uint64(o + LANES)] = r1
+        dy[uint64(o + 2 * LANES)] = r2
+        dy[uint64(o + 3 * LANES)] = r3
+        dy[uint64(o + 4 * LANES)] = r4
+        dy[uint64(o + 5 * LANES)] = r5
+        dy[uint64(o + 6 * LANES)] = r6
+        dy[uint64(o + 7 * LANES)] = r7
+
+
+@njit(cache=True, error_model="numpy")
+def _rhs_generic_lanes(y, p, dy, do, nl) -> None:
+    """The generic right-hand side (:func:`~obturator.core.dynamics.rhs`) lane by lane."""
     n_par = p.shape[0] // LANES
     ys = np.empty(N_STATE)
     ds = np.empty(N_STATE)
@@ -118,16 +122,25 @@ def _rhs_lanes(kernel, y, p, dy, do, nl) -> None:
 _KS = N_STATE * LANES  # stride of one stage in K
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
-def _stages_lanes(kernel, y, h, p, k, ynew, work, nl) -> None:
-    """Stages k[1..11] and the 8th-order solution of every lane (k[0] given)."""
+@njit(**LANE_KERNEL)
+def _stages_thesis_lanes(y, h, p, k, ynew, work) -> None:
+    """Stages k[1..11] and the 8th-order solution of every lane (k[0] given), thesis kernel."""
     for s in range(1, 12):
         stage_sum(s, y, h, k, work)
-        _rhs_lanes(kernel, work, p, k, s * _KS, nl)
+        _rhs_thesis_lanes(work, p, k, s * _KS)
     stage_sum(12, y, h, k, ynew)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy")
+def _stages_generic_lanes(y, h, p, k, ynew, work, nl) -> None:
+    """:func:`_stages_thesis_lanes` with the generic right-hand side in lanes 0..nl-1."""
+    for s in range(1, 12):
+        stage_sum(s, y, h, k, work)
+        _rhs_generic_lanes(work, p, k, s * _KS, nl)
+    stage_sum(12, y, h, k, ynew)
+
+
+@njit(**LANE_KERNEL)
 def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3) -> None:
     """DOP853's combined error estimate of every lane (as :func:`.dop853._error_norm`)."""
     error_sums(k, y, ynew, rtol, atol, scale, s5, s3)
@@ -138,7 +151,7 @@ def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3) -> None:
             err[j] = abs(h[j]) * s5[j] / math.sqrt((s5[j] + 0.01 * s3[j]) * N_STATE)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT)  # no contract: as dop853.integrate
 def _control_lanes(err, fac, hl, h, f1, k, ynew, work, num, den) -> None:
     """Step-size factor and stiffness estimate of every lane, in vector loops.
 
@@ -165,7 +178,7 @@ def _control_lanes(err, fac, hl, h, f1, k, ynew, work, num, den) -> None:
         hl[j] = stiffness_product(h[j], num[j], den[j])
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def _cos_nutation_lanes(y, out) -> None:
     """cos(theta) = 1 - 2 (q1^2 + q2^2) / |q|^2 of quaternion-form lanes (vectorised)."""
     for j in range(LANES):
@@ -302,7 +315,8 @@ def integrate_lanes(
                 CNT[:, j] = 0
                 CNT[0, j] = 1
                 REJ[j] = False
-                LIVE[j] = _top_of_step(j, T, H, TMAX, SPT, CNT, max_steps, Y, IDX, out)
+                code, H[j] = _top_of_step(T[j], H[j], TMAX[j], SPT[j], 0, 0, max_steps)
+                LIVE[j] = code == _GO_ON or _finish(j, code, math.nan, Y, T, IDX, CNT, out)
         # ---- once the queue is empty, pack the live lanes to the front ----
         if nxt >= n_pts:
             j = 0
@@ -316,11 +330,14 @@ def integrate_lanes(
             if nl == 0:
                 break
         # ---- one trial step in every lane ----
-        _stages_lanes(kernel, Y, H, PL, K, YN, W, nl)
-        _error_lanes(K, H, Y, YN, rtol, atol, SC, ERR, S5, S3)
-        _rhs_lanes(kernel, YN, PL, F1, 0, nl)
         if quaternion:
+            _stages_thesis_lanes(Y, H, PL, K, YN, W)
+            _rhs_thesis_lanes(YN, PL, F1, 0)
             _cos_nutation_lanes(YN, COSN)
+        else:
+            _stages_generic_lanes(Y, H, PL, K, YN, W, nl)
+            _rhs_generic_lanes(YN, PL, F1, 0, nl)
+        _error_lanes(K, H, Y, YN, rtol, atol, SC, ERR, S5, S3)
         _control_lanes(ERR, FAC, HL, H, F1, K, YN, W, S5, S3)
         for j in range(nl):
             CNT[0, j] += 11
@@ -387,26 +404,36 @@ def integrate_lanes(
                     fac = min(fac, 1.0)
                 REJ[j] = False
                 H[j] = min(h * fac, HMAX[j])
-            LIVE[j] = _top_of_step(j, T, H, TMAX, SPT, CNT, max_steps, Y, IDX, out)
+            code, H[j] = _top_of_step(T[j], H[j], TMAX[j], SPT[j], CNT[1, j], CNT[2, j], max_steps)
+            LIVE[j] = code == _GO_ON or _finish(j, code, math.nan, Y, T, IDX, CNT, out)
     return out
 
 
-@njit(cache=True, inline="always")  # per lane and step: no call, no reference counting
-def _top_of_step(j, T, H, TMAX, SPT, CNT, max_steps, Y, IDX, out) -> bool:
-    """The checks at the top of :func:`.dop853.integrate`'s loop for lane j (t0 = 0).
+#: Going on: what :func:`_top_of_step` returns when the lane's point goes on; the
+#: codes that end it, as plain ints (numba has no ``int(IntEnum)``).
+_GO_ON = -100
+_T_MAX, _STEP_LIMIT, _STIFF = int(Status.T_MAX), int(Status.STEP_LIMIT), int(Status.STIFF)
 
-    Returns True to go on (the step is cut to end at t_max where needed), else
-    ends the lane's point with ``T_MAX``, ``STEP_LIMIT`` or ``STIFF`` (step budget).
+
+@njit(cache=True)
+def _top_of_step(t, h, t_max, steps_per_s, n_steps, n_rejected, max_steps):
+    """The checks at the top of :func:`.dop853.integrate`'s loop for one lane (t0 = 0).
+
+    Returns (code, h): ``_GO_ON`` with the step cut to end at t_max where needed,
+    or the status that ends the point (``T_MAX``, ``STEP_LIMIT``, or ``STIFF`` for an
+    exhausted step budget). Scalars only: the same checks taking the lane arrays,
+    even inlined, had numba reference-count ~15 arrays per lane and step (atomic
+    increments and decrements, measured at ~40 % of the lanes' time).
     """
-    if not T[j] < TMAX[j]:
-        return _finish(j, Status.T_MAX, math.nan, Y, T, IDX, CNT, out)
-    if CNT[1, j] >= max_steps:
-        return _finish(j, Status.STEP_LIMIT, math.nan, Y, T, IDX, CNT, out)
-    if CNT[1, j] + CNT[2, j] > SPT[j] * T[j] + STEP_ALLOWANCE:
-        return _finish(j, Status.STIFF, math.nan, Y, T, IDX, CNT, out)
-    if T[j] + 1.01 * H[j] >= TMAX[j]:
-        H[j] = TMAX[j] - T[j]
-    return True
+    if not t < t_max:
+        return _T_MAX, h
+    if n_steps >= max_steps:
+        return _STEP_LIMIT, h
+    if n_steps + n_rejected > steps_per_s * t + STEP_ALLOWANCE:
+        return _STIFF, h
+    if t + 1.01 * h >= t_max:
+        h = t_max - t
+    return _GO_ON, h
 
 
 @njit(cache=True)

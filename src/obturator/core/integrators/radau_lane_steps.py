@@ -14,9 +14,9 @@ import math
 
 from numba import njit, uint64
 
-from ..layout import KERNEL_THESIS, N_STATE
-from .lanes import _rhs_lanes
-from .lanes_layout import LANES
+from ..layout import N_STATE
+from .lanes import _rhs_thesis_lanes
+from .lanes_layout import LANE_KERNEL, LANES, NO_REFCOUNT
 from .radau_coefficients import (
     ALPHA,
     BETA,
@@ -85,12 +85,12 @@ NW_R1, NW_R2, NW_R3, NW_SCAL = 9 * _V, 10 * _V, 11 * _V, 12 * _V
 NW_SIZE = 13 * _V
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, inline="always", **NO_REFCOUNT)
 def _u(x):
     return uint64(x)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, vw) -> None:
     """Forward-difference Jacobian of every lane (as :func:`.common.jacobian`),
     stored for the lanes with NJ set.
@@ -109,7 +109,7 @@ def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, vw) -> None
             dj = min(dj, dj_cap[u])
             WORK[u] = y + dj
             dj_row[j] = WORK[u] - y  # the increment actually taken
-        _rhs_lanes(KERNEL_THESIS, WORK, PL, FW, 0, LANES)
+        _rhs_thesis_lanes(WORK, PL, FW, 0)
         for i in range(_N):
             for j in range(vw):
                 a = _u((i * _N + c) * LANES + j)
@@ -117,7 +117,7 @@ def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, vw) -> None
                 JAC[a] = d if NJ[j] else JAC[a]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def build_lanes(JAC, H, LUR, LUCR, LUCI, vw) -> None:
     """gamma/h I - J and (alpha + i beta)/h I - J of every lane (as :func:`.radau._factor`)."""
     for i in range(_N):
@@ -134,7 +134,7 @@ def build_lanes(JAC, H, LUR, LUCR, LUCI, vw) -> None:
             LUCI[a] = BETA / H[j]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def guess_lanes(NW, ZACC, H, HACC, POLY, vw) -> None:
     """Stage guess: the last collocation polynomial extrapolated (0 for a first step)."""
     for k in range(3):
@@ -153,7 +153,7 @@ def guess_lanes(NW, ZACC, H, HACC, POLY, vw) -> None:
                 NW[_u(NW_Z + k * _V + u)] = z if POLY[j] else 0.0
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(inline="always", **LANE_KERNEL)
 def _stage_transform(X, src, dst, c, vw) -> None:
     """X[dst] = (C x I) X[src] for a 3x3 matrix C (row-major tuple c), three stages."""
     c00, c01, c02, c10, c11, c12, c20, c21, c22 = c
@@ -166,13 +166,13 @@ def _stage_transform(X, src, dst, c, vw) -> None:
         X[_u(dst + 2 * _V + u)] = c20 * s0 + c21 * s1 + c22 * s2
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def to_w(NW, vw) -> None:
     """W = (T^-1 x I) Z in the Newton workspace, every lane."""
     _stage_transform(NW, NW_Z, NW_W, (TI00, TI01, TI02, TI10, TI11, TI12, TI20, TI21, TI22), vw)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def residual_lanes(NW, H, FIN, vw) -> None:
     """Transformed Newton residual of every lane into R1, R2, R3 of the workspace;
     FIN[lane] False where non-finite."""
@@ -201,7 +201,7 @@ def residual_lanes(NW, H, FIN, vw) -> None:
             NW[_u(NW_R3 + u)] = r3
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def update_lanes(NW, RUN, vw) -> None:
     """W += the Newton correction (R1, R2, R3) in the running lanes; Z = (T x I) W."""
     for i in range(_N):
@@ -214,7 +214,7 @@ def update_lanes(NW, RUN, vw) -> None:
     _stage_transform(NW, NW_W, NW_Z, (T00, T01, T02, T10, T11, T12, T20, T21, T22), vw)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def wnorm_lanes(NW, out, vw) -> None:
     """sqrt(mean over components of (R1 scal)^2 + (R2 scal)^2 + (R3 scal)^2), every lane."""
     for j in range(vw):
@@ -231,7 +231,7 @@ def wnorm_lanes(NW, out, vw) -> None:
         out[j] = math.sqrt(out[j] / (3 * _N))
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def error_lanes(Y, YN, WORK, rtol, atol, SC, out, vw) -> None:
     """:func:`.common.rms_norm` of WORK, every lane."""
     for j in range(vw):
@@ -246,23 +246,23 @@ def error_lanes(Y, YN, WORK, rtol, atol, SC, out, vw) -> None:
         out[j] = math.sqrt(out[j] / _N)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def stages_rhs(Y, Z, PL, F, WORK, vw) -> None:
     """The three stage derivatives f(y + Z_k) of every lane (the kernel is autonomous)."""
     for k in range(3):
         for u in range(_N * vw):
             WORK[u] = Y[u] + Z[_u(k * _V + u)]
-        _rhs_lanes(KERNEL_THESIS, WORK, PL, F, k * _V, LANES)
+        _rhs_thesis_lanes(WORK, PL, F, k * _V)
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def lane_vector(X, j, k, out) -> None:
     """Copy lane j of the k-th vector of X into out."""
     for i in range(_N):
         out[i] = X[k * _V + i * LANES + j]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def f0_masked(Y, PL, F0, FW, ACC, CNT, vw) -> None:
     """F0 = f(Y) in the lanes with ACC set (one vector evaluation for all)."""
     any_acc = False
@@ -270,7 +270,7 @@ def f0_masked(Y, PL, F0, FW, ACC, CNT, vw) -> None:
         any_acc = any_acc or ACC[j]
     if not any_acc:
         return
-    _rhs_lanes(KERNEL_THESIS, Y, PL, FW, 0, LANES)
+    _rhs_thesis_lanes(Y, PL, FW, 0)
     for i in range(_N):
         for j in range(vw):
             u = _u(i * LANES + j)
@@ -280,7 +280,7 @@ def f0_masked(Y, PL, F0, FW, ACC, CNT, vw) -> None:
             CNT[0, j] += 1
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def error_rhs_lanes(Y, Z, F0, H, YN, ERRV, WORK, vw) -> None:
     """y_new = y + Z_3 and the right side of the embedded error estimate (H&W IV.8),
     f0 + (e1 Z1 + e2 Z2 + e3 Z3) / h, into ERRV and WORK, every lane."""
@@ -292,7 +292,7 @@ def error_rhs_lanes(Y, Z, F0, H, YN, ERRV, WORK, vw) -> None:
             WORK[u] = ERRV[u]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(**LANE_KERNEL)
 def node_states(Y, Z, k, out, vw) -> None:
     """y + Z_k (the collocation solution at node c_k), every lane."""
     for i in range(_N):

@@ -39,7 +39,7 @@ import numpy as np
 from numba import njit
 
 from ..dynamics import nutation_angle_of_state
-from ..layout import KERNEL_THESIS, N_STATE, P_THETA_CR, P_WIDTH
+from ..layout import N_STATE, P_THETA_CR, P_WIDTH
 from .common import increment_cap, underflow
 from .contract import Status
 from .lane_linalg import (
@@ -48,7 +48,7 @@ from .lane_linalg import (
     lu_solve_lanes,
     lu_solve_pair_lanes,
 )
-from .lanes import _cos_nutation_lanes, _rhs_lanes
+from .lanes import _cos_nutation_lanes, _rhs_thesis_lanes
 from .lanes_layout import LANES
 from .radau import _UROUND, locate_opening
 from .radau_control import _LIM_SHRINK, _NIT, _THET, newton_contraction, next_step, step_quotient
@@ -371,7 +371,7 @@ def integrate_radau_lanes(
             # the estimate is unreliable for very stiff components: filter once more
             for u in range(_N * vw):
                 CBR[u] = Y[u] + WORK[u]
-            _rhs_lanes(KERNEL_THESIS, CBR, PL, FW, 0, LANES)
+            _rhs_thesis_lanes(CBR, PL, FW, 0)
             for u in range(_N * vw):
                 CBI[u] = FW[u] + ERRV[u] - F0[u]
             lu_solve_lanes(LUR, PIVR, SWR, CBI, vw)
