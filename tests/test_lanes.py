@@ -100,6 +100,70 @@ def test_specialised_rhs_matches_generic(case):
         np.testing.assert_allclose(a, b, rtol=1e-12, atol=atol)
 
 
+def _turbulent_mix(rng, n):
+    """States whose slip is spread over 1e2..1e6 rad/s: about half of them at or above
+    the turbulent transition of Eq. (41) (~5.6e4 rad/s for the Table 1 gap)."""
+    out = []
+    for _ in range(n):
+        q = rng.normal(size=4)
+        w = 10.0 ** rng.uniform(2, 6) * rng.normal(size=3) / math.sqrt(3.0)
+        out.append(np.r_[q, w, 300.0])
+    return out
+
+
+@pytest.mark.parametrize("case", [rig_case(300.0, MU_S), flight_case()], ids=["rig", "flight"])
+def test_specialised_rhs_turbulent_branch_matches_generic(case):
+    """Above the transition the kernel takes Eq. (39)'s |omega_r|^0.75 law as the generic
+    code does (the lanes skip it unless a lane gets there; Table 1 cases never do)."""
+    from obturator.core.layout import P_VISC
+
+    p = pack_parameters(case, SolverOptions())
+    generic = p.copy()
+    generic[P_KERNEL] = KERNEL_GENERIC
+    states = _turbulent_mix(np.random.default_rng(11), 200)
+    slip = [np.linalg.norm(_slip(y)) for y in states]
+    assert min(slip) < p[P_VISC + 3] < max(slip)  # both branches exercised
+    for y in states:
+        a, b = np.empty(8), np.empty(8)
+        rhs(0.0, y, p, a)
+        rhs(0.0, y, generic, b)
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12 * np.abs(b).max())
+
+
+def _slip(y):
+    """omega_r = R w - omega_p Z of a quaternion-form state (inertial axes)."""
+    from obturator.core.dynamics import _rotation_from_quaternion
+
+    r = np.array(_rotation_from_quaternion(y)).reshape(3, 3)
+    return r @ y[4:7] - [0.0, 0.0, y[7]]
+
+
+@pytest.mark.parametrize("n_turbulent", [0, 1, 7])
+def test_lane_kernel_matches_scalar_kernel_with_turbulent_lanes(n_turbulent):
+    """The lanes evaluate the laminar branch and redo the batch when a lane reached the
+    transition: every lane equals the one-state kernel, with none, one or several lanes
+    above it."""
+    from obturator.core.integrators.lanes import LANES, _rhs_thesis_lanes
+    from obturator.core.layout import N_STATE, P_VISC
+
+    p = pack_parameters(rig_case(300.0, MU_S), SolverOptions())
+    rng = np.random.default_rng(n_turbulent)
+    states = _near_stick_states(rng, LANES - n_turbulent)
+    while len(states) < LANES:
+        y = _turbulent_mix(rng, 1)[0]
+        if np.linalg.norm(_slip(y)) > p[P_VISC + 3]:
+            states.append(y)
+    rng.shuffle(states)
+    y_lanes = np.array(states).T.ravel().copy()  # component-major: y[i * LANES + lane]
+    p_lanes = np.repeat(p, LANES)
+    dy = np.empty(N_STATE * LANES)
+    _rhs_thesis_lanes(y_lanes, p_lanes, dy, 0)
+    for j, y in enumerate(states):
+        want = np.empty(8)
+        rhs(0.0, y, p, want)
+        np.testing.assert_allclose(dy[j::LANES], want, rtol=1e-14, atol=0.0)
+
+
 @pytest.mark.parametrize(
     "options",
     [

@@ -65,13 +65,25 @@ def _rhs_thesis_lanes(y, p, dy, do) -> None:
     """:func:`~obturator.core.specialised.thesis_rates` of every lane, one vector loop.
 
     A lane kernel (:data:`.lanes_layout.LANE_KERNEL`: no reference counting), kept
-    apart from the generic right-hand side, which allocates.
+    apart from the generic right-hand side, which allocates. The loop evaluates the
+    laminar viscous branch; if any lane's slip reached the turbulent transition it
+    is run again with the turbulent branch (same results as the scalar kernel).
+    """
+    if _thesis_lanes(y, p, dy, do, False):
+        _thesis_lanes(y, p, dy, do, True)
+
+
+@njit(inline="always", **LANE_KERNEL)
+def _thesis_lanes(y, p, dy, do, turbulent) -> int:
+    """The loop of :func:`_rhs_thesis_lanes`; returns the lanes at or above the turbulent
+    transition.
 
     Indices are cast to unsigned (see :mod:`.lane_sums`): with signed offsets numba's
     negative-index wrap-around kept this loop scalar (measured ~32 ns per lane and
     call against ~10 ns vectorised).
     """
     d = P_DERIVED
+    n_above = 0
     for j in range(LANES):
         c = (
             p[uint64((P_VISC + 1) * LANES + j)],
@@ -86,11 +98,12 @@ def _rhs_thesis_lanes(y, p, dy, do) -> None:
             p[uint64((d + 6) * LANES + j)],
             p[uint64((d + 7) * LANES + j)],
         )
-        r0, r1, r2, r3, r4, r5, r6, r7 = thesis_rates(
+        r0, r1, r2, r3, r4, r5, r6, r7, above = thesis_rates(
             y[j], y[uint64(j + LANES)], y[uint64(j + 2 * LANES)],
             y[uint64(j + 3 * LANES)], y[uint64(j + 4 * LANES)], y[uint64(j + 5 * LANES)],
-            y[uint64(j + 6 * LANES)], y[uint64(j + 7 * LANES)], c,
+            y[uint64(j + 6 * LANES)], y[uint64(j + 7 * LANES)], c, turbulent,
         )  # fmt: skip
+        n_above += above
         o = do + j
         dy[uint64(o)] = r0
         dy[uint64(o + LANES)] = r1
@@ -100,6 +113,7 @@ def _rhs_thesis_lanes(y, p, dy, do) -> None:
         dy[uint64(o + 5 * LANES)] = r5
         dy[uint64(o + 6 * LANES)] = r6
         dy[uint64(o + 7 * LANES)] = r7
+    return n_above
 
 
 @njit(cache=True, error_model="numpy")
