@@ -32,6 +32,7 @@ import numpy as np
 from numba import njit
 
 from .jit_cache import configure_cache
+from .jit_flags import NO_REFCOUNT
 from .layout import (
     FAMILY_LINEAR,
     FAMILY_TANH,
@@ -73,7 +74,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def slip_saturation(x: float, family: float) -> float:
     """Regularised magnitude factor s(x) of a Coulomb term, x = |slip| / width [-].
 
@@ -100,7 +101,7 @@ def slip_saturation(x: float, family: float) -> float:
     return x / math.sqrt(1.0 + x * x)
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def friction_speed_factor(v: float, code: float, ratio: float, speed: float) -> float:
     """mu(v) / mu_s for a slip speed v [m/s] (1 for the thesis's constant mu_s).
 
@@ -117,7 +118,7 @@ def friction_speed_factor(v: float, code: float, ratio: float, speed: float) -> 
     return 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[float, float, float]:
     """Total torque on the ball in inertial axes [N m] (thesis Eqs. 62-64).
 
@@ -235,7 +236,7 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
     return tx, ty, tz
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _rotation_from_quaternion(y: np.ndarray) -> tuple:
     n = math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
     q0 = y[0] / n
@@ -254,7 +255,7 @@ def _rotation_from_quaternion(y: np.ndarray) -> tuple:
     return r00, r01, r02, r10, r11, r12, r20, r21, r22
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _rotation_from_euler(psi: float, theta: float, phi: float) -> tuple:
     # z-x-z: R = Rz(psi) Rx(theta) Rz(phi), body -> inertial (thesis Fig. 7, Appendix A)
     cps, sps = math.cos(psi), math.sin(psi)
@@ -272,7 +273,7 @@ def _rotation_from_euler(psi: float, theta: float, phi: float) -> tuple:
     return r00, r01, r02, r10, r11, r12, r20, r21, r22
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _attitude_and_rates(y: np.ndarray, p: np.ndarray) -> tuple:
     """Rotation matrix entries and body rates (w1, w2, w3) of a state."""
     if p[P_FORM] == FORM_QUATERNION:
@@ -288,7 +289,7 @@ def _attitude_and_rates(y: np.ndarray, p: np.ndarray) -> tuple:
     return r, w1, w2, w3
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _spin(y: np.ndarray, p: np.ndarray, w1: float, w2: float, w3: float) -> float:
     if p[P_SPIN_MODE] == SPIN_THESIS_ENERGY:
         # Appendix A: SPIN = SQRT((2 KE - A(w1^2 + w2^2) - C w3^2) / I_p)
@@ -297,7 +298,7 @@ def _spin(y: np.ndarray, p: np.ndarray, w1: float, w2: float, w3: float) -> floa
     return y[6] if p[P_FORM] == FORM_EULER else y[7]
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def _torque_body(r: tuple, w1: float, w2: float, w3: float, wp: float, p: np.ndarray) -> tuple:
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
     wx = r00 * w1 + r01 * w2 + r02 * w3
@@ -310,7 +311,7 @@ def _torque_body(r: tuple, w1: float, w2: float, w3: float, wp: float, p: np.nda
     return g1, g2, g3, tz, wx, wy, wz
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def rhs(t: float, y: np.ndarray, p: np.ndarray, dy: np.ndarray) -> None:
     """Time derivative of the state, written into `dy` (both formulations).
 
@@ -376,7 +377,7 @@ def rhs(t: float, y: np.ndarray, p: np.ndarray, dy: np.ndarray) -> None:
     dy[7] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def nutation_angle_of_state(y: np.ndarray, p: np.ndarray) -> float:
     """Nutation angle theta [rad] between the hole axis z and the spin axis Z."""
     if p[P_FORM] == FORM_EULER:

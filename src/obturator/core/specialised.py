@@ -44,6 +44,7 @@ import numpy as np
 from numba import njit
 
 from .jit_cache import configure_cache
+from .jit_flags import NO_REFCOUNT
 from .layout import (
     FAMILY_ALGEBRAIC,
     FORM_QUATERNION,
@@ -135,7 +136,7 @@ def specialise(p: np.ndarray) -> np.ndarray:
 _SLIP_SQ_MIN = 1e-250
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always", **NO_REFCOUNT)
 def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent):
     """Time derivative of one quaternion-form state under the thesis torques.
 
@@ -200,7 +201,7 @@ def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent):
     )
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **NO_REFCOUNT)
 def rhs_thesis(y, p, dy) -> None:
     """:func:`thesis_rates` of one state `y` into `dy` (the scalar path's kernel)."""
     d = P_DERIVED

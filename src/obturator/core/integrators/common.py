@@ -27,6 +27,7 @@ import numpy as np
 from numba import njit
 
 from ..dynamics import rhs
+from ..jit_flags import NO_REFCOUNT
 from ..layout import N_STATE, P_FORM, P_WIDTH
 
 __all__ = [
@@ -94,13 +95,13 @@ def record_row(ts, ys, n_out, t, y, record, use_eval):
     return ts, ys, n_out
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def crossed(g_old, g_new, t_event):
     """True at the first downward crossing of g = theta - theta_cr (no event found yet)."""
     return g_old > 0.0 and g_new <= 0.0 and t_event != t_event
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def illinois_trial(s_lo, g_lo, s_hi, g_hi):
     """Next trial point of Illinois false position on the bracket [s_lo, s_hi]."""
     s = (s_lo * g_hi - s_hi * g_lo) / (g_hi - g_lo)
@@ -109,7 +110,7 @@ def illinois_trial(s_lo, g_lo, s_hi, g_hi):
     return s
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side):
     """Shrink the bracket with the trial (s, g); halve the stale end's g (Illinois).
 
@@ -129,19 +130,19 @@ def illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side):
     return s_lo, g_lo, s_hi, g_hi, side
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def bracket_closed(s_lo, s_hi, h, event_tol):
     """True when the bracket [s_lo, s_hi] of a step h is at most event_tol long [s]."""
     return (s_hi - s_lo) * h <= event_tol
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def underflow(h, t):
     """True when the step h has collapsed relative to the time t reached."""
     return h < 1e-14 * max(t, 1e-6)
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def increment_cap(scale_j, delta, w_ref, quaternion) -> float:
     """Largest forward-difference increment of component j (see :func:`jacobian`).
 
@@ -157,7 +158,7 @@ def increment_cap(scale_j, delta, w_ref, quaternion) -> float:
     return math.inf
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def jacobian(t, y, f0, p, scale, jac, work, fwork) -> None:
     """Forward-difference Jacobian of the right-hand side at (t, y), f0 = f(t, y).
 
@@ -184,7 +185,7 @@ def jacobian(t, y, f0, p, scale, jac, work, fwork) -> None:
             jac[i, j] = (fwork[i] - f0[i]) / dj
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
 def rms_norm(e, y, ynew, rtol, atol, scale) -> float:
     """sqrt(mean((e_i / (atol scale_i + rtol max(|y_i|, |ynew_i|)))^2))."""
     s = 0.0

@@ -45,8 +45,10 @@ import numpy as np
 from numba import njit
 
 from ..dynamics import nutation_angle_of_state, rhs
+from ..jit_flags import NO_REFCOUNT
 from ..layout import N_STATE, P_THETA_CR
 from .common import (
+    append_row,
     bracket_closed,
     crossed,
     illinois_trial,
@@ -82,7 +84,7 @@ STIFF_STEPS = 15
 TOL_FACTOR = 0.01
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
 def _stages(t, y, h, p, k, ynew, work) -> None:
     """Stages k[1..11] (k[0] = f(t, y) given) and the 8th-order solution ynew."""
     n = N_STATE
@@ -100,7 +102,7 @@ def _stages(t, y, h, p, k, ynew, work) -> None:
         ynew[i] = y[i] + h * acc
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT)
 def step_factor(err) -> float:
     """0.9 err^(-1/8), DOP853's step-size factor before its bounds (inf at err = 0).
 
@@ -112,13 +114,13 @@ def step_factor(err) -> float:
     return 0.9 / math.sqrt(math.sqrt(math.sqrt(err)))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT)
 def stiffness_product(h, num, den) -> float:
     """Hairer's h |lambda| estimate h sqrt(num / den), or -1 when den = 0."""
     return h * math.sqrt(num / den) if den > 0.0 else -1.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT)
 def error_weight(atol, scale, rtol, y, ynew) -> float:
     """atol * scale + rtol * max(|y|, |ynew|), compiled without FMA contraction: with it,
     a * b + c * d may fuse either product, and the scalar and the vectorised lane code
@@ -126,7 +128,7 @@ def error_weight(atol, scale, rtol, y, ynew) -> float:
     return atol * scale + rtol * max(abs(y), abs(ynew))
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
 def _error_norm(k, h, y, ynew, rtol, atol, scale) -> float:
     """DOP853's combined estimate h |e5|^2 / sqrt((|e5|^2 + 0.01 |e3|^2) n)."""
     n = N_STATE
@@ -148,7 +150,7 @@ def _error_norm(k, h, y, ynew, rtol, atol, scale) -> float:
     return abs(h) * s5 / math.sqrt((s5 + 0.01 * s3) * n)
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol):
     """Opening time inside the accepted step (t, t + h] (g_old > 0 >= g_new).
 
@@ -297,7 +299,8 @@ def integrate(problem, controls):
             y[i] = ynew[i]
             k[0, i] = f1[i]
         n_steps += 1
-        ts, ys, n_out = record_row(ts, ys, n_out, t, y, record, use_eval)
+        if record and not use_eval:  # a call per step costs reference counts
+            ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         if not (y[0] == y[0]):
             status = Status.STIFF
             break

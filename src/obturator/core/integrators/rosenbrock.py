@@ -21,6 +21,7 @@ from numba import njit
 from ..dynamics import nutation_angle_of_state, rhs
 from ..layout import N_STATE, P_THETA_CR
 from .common import (
+    append_row,
     bracket_closed,
     crossed,
     illinois_trial,
@@ -174,7 +175,8 @@ def integrate(problem, controls):
             f0[i] = f2[i]
         jac_fresh = False
         n_steps += 1
-        ts, ys, n_out = record_row(ts, ys, n_out, t, y, record, use_eval)
+        if record and not use_eval:  # a call per step costs reference counts
+            ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         h = min(h * min(5.0, max(0.2, 0.9 * err ** (-1.0 / 3.0))) if err > 0 else 5.0 * h, h_max)
         if not (y[0] == y[0]):
             status = Status.FAILED
