@@ -29,13 +29,13 @@ def _commands(tmp: Path) -> dict[str, list[str]]:
     slow.write_text('[solver]\nmethod = "rosenbrock"\n')  # seconds of compiled work
     return {
         "simulate": ["simulate", "--spin-rate", "40", "--mu-s", "0.5473", "--config", str(slow)],
-        "sweep-1": ["sweep", "--spin-rate", "40:60:16", "--mu-s", "0.5473", "--workers", "1",
+        "sweep-1": ["sweep", "--spin-rate", "40:60:32", "--mu-s", "0.5473", "--workers", "1",
                     "--out", str(tmp / "s1.nc"), "--no-progress"],
-        "sweep-2": ["sweep", "--spin-rate", "40:60:24", "--mu-s", "0.5473", "--workers", "2",
+        "sweep-2": ["sweep", "--spin-rate", "40:60:96", "--mu-s", "0.5473", "--workers", "2",
                     "--out", str(tmp / "s2.nc"), "--no-progress"],
         "montecarlo": ["montecarlo", "--spin-rate", "45", "--vary", "mu_s=uniform:0.5,0.6",
                        "--samples", "40", "--workers", "1", "--no-progress"],
-        "calibrate": ["calibrate", DATA, "--bootstrap", "2000"],
+        "calibrate": ["calibrate", DATA, "--bootstrap", "30000"],
         "reproduce": ["reproduce", "--out", str(tmp / "rep")],
     }  # fmt: skip
 
