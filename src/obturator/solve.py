@@ -120,7 +120,7 @@ class SolverOptions:
         tolerances) from its last accepted state when DOP853 detects stiffness
         (Hairer's h*lambda test, or more than 200 steps per spin period plus 1000,
         or a step size collapse); counters add up. t_cr errors at rtol 1e-8: median
-        ~5e-9, worst 3.0e-7 relative at 100-1000 rad/s, up to 8.1e-5 in the long
+        ~5e-9, worst 3.0e-7 relative at 100-1000 rad/s, up to 1.6e-4 in the long
         near-stick runs below 100 rad/s (:data:`OPENING_TIME_ACCURACY`). ``"radau"``:
         the fifth-order Radau IIA collocation method (Newton iterations follow the nonlinear
         stiffness of sticking, 8-15x faster than Rosenbrock on the thesis cases
@@ -188,11 +188,14 @@ class SolverOptions:
 #: 100-700 rad/s and 241 over 40-100 rad/s (the long near-stick runs, t_cr 0.6-43 s);
 #: plus 13 fixed spins and 100 random ones over 40-1000 rad/s and the flight case at
 #: Mach 1.5-4, mu_s 0.35 and 0.5473. Worst errors (40-100 rad/s; 100-1000 rad/s):
-#: rtol 1e-8: 8.1e-5 (40 of the 241 beyond 1e-6); 3.0e-7. 3e-9: 2.8e-6; 1.5e-7.
+#: rtol 1e-8: 1.6e-4 (40 of the 241 beyond 1e-6); 3.0e-7. 3e-9: 2.8e-6; 1.5e-7.
 #: 1e-9: 9.6e-7; 6.3e-8. 1e-10: 1.5e-7; 5.0e-8 (the reference's own floor is ~2e-8).
-#: Flight errors are <= 4e-10. The low band sets every entry.
+#: Flight errors are <= 4e-10. The low band sets every entry. Each is the worst of two
+#: measurements that differ only in rounding (the right-hand side before and after its
+#: rewrite with one square root): near stick at rtol 1e-8 that alone moved the worst
+#: point from 8.1e-5 to 1.6e-4 (62.75 rad/s), the other rows by less than 2x.
 OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
-    (2.5e-4, 1e-8),
+    (4.8e-4, 1e-8),
     (8.4e-6, 3e-9),
     (2.9e-6, 1e-9),
     (4.5e-7, 1e-10),
