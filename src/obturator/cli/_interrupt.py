@@ -6,7 +6,13 @@ not see Ctrl-C until it returned. Instead the signals are routed to a wake-up
 pipe (:func:`signal.set_wakeup_fd`); a watcher thread blocked on that pipe
 prints one line and ends the process with ``os._exit`` (130 for SIGINT, 143
 for SIGTERM). The integrators release the GIL (``nogil=True``), so the watcher
-runs within milliseconds even mid-integration.
+runs within milliseconds even mid-integration. The Python-level handler in the
+main thread does the same, whichever comes first: while the main thread runs a
+Python loop of small NumPy calls (each releasing and retaking the GIL) the woken
+watcher could wait seconds for the GIL (CPython's convoy effect; measured 2.8-4.5 s
+in ``calibrate``'s bootstrap), and there the main thread reaches its handler at
+the next bytecode. Both write with ``os.write`` (no buffered-stream lock to
+re-enter) and only the first to take :data:`_EXITING` writes.
 
 Nothing finished is lost: sweep and Monte Carlo records are fsynced one by one
 as they finish; outputs are written to temporary files and renamed, so an
@@ -19,12 +25,26 @@ from __future__ import annotations
 
 import os
 import signal
-import sys
 import threading
 
 __all__ = ["install"]
 
 _MESSAGES = {signal.SIGINT: ("interrupted", 130), signal.SIGTERM: ("terminated", 143)}
+
+
+#: Taken by whichever of the two paths stops the process first.
+_EXITING = threading.Lock()
+
+
+def _stop(signum: int) -> None:
+    """Write the one line for `signum` and end the process (a no-op if already ending)."""
+    if not _EXITING.acquire(blocking=False):
+        return
+    text, code = _MESSAGES.get(signum, ("interrupted", 130))
+    try:
+        os.write(2, f"obturator: {text}\n".encode())
+    finally:
+        os._exit(code)
 
 
 def _watch(fd: int) -> None:
@@ -35,12 +55,7 @@ def _watch(fd: int) -> None:
             return
         if not data:  # pragma: no cover
             return
-        text, code = _MESSAGES.get(data[0], ("interrupted", 130))
-        try:
-            sys.stderr.write(f"obturator: {text}\n")
-            sys.stderr.flush()
-        finally:
-            os._exit(code)
+        _stop(data[0])
 
 
 def install() -> bool:
@@ -56,6 +71,6 @@ def install() -> bool:
         os.close(w)
         return False
     for sig in _MESSAGES:
-        signal.signal(sig, lambda *_: None)  # the watcher does the work
+        signal.signal(sig, lambda signum, _frame: _stop(signum))
     threading.Thread(target=_watch, args=(r,), name="obturator-signals", daemon=True).start()
     return True
