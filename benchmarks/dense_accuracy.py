@@ -51,7 +51,8 @@ def reference(spins: np.ndarray) -> np.ndarray:
         np.array([p.y0 for p in pr]), np.zeros(len(pr)), np.array([p.p for p in pr]),
         np.array([p.scale for p in pr]), np.array([c.t_max for c in ct]),
         np.array([c.h0 for c in ct]), np.array([c.h_max for c in ct]),
-        np.array([c.max_steps for c in ct]), np.argsort(spins, kind="stable"), o.rtol, o.atol,
+        np.array([c.max_steps for c in ct]), np.zeros(len(pr), dtype=bool),
+        np.argsort(spins, kind="stable"), o.rtol, o.atol,
         o.event_tol, LANES, LANES,
     )  # fmt: skip
     return np.asarray(t_ev, dtype=float)

@@ -41,6 +41,7 @@ def raw_solve(
     max_steps: int | None = None,
     rtol: float | None = None,
     atol: float | None = None,
+    hand_back: bool = False,
 ) -> tuple[RawSolution, np.ndarray]:
     """Call one compiled integrator directly (what solve.simulate does); return (raw, p).
 
@@ -65,6 +66,7 @@ def raw_solve(
         record=record,
         terminal=terminal,
         event_tol=options.event_tol,
+        hand_back=hand_back,
     )
     problem = Problem(y0, p, error_scale(case, options.formulation), t0)
     return integrate(method or options.method, problem, controls), p

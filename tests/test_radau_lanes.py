@@ -57,6 +57,7 @@ def stiff_batch():
 def test_every_stiff_point_matches_scalar_radau(stiff_batch):
     cases, t, s, stats = stiff_batch
     assert stats["n_stiff"] >= RADAU_LANES_MIN  # the Radau lanes ran (not the fallback)
+    assert stats["n_hand_backs"] > 0  # and points went back to the DOP853 lanes
     assert np.all(s == Status.OPENED)
     ref = np.array([_scalar(c) for c in cases])
     np.testing.assert_allclose(t, ref, rtol=1e-6, atol=0.0)
@@ -93,21 +94,46 @@ def test_default_tolerances_statuses_and_accuracy():
     np.testing.assert_allclose(t, ref, rtol=1e-6, atol=0.0)
 
 
-def _direct(cases, n_lanes, t_max=None, max_steps=None):
-    """integrate_radau_lanes from t = 0 (no DOP853 before it)."""
+def _direct(cases, n_lanes, t_max=None, max_steps=None, start=None, hand_back=False):
+    """integrate_radau_lanes from t = 0 (no DOP853 before it) or from `start`, a list
+    of (t0, y0)."""
     opts = SolverOptions()
     setups = [integration_setup(c, opts) for c in cases]
     pr = [s[0] for s in setups]
     ct = [s[1] for s in setups]
     n = len(cases)
+    y0 = np.array([p.y0 for p in pr]) if start is None else np.array([y for _, y in start])
+    t0 = np.zeros(n) if start is None else np.array([t for t, _ in start])
     return integrate_radau_lanes(
-        np.array([p.y0 for p in pr]), np.zeros(n), np.array([p.p for p in pr]),
+        y0, t0, np.array([p.p for p in pr]),
         np.array([p.scale for p in pr]),
         np.array([c.t_max if t_max is None else t_max for c in ct]),
         np.array([c.h0 for c in ct]), np.array([c.h_max for c in ct]),
         np.array([c.max_steps if max_steps is None else max_steps for c in ct]),
-        np.arange(n), opts.rtol, opts.atol, opts.event_tol, n_lanes, LANES,
+        np.full(n, hand_back), np.arange(n), opts.rtol, opts.atol, opts.event_tol, n_lanes,
+        LANES,
     )  # fmt: skip
+
+
+def test_hand_back_where_the_scalar_radau_hands_back(raw):
+    """From DOP853's stiff state, each lane stops with NONSTIFF (sliding resumed) within
+    a step of where the one-trajectory Radau IIA (:mod:`obturator.core.integrators.radau`,
+    a separate implementation) stops: the lanes round differently, which near stick
+    moves the step grid, and the hand-back is checked after each accepted step. Without
+    `hand_back` both run to the opening."""
+    cases = [rig_case(float(w), MU_S) for w in (120.0, 150.0, 180.0, 205.0)]
+    opts = SolverOptions()
+    dop = [raw(c, opts, method="dop853")[0] for c in cases]
+    assert all(d.status == Status.STIFF for d in dop)
+    start = [(d.t_end, d.y_end) for d in dop]
+    st, _, t_end, y_end, *_ = _direct(cases, LANES, start=start, hand_back=True)
+    for k, (c, d) in enumerate(zip(cases, dop, strict=True)):
+        ref, _ = raw(c, opts, method="radau", y0=d.y_end, t0=d.t_end, hand_back=True)
+        assert st[k] == ref.status == Status.NONSTIFF
+        h_max = integration_setup(c, opts)[1].h_max
+        assert abs(t_end[k] - ref.t_end) <= h_max
+    st, *_ = _direct(cases, LANES, start=start, hand_back=False)
+    assert np.all(st == Status.OPENED)
 
 
 @pytest.mark.parametrize("n_lanes", [1, 5])
@@ -125,9 +151,9 @@ def test_lane_count_does_not_change_results(n_lanes):
 def test_statuses_t_max_and_step_limit():
     """Not opened by t_max and the step limit, as the scalar Radau IIA reports them."""
     cases = [rig_case(150.0, MU_S), rig_case(180.0, MU_S)]
-    st, t_ev, nfev, steps, _ = _direct(cases, LANES, t_max=0.05)
+    st, t_ev, _, _, nfev, steps, _ = _direct(cases, LANES, t_max=0.05)
     assert list(st) == [Status.T_MAX] * 2 and np.all(np.isnan(t_ev))
-    st, t_ev, _, steps, _ = _direct(cases, LANES, max_steps=20)
+    st, t_ev, _, _, _, steps, _ = _direct(cases, LANES, max_steps=20)
     assert list(st) == [Status.STEP_LIMIT] * 2 and list(steps) == [20, 20]
     assert np.all(nfev > 0)
 
@@ -143,15 +169,15 @@ def _direct_width(cases, vw):
     one = np.ones(1)
     return integrate_radau_lanes(
         p.y0[None], 0.0 * one, p.p[None], p.scale[None], c.t_max * one, c.h0 * one,
-        c.h_max * one, np.full(1, c.max_steps), np.zeros(1, dtype=np.int64), opts.rtol,
-        opts.atol, opts.event_tol, 1, vw,
+        c.h_max * one, np.full(1, c.max_steps), np.zeros(1, dtype=bool),
+        np.zeros(1, dtype=np.int64), opts.rtol, opts.atol, opts.event_tol, 1, vw,
     )  # fmt: skip
 
 
 def test_few_stiff_points_go_one_by_one(monkeypatch):
     """Below RADAU_LANES_MIN stiff points the batch uses the scalar Radau IIA."""
     called = []
-    monkeypatch.setattr(batch, "_radau_lanes", lambda *a, **k: called.append(1))
+    monkeypatch.setattr(batch, "integrate_radau_lanes", lambda *a, **k: called.append(1))
     cases = [rig_case(float(w), MU_S) for w in (120.0, 160.0, 400.0)]
     t, s, stats = opening_times(cases, SolverOptions())
     assert not called and stats["n_stiff"] == 2

@@ -24,7 +24,9 @@ class Status(IntEnum):
 
     Integrator values: ``OPENED`` (1), ``T_MAX`` (0), ``STEP_LIMIT`` (2),
     ``FAILED`` (-1), ``STIFF`` (3, DOP853 only: the ``auto`` method then continues
-    with Radau IIA, so results never carry it). Study values:
+    with Radau IIA, so results never carry it), ``NONSTIFF`` (6, Radau IIA under
+    ``auto`` only: sliding has resumed for half a revolution, ``auto`` goes back to
+    DOP853). Study values:
     ``INVALID_INPUT`` (-2, the point is not a valid case and was not
     integrated), ``UNCONVERGED`` (4, opened but t_cr moved by more than the
     threshold in the convergence check) and, for trajectory-coupled flights
@@ -40,6 +42,7 @@ class Status(IntEnum):
     STIFF = 3
     UNCONVERGED = 4
     SUBSONIC = 5
+    NONSTIFF = 6
 
     @property
     def message(self) -> str:
@@ -62,6 +65,7 @@ MESSAGES: dict[Status, str] = {
     Status.STIFF: "DOP853 stopped: the problem is stiff here (auto continues with Radau IIA).",
     Status.UNCONVERGED: "The bore opened, but t_cr is not converged (convergence check).",
     Status.SUBSONIC: "The flight went subsonic before the bore opened (no normal-shock load).",
+    Status.NONSTIFF: "Radau IIA stopped: sliding resumed (auto continues with DOP853).",
 }
 
 #: Flag name of each status (CF ``flag_meanings`` in sweep and Monte Carlo files).
@@ -74,4 +78,5 @@ FLAGS: dict[Status, str] = {
     Status.STIFF: "stiff",
     Status.UNCONVERGED: "opened_not_converged",
     Status.SUBSONIC: "subsonic_before_opening",
+    Status.NONSTIFF: "non_stiff",
 }

@@ -48,9 +48,9 @@ def _compile(method: str) -> tuple[str, float, str | None]:
         pr, c = integration_setup(rig_case(300.0, 0.5, t_max=1e-3), SolverOptions())
         one = np.ones(1)
         integrate_lanes(
-            pr.y0[None], pr.p[None], pr.scale[None], c.t_max * one, c.h0 * one,
-            c.h_max * one, np.zeros(1, dtype=np.int64), c.rtol, c.atol, c.max_steps,
-            c.event_tol, 16,
+            pr.y0[None], 0.0 * one, pr.p[None], pr.scale[None], c.t_max * one, c.h0 * one,
+            c.h_max * one, np.full(1, c.max_steps), np.zeros(1, dtype=np.int64), c.rtol,
+            c.atol, c.event_tol, 16,
         )  # fmt: skip
         return method, time.perf_counter() - t0, configure_cache()
     # a short run that stays non-stiff: "auto" compiles DOP853 alone; each process
@@ -75,8 +75,8 @@ def load_radau_lanes() -> None:
     one = np.ones(1)
     integrate_radau_lanes(
         pr.y0[None], 0.0 * one, pr.p[None], pr.scale[None], c.t_max * one, c.h0 * one,
-        c.h_max * one, np.full(1, c.max_steps), np.zeros(1, dtype=np.int64), c.rtol, c.atol,
-        c.event_tol, LANES, LANES,
+        c.h_max * one, np.full(1, c.max_steps), np.ones(1, dtype=np.bool_),
+        np.zeros(1, dtype=np.int64), c.rtol, c.atol, c.event_tol, LANES, LANES,
     )  # fmt: skip
 
 

@@ -378,6 +378,22 @@ def rhs(t: float, y: np.ndarray, p: np.ndarray, dy: np.ndarray) -> None:
 
 
 @njit(cache=True, **NO_REFCOUNT)
+def slip_and_spin(y: np.ndarray, p: np.ndarray) -> tuple[float, float]:
+    """Slip speed |omega_r| of the ball on its socket and the spin omega_p [rad/s].
+
+    omega_r = omega_ball - omega_p Z is the ball's rate relative to the socket
+    (thesis Eqs. 35-36); its direction sets the sliding-friction torque.
+    """
+    r, w1, w2, w3 = _attitude_and_rates(y, p)
+    wp = _spin(y, p, w1, w2, w3)
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
+    wx = r00 * w1 + r01 * w2 + r02 * w3
+    wy = r10 * w1 + r11 * w2 + r12 * w3
+    wz = r20 * w1 + r21 * w2 + r22 * w3 - wp
+    return math.sqrt(wx * wx + wy * wy + wz * wz), wp
+
+
+@njit(cache=True, **NO_REFCOUNT)
 def nutation_angle_of_state(y: np.ndarray, p: np.ndarray) -> float:
     """Nutation angle theta [rad] between the hole axis z and the spin axis Z."""
     if p[P_FORM] == FORM_EULER:

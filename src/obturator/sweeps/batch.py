@@ -15,7 +15,10 @@ points together in the lanes of :func:`obturator.core.integrators.lanes.integrat
    trajectory: in Radau IIA lanes
    (:func:`obturator.core.integrators.radau_lanes.integrate_radau_lanes`) when
    the batch has at least :data:`RADAU_LANES_MIN` such points and the thesis
-   kernel, else one by one.
+   kernel, else one by one;
+4. a Radau IIA lane whose ball slides again (status ``NONSTIFF``, the end of the
+   stick-slip phase; :func:`obturator.core.integrators.continue_auto`) goes back
+   to the DOP853 lanes, in rounds until every point has ended.
 
 Per lane the arithmetic is that of the one-trajectory DOP853, so t_cr agrees
 with the scalar path to the last bit on the cases checked
@@ -34,7 +37,12 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..core.integrators import RawSolution, _hand_over, auto_radau_tolerances
+from ..core.integrators import (
+    AUTO_HAND_BACKS,
+    RawSolution,
+    auto_radau_tolerances,
+    continue_auto,
+)
 from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes
 from ..core.integrators.radau_lanes import integrate_radau_lanes
 from ..core.layout import KERNEL_THESIS, N_STATE, P_KERNEL
@@ -105,14 +113,15 @@ def opening_times(
         :func:`~obturator.sweeps.points.evaluate_point` gives it.
     stats : dict
         ``n_points``, ``nfev`` (right-hand sides, all points), ``n_stiff``
-        (lanes handed to Radau IIA).
+        (points handed to Radau IIA), ``n_hand_backs`` (Radau IIA lanes that went
+        back to DOP853 lanes).
     """
     if options.method not in BATCH_METHODS:
         raise InputError("method", f"{options.method!r}: the lanes integrate {BATCH_METHODS}")
     n = len(cases)
     t_cr = np.full(n, math.nan)
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
-    stats = {"n_points": n, "nfev": 0, "n_stiff": 0}
+    stats = {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0}
     valid = [k for k, c in enumerate(cases) if not isinstance(c, InputError)]
     if not valid:
         return t_cr, status, stats
@@ -126,64 +135,90 @@ def opening_times(
 
 
 def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
+    """Points of one kernel: DOP853 lanes, stiff points on in Radau IIA lanes, the points
+    where sliding resumed back in DOP853 lanes, and so on, as :func:`continue_auto` does
+    for one point; stiff points too few for Radau IIA lanes (or of another kernel)
+    finish one by one through :func:`continue_auto` itself."""
     problems = [pk[0] for pk in packed]
     controls = [pk[1] for pk in packed]
+    n = len(problems)
     spin = np.array([c.spin_rate for c in (pk[2] for pk in packed)])
-    st, t_ev, t_end, y_end, nfev, n_steps, n_rej = integrate_lanes(
-        np.array([pr.y0 for pr in problems]), np.array([pr.p for pr in problems]),
-        np.array([pr.scale for pr in problems]), np.array([c.t_max for c in controls]),
-        np.array([c.h0 for c in controls]), np.array([c.h_max for c in controls]),
-        np.argsort(-spin, kind="stable"), options.rtol, options.atol,
-        int(options.max_steps), options.event_tol, n_lanes,
-    )  # fmt: skip
-    stats["nfev"] += int(nfev.sum())
-    stiff = np.flatnonzero(st == Status.STIFF)
-    lanes_ok = stiff[np.all(np.isfinite(y_end[stiff]), axis=1) & (t_end[stiff] > 0.0)]
-    if (
-        lanes_ok.size < RADAU_LANES_MIN
-        or _kernel_of(problems) != KERNEL_THESIS
-        or not env_switch("OBTURATOR_RADAU_LANES")
-    ):
-        lanes_ok = lanes_ok[:0]
-    if lanes_ok.size:
-        rst, rt, rnfev = _radau_lanes(
-            [problems[g] for g in lanes_ok], [controls[g] for g in lanes_ok], y_end[lanes_ok],
-            t_end[lanes_ok], n_steps[lanes_ok], np.argsort(spin[lanes_ok], kind="stable"),
-            options, n_lanes,
+    p = np.array([pr.p for pr in problems])
+    scale = np.array([pr.scale for pr in problems])
+    t_start = np.array([pr.t0 for pr in problems])
+    t_max, h0, h_max = (
+        np.array([getattr(c, f) for c in controls]) for f in ("t_max", "h0", "h_max")
+    )
+    max_steps = np.array([c.max_steps for c in controls], dtype=np.int64)
+    y = np.array([pr.y0 for pr in problems])  # where each point's next stretch starts
+    t = t_start.copy()
+    cnt = np.zeros((3, n), dtype=np.int64)  # nfev, accepted steps, rejected steps so far
+    hand_backs = np.zeros(n, dtype=np.int64)
+    end_status = np.zeros(n, dtype=np.int8)
+    t_event = np.full(n, math.nan)
+    went_stiff = np.zeros(n, dtype=bool)
+    radau_lanes = _kernel_of(problems) == KERNEL_THESIS and env_switch("OBTURATOR_RADAU_LANES")
+    pending = np.arange(n)
+    while pending.size:
+        sel = pending
+        st, t_ev = _advance(
+            integrate_lanes, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps,
+            np.argsort(-spin[sel], kind="stable"), options.rtol, options.atol,
+            options.event_tol, n_lanes,
         )  # fmt: skip
-        st[lanes_ok] = rst
-        t_ev[lanes_ok] = rt
-        stats["nfev"] += int(rnfev.sum())
-        stats["n_stiff"] += int(lanes_ok.size)
-    done = set(lanes_ok.tolist())
-    for g, k in enumerate(idx):
-        s = Status(int(st[g]))
-        t = float(t_ev[g])
-        if s == Status.STIFF and g not in done:
-            stats["n_stiff"] += 1
+        _settle(sel, st, t_ev, st != Status.STIFF, end_status, t_event)
+        stiff = sel[st == Status.STIFF]
+        went_stiff[stiff] = True
+        in_lanes = stiff[np.all(np.isfinite(y[stiff]), axis=1) & (t[stiff] > t_start[stiff])]
+        if in_lanes.size < RADAU_LANES_MIN or not radau_lanes:
+            in_lanes = in_lanes[:0]
+        for g in np.setdiff1d(stiff, in_lanes):
             dop = RawSolution(
-                s, t, np.full(N_STATE, math.nan), np.empty(0), np.empty((0, N_STATE)),
-                int(nfev[g]), 0, int(n_steps[g]), int(n_rej[g]), float(t_end[g]), y_end[g],
+                Status.STIFF, math.nan, np.full(N_STATE, math.nan), np.empty(0),
+                np.empty((0, N_STATE)), int(cnt[0, g]), 0, int(cnt[1, g]), int(cnt[2, g]),
+                float(t[g]), y[g].copy(),
             )  # fmt: skip
-            out = _hand_over(dop, problems[g], controls[g])
-            stats["nfev"] += int(out.nfev) - int(nfev[g])
-            s, t = Status(out.status), float(out.t_event)
-        t_cr[k], status[k] = point_status(s, t)
+            out = continue_auto(dop, problems[g], controls[g], int(hand_backs[g]))
+            cnt[0, g] = out.nfev
+            end_status[g], t_event[g] = out.status, out.t_event
+        pending = in_lanes
+        if in_lanes.size:
+            rtol, atol = auto_radau_tolerances(options.rtol, options.atol)
+            st, t_ev = _advance(
+                integrate_radau_lanes, in_lanes, y, t, cnt, p, scale, t_max, h0, h_max,
+                max_steps, hand_backs[in_lanes] < AUTO_HAND_BACKS,
+                np.argsort(spin[in_lanes], kind="stable"), rtol, atol, options.event_tol,
+                n_lanes, LANES,
+            )  # fmt: skip
+            back = st == Status.NONSTIFF
+            _settle(in_lanes, st, t_ev, ~back, end_status, t_event)
+            pending = in_lanes[back]
+            hand_backs[pending] += 1
+    stats["nfev"] += int(cnt[0].sum())
+    stats["n_stiff"] += int(went_stiff.sum())
+    stats["n_hand_backs"] += int(hand_backs.sum())
+    for g, k in enumerate(idx):
+        t_cr[k], status[k] = point_status(Status(int(end_status[g])), float(t_event[g]))
 
 
-def _radau_lanes(problems, controls, y, t, steps_done, order, options, n_lanes):
-    """Continue points from (t, y) in Radau IIA lanes, at ``auto``'s Radau tolerances
-    (:func:`~obturator.core.integrators.auto_radau_tolerances`); (status, t_event, nfev)
-    per point."""
-    rtol, atol = auto_radau_tolerances(options.rtol, options.atol)
-    st, t_ev, nfev, _, _ = integrate_radau_lanes(
-        y, t, np.array([pr.p for pr in problems]), np.array([pr.scale for pr in problems]),
-        np.array([c.t_max for c in controls]), np.array([c.h0 for c in controls]),
-        np.array([c.h_max for c in controls]),
-        np.array([max(c.max_steps - int(k), 1) for c, k in zip(controls, steps_done, strict=True)]),
-        order, rtol, atol, options.event_tol, n_lanes, LANES,
-    )  # fmt: skip
-    return st, t_ev, nfev
+def _advance(lanes, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps, *rest):
+    """One stretch of the points `sel` in `lanes` (:func:`integrate_lanes` or
+    :func:`integrate_radau_lanes`) from (t, y), with the steps they have left; (t, y)
+    and the counters move on to where each stopped. Returns (status, t_event)."""
+    left = np.maximum(max_steps[sel] - cnt[1, sel], 1)
+    st, t_ev, t_end, y_end, nfev, n_steps, n_rej = lanes(
+        y[sel], t[sel], p[sel], scale[sel], t_max[sel], h0[sel], h_max[sel], left, *rest
+    )
+    y[sel] = y_end
+    t[sel] = t_end
+    cnt[:, sel] += np.stack((nfev, n_steps, n_rej))
+    return st, t_ev
+
+
+def _settle(sel, st, t_ev, final, end_status, t_event) -> None:
+    """Record the outcome of the points of `sel` whose run ended (`final`)."""
+    end_status[sel[final]] = st[final]
+    t_event[sel[final]] = t_ev[final]
 
 
 def _kernel_of(problems) -> float:

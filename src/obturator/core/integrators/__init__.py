@@ -12,9 +12,9 @@ what they share. Methods:
 
 :func:`integrate` dispatches on the method name of :data:`obturator.vocab.METHODS`;
 ``"auto"`` is DOP853 handing the run over to Radau IIA in flight when DOP853
-reports stiffness: Radau continues from DOP853's last accepted state and time
-(counters add up; outputs join). The method modules (and numba) are imported on
-first use.
+reports stiffness, and back when sliding has resumed: each continues from the
+other's last accepted state and time (counters add up; outputs join). The method
+modules (and numba) are imported on first use.
 """
 
 from __future__ import annotations
@@ -26,8 +26,10 @@ import numpy as np
 from .contract import Controls, Problem, RawSolution, Status
 
 __all__ = [
+    "AUTO_HAND_BACKS",
     "AUTO_RADAU_TOL_FACTOR",
     "auto_radau_tolerances",
+    "continue_auto",
     "Controls",
     "Problem",
     "RawSolution",
@@ -58,46 +60,84 @@ def method_module(name: str):
     return importlib.import_module(f".{_MODULES[name]}", __name__)
 
 
+#: Largest number of times one ``auto`` run goes back from Radau IIA to DOP853; after
+#: that Radau IIA runs to the end (bounds the cost of a run that keeps switching).
+AUTO_HAND_BACKS = 4
+
+
 def integrate(method: str, problem: Problem, controls: Controls) -> RawSolution:
-    """Run the compiled integrator `method` (``"auto"``, ``"radau"`` or ``"rosenbrock"``)."""
+    """Run the compiled integrator `method` (``"auto"``, ``"radau"`` or ``"rosenbrock"``).
+
+    ``"auto"``: DOP853, then :func:`continue_auto` where it reports ``STIFF``.
+    """
     if method != "auto":
         return method_module(method).integrate(problem, controls)
-    out = method_module("dop853").integrate(problem, controls)
-    if out.status != Status.STIFF:
-        return out
-    return _hand_over(out, problem, controls)
+    return continue_auto(method_module("dop853").integrate(problem, controls), problem, controls)
 
 
-def _hand_over(dop: RawSolution, problem: Problem, controls: Controls) -> RawSolution:
+def continue_auto(
+    out: RawSolution, problem: Problem, controls: Controls, hand_backs: int = 0
+) -> RawSolution:
+    """Finish an ``auto`` run whose last stretch, DOP853's, ended as `out`.
+
+    Where DOP853 reports ``STIFF``, Radau IIA continues from its last accepted state
+    (:func:`_hand_over`); where sliding then resumes for half a revolution (status
+    ``NONSTIFF``, :func:`.radau_control.sliding_resumed`), DOP853 again, and so on,
+    at most :data:`AUTO_HAND_BACKS` times in all (`hand_backs` already done). On the
+    rig the stiff stretch is the stick-slip phase after release; the sliding that
+    follows costs DOP853 far less than Radau IIA. The batched lanes
+    (:mod:`obturator.sweeps.batch`) switch at the same points.
+    """
+    dop853 = method_module("dop853").integrate
+    while out.status == Status.STIFF:
+        out = _hand_over(out, problem, controls, hand_backs < AUTO_HAND_BACKS)
+        if out.status != Status.NONSTIFF:
+            break
+        hand_backs += 1
+        out = _continue(out, dop853, problem, controls)
+    return out
+
+
+def _hand_over(
+    dop: RawSolution, problem: Problem, controls: Controls, hand_back: bool = False
+) -> RawSolution:
     """Continue a run DOP853 stopped as stiff with Radau IIA from its last accepted state.
 
     Restarting from t = 0 (as before) repeated the whole non-stiff stretch with the
     costlier implicit method; the hand-over state is an accepted DOP853 step, as
     accurate as any other. A non-finite state (DOP853 diverged) restarts from t0.
-    Radau IIA runs at :data:`AUTO_RADAU_TOL_FACTOR` of the tolerances.
+    Radau IIA runs at :data:`AUTO_RADAU_TOL_FACTOR` of the tolerances; with
+    `hand_back` it stops with ``NONSTIFF`` once sliding has resumed.
     """
     radau = method_module("radau").integrate
     rtol, atol = auto_radau_tolerances(controls.rtol, controls.atol)
-    controls = controls._replace(rtol=rtol, atol=atol)
+    stiff = controls._replace(rtol=rtol, atol=atol, hand_back=hand_back)
     if not (np.all(np.isfinite(dop.y_end)) and dop.t_end > problem.t0):
-        rad = radau(problem, controls)
+        rad = radau(problem, stiff)
         return rad._replace(nfev=rad.nfev + dop.nfev, n_rejected=rad.n_rejected + dop.n_rejected)
-    t_eval = controls.t_eval[controls.t_eval > dop.t_end]
-    rest = controls._replace(t_eval=t_eval, max_steps=max(controls.max_steps - dop.n_steps, 1))
-    rad = radau(problem._replace(y0=dop.y_end, t0=dop.t_end), rest)
-    # recorded rows: DOP853's end state is Radau's first row
+    return _continue(dop, radau, problem, stiff)
+
+
+def _continue(prev: RawSolution, run, problem: Problem, controls: Controls) -> RawSolution:
+    """`run` (a compiled integrator) from the end of `prev`, with the steps left; the
+    outputs joined and the counters added up."""
+    t_eval = controls.t_eval[controls.t_eval > prev.t_end]
+    rest = controls._replace(t_eval=t_eval, max_steps=max(controls.max_steps - prev.n_steps, 1))
+    nxt = run(problem._replace(y0=prev.y_end, t0=prev.t_end), rest)
+    # recorded rows: the previous end state is the next run's first row
     if controls.record and controls.t_eval.shape[0] == 0:
-        t = np.concatenate((dop.t, rad.t[1:]))
-        y = np.concatenate((dop.y, rad.y[1:]))
+        t = np.concatenate((prev.t, nxt.t[1:]))
+        y = np.concatenate((prev.y, nxt.y[1:]))
     else:
-        t = np.concatenate((dop.t, rad.t))
-        y = np.concatenate((dop.y, rad.y))
-    if dop.t_event == dop.t_event:  # found before the hand-over (non-terminal runs)
-        rad = rad._replace(t_event=dop.t_event, y_event=dop.y_event)
-    return rad._replace(
+        t = np.concatenate((prev.t, nxt.t))
+        y = np.concatenate((prev.y, nxt.y))
+    if prev.t_event == prev.t_event:  # found before the switch (non-terminal runs)
+        nxt = nxt._replace(t_event=prev.t_event, y_event=prev.y_event)
+    return nxt._replace(
         t=t,
         y=y,
-        nfev=rad.nfev + dop.nfev,
-        n_steps=rad.n_steps + dop.n_steps,
-        n_rejected=rad.n_rejected + dop.n_rejected,
+        nfev=nxt.nfev + prev.nfev,
+        njev=nxt.njev + prev.njev,
+        n_steps=nxt.n_steps + prev.n_steps,
+        n_rejected=nxt.n_rejected + prev.n_rejected,
     )

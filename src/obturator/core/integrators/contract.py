@@ -79,6 +79,11 @@ class Controls(NamedTuple):
         Stop at the first theta = theta_cr crossing (downwards).
     event_tol : float
         Bracket width at which the event time is accepted [s].
+    hand_back : bool
+        Radau IIA only (set by ``auto``): stop with status ``NONSTIFF`` once the slip
+        speed has stayed above the saturation of the regularised Coulomb law for
+        half a revolution (:func:`.radau_control.sliding_resumed`), so that ``auto``
+        continues with the cheaper explicit method.
     """
 
     t_max: float
@@ -91,6 +96,7 @@ class Controls(NamedTuple):
     record: bool
     terminal: bool
     event_tol: float
+    hand_back: bool = False
 
 
 class RawSolution(NamedTuple):

@@ -186,7 +186,7 @@ def integrate(problem, controls):
     Status ``STIFF`` when the problem looks stiff; njev is always 0.
     """
     p, scale = problem.p, problem.scale
-    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol = controls
+    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
     n = N_STATE
     theta_cr = p[P_THETA_CR]
     t, y, ts, ys, n_out, y_event = start(problem, controls)

@@ -218,7 +218,7 @@ def _locate_event(t, h, y, k0, p, g_old, g_new, ynew, event_tol):
 
 @njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy")
 def integrate_lanes(
-    y0, p, scale, t_max, h0, h_max, order, rtol, atol, max_steps, event_tol, n_lanes
+    y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes
 ):
     """Integrate points until theta = theta_cr (terminal) or t_max, `n_lanes` at a time.
 
@@ -226,18 +226,20 @@ def integrate_lanes(
     ----------
     y0 : ndarray, shape (n, 8)
         Initial states.
+    t0 : ndarray, shape (n,)
+        Start times [s] (0 at release; later where ``auto`` comes back from Radau IIA).
     p : ndarray, shape (n, N_PARAM)
         Packed parameters; every row must have the same ``P_KERNEL``.
     scale : ndarray, shape (n, 8)
         Error-weight scales (as in :class:`.contract.Problem`).
     t_max, h0, h_max : ndarray, shape (n,)
         End time, initial step and largest step of each point [s].
+    max_steps : ndarray of int, shape (n,)
+        Accepted-step limit per point.
     order : ndarray of int, shape (n,)
         The order in which points enter the lanes (a permutation of 0..n-1).
     rtol, atol : float
         Tolerances (transformed as in :mod:`.dop853`).
-    max_steps : int
-        Accepted-step limit per point.
     event_tol : float
         Bracket width of the event time [s].
     n_lanes : int
@@ -280,8 +282,10 @@ def integrate_lanes(
     COSN = np.zeros(LANES)  # cos(theta) at the step ends (quaternion form)
     FAC = np.zeros(LANES)  # step factor 0.9 err^(-1/8)
     HL = np.zeros(LANES)  # stiffness estimate h |lambda|
+    T0 = np.zeros(LANES)  # start time (the step budget counts from it)
     TMAX = np.zeros(LANES)
     HMAX = np.zeros(LANES)
+    MAXST = np.zeros(LANES, dtype=np.int64)
     SPT = np.zeros(LANES)  # step budget per second of simulated time
     GOLD = np.zeros(LANES)
     COS_CR = np.zeros(LANES)
@@ -289,7 +293,7 @@ def integrate_lanes(
     CNT = np.zeros((5, LANES), dtype=np.int64)  # nfev, steps, rejected, stiff run, calm run
     REJ = np.zeros(LANES, dtype=np.bool_)
     LIVE = np.zeros(LANES, dtype=np.bool_)
-    lanes = (Y, K, PL, SC, T, H, TMAX, HMAX, SPT, GOLD, COS_CR, IDX, CNT, REJ, LIVE)
+    lanes = (Y, K, PL, SC, T, T0, H, TMAX, HMAX, MAXST, SPT, GOLD, COS_CR, IDX, CNT, REJ, LIVE)
     quaternion = kernel == KERNEL_THESIS  # the thesis kernel is quaternion-form
     tol_f = max(TOL_FACTOR, 1e-14 / rtol)
     rtol = tol_f * rtol
@@ -319,17 +323,19 @@ def integrate_lanes(
                 rhs(0.0, ys, ps, fs)
                 for i in range(n):
                     K[i * LANES + j] = fs[i]
-                T[j] = 0.0
+                T[j] = t0[q]
+                T0[j] = t0[q]
                 TMAX[j] = t_max[q]
                 HMAX[j] = h_max[q]
+                MAXST[j] = max_steps[q]
                 SPT[j] = STEPS_PER_PERIOD * w0 / (2.0 * math.pi)
-                H[j] = min(h0[q], h_max[q], t_max[q])
+                H[j] = min(h0[q], h_max[q], t_max[q] - t0[q])
                 GOLD[j] = nutation_angle_of_state(ys, ps) - ps[P_THETA_CR]
                 COS_CR[j] = math.cos(ps[P_THETA_CR])
                 CNT[:, j] = 0
                 CNT[0, j] = 1
                 REJ[j] = False
-                code, H[j] = _top_of_step(T[j], H[j], TMAX[j], SPT[j], 0, 0, max_steps)
+                code, H[j] = _top_of_step(T[j], T0[j], H[j], TMAX[j], SPT[j], 0, 0, MAXST[j])
                 LIVE[j] = code == _GO_ON or _finish(j, code, math.nan, Y, T, IDX, CNT, out)
         # ---- once the queue is empty, pack the live lanes to the front ----
         if nxt >= n_pts:
@@ -418,7 +424,9 @@ def integrate_lanes(
                     fac = min(fac, 1.0)
                 REJ[j] = False
                 H[j] = min(h * fac, HMAX[j])
-            code, H[j] = _top_of_step(T[j], H[j], TMAX[j], SPT[j], CNT[1, j], CNT[2, j], max_steps)
+            code, H[j] = _top_of_step(
+                T[j], T0[j], H[j], TMAX[j], SPT[j], CNT[1, j], CNT[2, j], MAXST[j]
+            )
             LIVE[j] = code == _GO_ON or _finish(j, code, math.nan, Y, T, IDX, CNT, out)
     return out
 
@@ -430,8 +438,9 @@ _T_MAX, _STEP_LIMIT, _STIFF = int(Status.T_MAX), int(Status.STEP_LIMIT), int(Sta
 
 
 @njit(cache=True)
-def _top_of_step(t, h, t_max, steps_per_s, n_steps, n_rejected, max_steps):
-    """The checks at the top of :func:`.dop853.integrate`'s loop for one lane (t0 = 0).
+def _top_of_step(t, t0, h, t_max, steps_per_s, n_steps, n_rejected, max_steps):
+    """The checks at the top of :func:`.dop853.integrate`'s loop for one lane (started
+    at t0).
 
     Returns (code, h): ``_GO_ON`` with the step cut to end at t_max where needed,
     or the status that ends the point (``T_MAX``, ``STEP_LIMIT``, or ``STIFF`` for an
@@ -443,7 +452,7 @@ def _top_of_step(t, h, t_max, steps_per_s, n_steps, n_rejected, max_steps):
         return _T_MAX, h
     if n_steps >= max_steps:
         return _STEP_LIMIT, h
-    if n_steps + n_rejected > steps_per_s * t + STEP_ALLOWANCE:
+    if n_steps + n_rejected > steps_per_s * (t - t0) + STEP_ALLOWANCE:
         return _STIFF, h
     if t + 1.01 * h >= t_max:
         h = t_max - t
@@ -469,7 +478,7 @@ def _finish(j, status, t_event, Y, T, IDX, CNT, out) -> bool:
 @njit(cache=True)
 def _move_lane(a, b, lanes) -> None:
     """Copy every per-lane quantity of lane a into lane b."""
-    Y, K, PL, SC, T, H, TMAX, HMAX, SPT, GOLD, COS_CR, IDX, CNT, REJ, LIVE = lanes
+    Y, K, PL, SC, T, T0, H, TMAX, HMAX, MAXST, SPT, GOLD, COS_CR, IDX, CNT, REJ, LIVE = lanes
     for i in range(N_STATE):
         Y[i * LANES + b] = Y[i * LANES + a]
         SC[i * LANES + b] = SC[i * LANES + a]
@@ -478,9 +487,11 @@ def _move_lane(a, b, lanes) -> None:
     for i in range(PL.shape[0] // LANES):
         PL[i * LANES + b] = PL[i * LANES + a]
     T[b] = T[a]
+    T0[b] = T0[a]
     H[b] = H[a]
     TMAX[b] = TMAX[a]
     HMAX[b] = HMAX[a]
+    MAXST[b] = MAXST[a]
     SPT[b] = SPT[a]
     GOLD[b] = GOLD[a]
     COS_CR[b] = COS_CR[a]

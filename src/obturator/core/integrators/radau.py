@@ -54,9 +54,9 @@ import math
 import numpy as np
 from numba import njit
 
-from ..dynamics import nutation_angle_of_state, rhs
+from ..dynamics import nutation_angle_of_state, rhs, slip_and_spin
 from ..jit_flags import NO_REFCOUNT
-from ..layout import FORM_EULER, N_STATE, P_FORM, P_THETA_CR
+from ..layout import FORM_EULER, N_STATE, P_FORM, P_THETA_CR, P_WIDTH
 from .common import (
     append_row,
     bracket_closed,
@@ -107,6 +107,7 @@ from .radau_control import (
     _THET,
     newton_contraction,
     next_step,
+    sliding_resumed,
     step_quotient,
 )
 
@@ -342,7 +343,9 @@ def locate_opening(
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
     p, scale = problem.p, problem.scale
-    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol = controls
+    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, hand_back = (
+        controls
+    )
     n = N_STATE
     theta_cr = p[P_THETA_CR]
     t, y, ts, ys, n_out, y_event = start(problem, controls)
@@ -403,6 +406,7 @@ def integrate(problem, controls):
     err_gus = 1.0
     g_old = nutation_angle_of_state(y, p) - theta_cr
     h_lim = math.inf
+    t_stick = t  # last time the slip speed was below saturation (hand_back)
     while t < t_max:
         if n_steps >= max_steps:
             status = Status.STEP_LIMIT
@@ -531,6 +535,12 @@ def integrate(problem, controls):
         if not (y[0] == y[0]):
             status = Status.FAILED
             break
+        if hand_back:
+            slip, spin = slip_and_spin(y, p)
+            back, t_stick = sliding_resumed(t, t_stick, slip, spin, p[P_WIDTH])
+            if back:
+                status = Status.NONSTIFF
+                break
         h, h_lim, slow = next_step(h, h_new, h_lim, h_max, rejected, theta)
         need_jac = need_jac or slow
         first = False

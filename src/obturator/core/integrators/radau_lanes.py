@@ -38,7 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..dynamics import nutation_angle_of_state
+from ..dynamics import nutation_angle_of_state, slip_and_spin
 from ..layout import N_STATE, P_THETA_CR, P_WIDTH
 from .common import increment_cap, underflow
 from .contract import Status
@@ -51,7 +51,15 @@ from .lane_linalg import (
 from .lanes import _cos_nutation_lanes, _rhs_thesis_lanes
 from .lanes_layout import LANES
 from .radau import _UROUND, locate_opening
-from .radau_control import _LIM_SHRINK, _NIT, _THET, newton_contraction, next_step, step_quotient
+from .radau_control import (
+    _LIM_SHRINK,
+    _NIT,
+    _THET,
+    newton_contraction,
+    next_step,
+    sliding_resumed,
+    step_quotient,
+)
 from .radau_lane_steps import (
     NW_F,
     NW_R1,
@@ -86,8 +94,9 @@ _RUNNING, _CONVERGED, _FAILED, _IDLE = 0, 1, 2, 3
 
 @njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy")
 def integrate_radau_lanes(
-    y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes, vw
-):
+    y0, t0, p, scale, t_max, h0, h_max, max_steps, hand_back, order, rtol, atol, event_tol,
+    n_lanes, vw,
+):  # fmt: skip
     """Radau IIA from (t0, y0) of many points until theta = theta_cr or t_max, in lanes.
 
     Parameters
@@ -104,6 +113,9 @@ def integrate_radau_lanes(
         End time, initial step and largest step [s].
     max_steps : ndarray of int, shape (n,)
         Accepted-step limit per point.
+    hand_back : ndarray of bool, shape (n,)
+        Stop a point with ``NONSTIFF`` once sliding has resumed (as ``Controls.hand_back``
+        in :func:`.radau.integrate`).
     order : ndarray of int, shape (n,)
         The order in which points enter the lanes.
     rtol, atol : float
@@ -119,17 +131,22 @@ def integrate_radau_lanes(
     Returns
     -------
     tuple
-        (status int8 (n,), t_event (n,), nfev (n,), n_steps (n,), n_rejected (n,)),
-        statuses as :func:`.radau.integrate`.
+        (status int8 (n,), t_event (n,), t_end (n,), y_end (n, 8), nfev (n,), n_steps (n,),
+        n_rejected (n,)), statuses as :func:`.radau.integrate` (``NONSTIFF`` with the
+        state where sliding had resumed in y_end / t_end).
     """
     if vw != LANES:
         raise ValueError("vw must be LANES")
     n_pts = y0.shape[0]
     n_par = p.shape[1]
     nl = max(1, min(n_lanes, LANES, n_pts))
-    st_out = np.zeros(n_pts, dtype=np.int8)
-    tev_out = np.full(n_pts, math.nan)
-    cnt_out = np.zeros((3, n_pts), dtype=np.int64)
+    out = (
+        np.zeros(n_pts, dtype=np.int8),
+        np.full(n_pts, math.nan),
+        np.zeros(n_pts),
+        np.zeros((n_pts, _N)),
+        np.zeros((3, n_pts), dtype=np.int64),
+    )
     # vectors and matrices of every lane
     Y = np.zeros(_V)
     YN = np.zeros(_V)
@@ -175,6 +192,7 @@ def integrate_radau_lanes(
     ERR = np.zeros(LANES)
     HFAC = np.ones(LANES)
     GOLD = np.zeros(LANES)
+    TSTICK = np.zeros(LANES)  # last time the slip speed was below saturation (hand_back)
     COS_CR = np.zeros(LANES)
     COSN = np.zeros(LANES)
     COSK = np.zeros(LANES)
@@ -191,6 +209,7 @@ def integrate_radau_lanes(
     FRESH = np.zeros(LANES, dtype=np.bool_)
     POLY = np.zeros(LANES, dtype=np.bool_)
     FIRST = np.zeros(LANES, dtype=np.bool_)
+    HB = np.zeros(LANES, dtype=np.bool_)
     REJ = np.zeros(LANES, dtype=np.bool_)
     ACC = np.zeros(LANES, dtype=np.bool_)
     LIVE = np.zeros(LANES, dtype=np.bool_)
@@ -223,17 +242,16 @@ def integrate_radau_lanes(
                 if not LIVE[j]:
                     if nxt >= n_pts:
                         break
-                    _fill(j, order[nxt], y0, t0, p, scale, t_max, h0, h_max, max_steps, PL, Y,
-                          SC, CAP, T, H, HACC, TMAX, HMAX, MAXST, GOLD, COS_CR, IDX, CNT, NJ,
-                          FRESH, POLY, FIRST, REJ, FACCON, HGUS, ERRGUS, HLIM, ys, ps)  # fmt: skip
+                    _fill(j, order[nxt], y0, t0, p, scale, t_max, h0, h_max, max_steps,
+                          hand_back, PL, Y, SC, CAP, T, H, HACC, TMAX, HMAX, MAXST, GOLD,
+                          TSTICK, COS_CR, IDX, CNT, NJ, FRESH, POLY, FIRST, HB, REJ, FACCON,
+                          HGUS, ERRGUS, HLIM, ys, ps)  # fmt: skip
                     LIVE[j] = True
                     nxt += 1
                 if not T[j] < TMAX[j]:
-                    LIVE[j] = _finish(j, Status.T_MAX, math.nan, IDX, CNT, st_out, tev_out,
-                                      cnt_out)  # fmt: skip
+                    LIVE[j] = _finish(j, Status.T_MAX, math.nan, Y, T, IDX, CNT, out)
                 elif CNT[1, j] >= MAXST[j]:
-                    LIVE[j] = _finish(j, Status.STEP_LIMIT, math.nan, IDX, CNT, st_out,
-                                      tev_out, cnt_out)  # fmt: skip
+                    LIVE[j] = _finish(j, Status.STEP_LIMIT, math.nan, Y, T, IDX, CNT, out)
                 else:
                     break
         if nxt >= n_pts:
@@ -244,8 +262,8 @@ def integrate_radau_lanes(
                     continue
                 if nl - 1 > j:
                     _move(nl - 1, j, PL, Y, F0, SC, CAP, ZACC, JAC, T, H, HACC, TMAX, HMAX,
-                          HLIM, HGUS, ERRGUS, FACCON, GOLD, COS_CR, MAXST, IDX, CNT, NJ, FRESH,
-                          POLY, FIRST, REJ, LIVE)  # fmt: skip
+                          HLIM, HGUS, ERRGUS, FACCON, GOLD, TSTICK, COS_CR, MAXST, IDX, CNT,
+                          NJ, FRESH, POLY, FIRST, HB, REJ, LIVE)  # fmt: skip
                 nl -= 1
             if nl == 0:
                 break
@@ -289,8 +307,7 @@ def integrate_radau_lanes(
                 H[j] *= 0.5
                 STATE[j] = _IDLE
                 if underflow(H[j], T[j]):
-                    LIVE[j] = _finish(j, Status.FAILED, math.nan, IDX, CNT, st_out, tev_out,
-                                      cnt_out)  # fmt: skip
+                    LIVE[j] = _finish(j, Status.FAILED, math.nan, Y, T, IDX, CNT, out)
         for j in range(nl, LANES):
             STATE[j] = _IDLE
         # ---- phase 3: simplified Newton ----
@@ -356,8 +373,7 @@ def integrate_radau_lanes(
                 if not FRESH[j]:
                     NJ[j] = True
                 if underflow(H[j], T[j]):
-                    LIVE[j] = _finish(j, Status.FAILED, math.nan, IDX, CNT, st_out, tev_out,
-                                      cnt_out)  # fmt: skip
+                    LIVE[j] = _finish(j, Status.FAILED, math.nan, Y, T, IDX, CNT, out)
         # ---- phase 4: embedded error estimate ----
         error_rhs_lanes(Y, Z, F0, H, YN, ERRV, WORK, vw)
         lu_solve_lanes(LUR, PIVR, SWR, WORK, vw)
@@ -404,8 +420,7 @@ def integrate_radau_lanes(
                 if not FRESH[j]:
                     NJ[j] = True
                 if underflow(H[j], T[j]):
-                    LIVE[j] = _finish(j, Status.FAILED, math.nan, IDX, CNT, st_out, tev_out,
-                                      cnt_out)  # fmt: skip
+                    LIVE[j] = _finish(j, Status.FAILED, math.nan, Y, T, IDX, CNT, out)
                 continue
             h_new = h / quot
             HGUS[j] = h
@@ -434,8 +449,7 @@ def integrate_radau_lanes(
                     )  # fmt: skip
                     CNT[0, j] += nf
                     if found:
-                        LIVE[j] = _finish(j, Status.OPENED, t_ev, IDX, CNT, st_out, tev_out,
-                                          cnt_out)  # fmt: skip
+                        LIVE[j] = _finish(j, Status.OPENED, t_ev, Y, T, IDX, CNT, out)
                         continue
                 GOLD[j] = g_new
             else:
@@ -450,9 +464,20 @@ def integrate_radau_lanes(
             ACC[j] = True
             CNT[1, j] += 1
             if not (Y[j] == Y[j]):
-                LIVE[j] = _finish(j, Status.FAILED, math.nan, IDX, CNT, st_out, tev_out, cnt_out)
+                LIVE[j] = _finish(j, Status.FAILED, math.nan, Y, T, IDX, CNT, out)
                 ACC[j] = False
                 continue
+            if HB[j]:
+                lane_vector(Y, j, 0, ys)
+                for i in range(n_par):
+                    ps[i] = PL[i * LANES + j]
+                slip, spin = slip_and_spin(ys, ps)
+                back, TSTICK[j] = sliding_resumed(T[j], TSTICK[j], slip, spin, ps[P_WIDTH])
+                if back:
+                    CNT[0, j] += 1  # the scalar code has evaluated f at the new state
+                    LIVE[j] = _finish(j, Status.NONSTIFF, math.nan, Y, T, IDX, CNT, out)
+                    ACC[j] = False
+                    continue
             H[j], HLIM[j], slow = next_step(h, h_new, HLIM[j], HMAX[j], REJ[j], THETA[j])
             NJ[j] = NJ[j] or slow
             FIRST[j] = False
@@ -461,13 +486,14 @@ def integrate_radau_lanes(
         for j in range(nl, LANES):
             ACC[j] = False
         f0_masked(Y, PL, F0, FW, ACC, CNT, vw)
-    return st_out, tev_out, cnt_out[0], cnt_out[1], cnt_out[2]
+    st_out, tev_out, tend_out, yend_out, cnt_out = out
+    return st_out, tev_out, tend_out, yend_out, cnt_out[0], cnt_out[1], cnt_out[2]
 
 
 @njit(cache=True)
-def _fill(j, q, y0, t0, p, scale, t_max, h0, h_max, max_steps, PL, Y, SC, CAP, T, H, HACC,
-          TMAX, HMAX, MAXST, GOLD, COS_CR, IDX, CNT, NJ, FRESH, POLY, FIRST, REJ, FACCON, HGUS,
-          ERRGUS, HLIM, ys, ps) -> None:  # fmt: skip
+def _fill(j, q, y0, t0, p, scale, t_max, h0, h_max, max_steps, hand_back, PL, Y, SC, CAP, T,
+          H, HACC, TMAX, HMAX, MAXST, GOLD, TSTICK, COS_CR, IDX, CNT, NJ, FRESH, POLY, FIRST,
+          HB, REJ, FACCON, HGUS, ERRGUS, HLIM, ys, ps) -> None:  # fmt: skip
     """Load point q into lane j, as :func:`.radau.integrate` starts a run."""
     n_par = p.shape[1]
     IDX[j] = q
@@ -489,6 +515,8 @@ def _fill(j, q, y0, t0, p, scale, t_max, h0, h_max, max_steps, PL, Y, SC, CAP, T
     H[j] = min(h0[q], h_max[q], t_max[q] - t0[q])
     HACC[j] = 1.0
     GOLD[j] = nutation_angle_of_state(ys, ps) - ps[P_THETA_CR]
+    TSTICK[j] = t0[q]
+    HB[j] = hand_back[q]
     COS_CR[j] = math.cos(ps[P_THETA_CR])
     CNT[:, j] = 0
     NJ[j] = True
@@ -503,11 +531,16 @@ def _fill(j, q, y0, t0, p, scale, t_max, h0, h_max, max_steps, PL, Y, SC, CAP, T
 
 
 @njit(cache=True)
-def _finish(j, status, t_event, IDX, CNT, st_out, tev_out, cnt_out) -> bool:
-    """Write lane j's outcome to its point; False (the lane is free)."""
+def _finish(j, status, t_event, Y, T, IDX, CNT, out) -> bool:
+    """Write lane j's outcome (and its time and state) to its point; False (the lane is
+    free)."""
+    st_out, tev_out, tend_out, yend_out, cnt_out = out
     q = IDX[j]
     st_out[q] = status
     tev_out[q] = t_event
+    tend_out[q] = T[j]
+    for i in range(_N):
+        yend_out[q, i] = Y[i * LANES + j]
     for c in range(3):
         cnt_out[c, q] = CNT[c, j]
     return False
@@ -516,7 +549,7 @@ def _finish(j, status, t_event, IDX, CNT, st_out, tev_out, cnt_out) -> bool:
 @njit(cache=True)
 def _move(
     a, b, PL, Y, F0, SC, CAP, ZACC, JAC, T, H, HACC, TMAX, HMAX, HLIM, HGUS, ERRGUS, FACCON,
-    GOLD, COS_CR, MAXST, IDX, CNT, NJ, FRESH, POLY, FIRST, REJ, LIVE,
+    GOLD, TSTICK, COS_CR, MAXST, IDX, CNT, NJ, FRESH, POLY, FIRST, HB, REJ, LIVE,
 ) -> None:  # fmt: skip
     """Copy everything lane a carries from step to step into lane b."""
     for i in range(PL.shape[0] // LANES):
@@ -528,11 +561,11 @@ def _move(
         ZACC[u * LANES + b] = ZACC[u * LANES + a]
     for u in range(_N * _N):
         JAC[u * LANES + b] = JAC[u * LANES + a]
-    for X in (T, H, HACC, TMAX, HMAX, HLIM, HGUS, ERRGUS, FACCON, GOLD, COS_CR):
+    for X in (T, H, HACC, TMAX, HMAX, HLIM, HGUS, ERRGUS, FACCON, GOLD, TSTICK, COS_CR):
         X[b] = X[a]
     MAXST[b] = MAXST[a]
     IDX[b] = IDX[a]
     CNT[:, b] = CNT[:, a]
-    for X in (NJ, FRESH, POLY, FIRST, REJ, LIVE):
+    for X in (NJ, FRESH, POLY, FIRST, HB, REJ, LIVE):
         X[b] = X[a]
     LIVE[a] = False
