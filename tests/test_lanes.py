@@ -266,11 +266,11 @@ def test_lanes_sweep_resumes_after_interruption(monkeypatch, tmp_path):
     original = batch.run_rows
     chunks: list[int] = []
 
-    def exploding(sp, names, rows):
+    def exploding(sp, names, rows, packed=None):
         if len(chunks) == 2:
             raise KeyboardInterrupt
         chunks.append(len(rows))
-        return original(sp, names, rows)
+        return original(sp, names, rows, packed)
 
     monkeypatch.setattr(batch, "run_rows", exploding)
     with pytest.raises(KeyboardInterrupt):

@@ -12,10 +12,11 @@ of three families; see :func:`obturator.dynamics.applied_torque`); the thesis's
 moment arm always uses the true slip direction. Integration is compiled: an
 explicit Dormand-Prince 8(5,3) pair by default, which hands the run to a
 fifth-order Radau IIA method when it detects stiffness (Radau's Newton
-iterations cope with the strongly nonlinear stiffness of near-stick phases);
-Radau alone or an L-stable Rosenbrock pair can be chosen; the opening event
-is located by re-stepping to 1e-12 s. :func:`convergence_check` reruns a case
-with tighter tolerances, a narrower width and another regularisation family.
+iterations cope with the strongly nonlinear stiffness of near-stick phases),
+and back once the ball slides again; Radau alone or an L-stable Rosenbrock pair
+can be chosen; the opening event is located by re-stepping to 1e-12 s.
+:func:`convergence_check` reruns a case with tighter tolerances, a narrower width
+and another regularisation family.
 """
 
 from __future__ import annotations
@@ -119,7 +120,11 @@ class SolverOptions:
         outside sticking), handing the run over to Radau IIA (at a third of the
         tolerances) from its last accepted state when DOP853 detects stiffness
         (Hairer's h*lambda test, or more than 200 steps per spin period plus 1000,
-        or a step size collapse); counters add up. t_cr errors at rtol 1e-8: median
+        or a step size collapse), and back to DOP853 from Radau's last accepted
+        step once the slip speed has stayed above 1e4 regularisation widths for half
+        a revolution (the stick-slip phase is over; at most
+        :data:`~obturator.core.integrators.AUTO_HAND_BACKS` times); counters add up.
+        t_cr errors at rtol 1e-8: median
         ~5e-9, worst 3.0e-7 relative at 100-1000 rad/s, up to 1.6e-4 in the long
         near-stick runs below 100 rad/s (:data:`OPENING_TIME_ACCURACY`). ``"radau"``:
         the fifth-order Radau IIA collocation method (Newton iterations follow the nonlinear
@@ -254,10 +259,12 @@ def pack_parameters(case: Case, options: SolverOptions, y0: np.ndarray | None = 
     p[P_VISC:P_FAMILY] = case.torque.pack()
     p[P_SPEED : P_SPEED + 3] = case.torque.speed_law.pack()
     p[P_FAMILY] = FAMILY_CODES[options.friction_family]
-    # total kinetic energy for the thesis's energy form (Appendix A, C(4))
-    p[P_KE0] = 0.0
-    obs = observables(y0[None, :], p)
-    p[P_KE0] = obs[0, 5] + 0.5 * case.projectile_inertia * case.spin_rate**2
+    # total kinetic energy, read by the thesis's energy form only (Appendix A, C(4));
+    # elsewhere it stays 0, so that packing calls no compiled code (a process that has
+    # not loaded numba packs points in ~30 us, obturator.sweeps.ahead)
+    if case.spin_mode == "thesis-energy":
+        obs = observables(y0[None, :], p)
+        p[P_KE0] = obs[0, 5] + 0.5 * case.projectile_inertia * case.spin_rate**2
     return specialise(p)
 
 

@@ -34,24 +34,37 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Mapping, Sequence
+from typing import NamedTuple
 
 import numpy as np
 
 from ..core.integrators import (
     AUTO_HAND_BACKS,
+    Controls,
+    Problem,
     RawSolution,
     auto_radau_tolerances,
     continue_auto,
 )
 from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes
 from ..core.integrators.radau_lanes import integrate_radau_lanes
-from ..core.layout import KERNEL_THESIS, N_STATE, P_KERNEL
+from ..core.layout import KERNEL_THESIS, N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError
 from ..solve import SolverOptions, integration_setup
 from ..status import Status
 from .points import point_status
 
-__all__ = ["BATCH_METHODS", "RADAU_LANES_MIN", "batchable", "opening_times"]
+__all__ = [
+    "BATCH_METHODS",
+    "RADAU_LANES_MIN",
+    "PackedPoints",
+    "batchable",
+    "integrate_packed",
+    "opening_times",
+    "pack_points",
+    "pack_rows",
+    "run_rows",
+]
 
 #: Methods the lanes integrate (``auto``: DOP853, stiff lanes handed to Radau IIA).
 BATCH_METHODS = ("auto",)
@@ -118,19 +131,73 @@ def opening_times(
     """
     if options.method not in BATCH_METHODS:
         raise InputError("method", f"{options.method!r}: the lanes integrate {BATCH_METHODS}")
+    return integrate_packed(pack_points(cases, options), options, n_lanes=n_lanes)
+
+
+class PackedPoints(NamedTuple):
+    """Points ready for the lanes: what :func:`~obturator.solve.integration_setup` gives
+    for each, as arrays with one row per point (rows of invalid points are zeros).
+
+    Built in Python (case validation, parameter packing: ~30 us per point), so it can
+    be built in another process than the one that integrates
+    (:mod:`obturator.sweeps.ahead`); :meth:`take` selects points.
+    """
+
+    valid: np.ndarray  #: bool (n,): the point is a valid case
+    y0: np.ndarray  #: (n, 8) initial states
+    p: np.ndarray  #: (n, n_par) packed parameters
+    scale: np.ndarray  #: (n, 8) error-weight scales
+    t_max: np.ndarray  #: (n,) [s]
+    h0: np.ndarray  #: (n,) initial steps [s]
+    h_max: np.ndarray  #: (n,) largest steps [s]
+    spin: np.ndarray  #: (n,) omega_p [rad/s]
+
+    def take(self, rows: np.ndarray) -> PackedPoints:
+        """The points at positions `rows`."""
+        return PackedPoints(*(a[rows] for a in self))
+
+    @staticmethod
+    def concatenate(parts: Sequence[PackedPoints]) -> PackedPoints:
+        """The points of `parts`, one after the other."""
+        return PackedPoints(*(np.concatenate(a) for a in zip(*parts, strict=True)))
+
+
+def pack_points(cases: Sequence[object], options: SolverOptions) -> PackedPoints:
+    """:class:`PackedPoints` of `cases` (an :class:`~obturator.errors.InputError` in
+    place of a case marks an invalid point)."""
     n = len(cases)
+    valid = np.array([not isinstance(c, InputError) for c in cases], dtype=bool)
+    setups = [integration_setup(c, options) for c, ok in zip(cases, valid, strict=True) if ok]
+    n_par = setups[0][0].p.size if setups else N_PARAM
+    out = PackedPoints(
+        valid, np.zeros((n, N_STATE)), np.zeros((n, n_par)), np.ones((n, N_STATE)),
+        *(np.zeros(n) for _ in range(4)),
+    )  # fmt: skip
+    k = np.flatnonzero(valid)
+    if k.size:
+        out.y0[k] = [pr.y0 for pr, _ in setups]
+        out.p[k] = [pr.p for pr, _ in setups]
+        out.scale[k] = [pr.scale for pr, _ in setups]
+        out.t_max[k] = [c.t_max for _, c in setups]
+        out.h0[k] = [c.h0 for _, c in setups]
+        out.h_max[k] = [c.h_max for _, c in setups]
+        out.spin[k] = [cases[i].spin_rate for i in k]
+    return out
+
+
+def integrate_packed(
+    packed: PackedPoints, options: SolverOptions, *, n_lanes: int = DEFAULT_LANES
+) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
+    """:func:`opening_times` of points already packed (:func:`pack_points`)."""
+    n = packed.valid.size
     t_cr = np.full(n, math.nan)
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
     stats = {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0}
-    valid = [k for k, c in enumerate(cases) if not isinstance(c, InputError)]
-    if not valid:
-        return t_cr, status, stats
-    packed = [(*integration_setup(cases[k], options), cases[k]) for k in valid]
-    kernels = np.array([pk[0].p[P_KERNEL] for pk in packed])
+    valid = np.flatnonzero(packed.valid)
+    kernels = packed.p[valid, P_KERNEL]
     for kernel in np.unique(kernels):
-        sel = [i for i in range(len(valid)) if kernels[i] == kernel]
-        _run_group([valid[i] for i in sel], [packed[i] for i in sel], options, n_lanes,
-                   t_cr, status, stats)  # fmt: skip
+        idx = valid[kernels == kernel]
+        _run_group(idx, packed.take(idx), options, n_lanes, t_cr, status, stats)
     return t_cr, status, stats
 
 
@@ -139,25 +206,18 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
     where sliding resumed back in DOP853 lanes, and so on, as :func:`continue_auto` does
     for one point; stiff points too few for Radau IIA lanes (or of another kernel)
     finish one by one through :func:`continue_auto` itself."""
-    problems = [pk[0] for pk in packed]
-    controls = [pk[1] for pk in packed]
-    n = len(problems)
-    spin = np.array([c.spin_rate for c in (pk[2] for pk in packed)])
-    p = np.array([pr.p for pr in problems])
-    scale = np.array([pr.scale for pr in problems])
-    t_start = np.array([pr.t0 for pr in problems])
-    t_max, h0, h_max = (
-        np.array([getattr(c, f) for c in controls]) for f in ("t_max", "h0", "h_max")
-    )
-    max_steps = np.array([c.max_steps for c in controls], dtype=np.int64)
-    y = np.array([pr.y0 for pr in problems])  # where each point's next stretch starts
-    t = t_start.copy()
+    n = idx.size
+    p, scale, spin = packed.p, packed.scale, packed.spin
+    t_max, h0, h_max = packed.t_max, packed.h0, packed.h_max
+    max_steps = np.full(n, int(options.max_steps), dtype=np.int64)
+    y = packed.y0.copy()  # where each point's next stretch starts
+    t = np.zeros(n)  # integration_setup starts every run at release, t = 0
     cnt = np.zeros((3, n), dtype=np.int64)  # nfev, accepted steps, rejected steps so far
     hand_backs = np.zeros(n, dtype=np.int64)
     end_status = np.zeros(n, dtype=np.int8)
     t_event = np.full(n, math.nan)
     went_stiff = np.zeros(n, dtype=bool)
-    radau_lanes = _kernel_of(problems) == KERNEL_THESIS and env_switch("OBTURATOR_RADAU_LANES")
+    radau_lanes = p[0, P_KERNEL] == KERNEL_THESIS and env_switch("OBTURATOR_RADAU_LANES")
     pending = np.arange(n)
     while pending.size:
         sel = pending
@@ -169,16 +229,21 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
         _settle(sel, st, t_ev, st != Status.STIFF, end_status, t_event)
         stiff = sel[st == Status.STIFF]
         went_stiff[stiff] = True
-        in_lanes = stiff[np.all(np.isfinite(y[stiff]), axis=1) & (t[stiff] > t_start[stiff])]
+        in_lanes = stiff[np.all(np.isfinite(y[stiff]), axis=1) & (t[stiff] > 0.0)]
         if in_lanes.size < RADAU_LANES_MIN or not radau_lanes:
             in_lanes = in_lanes[:0]
         for g in np.setdiff1d(stiff, in_lanes):
+            problem = Problem(packed.y0[g], p[g], scale[g])
+            controls = Controls(
+                float(t_max[g]), options.rtol, options.atol, float(h0[g]), float(h_max[g]),
+                int(options.max_steps), np.empty(0), False, True, options.event_tol,
+            )  # fmt: skip
             dop = RawSolution(
                 Status.STIFF, math.nan, np.full(N_STATE, math.nan), np.empty(0),
                 np.empty((0, N_STATE)), int(cnt[0, g]), 0, int(cnt[1, g]), int(cnt[2, g]),
                 float(t[g]), y[g].copy(),
             )  # fmt: skip
-            out = continue_auto(dop, problems[g], controls[g], int(hand_backs[g]))
+            out = continue_auto(dop, problem, controls, int(hand_backs[g]))
             cnt[0, g] = out.nfev
             end_status[g], t_event[g] = out.status, out.t_event
         pending = in_lanes
@@ -221,13 +286,8 @@ def _settle(sel, st, t_ev, final, end_status, t_event) -> None:
     t_event[sel[final]] = t_ev[final]
 
 
-def _kernel_of(problems) -> float:
-    """The right-hand-side kernel of a group of problems (all share one)."""
-    return float(problems[0].p[P_KERNEL])
-
-
-def run_rows(spec, names: tuple[str, ...], rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`opening_times` of the rows of one sweep chunk (values in `names` order)."""
+def pack_rows(spec, names: tuple[str, ...], rows: np.ndarray) -> PackedPoints:
+    """:class:`PackedPoints` of the rows of one sweep chunk (values in `names` order)."""
     cases: list[object] = []
     for row in rows:
         values: Mapping[str, float] = dict(zip(names, row.tolist(), strict=True))
@@ -235,5 +295,16 @@ def run_rows(spec, names: tuple[str, ...], rows: np.ndarray) -> tuple[np.ndarray
             cases.append(spec.build_case(values))
         except InputError as exc:
             cases.append(exc)
-    t, s, _ = opening_times(cases, spec.options)
+    return pack_points(cases, spec.options)
+
+
+def run_rows(
+    spec, names: tuple[str, ...], rows: np.ndarray, packed: PackedPoints | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`opening_times` of the rows of one sweep chunk (values in `names` order),
+    from `packed` (:func:`pack_rows` of the same rows) where given."""
+    if spec.options.method not in BATCH_METHODS:
+        raise InputError("method", f"{spec.options.method!r}: the lanes integrate {BATCH_METHODS}")
+    t, s, _ = integrate_packed(pack_rows(spec, names, rows) if packed is None else packed,
+                               spec.options)  # fmt: skip
     return t, s

@@ -29,15 +29,16 @@ import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import AbstractContextManager, contextmanager, suppress
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 from typing import Any, Protocol
 
 import numpy as np
 
 from ..errors import ClusterError, InputError
-from .batch import RADAU_LANES_MIN
-from .points import run_chunk, warm
+from .ahead import pack_ahead
+from .batch import RADAU_LANES_MIN, batchable
+from .points import is_warm, run_chunk, warm
 from .spec import SweepSpec
 
 __all__ = [
@@ -64,7 +65,7 @@ __all__ = [
 #: points together and its stiff points in Radau IIA lanes, which pay off from a few dozen
 #: stiff points per chunk (measured, 10,000 rig points over 100-700 rad/s in one process:
 #: 7.0 s with 64-point chunks, 5.1 s with 256).
-_MAX_CHUNK = 256
+_MAX_CHUNK = 1024
 _CHUNKS_PER_WORKER = 8
 
 #: ``sink(indices, result)``: receives each finished chunk's result.
@@ -112,11 +113,15 @@ class Job:
     warm : callable, optional
         Loads the compiled code once before workers are forked (they inherit it)
         and before a probe chunk is timed.
+    ahead : callable, optional
+        ``ahead(chunks)``: does what `warm` does while a helper process prepares the
+        chunks' arguments, and returns the job that uses them (:mod:`.ahead`).
     """
 
     fn: Callable[..., Any]
     args_of: Callable[[np.ndarray], tuple[Any, ...]]
     warm: Callable[[], None] | None = None
+    ahead: Callable[[list[np.ndarray]], Job] | None = None
 
     def run(self, idx: np.ndarray) -> Any:
         """Compute one chunk in this process."""
@@ -129,12 +134,37 @@ def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: i
 
     The warm-up loads the Radau IIA lanes only when a chunk (`largest_chunk` points)
     can hold enough stiff points to use them: a small sweep does not pay their load.
+    Where the points run in lanes, the job can pack points ahead (:mod:`.ahead`).
     """
-    return Job(
+    radau_lanes = largest_chunk >= RADAU_LANES_MIN
+    job = Job(
         run_chunk,
         lambda idx: (spec, names, rows_of(idx)),
-        partial(warm, spec.options, radau_lanes=largest_chunk >= RADAU_LANES_MIN),
+        partial(warm, spec.options, radau_lanes=radau_lanes),
     )
+    if batchable(spec.options, spec.check_convergence):
+        job = replace(job, ahead=partial(_pack_while_loading, job, spec, names, rows_of))
+    return job
+
+
+def _pack_while_loading(job: Job, spec: SweepSpec, names, rows_of, chunks) -> Job:
+    """`job` with the points a helper packed while this process loaded the integrators
+    (:func:`.ahead.pack_ahead`): where fork is safe, a core is spare and the integrators
+    are not loaded yet; else `job` as it is, warm."""
+    assert job.warm is not None
+    radau_lanes = job.warm.keywords["radau_lanes"]  # type: ignore[attr-defined]
+    if (
+        mp_context().get_start_method() != "fork"
+        or default_workers() < 2
+        or is_warm(spec.options, radau_lanes)
+        or not chunks
+    ):
+        job.warm()
+        return job
+    done = pack_ahead(spec, names, rows_of, np.concatenate(chunks), job.warm)
+    if not len(done):
+        return job
+    return replace(job, args_of=lambda idx: (spec, names, rows_of(idx), done.take(idx)))
 
 
 class Executor(Protocol):

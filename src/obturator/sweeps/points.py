@@ -20,7 +20,14 @@ from ..solve import SolverOptions, convergence_check, opening_time
 from ..status import Status
 from .spec import SweepSpec
 
-__all__ = ["POINT_STATUSES", "evaluate_point", "point_status", "run_chunk", "warm"]
+__all__ = [
+    "POINT_STATUSES",
+    "evaluate_point",
+    "is_warm",
+    "point_status",
+    "run_chunk",
+    "warm",
+]
 
 #: The statuses a study point can have (the ``status`` variable's flag values).
 POINT_STATUSES: tuple[Status, ...] = (
@@ -69,18 +76,20 @@ def evaluate_point(spec: SweepSpec, values: Mapping[str, float]) -> tuple[float,
 
 
 def run_chunk(
-    spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray
+    spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray, packed: object = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Evaluate the points of one chunk (rows of values in ``names`` order).
 
     In lanes (:mod:`obturator.sweeps.batch`) where the options allow, else one
-    :func:`evaluate_point` per row; the results are the same. Module level so
-    that process pools and dask workers can import it.
+    :func:`evaluate_point` per row; the results are the same. `packed`: the rows'
+    :class:`~obturator.sweeps.batch.PackedPoints` where already built
+    (:mod:`obturator.sweeps.ahead`). Module level so that process pools and dask
+    workers can import it.
     """
     from .batch import batchable, run_rows
 
     if batchable(spec.options, spec.check_convergence):
-        return run_rows(spec, names, rows)
+        return run_rows(spec, names, rows, packed)  # type: ignore[arg-type]
     t = np.empty(len(rows))
     s = np.empty(len(rows), dtype=np.int8)
     for k, row in enumerate(rows):
@@ -96,6 +105,8 @@ def warm(options: SolverOptions, radau_lanes: bool = False) -> None:
     from ..warmup import load_radau_lanes
     from .batch import batchable, opening_times
 
+    if is_warm(options, radau_lanes):
+        return
     case = rig_case(150.0, 0.5, t_max=1e-2)
     try:
         opening_time(case, options)
@@ -105,3 +116,14 @@ def warm(options: SolverOptions, radau_lanes: bool = False) -> None:
                 load_radau_lanes()
     except RuntimeError:  # pragma: no cover - warm-up only
         pass
+    _WARM.add((options, radau_lanes))
+
+
+#: (options, radau_lanes) of the :func:`warm` calls done in this process (forked
+#: workers inherit it with the loaded code).
+_WARM: set[tuple[SolverOptions, bool]] = set()
+
+
+def is_warm(options: SolverOptions, radau_lanes: bool = False) -> bool:
+    """True when :func:`warm` has loaded the integrators for `options` in this process."""
+    return (options, radau_lanes) in _WARM

@@ -115,6 +115,8 @@ def run_points(
         executor = choose_executor(n_workers, scheduler, len(chunks))
         job = sweep_job(spec, names, rows_of, max((c.size for c in chunks), default=0))
         if isinstance(executor, ProcessPool):
+            if job.ahead is not None:
+                job = job.ahead(chunks)
             executor = probe_cost(executor, job, chunks, sink)
         bar = partial(progress_bar, progress, n_points, n_resumed, label)
         if chunks:

@@ -7,7 +7,8 @@ what they share. Methods:
 
 * :mod:`.dop853`: explicit Dormand-Prince 8(5,3), no Jacobian; reports
   ``STIFF`` in sticking phases;
-* :mod:`.radau`: fifth-order Radau IIA collocation (simplified Newton);
+* :mod:`.radau`: fifth-order Radau IIA collocation (simplified Newton); under
+  ``auto`` reports ``NONSTIFF`` once sliding has resumed;
 * :mod:`.rosenbrock`: Shampine's L-stable Rosenbrock pair (ode23s).
 
 :func:`integrate` dispatches on the method name of :data:`obturator.vocab.METHODS`;
