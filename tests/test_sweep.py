@@ -568,3 +568,20 @@ def test_validation_mechanisms_are_sweep_axes() -> None:
             assert math.isfinite(got) and got == opening_time(case)
     with pytest.raises(InputError, match="^speed_law"):
         SweepSpec(case="flight", speed_law="weakening")
+
+
+def test_default_chunks_lanes_and_tasks() -> None:
+    """About 8 chunks per worker, every point once; lane chunks up to LANE_CHUNK points
+    (enough stiff points per chunk for the Radau IIA lanes), others up to TASK_CHUNK."""
+    todo = np.arange(100_000)
+    lanes = executors.make_chunks(todo, 2, None, executors.LANE_CHUNK)
+    tasks = executors.make_chunks(todo, 2, None)
+    assert executors.LANE_CHUNK == 1024 and executors.TASK_CHUNK == 256
+    assert 1000 < max(c.size for c in lanes) <= 1024 and len(lanes) == 98
+    assert 250 < max(c.size for c in tasks) <= 256 and len(tasks) == 391
+    small = executors.make_chunks(np.arange(10_000), 2, None, executors.LANE_CHUNK)
+    assert len(small) == 16 and {c.size for c in small} == {625}
+    for chunks in (lanes, tasks, small):
+        np.testing.assert_array_equal(
+            np.sort(np.concatenate(chunks)), np.arange(sum(c.size for c in chunks))
+        )

@@ -57,15 +57,21 @@ __all__ = [
     "POOL_MIN_SERIAL_S",
     "resolve_workers",
     "default_workers",
+    "LANE_CHUNK",
+    "TASK_CHUNK",
     "make_chunks",
     "progress_bar",
 ]
 
-#: Largest default chunk: the lanes (:mod:`obturator.sweeps.batch`) integrate a chunk's
-#: points together and its stiff points in Radau IIA lanes, which pay off from a few dozen
-#: stiff points per chunk (measured, 10,000 rig points over 100-700 rad/s in one process:
-#: 7.0 s with 64-point chunks, 5.1 s with 256).
-_MAX_CHUNK = 1024
+#: Largest default chunk of tasks computed one by one (a chunk is the unit of resumed work).
+TASK_CHUNK = 256
+#: Largest default chunk of points integrated in lanes (:mod:`obturator.sweeps.batch`):
+#: a chunk's stiff points go through Radau IIA lanes together, which pay off from a few
+#: dozen per chunk and keep improving with more (measured, 10,000 rig points over
+#: 100-700 rad/s in one process, AMD EPYC Zen 5: 1.84-1.96 s in 256-point chunks,
+#: 1.71-1.78 s in 500-625, 1.70-1.71 s in 1,250-5,000; on the Intel machine of the
+#: previous release 7.0 s with 64-point chunks, 5.1 s with 256).
+LANE_CHUNK = 1024
 _CHUNKS_PER_WORKER = 8
 
 #: ``sink(indices, result)``: receives each finished chunk's result.
@@ -82,17 +88,20 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def make_chunks(todo: np.ndarray, workers: int, chunk_size: int | None) -> list[np.ndarray]:
+def make_chunks(
+    todo: np.ndarray, workers: int, chunk_size: int | None, max_chunk: int = TASK_CHUNK
+) -> list[np.ndarray]:
     """Split the flat indices `todo` into chunks of about `chunk_size` points.
 
     A chunk takes every k-th remaining point, which mixes cheap and expensive
     points (t_cr grows with spin) and balances the load. Default size: about
-    8 chunks per worker, at most 256 points.
+    8 chunks per worker, at most `max_chunk` points (256; sweeps in lanes
+    :data:`LANE_CHUNK`).
     """
     if todo.size == 0:
         return []
     if chunk_size is None:
-        chunk_size = max(1, min(_MAX_CHUNK, math.ceil(todo.size / (_CHUNKS_PER_WORKER * workers))))
+        chunk_size = max(1, min(max_chunk, math.ceil(todo.size / (_CHUNKS_PER_WORKER * workers))))
     elif int(chunk_size) < 1:
         raise InputError("chunk_size", f"{chunk_size} is outside the allowed range >= 1")
     n_chunks = math.ceil(todo.size / int(chunk_size))

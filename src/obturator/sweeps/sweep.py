@@ -24,7 +24,10 @@ import numpy as np
 
 from ..errors import InputError
 from ..status import Status
+from .batch import batchable
 from .executors import (
+    LANE_CHUNK,
+    TASK_CHUNK,
     ProcessPool,
     choose_executor,
     make_chunks,
@@ -111,7 +114,11 @@ def run_points(
             sidecar.append(idx, t, s)
 
     try:
-        chunks = make_chunks(todo, n_workers if scheduler is None else 8, chunk_size)
+        lanes = batchable(spec.options, spec.check_convergence)
+        chunks = make_chunks(
+            todo, n_workers if scheduler is None else 8, chunk_size,
+            LANE_CHUNK if lanes else TASK_CHUNK,
+        )  # fmt: skip
         executor = choose_executor(n_workers, scheduler, len(chunks))
         job = sweep_job(spec, names, rows_of, max((c.size for c in chunks), default=0))
         if isinstance(executor, ProcessPool):
@@ -233,7 +240,8 @@ def run_sweep(
     restart : bool
         Discard a sidecar left by a *different* study instead of failing.
     chunk_size : int, optional
-        Points per task (default: about 8 tasks per worker, at most 256 points).
+        Points per task (default: about 8 tasks per worker, at most 1,024 points in
+        lanes, else 256).
 
     Returns
     -------
