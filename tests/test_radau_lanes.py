@@ -8,8 +8,8 @@ implementation of the same method, and a few points with Radau IIA at rtol
 near stick the trajectory amplifies rounding, so agreement is required to 1e-6
 relative, not to the bit. Measured on the 1,786 near-stick points (100-207 rad/s)
 of a 10,000-point sweep (``python -m benchmarks.dense_accuracy``): lanes vs scalar
-<= 4.2e-8 at the default rtol 1e-8 and <= 4.2e-10 at rtol 1e-10
-(``SolverOptions.for_opening_time_accuracy(1e-6)``), the lanes within 1.1e-7 and
+<= 4.1e-8 at the default rtol 1e-8 and <= 4.3e-10 at rtol 1e-10
+(``SolverOptions.for_opening_time_accuracy(1e-6)``), the lanes within 1.2e-7 and
 5.0e-8 of Radau IIA at rtol 1e-12. (Before ``auto`` ran Radau IIA at a third of
 the tolerances, rtol 1e-8 left single near-stick points up to 1.7e-4 apart.)
 """
