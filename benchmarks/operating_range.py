@@ -87,7 +87,7 @@ def plot_cost(rows: list[dict[str, Any]], path: str) -> None:
     restart = np.array([r.get("restart_wall_s", np.nan) for r in rows]) * 1e3
     nfev = np.array([r["nfev"] for r in rows])
     fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
-    ax.loglog(w, wall, "o-", label="auto (hand-over in flight)")
+    ax.loglog(w, wall, "o-", label="auto (to Radau IIA and back, in flight)")
     ax.loglog(w, restart, "s--", label="DOP853 attempt + Radau from t = 0 (former)")
     ax.set_xlabel(r"spin rate $\omega_p$ [rad/s]")
     ax.set_ylabel("wall time per trajectory [ms]")
