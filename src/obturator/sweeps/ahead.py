@@ -28,6 +28,7 @@ import numpy as np
 
 from ..core.layout import N_PARAM, N_STATE
 from .batch import PackedPoints, pack_rows
+from .spec import SweepSpec
 
 __all__ = ["AHEAD_POINTS", "PackedAhead", "pack_ahead"]
 
@@ -82,7 +83,14 @@ class PackedAhead:
         return self.packed.take(self._order[k_in])
 
 
-def _pack(shared, parent: int, spec, names, rows_of, index: np.ndarray) -> None:
+def _pack(
+    shared: mmap.mmap,
+    parent: int,
+    spec: SweepSpec,
+    names: tuple[str, ...],
+    rows_of: Callable[[np.ndarray], np.ndarray],
+    index: np.ndarray,
+) -> None:
     """The helper: pack `index` batch by batch into `shared` (counter first, then rows)."""
     from .executors import die_with_parent
 
@@ -100,7 +108,7 @@ def _pack(shared, parent: int, spec, names, rows_of, index: np.ndarray) -> None:
 
 
 def pack_ahead(
-    spec,
+    spec: SweepSpec,
     names: tuple[str, ...],
     rows_of: Callable[[np.ndarray], np.ndarray],
     index: np.ndarray,
@@ -109,8 +117,24 @@ def pack_ahead(
     """Run `load` here while a forked helper packs the points `index` (flat indices,
     the order in which they will be computed; at most :data:`AHEAD_POINTS`).
 
-    Returns the points the helper had packed when `load` returned (none if the
-    helper failed: the workers then pack them, as without it).
+    Parameters
+    ----------
+    spec : SweepSpec
+        The study (its :meth:`~SweepSpec.build_case` and options).
+    names : tuple of str
+        Names of the varied parameters, in the order of the rows' columns.
+    rows_of : callable
+        Flat point indices -> rows of values (SI units, as :class:`SweepSpec`).
+    index : ndarray of int
+        Flat indices of the points to pack, first computed first.
+    load : callable
+        What this process does meanwhile (loading the compiled integrators).
+
+    Returns
+    -------
+    PackedAhead
+        The points the helper had packed when `load` returned (none if it failed:
+        the workers then pack them, as without it).
     """
     index = np.asarray(index[:AHEAD_POINTS], dtype=np.int64)
     shared = mmap.mmap(-1, 8 * (1 + index.size * _COLS))

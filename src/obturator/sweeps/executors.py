@@ -156,7 +156,13 @@ def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: i
     return job
 
 
-def _pack_while_loading(job: Job, spec: SweepSpec, names, rows_of, chunks) -> Job:
+def _pack_while_loading(
+    job: Job,
+    spec: SweepSpec,
+    names: tuple[str, ...],
+    rows_of: Callable[[np.ndarray], np.ndarray],
+    chunks: list[np.ndarray],
+) -> Job:
     """`job` with the points a helper packed while this process loaded the integrators
     (:func:`.ahead.pack_ahead`): where fork is safe, a core is spare and the integrators
     are not loaded yet; else `job` as it is, warm."""
