@@ -9,6 +9,7 @@ reproduce bit for bit.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import xarray as xr
 
 import obturator.sweeps.ahead as ahead
@@ -119,3 +120,19 @@ def test_warm_process_does_not_pack_ahead(monkeypatch):
     monkeypatch.setattr("obturator.sweeps.executors.pack_ahead", lambda *a, **k: called.append(1))
     run = execute_sweep(SPEC, workers=2, chunk_size=2, progress=False)
     assert run.workers == 2 and not called
+
+
+def test_gc_frozen_unfreezes_even_on_error():
+    """Objects are frozen only while loading and forking; this process collects as
+    before afterwards, also when the body raises."""
+    import gc
+
+    from obturator.sweeps.executors import gc_frozen
+
+    before = gc.get_freeze_count()
+    with gc_frozen():
+        assert gc.get_freeze_count() > before
+    assert gc.get_freeze_count() == before
+    with pytest.raises(KeyboardInterrupt), gc_frozen():
+        raise KeyboardInterrupt
+    assert gc.get_freeze_count() == before
