@@ -76,6 +76,7 @@ __all__ = [
     "MAX_STEP_PERIODS_SHARP",
     "max_step_periods",
     "tolerances_for_opening_time",
+    "integration_controls",
     "integration_setup",
 ]
 
@@ -282,6 +283,33 @@ def error_scale(case: Case, formulation: str) -> np.ndarray:
     return np.array([1.0, 1.0, 1.0, 1.0, w, w, w, w])
 
 
+def integration_controls(
+    options: SolverOptions,
+    t_max: float,
+    h0: float,
+    h_max: float,
+    *,
+    t_eval: np.ndarray | None = None,
+    record: bool = False,
+    terminal: bool = True,
+) -> Controls:
+    """The :class:`Controls` of `options` for a run to `t_max` [s] with initial step `h0`
+    and largest step `h_max` [s] (as :func:`integration_setup` derives them from a case;
+    the batched lanes rebuild them from their packed arrays)."""
+    return Controls(
+        t_max=t_max,
+        rtol=options.rtol,
+        atol=options.atol,
+        h0=h0,
+        h_max=h_max,
+        max_steps=int(options.max_steps),
+        t_eval=np.empty(0) if t_eval is None else t_eval,
+        record=record,
+        terminal=terminal,
+        event_tol=options.event_tol,
+    )
+
+
 def integration_setup(
     case: Case,
     options: SolverOptions,
@@ -311,17 +339,14 @@ def integration_setup(
     te = np.empty(0) if t_eval is None else np.asarray(t_eval, dtype=float)
     if te.size and (np.any(np.diff(te) < 0) or te[0] < 0):
         raise InputError("t_eval", "times must be non-negative and increasing")
-    controls = Controls(
-        t_max=float(case.t_max),
-        rtol=options.rtol,
-        atol=options.atol,
-        h0=1e-4 * period,
-        h_max=options.max_step if options.max_step is not None else max_step_periods(case) * period,
-        max_steps=int(options.max_steps),
+    controls = integration_controls(
+        options,
+        float(case.t_max),
+        1e-4 * period,
+        options.max_step if options.max_step is not None else max_step_periods(case) * period,
         t_eval=te,
         record=record,
         terminal=terminal,
-        event_tol=options.event_tol,
     )
     p = pack_parameters(case, options, y0)
     return Problem(y0, p, error_scale(case, options.formulation)), controls

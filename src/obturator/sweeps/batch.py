@@ -40,7 +40,6 @@ import numpy as np
 
 from ..core.integrators import (
     AUTO_HAND_BACKS,
-    Controls,
     Problem,
     RawSolution,
     auto_radau_tolerances,
@@ -50,7 +49,7 @@ from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes
 from ..core.integrators.radau_lanes import integrate_radau_lanes
 from ..core.layout import KERNEL_THESIS, N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError
-from ..solve import SolverOptions, integration_setup
+from ..solve import SolverOptions, integration_controls, integration_setup
 from ..status import Status
 from .points import point_status
 
@@ -129,8 +128,6 @@ def opening_times(
         (points handed to Radau IIA), ``n_hand_backs`` (Radau IIA lanes that went
         back to DOP853 lanes).
     """
-    if options.method not in BATCH_METHODS:
-        raise InputError("method", f"{options.method!r}: the lanes integrate {BATCH_METHODS}")
     return integrate_packed(pack_points(cases, options), options, n_lanes=n_lanes)
 
 
@@ -156,11 +153,6 @@ class PackedPoints(NamedTuple):
         """The points at positions `rows`."""
         return PackedPoints(*(a[rows] for a in self))
 
-    @staticmethod
-    def concatenate(parts: Sequence[PackedPoints]) -> PackedPoints:
-        """The points of `parts`, one after the other."""
-        return PackedPoints(*(np.concatenate(a) for a in zip(*parts, strict=True)))
-
 
 def pack_points(cases: Sequence[object], options: SolverOptions) -> PackedPoints:
     """:class:`PackedPoints` of `cases` (an :class:`~obturator.errors.InputError` in
@@ -168,9 +160,8 @@ def pack_points(cases: Sequence[object], options: SolverOptions) -> PackedPoints
     n = len(cases)
     valid = np.array([not isinstance(c, InputError) for c in cases], dtype=bool)
     setups = [integration_setup(c, options) for c, ok in zip(cases, valid, strict=True) if ok]
-    n_par = setups[0][0].p.size if setups else N_PARAM
     out = PackedPoints(
-        valid, np.zeros((n, N_STATE)), np.zeros((n, n_par)), np.ones((n, N_STATE)),
+        valid, np.zeros((n, N_STATE)), np.zeros((n, N_PARAM)), np.ones((n, N_STATE)),
         *(np.zeros(n) for _ in range(4)),
     )  # fmt: skip
     k = np.flatnonzero(valid)
@@ -189,6 +180,8 @@ def integrate_packed(
     packed: PackedPoints, options: SolverOptions, *, n_lanes: int = DEFAULT_LANES
 ) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     """:func:`opening_times` of points already packed (:func:`pack_points`)."""
+    if options.method not in BATCH_METHODS:
+        raise InputError("method", f"{options.method!r}: the lanes integrate {BATCH_METHODS}")
     n = packed.valid.size
     t_cr = np.full(n, math.nan)
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
@@ -234,10 +227,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
             in_lanes = in_lanes[:0]
         for g in np.setdiff1d(stiff, in_lanes):
             problem = Problem(packed.y0[g], p[g], scale[g])
-            controls = Controls(
-                float(t_max[g]), options.rtol, options.atol, float(h0[g]), float(h_max[g]),
-                int(options.max_steps), np.empty(0), False, True, options.event_tol,
-            )  # fmt: skip
+            controls = integration_controls(options, float(t_max[g]), float(h0[g]), float(h_max[g]))
             dop = RawSolution(
                 Status.STIFF, math.nan, np.full(N_STATE, math.nan), np.empty(0),
                 np.empty((0, N_STATE)), int(cnt[0, g]), 0, int(cnt[1, g]), int(cnt[2, g]),
@@ -303,8 +293,6 @@ def run_rows(
 ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`opening_times` of the rows of one sweep chunk (values in `names` order),
     from `packed` (:func:`pack_rows` of the same rows) where given."""
-    if spec.options.method not in BATCH_METHODS:
-        raise InputError("method", f"{spec.options.method!r}: the lanes integrate {BATCH_METHODS}")
     t, s, _ = integrate_packed(pack_rows(spec, names, rows) if packed is None else packed,
                                spec.options)  # fmt: skip
     return t, s

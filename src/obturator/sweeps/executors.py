@@ -154,7 +154,9 @@ def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: i
         partial(warm, spec.options, radau_lanes=radau_lanes),
     )
     if batchable(spec.options, spec.check_convergence):
-        job = replace(job, ahead=partial(_pack_while_loading, job, spec, names, rows_of))
+        job = replace(
+            job, ahead=partial(_pack_while_loading, job, spec, names, rows_of, radau_lanes)
+        )
     return job
 
 
@@ -163,13 +165,13 @@ def _pack_while_loading(
     spec: SweepSpec,
     names: tuple[str, ...],
     rows_of: Callable[[np.ndarray], np.ndarray],
+    radau_lanes: bool,
     chunks: list[np.ndarray],
 ) -> Job:
     """`job` with the points a helper packed while this process loaded the integrators
     (:func:`.ahead.pack_ahead`): where fork is safe, a core is spare and the integrators
     are not loaded yet; else `job` as it is, warm."""
     assert job.warm is not None
-    radau_lanes = job.warm.keywords["radau_lanes"]  # type: ignore[attr-defined]
     with gc_frozen():
         if (
             mp_context().get_start_method() != "fork"

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,6 +20,9 @@ from ..model.cases import rig_case
 from ..solve import SolverOptions, convergence_check, opening_time
 from ..status import Status
 from .spec import SweepSpec
+
+if TYPE_CHECKING:  # batch imports this module
+    from .batch import PackedPoints
 
 __all__ = [
     "POINT_STATUSES",
@@ -76,7 +80,7 @@ def evaluate_point(spec: SweepSpec, values: Mapping[str, float]) -> tuple[float,
 
 
 def run_chunk(
-    spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray, packed: object = None
+    spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray, packed: PackedPoints | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """Evaluate the points of one chunk (rows of values in ``names`` order).
 
@@ -89,7 +93,7 @@ def run_chunk(
     from .batch import batchable, run_rows
 
     if batchable(spec.options, spec.check_convergence):
-        return run_rows(spec, names, rows, packed)  # type: ignore[arg-type]
+        return run_rows(spec, names, rows, packed)
     t = np.empty(len(rows))
     s = np.empty(len(rows), dtype=np.int8)
     for k, row in enumerate(rows):
