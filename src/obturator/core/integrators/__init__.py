@@ -53,7 +53,12 @@ def auto_radau_tolerances(rtol: float, atol: float) -> tuple[float, float]:
 
 
 #: Method name -> module defining ``integrate(problem, controls)``.
-_MODULES = {"dop853": "dop853", "radau": "radau", "rosenbrock": "rosenbrock"}
+_MODULES = {
+    "dop853": "dop853",
+    "radau": "radau",
+    "rosenbrock": "rosenbrock",
+    "set-valued": "stick_slip",
+}
 
 
 def method_module(name: str):
