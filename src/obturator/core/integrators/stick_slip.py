@@ -327,8 +327,9 @@ def _integrate(problem, controls, p_jac):
         if need_jac:
             # forward differences far below the slip speed (the law's scale near stick)
             p_jac[P_WIDTH] = max(JACOBIAN_WIDTH * _slip(y)[3], 1e-9 * spin)
-            jacobian(t, y, f0, p_jac, scale, jac, work, fwork)
-            nfev += n
+            rhs(t, y, p_jac, err_v)  # the differences must be of one law
+            jacobian(t, y, err_v, p_jac, scale, jac, work, fwork)
+            nfev += n + 1
             njev += 1
             need_jac = False
             jac_fresh = True
