@@ -88,24 +88,27 @@ __all__ = ["STICK_SLIP", "KICK", "HOME_IN", "JACOBIAN_WIDTH", "integrate"]
 
 #: Slip speed, in units of |omega_p|, at which a decaying slip with G_req inside F
 #: becomes stick.
-STICK_SLIP = 1e-5
+STICK_SLIP = 1e-6
 #: Slip speed, in units of |omega_p|, given at breakaway (along -G_req / |G_req|).
-KICK = 1e-6
+KICK = 1e-9
 #: Fraction of the predicted time to zero slip taken as the step when homing in.
 HOME_IN = 0.98
 #: Width, in units of the slip speed, of the parameter copy used for Radau IIA's
 #: Jacobian only (its forward differences are capped at 1e-4 widths; the width is
-#: at least 1e-9 omega_p, so that they stay above rounding).
+#: at least 1e-10 omega_p, so that they stay above rounding).
 JACOBIAN_WIDTH = 1e-3
 #: Relative margin (of M) that G_req must keep inside F to enter stick.
 _MARGIN = 1e-9
 
 
-def integrate(problem: Problem, controls: Controls) -> RawSolution:
+def integrate(
+    problem: Problem, controls: Controls, stick_slip: float = STICK_SLIP, kick: float = KICK
+) -> RawSolution:
     """Integrate with exact stick and slip modes from t0 to the opening or t_max.
 
     Keeps the contract of :mod:`.contract`; the regularisation width and family in
-    ``problem.p`` are ignored (the law is used at zero width).
+    ``problem.p`` are ignored (the law is used at zero width). `stick_slip` and
+    `kick` override :data:`STICK_SLIP` and :data:`KICK` (convergence studies).
 
     Raises
     ------
@@ -128,7 +131,7 @@ def integrate(problem: Problem, controls: Controls) -> RawSolution:
     p[P_FAMILY] = 0.0
     p_jac = p.copy()
     p_jac[P_WIDTH] = JACOBIAN_WIDTH * spin
-    return _integrate(problem._replace(p=p), controls, p_jac)
+    return _integrate(problem._replace(p=p), controls, p_jac, stick_slip, kick)
 
 
 
@@ -215,7 +218,7 @@ def _break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> 
 
 
 @njit(cache=True, nogil=True, fastmath={"contract"})
-def _integrate(problem, controls, p_jac):
+def _integrate(problem, controls, p_jac, stick_slip, kick):
     """The mode loop: closed-form stick phases, Radau IIA slip phases (see module)."""
     p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
@@ -261,8 +264,8 @@ def _integrate(problem, controls, p_jac):
     atol = rtol * quot_tol
     fnewt = max(10.0 * _UROUND / rtol, min(0.03, math.sqrt(rtol)))
     spin = abs(y[7]) if y[7] != 0.0 else 1.0
-    r_stick = STICK_SLIP * spin
-    r_kick = KICK * spin
+    r_stick = stick_slip * spin
+    r_kick = kick * spin
     r0 = _slip(y)[3]
     sticking = r0 <= r_stick and _stick_admissible(y, p)
     # slip-phase state of the Radau IIA steps
@@ -326,7 +329,7 @@ def _integrate(problem, controls, p_jac):
             break
         if need_jac:
             # forward differences far below the slip speed (the law's scale near stick)
-            p_jac[P_WIDTH] = max(JACOBIAN_WIDTH * _slip(y)[3], 1e-9 * spin)
+            p_jac[P_WIDTH] = max(JACOBIAN_WIDTH * _slip(y)[3], 1e-10 * spin)
             rhs(t, y, p_jac, err_v)  # the differences must be of one law
             jacobian(t, y, err_v, p_jac, scale, jac, work, fwork)
             nfev += n + 1
