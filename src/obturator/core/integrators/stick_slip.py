@@ -65,8 +65,8 @@ from ..layout import (
     FRIC_THESIS_RIG,
     KERNEL_GENERIC,
     N_STATE,
-    P_FAMILY,
     P_A,
+    P_FAMILY,
     P_FORM,
     P_FRIC,
     P_KERNEL,
@@ -132,7 +132,6 @@ def integrate(
     p_jac = p.copy()
     p_jac[P_WIDTH] = JACOBIAN_WIDTH * spin
     return _integrate(problem._replace(p=p), controls, p_jac, stick_slip, kick)
-
 
 
 @njit(cache=True, **NO_REFCOUNT)
