@@ -25,7 +25,13 @@ from obturator.core.friction_sets import (
 from obturator.errors import InputError
 from obturator.model.cases import flight_case, rig_case
 from obturator.reference import THESIS_MU_S
-from obturator.solve import SolverOptions, opening_time, pack_parameters, simulate
+from obturator.solve import (
+    SolverOptions,
+    convergence_check,
+    opening_time,
+    pack_parameters,
+    simulate,
+)
 
 SET_VALUED = SolverOptions(method="set-valued", rtol=1e-10, atol=1e-12)
 RIG = rig_case(200.0, THESIS_MU_S)
@@ -155,6 +161,17 @@ def test_tolerance_convergence_near_stick():
     t10 = opening_time(case, SET_VALUED)
     t12 = opening_time(case, SolverOptions(method="set-valued", rtol=1e-12, atol=1e-14))
     assert t10 == pytest.approx(t12, rel=1e-8)
+
+
+def test_convergence_check_compares_with_the_regularised_path():
+    """For the set-valued path the width and family reruns are the regularised path
+    (width 1e-8 omega_p, both families): at 200 rad/s they agree to 1e-6 (the
+    regularised t_cr converges about linearly in the width there)."""
+    check = convergence_check(RIG, SolverOptions(method="set-valued"))
+    assert check.converged
+    assert check.tolerance_change < 1e-7
+    assert 0.0 < check.width_change < 1e-6
+    assert 0.0 < check.family_change < 1e-6
 
 
 @pytest.mark.parametrize(

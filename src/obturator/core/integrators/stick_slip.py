@@ -77,14 +77,16 @@ from ..layout import (
     SPEED_CONSTANT,
     SPIN_THESIS_ENERGY,
 )
+from . import AUTO_RADAU_TOL_FACTOR
 from .common import append_row, jacobian, record_row, rms_norm, start, underflow
 from .contract import Controls, Problem, RawSolution, Status
+from .dop853 import integrate as dop853_integrate
 from .linalg import lu_solve
 from .radau import _UROUND, _colloc_weights, _dense, _factor, _newton, locate_opening
 from .radau_coefficients import C1, C2, E1, E2, E3
 from .radau_control import _LIM_SHRINK, next_step, step_quotient
 
-__all__ = ["STICK_SLIP", "KICK", "HOME_IN", "JACOBIAN_WIDTH", "integrate"]
+__all__ = ["STICK_SLIP", "KICK", "HOME_IN", "JACOBIAN_WIDTH", "FAST_SLIP", "integrate"]
 
 #: Slip speed, in units of |omega_p|, at which a decaying slip with G_req inside F
 #: becomes stick.
@@ -97,6 +99,11 @@ HOME_IN = 0.98
 #: Jacobian only (its forward differences are capped at 1e-4 widths; the width is
 #: at least 1e-10 omega_p, so that they stay above rounding).
 JACOBIAN_WIDTH = 1e-3
+#: Slip speed above which slip is integrated by DOP853, in units of (M / A) h_max: the
+#: slip direction relaxes at ~ M / (A |omega_r|), so there h_max resolves it.
+FAST_SLIP = 4.0
+#: Fraction of |omega_r| / |omega_r'| that one DOP853 stretch may last.
+_CHUNK = 0.5
 #: Relative margin (of M) that G_req must keep inside F to enter stick.
 _MARGIN = 1e-9
 
@@ -164,6 +171,19 @@ def _slip_rate(y: np.ndarray, f: np.ndarray) -> float:
     az = s * (q1 * q3 - q0 * q2) * a1 + s * (q2 * q3 + q0 * q1) * a2
     az += (1.0 - s * (q1 * q1 + q2 * q2)) * a3 - f[7]
     return (wx * ax + wy * ay + wz * az) / r
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _slip_acceleration(y: np.ndarray, f: np.ndarray) -> float:
+    """|d omega_r / dt| [rad/s^2] at `y` with derivative `f` (body-axis norm)."""
+    wp = y[7]
+    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
+    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    # R^T Z (third row of R) carries the spin's change; the body rates' change is f[4:7]
+    zx, zy, zz = s * (q1 * q3 - q0 * q2), s * (q2 * q3 + q0 * q1), 1.0 - s * (q1 * q1 + q2 * q2)
+    ax, ay, az = f[4] - f[7] * zx, f[5] - f[7] * zy, f[6] - f[7] * zz
+    _ = wp
+    return math.sqrt(ax * ax + ay * ay + az * az)
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -258,7 +278,13 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
     n_rej = 0
     status = Status.T_MAX
     t_event = math.nan
-    quot_tol = atol / rtol  # RADAU5's tolerance transformation, as in .radau
+    rtol0, atol0 = rtol, atol  # DOP853 stretches take the tolerances as given
+    r_fast = p[P_FRIC + 1] / p[P_A] * h_max * FAST_SLIP
+    # Radau IIA at auto's fraction of the tolerances (near-stick t_cr amplifies its
+    # local errors), transformed as RADAU5 does (as in .radau)
+    rtol *= AUTO_RADAU_TOL_FACTOR
+    atol *= AUTO_RADAU_TOL_FACTOR
+    quot_tol = atol / rtol
     rtol = 0.1 * rtol ** (2.0 / 3.0)
     atol = rtol * quot_tol
     fnewt = max(10.0 * _UROUND / rtol, min(0.03, math.sqrt(rtol)))
@@ -472,6 +498,59 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
         first = False
         rejected = False
         jac_fresh = False
+        if r < r_fast:
+            continue
+        # fast slip: DOP853 over a stretch too short for |omega_r| to fall to r_fast / 2
+        # at twice the present relative acceleration (and at most four periods)
+        t_chunk = t + min(
+            _CHUNK * (r - 0.5 * r_fast) / max(_slip_acceleration(y, f0), 1e-300),
+            8.0 * math.pi / spin,
+        )
+        if t_chunk - t < 2.0 * h_max:
+            continue
+        t_chunk = min(t_chunk, t_max)
+        j = i_eval
+        while j < n_eval and t_eval[j] <= t_chunk:
+            j += 1
+        stretch = Controls(
+            t_chunk, rtol0, atol0, min(h, h_max), h_max, max_steps - n_steps,
+            t_eval[i_eval:j], record and not use_eval, terminal, event_tol, False,
+        )  # fmt: skip
+        out = dop853_integrate(Problem(y.copy(), p, scale, t), stretch)
+        nfev += out.nfev
+        n_steps += out.n_steps
+        n_rej += out.n_rejected
+        k0 = 0 if use_eval else 1  # a recorded stretch starts with this state
+        for k in range(k0, out.t.shape[0]):
+            if use_eval:
+                ts[n_out] = out.t[k]
+                ys[n_out, :] = out.y[k]
+                n_out += 1
+                i_eval += 1
+            elif record:
+                ts, ys, n_out = append_row(ts, ys, n_out, out.t[k], out.y[k])
+        if out.t_event == out.t_event and t_event != t_event:
+            t_event = out.t_event
+            y_event[:] = out.y_event
+        if out.status == Status.OPENED:
+            status = Status.OPENED
+            t = out.t_end
+            y[:] = out.y_end
+            break
+        if not (out.y_end[0] == out.y_end[0]) or out.status == Status.STEP_LIMIT:
+            status = out.status
+            break
+        t = out.t_end
+        y[:] = out.y_end
+        rhs(t, y, p, f0)
+        nfev += 1
+        h = min(h, h_max, t_max - t)
+        h_lu = math.nan
+        need_jac = True
+        have_poly = False
+        first = True
+        h_lim = math.inf
+        g_old = nutation_angle_of_state(y, p) - theta_cr
     return RawSolution(
         status, t_event, y_event, ts[:n_out], ys[:n_out], nfev, njev, n_steps, n_rej, t, y
     )
