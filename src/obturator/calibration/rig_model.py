@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from ..model.cases import rig_case
 from ..reference import TABLE1
-from ..solve import SolverOptions, opening_time
+from ..solve import SolverOptions, opening_times
 
 __all__ = ["S_TABLE1", "model_opening_times"]
 
@@ -43,6 +43,9 @@ def model_opening_times(
 ) -> NDArray[np.float64]:
     """Exact rig t_cr [s] at each spin rate [rad/s] (NaN where the ball does not open).
 
+    All spins in one call of :func:`obturator.solve.opening_times` (lanes where the
+    options allow).
+
     The viscous constant is set through the gap-fluid viscosity, to which the
     Eq. (42) constant S is proportional. `theta_dot0` [rad/s] and
     `release_phase` [rad] set the release state, `speed_law` with `speed_ratio`
@@ -61,21 +64,17 @@ def model_opening_times(
     if torque_model == "coulomb":
         extra["patch_radius"] = patch_radius
     visc = TABLE1["viscosity"] * shear_constant / S_TABLE1
-    return np.array(
-        [
-            opening_time(
-                rig_case(
-                    float(w),
-                    mu_s,
-                    theta0_deg=theta0_deg,
-                    weight=weight,
-                    torque_model=torque_model,
-                    viscosity=visc,
-                    t_max=t_max,
-                    **extra,
-                ),
-                options,
-            )
-            for w in spin_rates
-        ]
-    )
+    cases = [
+        rig_case(
+            float(w),
+            mu_s,
+            theta0_deg=theta0_deg,
+            weight=weight,
+            torque_model=torque_model,
+            viscosity=visc,
+            t_max=t_max,
+            **extra,
+        )
+        for w in np.asarray(spin_rates, dtype=float).reshape(-1)
+    ]
+    return opening_times(cases, options, strict=True)[0]
