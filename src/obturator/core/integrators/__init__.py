@@ -92,7 +92,7 @@ def continue_auto(
     at most :data:`AUTO_HAND_BACKS` times in all (`hand_backs` already done). On the
     rig the stiff stretch is the stick-slip phase after release; the sliding that
     follows costs DOP853 far less than Radau IIA. The batched lanes
-    (:mod:`obturator.sweeps.batch`) switch at the same points.
+    (:mod:`obturator.solve.many`) switch at the same points.
     """
     dop853 = method_module("dop853").integrate
     while out.status == Status.STIFF:
