@@ -174,19 +174,6 @@ def _slip_rate(y: np.ndarray, f: np.ndarray) -> float:
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def _slip_acceleration(y: np.ndarray, f: np.ndarray) -> float:
-    """|d omega_r / dt| [rad/s^2] at `y` with derivative `f` (body-axis norm)."""
-    wp = y[7]
-    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
-    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-    # R^T Z (third row of R) carries the spin's change; the body rates' change is f[4:7]
-    zx, zy, zz = s * (q1 * q3 - q0 * q2), s * (q2 * q3 + q0 * q1), 1.0 - s * (q1 * q1 + q2 * q2)
-    ax, ay, az = f[4] - f[7] * zx, f[5] - f[7] * zy, f[6] - f[7] * zz
-    _ = wp
-    return math.sqrt(ax * ax + ay * ay + az * az)
-
-
-@njit(cache=True, **NO_REFCOUNT)
 def _excess(y: np.ndarray, p: np.ndarray) -> float:
     """-stick_margin of G_req at `y` [N m]: how far G_req is outside F."""
     gx, gy, gz = required_reaction(y, p, y[7])
@@ -498,59 +485,67 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
         first = False
         rejected = False
         jac_fresh = False
-        if r < r_fast:
-            continue
-        # fast slip: DOP853 over a stretch too short for |omega_r| to fall to r_fast / 2
-        # at twice the present relative acceleration (and at most four periods)
-        t_chunk = t + min(
-            _CHUNK * (r - 0.5 * r_fast) / max(_slip_acceleration(y, f0), 1e-300),
-            8.0 * math.pi / spin,
-        )
-        if t_chunk - t < 2.0 * h_max:
-            continue
-        t_chunk = min(t_chunk, t_max)
-        j = i_eval
-        while j < n_eval and t_eval[j] <= t_chunk:
-            j += 1
-        stretch = Controls(
-            t_chunk, rtol0, atol0, min(h, h_max), h_max, max_steps - n_steps,
-            t_eval[i_eval:j], record and not use_eval, terminal, event_tol, False,
-        )  # fmt: skip
-        out = dop853_integrate(Problem(y.copy(), p, scale, t), stretch)
-        nfev += out.nfev
-        n_steps += out.n_steps
-        n_rej += out.n_rejected
-        k0 = 0 if use_eval else 1  # a recorded stretch starts with this state
-        for k in range(k0, out.t.shape[0]):
-            if use_eval:
-                ts[n_out] = out.t[k]
-                ys[n_out, :] = out.y[k]
-                n_out += 1
-                i_eval += 1
-            elif record:
-                ts, ys, n_out = append_row(ts, ys, n_out, out.t[k], out.y[k])
-        if out.t_event == out.t_event and t_event != t_event:
-            t_event = out.t_event
-            y_event[:] = out.y_event
-        if out.status == Status.OPENED:
-            status = Status.OPENED
+        # fast slip: DOP853 stretches, each too short for |omega_r| to fall to r_fast / 2
+        # at twice its present rate of change, floored at |omega_r| omega_p / (4 pi) (a
+        # slip that turns with the ball changes at ~ omega_p |omega_r|); DOP853's own
+        # stiffness test stops one should the slip still approach zero
+        stretched = False
+        done = False
+        while r >= r_fast and t < t_max:
+            rate_floor = r * spin / (4.0 * math.pi)
+            t_chunk = t + _CHUNK * (r - 0.5 * r_fast) / max(abs(_slip_rate(y, f0)), rate_floor)
+            if t_chunk - t < 2.0 * h_max:
+                break
+            t_chunk = min(t_chunk, t_max)
+            j = i_eval
+            while j < n_eval and t_eval[j] <= t_chunk:
+                j += 1
+            stretch = Controls(
+                t_chunk, rtol0, atol0, min(h, h_max), h_max, max_steps - n_steps,
+                t_eval[i_eval:j], record and not use_eval, terminal, event_tol, False,
+            )  # fmt: skip
+            out = dop853_integrate(Problem(y.copy(), p, scale, t), stretch)
+            stretched = True
+            nfev += out.nfev
+            n_steps += out.n_steps
+            n_rej += out.n_rejected
+            k0 = 0 if use_eval else 1  # a recorded stretch starts with this state
+            for k in range(k0, out.t.shape[0]):
+                if use_eval:
+                    ts[n_out] = out.t[k]
+                    ys[n_out, :] = out.y[k]
+                    n_out += 1
+                    i_eval += 1
+                elif record:
+                    ts, ys, n_out = append_row(ts, ys, n_out, out.t[k], out.y[k])
+            if out.t_event == out.t_event and t_event != t_event:
+                t_event = out.t_event
+                y_event[:] = out.y_event
+            if out.status == Status.OPENED:
+                status = Status.OPENED
+                done = True
+            elif not (out.y_end[0] == out.y_end[0]) or out.status == Status.STEP_LIMIT:
+                status = out.status
+                done = True
             t = out.t_end
             y[:] = out.y_end
+            if done or out.status != Status.T_MAX:  # STIFF: back to Radau IIA
+                break
+            rhs(t, y, p, f0)
+            nfev += 1
+            r = _slip(y)[3]
+        if done:
             break
-        if not (out.y_end[0] == out.y_end[0]) or out.status == Status.STEP_LIMIT:
-            status = out.status
-            break
-        t = out.t_end
-        y[:] = out.y_end
-        rhs(t, y, p, f0)
-        nfev += 1
-        h = min(h, h_max, t_max - t)
-        h_lu = math.nan
-        need_jac = True
-        have_poly = False
-        first = True
-        h_lim = math.inf
-        g_old = nutation_angle_of_state(y, p) - theta_cr
+        if stretched:
+            rhs(t, y, p, f0)
+            nfev += 1
+            h = min(h, h_max, t_max - t)
+            h_lu = math.nan
+            need_jac = True
+            have_poly = False
+            first = True
+            h_lim = math.inf
+            g_old = nutation_angle_of_state(y, p) - theta_cr
     return RawSolution(
         status, t_event, y_event, ts[:n_out], ys[:n_out], nfev, njev, n_steps, n_rej, t, y
     )
