@@ -14,12 +14,17 @@ modes (``docs/stick_slip.md`` derives them from thesis Eqs. 35-36, 56-64, Append
   boundary of F) is a closed-form rotation angle
   (:func:`~obturator.core.friction_sets.breakaway_angle`), exact to rounding.
 * **slip**, omega_r != 0: thesis Eqs. 62-64 with the true-direction law at full
-  magnitude (``P_WIDTH = 0``: no regularisation), integrated by fifth-order Radau IIA
-  (the steps, Newton iteration, error estimate and opening-event location of
-  :mod:`.radau`). Slip right after breakaway and before sticking is stiff in the
-  slip *direction* (relaxation rate ~ M / (A |omega_r|), unbounded as omega_r -> 0:
-  the rig's creep about X is a sliding motion on this slow manifold), so an explicit
-  method would need unboundedly many steps there.
+  magnitude (``P_WIDTH = 0``: no regularisation). Slip right after breakaway and before
+  sticking is stiff in the slip *direction* (relaxation rate ~ M / (A |omega_r|),
+  unbounded as omega_r -> 0: the rig's creep about X is a sliding motion on this slow
+  manifold), so an explicit method would need unboundedly many steps there: it is
+  integrated by fifth-order Radau IIA (the steps, Newton iteration, error estimate and
+  opening-event location of :mod:`.radau`, at ``auto``'s third of the tolerances).
+  Above |omega_r| = :data:`FAST_SLIP` (M / A) h_max the direction is resolved by the
+  largest step and the slip runs in DOP853 stretches (:mod:`.dop853`, the tolerances
+  as given), each short enough that |omega_r| cannot fall below half that level at
+  twice its present rate of change; DOP853's stiffness test (status ``STIFF``) hands
+  back to Radau IIA otherwise.
 
 Transitions:
 
