@@ -228,6 +228,13 @@ def _break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> 
     return tau
 
 
+@njit(cache=True, inline="always", **NO_REFCOUNT)
+def _fresh_radau(h: float, h_max: float, t_left: float) -> tuple:
+    """Radau IIA state after a mode change or a DOP853 stretch: (h, h_lu, need_jac,
+    have_poly, first, h_lim), no collocation polynomial or Jacobian carried over."""
+    return min(h, h_max, t_left), math.nan, True, False, True, math.inf
+
+
 @njit(cache=True, nogil=True, fastmath={"contract"})
 def _integrate(problem, controls, p_jac, stick_slip, kick):
     """The mode loop: closed-form stick phases, Radau IIA slip phases (see module)."""
@@ -331,14 +338,9 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
             armed = False
             rhs(t, y, p, f0)
             nfev += 1
-            h = min(h0, h_max, t_max - t)
-            h_lu = math.nan
-            need_jac = True
-            have_poly = False
-            first = True
+            h, h_lu, need_jac, have_poly, first, h_lim = _fresh_radau(h0, h_max, t_max - t)
             rejected = False
             faccon = 1.0
-            h_lim = math.inf
             g_old = nutation_angle_of_state(y, p) - theta_cr
             continue
         if n_steps >= max_steps:
@@ -544,12 +546,7 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
         if stretched:
             rhs(t, y, p, f0)
             nfev += 1
-            h = min(h, h_max, t_max - t)
-            h_lu = math.nan
-            need_jac = True
-            have_poly = False
-            first = True
-            h_lim = math.inf
+            h, h_lu, need_jac, have_poly, first, h_lim = _fresh_radau(h, h_max, t_max - t)
             g_old = nutation_angle_of_state(y, p) - theta_cr
     return RawSolution(
         status, t_event, y_event, ts[:n_out], ys[:n_out], nfev, njev, n_steps, n_rej, t, y
