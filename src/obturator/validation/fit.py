@@ -17,15 +17,17 @@ At fixed s_i, step 2 is the exact ML step; the outer loop is Orear's
 effective-variance method for errors in variables (it neglects d s_i/d theta
 in the gradient, a second-order effect at the optimum).
 
-Uncertainties: standard errors from the Gauss-Newton information J^T J of
-the scaled residuals at the optimum (central differences), on the optimiser
-scale (log10 for ``slip_speed``), transformed by the delta method; Wald 95 %
-intervals with the Student-t quantile for n - k degrees of freedom, clipped
-to the fit bounds (an interval that reaches a bound: the parameter is not
-identified on that side). For
-chosen parameters :func:`profile_interval` gives profile-likelihood intervals
-instead (each probe a refit of the other parameters with the slopes held at
-the best fit's).
+The optimiser, the Jacobian and the intervals are the fit engine's
+(:mod:`obturator.fitting`); parameters, bounds and transforms are the fit
+registry's (:data:`obturator.params.FIT_SPECS`). Uncertainties: standard
+errors from the Gauss-Newton information J^T J of the scaled residuals at
+the optimum (central differences), on the optimiser scale (log10 for
+``slip_speed``), transformed by the delta method; Wald 95 % intervals with
+the Student-t quantile for n - k degrees of freedom, clipped to the fit
+bounds (an interval that reaches a bound: the parameter is not identified on
+that side). For chosen parameters :func:`profile_interval` gives
+profile-likelihood intervals instead (each probe a refit of the other
+parameters with the slopes held at the best fit's).
 """
 
 from __future__ import annotations
@@ -37,10 +39,18 @@ from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import stats
-from scipy.optimize import least_squares
 
 from ..errors import InputError, check_range
+from ..fitting import (
+    CHI2_95,
+    LeastSquaresSettings,
+    ParameterSet,
+    central_jacobian,
+    covariance_internal,
+    minimize_least_squares,
+    profile_limit,
+    wald,
+)
 from ..solve import SolverOptions
 from .candidates import PARAMETERS, Candidate
 from .evaluate import DEFAULT_T_MAX, ModelEvaluator
@@ -50,10 +60,6 @@ from .results import CandidateFit
 
 __all__ = ["CHI2_95", "fit_candidate", "predict", "profile_interval"]
 
-#: chi-square(1) 95 % quantile: the profile-likelihood threshold on 2 delta(-log L).
-CHI2_95 = float(stats.chi2.ppf(0.95, 1))
-_DIFF_STEP = 1e-3
-_COV_STEP = 1e-3
 # optimiser stopping (relative step of the parameters): tight in the first pass,
 # whose valley (mu_s against v_s) is long and curved, looser in the later
 # passes, which start next to the optimum; the parameters' standard errors are
@@ -61,16 +67,13 @@ _COV_STEP = 1e-3
 _XTOL = 1e-6
 _XTOL_LATER = 1e-4
 _FTOL = 1e-8
+#: Forward differences, relative step 1e-3 on the optimiser's scale (also the
+#: central step of the covariance's Jacobian).
+_SETTINGS = LeastSquaresSettings("2-point", 1e-3, 1.0, _XTOL, _FTOL, 1e-3)
 
 
-def _internal(cand: Candidate, values: Sequence[float]) -> NDArray[np.float64]:
-    return np.array(
-        [PARAMETERS[k].to_internal(v) for k, v in zip(cand.params, values, strict=True)]
-    )
-
-
-def _physical(cand: Candidate, x: NDArray[np.float64]) -> list[float]:
-    return [PARAMETERS[k].from_internal(float(v)) for k, v in zip(cand.params, x, strict=True)]
+def _parameters(cand: Candidate) -> ParameterSet:
+    return ParameterSet(tuple(PARAMETERS[k] for k in cand.params))
 
 
 def fit_candidate(
@@ -149,16 +152,16 @@ def fit_candidate(
     ):
         evaluator = ModelEvaluator(candidate, t_max, options)
     n_int0, n_fail0 = evaluator.n_integrations, evaluator.n_failed
-    p = candidate.n_params
+    params = _parameters(candidate)
+    p = len(params)
     if start is None:
         v0 = list(candidate.start())
     elif isinstance(start, Mapping):
         v0 = [float(start.get(k, PARAMETERS[k].start)) for k in candidate.params]
     else:
         v0 = [float(v) for v in start]
-    lo = np.array([PARAMETERS[k].internal_bounds()[0] for k in candidate.params])
-    hi = np.array([PARAMETERS[k].internal_bounds()[1] for k in candidate.params])
-    x = np.clip(_internal(candidate, v0), lo, hi) if p else np.empty(0)
+    box = params.internal_bounds()
+    x = params.start(v0)
     eiv = spin_sd > 0.0
     g = np.zeros(w.size) if slopes is None else np.asarray(slopes, dtype=float).copy()
     nfev = 0
@@ -168,7 +171,7 @@ def fit_candidate(
     def model(xi: NDArray[np.float64]) -> NDArray[np.float64]:
         nonlocal nfev
         nfev += 1
-        return evaluator.opening_times(_physical(candidate, xi), w)
+        return evaluator.opening_times(params.from_internal(xi), w)
 
     m = model(x)
     sigma = float(np.sqrt(np.mean((np.where(np.isfinite(m), m, t_max) - y) ** 2)))
@@ -178,22 +181,17 @@ def fit_candidate(
     for it in range(outer):
         sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd if eiv else 0.0)
         if p:
-            res = least_squares(
+            best = minimize_least_squares(
                 lambda xi, sd=sd: scaled_residuals(y, model(xi), sd, t_max),
                 x,
-                bounds=(lo, hi),
-                method="trf",
-                jac="2-point",
-                diff_step=_DIFF_STEP,
-                x_scale=1.0,
+                box,
+                _SETTINGS,
                 xtol=xtol if it == 0 else _XTOL_LATER,
-                ftol=_FTOL,
             )
-            x = np.clip(res.x, lo, hi)
-            success, message = bool(res.success), str(res.message)
+            x, success, message = best.x, best.success, best.message
             m = model(x)
         if eiv and slopes is None:
-            g = evaluator.slopes(_physical(candidate, x), w)
+            g = evaluator.slopes(params.from_internal(x), w)
         sigma, nll = profile_sigma(y, m, g, t_max, spin_sd if eiv else 0.0)
         if abs(nll_prev - nll) < 1e-3:
             break
@@ -201,44 +199,17 @@ def fit_candidate(
     sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd if eiv else 0.0)
     sd = np.where(np.isfinite(m), sd, sigma)
     nll = float(np.sum(nll_terms(y, m, sd, t_max)))
-    values = dict(zip(candidate.params, _physical(candidate, x), strict=True))
+    values = params.values(x)
     cov = np.full((p, p), math.nan)
     stderr = {k: math.nan for k in candidate.params}
     ci95 = {k: (math.nan, math.nan) for k in candidate.params}
     if p and covariance:
-        jac = np.empty((w.size, p))
-        for j in range(p):
-            h = _COV_STEP * max(abs(x[j]), 1.0)
-            xp, xm = x.copy(), x.copy()
-            xp[j] = min(x[j] + h, hi[j])
-            xm[j] = max(x[j] - h, lo[j])
-            jac[:, j] = (
-                scaled_residuals(y, model(xp), sd, t_max)
-                - scaled_residuals(y, model(xm), sd, t_max)
-            ) / (xp[j] - xm[j])
-        try:
-            cov_int = np.linalg.inv(jac.T @ jac)
-        except np.linalg.LinAlgError:
-            cov_int = np.full((p, p), math.nan)
-        # delta method to physical units
-        d = np.array(
-            [
-                PARAMETERS[k].from_internal(float(xi)) * math.log(10.0)
-                if PARAMETERS[k].log
-                else PARAMETERS[k].scale
-                for k, xi in zip(candidate.params, x, strict=True)
-            ]
+        jac = central_jacobian(
+            lambda xi: scaled_residuals(y, model(xi), sd, t_max), x, box, _SETTINGS.covariance_step
         )
-        cov = cov_int * np.outer(d, d)
-        dof = max(w.size - (p + 1), 1)
-        tq = float(stats.t.ppf(0.975, dof))
-        for j, k in enumerate(candidate.params):
-            se_int = math.sqrt(cov_int[j, j]) if cov_int[j, j] >= 0 else math.nan
-            stderr[k] = math.sqrt(cov[j, j]) if cov[j, j] >= 0 else math.nan
-            # clipped to the fit bounds (an interval reaching them: not identified)
-            a = PARAMETERS[k].from_internal(float(max(x[j] - tq * se_int, lo[j])))
-            b = PARAMETERS[k].from_internal(float(min(x[j] + tq * se_int, hi[j])))
-            ci95[k] = (min(a, b), max(a, b))
+        # sigma is fitted too: n - (p + 1) degrees of freedom
+        est = wald(params, x, covariance_internal(jac), max(w.size - (p + 1), 1))
+        cov, stderr, ci95 = est.covariance, est.stderr, est.ci95
     return CandidateFit(
         name=candidate.name,
         selection=selection,
@@ -325,10 +296,8 @@ def profile_interval(
         raise InputError("name", f"{name!r} is not fitted by {candidate.name!r}")
     par = PARAMETERS[name]
     others = tuple(k for k in candidate.params if k != name)
-    zq = math.sqrt(CHI2_95)
     x_best = par.to_internal(best.values[name])
-    lo_b, hi_b = par.internal_bounds()
-    wald = [par.to_internal(v) for v in best.ci95[name]]
+    wald_limits = [par.to_internal(v) for v in best.ci95[name]]
 
     def signed_root(xv: float) -> float:
         sub = replace(
@@ -354,26 +323,12 @@ def profile_interval(
         return math.copysign(math.sqrt(d), xv - x_best)
 
     out = {-1: math.nan, 1: math.nan}
-    for side, bound, guess in ((-1.0, lo_b, wald[0]), (1.0, hi_b, wald[1])):
-        if int(side) not in sides:
-            continue
-        target = side * zq
-        if not math.isfinite(guess) or guess == x_best:
-            guess = x_best + side * 0.05 * max(abs(x_best), 1.0)
-        xa, ra = x_best, 0.0
-        xb = min(max(guess, lo_b), hi_b)
-        rb = signed_root(xb)
-        for _ in range(max_probes - 1):
-            if abs(rb - target) < 0.05 or (xb == bound and side * rb < zq) or rb == ra:
-                break
-            xn = min(max(xb + (target - rb) * (xb - xa) / (rb - ra), lo_b), hi_b)
-            xa, ra = xb, rb
-            xb, rb = xn, signed_root(xn)
-        if (ra - target) * (rb - target) < 0.0:  # bracketed: interpolate
-            result = xa + (target - ra) * (xb - xa) / (rb - ra)
-        else:
-            result = xb
-        out[int(side)] = par.from_internal(result)
+    for side, guess in ((-1, wald_limits[0]), (1, wald_limits[1])):
+        if side in sides:
+            x_lim = profile_limit(
+                signed_root, x_best, side, par.internal_bounds(), guess, max_probes
+            )
+            out[side] = par.from_internal(x_lim)
     if par.log or par.scale > 0:  # monotone increasing transform
         return (out[-1], out[1])
     return (out[1], out[-1])  # pragma: no cover - no decreasing transforms
