@@ -296,14 +296,15 @@ FIT_SPECS: dict[str, FitSpec] = {
         1.0,
         (-_RATE_BOUND, _RATE_BOUND),
         _RATE_PLAUSIBLE,
-        "Spin about the hole axis at release; bounds and range as theta_dot0.",
+        "Spin about the hole axis at release, left by the holding jet (chapter III.B); "
+        "bounds and range as theta_dot0.",
     ),
     "psi_dot0": FitSpec(
         1.0,
         (-_RATE_BOUND, _RATE_BOUND),
         _RATE_PLAUSIBLE,
-        "Precession rate relative to the rig at release, psi_dot_0 - omega_p; bounds "
-        "and range as theta_dot0.",
+        "Precession rate relative to the rig at release, psi_dot_0 - omega_p, left by "
+        "the holding jet (chapter III.B); bounds and range as theta_dot0.",
     ),
     "release_phase": FitSpec(
         1.0,
@@ -320,8 +321,8 @@ FIT_SPECS: dict[str, FitSpec] = {
         (0.02, 1.0),
         (0.2, 1.0),
         "r of SlipSpeedLaw: friction at one end of the slip-speed range over mu_s at the "
-        "other (weakening: kinetic/static; strengthening: at-rest/fast); 1 is no speed "
-        "dependence, 0.02 a fifty-fold change. Polymer-on-steel friction changes by up "
+        "other (weakening: kinetic/static; strengthening: at-rest/fast); 1 is the "
+        "thesis's one mu at every slip speed (Eq. 61), 0.02 a fifty-fold change. Polymer-on-steel friction changes by up "
         "to a factor of a few over several decades of sliding speed (viscoelastic and "
         "ploughing contributions; Stribeck curves of boundary lubrication likewise). "
         "Plausible: 0.2-1.",

@@ -34,8 +34,9 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Mapping, Sequence
-from dataclasses import replace
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -58,7 +59,7 @@ from .floor import band_of
 from .likelihood import SPIN_SD, effective_sd, nll_terms, profile_sigma, scaled_residuals
 from .results import CandidateFit
 
-__all__ = ["CHI2_95", "fit_candidate", "predict", "profile_interval"]
+__all__ = ["CHI2_95", "FitControls", "fit_candidate", "predict", "profile_interval"]
 
 # optimiser stopping (relative step of the parameters): tight in the first pass,
 # whose valley (mu_s against v_s) is long and curved, looser in the later
@@ -76,6 +77,125 @@ def _parameters(cand: Candidate) -> ParameterSet:
     return ParameterSet(tuple(PARAMETERS[k] for k in cand.params))
 
 
+@dataclass(frozen=True)
+class FitControls:
+    """How :func:`fit_candidate` iterates: a full fit by default; a profile probe
+    holds the slopes, skips the covariance and stops earlier.
+
+    Attributes
+    ----------
+    slopes : array_like, optional
+        Fixed dt_cr/domega_p per run [s^2]: no outer iteration (profile probes).
+    max_outer : int
+        Effective-variance passes.
+    covariance : bool
+        Compute the Wald covariance.
+    xtol : float
+        Relative parameter step at which the first pass stops.
+    """
+
+    slopes: ArrayLike | None = None
+    max_outer: int = 4
+    covariance: bool = True
+    xtol: float = _XTOL
+
+
+@dataclass
+class _Objective:
+    """The model t_cr of one candidate at the runs, in the optimiser's variables."""
+
+    params: ParameterSet
+    evaluator: ModelEvaluator
+    spin_rate: NDArray[np.float64]
+    measured: NDArray[np.float64]
+    t_max: float
+    nfev: int = 0
+
+    def model(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Model t_cr [s] per run (NaN: censored)."""
+        self.nfev += 1
+        return self.evaluator.opening_times(self.params.from_internal(x), self.spin_rate)
+
+    def residuals(self, sd: NDArray[np.float64]) -> Callable[[NDArray[np.float64]], NDArray]:
+        """x -> (m_i - y_i) / s_i at fixed effective SDs (Gauss-Newton residuals)."""
+        return lambda x: scaled_residuals(self.measured, self.model(x), sd, self.t_max)
+
+
+class _Optimum(NamedTuple):
+    x: NDArray[np.float64]
+    model: NDArray[np.float64]
+    slope: NDArray[np.float64]
+    sigma: float
+    success: bool
+    message: str
+
+
+def _effective_variance(
+    obj: _Objective, x: NDArray[np.float64], spin_sd: float, controls: FitControls
+) -> _Optimum:
+    """Steps 1-4 of the module notes: least squares at fixed s_i, then slopes and sigma."""
+    y, t_max, w = obj.measured, obj.t_max, obj.spin_rate
+    eiv = spin_sd > 0.0
+    held = controls.slopes is not None
+    g = np.asarray(controls.slopes, dtype=float).copy() if held else np.zeros(w.size)
+    success, message = True, "no free parameters"
+    m = obj.model(x)
+    sigma = float(np.sqrt(np.mean((np.where(np.isfinite(m), m, t_max) - y) ** 2)))
+    sigma = max(sigma, 1e-3)
+    nll_prev = math.inf
+    outer = 1 if (held or not eiv) else max(1, int(controls.max_outer))
+    for it in range(outer):
+        sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd if eiv else 0.0)
+        if len(obj.params):
+            best = minimize_least_squares(
+                obj.residuals(sd),
+                x,
+                obj.params.internal_bounds(),
+                _SETTINGS,
+                xtol=controls.xtol if it == 0 else _XTOL_LATER,
+            )
+            x, success, message = best.x, best.success, best.message
+            m = obj.model(x)
+        if eiv and not held:
+            g = obj.evaluator.slopes(obj.params.from_internal(x), w)
+        sigma, nll = profile_sigma(y, m, g, t_max, spin_sd if eiv else 0.0)
+        if abs(nll_prev - nll) < 1e-3:
+            break
+        nll_prev = nll
+    return _Optimum(x, m, g, sigma, success, message)
+
+
+def _runs(
+    candidate: Candidate,
+    spin_rate: ArrayLike,
+    measured: ArrayLike,
+    band: ArrayLike | None,
+    run: ArrayLike | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.str_], NDArray[np.int64]]:
+    """Spins, measured t_cr, bands and run numbers, checked."""
+    w = np.asarray(spin_rate, dtype=float).reshape(-1)
+    y = np.asarray(measured, dtype=float).reshape(-1)
+    if w.size != y.size:
+        raise InputError("measured", f"has {y.size} entries, expected {w.size}")
+    if w.size < candidate.n_params + 2:
+        raise InputError(
+            "runs", f"{w.size} runs for {candidate.n_params} parameters and sigma; need more"
+        )
+    bands = band_of(w) if band is None else np.asarray(band).astype(str)
+    runs = np.arange(1, w.size + 1) if run is None else np.asarray(run, dtype=np.int64)
+    return w, y, bands, runs
+
+
+def _start_values(
+    candidate: Candidate, start: Sequence[float] | Mapping[str, float] | None
+) -> list[float]:
+    if start is None:
+        return list(candidate.start())
+    if isinstance(start, Mapping):
+        return [float(start.get(k, PARAMETERS[k].start)) for k in candidate.params]
+    return [float(v) for v in start]
+
+
 def fit_candidate(
     candidate: Candidate,
     spin_rate: ArrayLike,
@@ -85,14 +205,11 @@ def fit_candidate(
     run: ArrayLike | None = None,
     selection: str = "all",
     start: Sequence[float] | Mapping[str, float] | None = None,
-    slopes: ArrayLike | None = None,
     spin_sd: float = SPIN_SD,
     t_max: float = DEFAULT_T_MAX,
     options: SolverOptions | None = None,
     evaluator: ModelEvaluator | None = None,
-    max_outer: int = 4,
-    covariance: bool = True,
-    xtol: float = _XTOL,
+    controls: FitControls | None = None,
 ) -> CandidateFit:
     """Fit one candidate to runs by maximum likelihood (censored Gaussian with spin EIV).
 
@@ -111,8 +228,6 @@ def fit_candidate(
         Label of the run selection.
     start : sequence or mapping, optional
         Starting values of ``candidate.params`` (default: their ``start``).
-    slopes : array_like, optional
-        Fixed dt_cr/domega_p per run [s^2]: no outer iteration (profile probes).
     spin_sd : float
         Spin error SD sigma_w [rad/s]; 0 switches the error-in-variables term off.
     t_max : float
@@ -120,30 +235,17 @@ def fit_candidate(
     options : SolverOptions, optional
     evaluator : ModelEvaluator, optional
         Reused (with its cache) if it belongs to this candidate and horizon.
-    max_outer : int
-        Effective-variance passes.
-    covariance : bool
-        Compute the Wald covariance (skipped for profile probes).
-    xtol : float
-        Relative parameter step at which the first pass stops.
+    controls : FitControls, optional
+        Iteration settings (default: a full fit with its covariance).
 
     Returns
     -------
     CandidateFit
     """
     t_start = time.perf_counter()
-    w = np.asarray(spin_rate, dtype=float).reshape(-1)
-    y = np.asarray(measured, dtype=float).reshape(-1)
-    if w.size != y.size:
-        raise InputError("measured", f"has {y.size} entries, expected {w.size}")
-    if w.size < candidate.n_params + 2:
-        raise InputError(
-            "runs", f"{w.size} runs for {candidate.n_params} parameters and sigma; need more"
-        )
+    w, y, bands, runs = _runs(candidate, spin_rate, measured, band, run)
     check_range("spin_sd", spin_sd, 0.0, math.inf, hi_open=True, unit="rad/s")
     check_range("t_max", t_max, 0.0, math.inf, lo_open=True, hi_open=True, unit="s")
-    bands = band_of(w) if band is None else np.asarray(band).astype(str)
-    runs = np.arange(1, w.size + 1) if run is None else np.asarray(run, dtype=np.int64)
     if (
         evaluator is None
         or evaluator.candidate != candidate
@@ -152,63 +254,25 @@ def fit_candidate(
     ):
         evaluator = ModelEvaluator(candidate, t_max, options)
     n_int0, n_fail0 = evaluator.n_integrations, evaluator.n_failed
-    params = _parameters(candidate)
-    p = len(params)
-    if start is None:
-        v0 = list(candidate.start())
-    elif isinstance(start, Mapping):
-        v0 = [float(start.get(k, PARAMETERS[k].start)) for k in candidate.params]
-    else:
-        v0 = [float(v) for v in start]
-    box = params.internal_bounds()
-    x = params.start(v0)
-    eiv = spin_sd > 0.0
-    g = np.zeros(w.size) if slopes is None else np.asarray(slopes, dtype=float).copy()
-    nfev = 0
-    message = "no free parameters"
-    success = True
-
-    def model(xi: NDArray[np.float64]) -> NDArray[np.float64]:
-        nonlocal nfev
-        nfev += 1
-        return evaluator.opening_times(params.from_internal(xi), w)
-
-    m = model(x)
-    sigma = float(np.sqrt(np.mean((np.where(np.isfinite(m), m, t_max) - y) ** 2)))
-    sigma = max(sigma, 1e-3)
-    nll_prev = math.inf
-    outer = 1 if (slopes is not None or not eiv) else max(1, int(max_outer))
-    for it in range(outer):
-        sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd if eiv else 0.0)
-        if p:
-            best = minimize_least_squares(
-                lambda xi, sd=sd: scaled_residuals(y, model(xi), sd, t_max),
-                x,
-                box,
-                _SETTINGS,
-                xtol=xtol if it == 0 else _XTOL_LATER,
-            )
-            x, success, message = best.x, best.success, best.message
-            m = model(x)
-        if eiv and slopes is None:
-            g = evaluator.slopes(params.from_internal(x), w)
-        sigma, nll = profile_sigma(y, m, g, t_max, spin_sd if eiv else 0.0)
-        if abs(nll_prev - nll) < 1e-3:
-            break
-        nll_prev = nll
-    sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd if eiv else 0.0)
+    controls = controls or FitControls()
+    obj = _Objective(_parameters(candidate), evaluator, w, y, t_max)
+    opt = _effective_variance(
+        obj, obj.params.start(_start_values(candidate, start)), spin_sd, controls
+    )
+    m, g, sigma = opt.model, opt.slope, opt.sigma
+    sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd)
     sd = np.where(np.isfinite(m), sd, sigma)
     nll = float(np.sum(nll_terms(y, m, sd, t_max)))
-    values = params.values(x)
+    values = obj.params.values(opt.x)
+    p = len(obj.params)
     cov = np.full((p, p), math.nan)
     stderr = {k: math.nan for k in candidate.params}
     ci95 = {k: (math.nan, math.nan) for k in candidate.params}
-    if p and covariance:
-        jac = central_jacobian(
-            lambda xi: scaled_residuals(y, model(xi), sd, t_max), x, box, _SETTINGS.covariance_step
-        )
+    if p and controls.covariance:
+        box = obj.params.internal_bounds()
+        jac = central_jacobian(obj.residuals(sd), opt.x, box, _SETTINGS.covariance_step)
         # sigma is fitted too: n - (p + 1) degrees of freedom
-        est = wald(params, x, covariance_internal(jac), max(w.size - (p + 1), 1))
+        est = wald(obj.params, opt.x, covariance_internal(jac), max(w.size - (p + 1), 1))
         cov, stderr, ci95 = est.covariance, est.stderr, est.ci95
     return CandidateFit(
         name=candidate.name,
@@ -231,9 +295,9 @@ def fit_candidate(
         run=runs,
         t_max=float(t_max),
         covariance=cov,
-        success=success,
-        message=message,
-        nfev=nfev,
+        success=opt.success,
+        message=opt.message,
+        nfev=obj.nfev,
         n_integrations=evaluator.n_integrations - n_int0,
         n_failed=evaluator.n_failed - n_fail0,
         elapsed_s=time.perf_counter() - t_start,
@@ -312,12 +376,10 @@ def profile_interval(
             band=best.band,
             run=best.run,
             start={k: best.values[k] for k in others},
-            slopes=best.slope,
             spin_sd=spin_sd,
             t_max=best.t_max,
             options=options,
-            covariance=False,
-            xtol=_XTOL_LATER,
+            controls=FitControls(best.slope, covariance=False, xtol=_XTOL_LATER),
         )
         d = max(2.0 * (f.nll - best.nll), 0.0)
         return math.copysign(math.sqrt(d), xv - x_best)
