@@ -135,14 +135,7 @@ _POSITIVE = Range(0.0, math.inf, True, True)
 
 _PHYSICAL: tuple[Param, ...] = (
     Param("spin_rate", "rad/s", "projectile spin rate omega_p", "spin_rate", _POSITIVE, True),
-    Param(
-        "mu_s",
-        "1",
-        "sliding friction coefficient mu_s",
-        "mu_s",
-        Range(0.0, 2.0),
-        True,
-    ),
+    Param("mu_s", "1", "sliding friction coefficient mu_s", "mu_s", Range(0.0, 2.0), True),
     Param(
         "theta0_deg",
         "deg",
@@ -182,12 +175,7 @@ _PHYSICAL: tuple[Param, ...] = (
     Param("ball_radius", "m", "ball radius R_s", "ball.radius"),
     Param("viscosity", "Pa s", "gap-fluid viscosity mu_f", "gap.viscosity"),
     Param("weight", "N", "normal load on the rig W", "rig.weight"),
-    Param(
-        "patch_radius",
-        "m",
-        "contact patch radius a",
-        "contact.patch_radius",
-    ),
+    Param("patch_radius", "m", "contact patch radius a", "contact.patch_radius"),
     Param("p1", "Pa", "free-stream pressure P_1", "flight.p1"),
     Param("bore_radius", "m", "bore radius r_p", "flight.bore_radius"),
     Param("pressure_force", "N", "pressure force on the ball F_p"),
@@ -200,11 +188,7 @@ _PHYSICAL: tuple[Param, ...] = (
         "friction regularisation width / omega_p0",
         "solver.friction_width",
     ),
-    Param(
-        "shear_constant",
-        "N m s",
-        "viscous shear constant S (Eq. 42)",
-    ),
+    Param("shear_constant", "N m s", "viscous shear constant S (Eq. 42)"),
     # mechanisms of the validation study (obturator.validation): release
     # transient, slip-speed law of mu, release phase (ranges argued in FIT_SPECS)
     Param(
@@ -322,7 +306,8 @@ FIT_SPECS: dict[str, FitSpec] = {
         (0.2, 1.0),
         "r of SlipSpeedLaw: friction at one end of the slip-speed range over mu_s at the "
         "other (weakening: kinetic/static; strengthening: at-rest/fast); 1 is the "
-        "thesis's one mu at every slip speed (Eq. 61), 0.02 a fifty-fold change. Polymer-on-steel friction changes by up "
+        "thesis's one mu at every slip speed (Eq. 61), 0.02 a fifty-fold change. "
+        "Polymer-on-steel friction changes by up "
         "to a factor of a few over several decades of sliding speed (viscoelastic and "
         "ploughing contributions; Stribeck curves of boundary lubrication likewise). "
         "Plausible: 0.2-1.",

@@ -90,10 +90,13 @@ def select_runs(data: SpinRigData, min_spin: float | None = None) -> SpinRigData
 
 
 def check_fit_names(fit: Sequence[str]) -> tuple[str, ...]:
-    """The fitted names without repeats; each must be fittable and mu_s among them."""
+    """The fitted names without repeats: registered fit parameters that are inputs of
+    the rig model (:func:`~.rig_model.model_opening_times`), mu_s among them."""
     names = tuple(dict.fromkeys(fit))
+    allowed = [k for k in FIT_PARAMS if k == "mu_s" or k in _MODEL_DEFAULTS]
     for k in names:
-        registered(k)  # raises InputError("fit", ...) for a name not in the registry
+        if k not in allowed:
+            raise InputError("fit", f"{k!r}; allowed: {', '.join(allowed)}")
     if "mu_s" not in names:
         raise InputError("fit", "mu_s must be among the fitted parameters")
     return names
