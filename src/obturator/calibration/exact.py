@@ -30,7 +30,7 @@ from __future__ import annotations
 import inspect
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError, SolverError, check_range
 from ..fitting import (
+    FIT_PARAMETERS,
     Estimate,
     FitParameter,
     LeastSquaresSettings,
@@ -49,7 +50,6 @@ from ..fitting import (
     registered,
     wald,
 )
-from ..params import FIT_PARAMS
 from ..reference import TABLE1
 from ..solve import SolverOptions
 from .bootstrap import BootstrapResult, OpeningTimeTable, TableSettings, bootstrap_mu_s
@@ -93,7 +93,7 @@ def check_fit_names(fit: Sequence[str]) -> tuple[str, ...]:
     """The fitted names without repeats: registered fit parameters that are inputs of
     the rig model (:func:`~.rig_model.model_opening_times`), mu_s among them."""
     names = tuple(dict.fromkeys(fit))
-    allowed = [k for k in FIT_PARAMS if k == "mu_s" or k in _MODEL_DEFAULTS]
+    allowed = [k for k in FIT_PARAMETERS if k == "mu_s" or k in _MODEL_DEFAULTS]
     for k in names:
         if k not in allowed:
             raise InputError("fit", f"{k!r}; allowed: {', '.join(allowed)}")
@@ -150,8 +150,8 @@ def _objective(
     given = {**_MODEL_DEFAULTS, **model}
     # reported: mu_s, theta_0 and S always, then anything else fitted; started at
     # the value given, else the model's, else the registry's start
-    start = {k: given.get(k, FIT_PARAMS[k].fit.start) for k in ("mu_s", *_ALWAYS)}  # type: ignore[union-attr]
-    start.update({k: model[k] if k in model else FIT_PARAMS[k].fit.start for k in names})  # type: ignore[union-attr]
+    start = {k: given.get(k, FIT_PARAMETERS[k].start) for k in ("mu_s", *_ALWAYS)}
+    start.update({k: model[k] if k in model else FIT_PARAMETERS[k].start for k in names})
     start.update(initial or {})
     objective = _RigObjective(
         spin_rate=runs.spin_rate,
@@ -170,18 +170,7 @@ def _reported(
 ) -> dict[str, FitParameter]:
     """Every reported parameter: fitted ones with their errors, the others held."""
     fitted = {
-        p.name: FitParameter(
-            p.name,
-            values[p.name],
-            p.unit,
-            bounds=p.bounds,
-            stderr=est.stderr[p.name],
-            ci95=est.ci95[p.name],
-            transform=p.transform,
-            scale=p.scale,
-            plausible=p.plausible,
-            reason=p.reason,
-        )
+        p.name: replace(p, value=values[p.name], stderr=est.stderr[p.name], ci95=est.ci95[p.name])
         for p in objective.params
     }
     return {k: fitted.get(k) or registered(k, v, vary=False) for k, v in values.items()}
@@ -245,7 +234,7 @@ def fit_exact(
     data : SpinRigData, optional
         Runs (default: thesis Appendix B); selected by :func:`select_runs`.
     fit : sequence of str
-        Parameters to fit (:data:`obturator.params.FIT_PARAMS`): ``mu_s``
+        Parameters to fit (:data:`obturator.params.FIT_SPECS`): ``mu_s``
         (always), ``theta0_deg`` [deg], ``shear_constant`` [N m s], and the
         validation study's mechanisms; the others stay at the model's values.
     initial : dict, optional
