@@ -4,7 +4,7 @@ Algorithm (effective-variance iteration, see :mod:`.likelihood`):
 
 1. start from the candidate's default (or given) values, slopes g = 0;
 2. with the effective SDs s_i fixed, minimise sum ((m_i - y_i)/s_i)^2 over the
-   physical parameters by :func:`scipy.optimize.least_squares` (trust-region
+   physical parameters by :func:`obturator.fitting.minimize_least_squares` (trust-region
    reflective, bounds, forward differences with a relative step of 1e-3 on
    the optimiser scale: large enough to step over the tiny ripple of t_cr in
    the parameters, small against their uncertainties);
