@@ -55,7 +55,7 @@ from ..solve import SolverOptions
 from .bootstrap import BootstrapResult, OpeningTimeTable, TableSettings, bootstrap_mu_s
 from .data import SpinRigData, load_spin_rig_csv, load_thesis_data
 from .result import ExactFit
-from .rig_model import model_opening_times
+from .rig_model import model_opening_times, rig_model_case
 from .thesis_fit import thesis_least_squares
 
 __all__ = ["ExactFit", "calibrate_csv", "check_fit_names", "fit_exact", "select_runs"]
@@ -63,11 +63,15 @@ __all__ = ["ExactFit", "calibrate_csv", "check_fit_names", "fit_exact", "select_
 _DIFF_STEP = 1e-4  # relative FD step: t_cr noise ~1e-8 relative, curvature ~1
 #: The optimiser's settings (scipy's trust-region reflective defaults otherwise).
 _SETTINGS = LeastSquaresSettings("3-point", _DIFF_STEP, "jac", 1e-8, 1e-8, _DIFF_STEP)
-#: The model's fixed inputs and their defaults (keyword arguments of model_opening_times).
+#: The model's fixed inputs and their defaults (solver options and the keyword arguments
+#: of rig_model_case).
 _MODEL_DEFAULTS: dict[str, Any] = {
-    k: p.default
-    for k, p in inspect.signature(model_opening_times).parameters.items()
-    if p.kind is p.KEYWORD_ONLY and p.default is not p.empty
+    "options": None,
+    **{
+        k: p.default
+        for k, p in inspect.signature(rig_model_case).parameters.items()
+        if p.kind is p.KEYWORD_ONLY and p.default is not p.empty
+    },
 }
 #: Reported with every fit, fitted or not.
 _ALWAYS = ("theta0_deg", "shear_constant")
