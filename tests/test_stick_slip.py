@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -203,3 +205,16 @@ def test_out_of_scope_cases_are_refused(case, field):
 def test_euler_formulation_is_refused():
     with pytest.raises(InputError, match="formulation"):
         opening_time(RIG, dataclasses.replace(SET_VALUED, formulation="euler"))
+
+
+def test_benchmark_rows():
+    """benchmarks/stick_slip.py: both paths per case, ratios, errors against the
+    tight set-valued reference (200 rad/s and flight)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks/ at the root
+    from benchmarks.stick_slip import PATHS, cost
+
+    rows = cost((200.0,), repeat=1)
+    assert [r["case"] for r in rows] == ["rig 200 rad/s", "flight (Table 1)"]
+    for r in rows:
+        assert set(r["ratio"]) == set(PATHS) - {"regularised"}
+        assert r["set-valued"]["rel_error"] < 1e-7 and r["regularised"]["wall_s"] > 0.0
