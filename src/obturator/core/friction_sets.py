@@ -107,7 +107,8 @@ def breakaway_angle(y: np.ndarray, p: np.ndarray, wp: float) -> float:
     With G_req = g (-z_Y, z_X, 0), |G_req| = |g| sin(theta) and z_X = sin(theta) cos(psi),
     G_req is in F while b_X sin^2 psi + cos^2 psi >= kappa^2, kappa = |g| sin(theta) / M,
     i.e. while cos^2 psi >= c^2 = (kappa^2 - b_X) / (1 - b_X). Returns inf when stick is
-    never lost (c^2 < 0, or theta = 0 / 90 deg exactly), 0 when `y` is not in stick.
+    never lost (c^2 < 0, or theta = 0 / 90 deg exactly), 0 when G_req is outside F
+    everywhere, and minus the angle to the end of the window when `y` is in one.
     """
     zx, zy, zz = _hole_axis(y)
     sin_th = math.sqrt(zx * zx + zy * zy)
@@ -130,7 +131,7 @@ def breakaway_angle(y: np.ndarray, p: np.ndarray, wp: float) -> float:
         return psi1 - psi
     if psi >= math.pi - psi1:
         return math.pi - psi + psi1
-    return 0.0
+    return -(math.pi - psi1 - psi)  # inside the window: minus the angle to its end
 
 
 @njit(cache=True, **NO_REFCOUNT)

@@ -228,6 +228,33 @@ def _break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> 
     return tau
 
 
+@njit(cache=True, **NO_REFCOUNT)
+def _through_window(y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval):
+    """Hold the ball through the rest of an exit window of F (in place on `y`).
+
+    For a slip that cannot take off: G_req only grazes the boundary of F, |omega_r|
+    has fallen below the kick and Radau IIA's steps have collapsed. Its creep is below
+    the kick's scale, so the ball turns rigidly to the end of the window. Returns
+    (t_end, i_eval, n_out), t_end < 0 where this does not apply (the run failed).
+    """
+    wp = y[7]
+    window = -breakaway_angle(y, p, wp)
+    if not (_slip(y)[3] < r_kick and window > 0.0 and wp != 0.0):
+        return -1.0, i_eval, n_out
+    t_new = min(t + (window + 1e-12) / abs(wp), t_max)
+    while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
+        turn_rigidly(y, wp * (t_eval[i_eval] - t), ytry)
+        ts[n_out] = t_eval[i_eval]
+        for i in range(y.shape[0]):
+            ys[n_out, i] = ytry[i]
+        n_out += 1
+        i_eval += 1
+    turn_rigidly(y, wp * (t_new - t), ytry)
+    for i in range(y.shape[0]):
+        y[i] = ytry[i]
+    return t_new, i_eval, n_out
+
+
 @njit(cache=True, inline="always", **NO_REFCOUNT)
 def _fresh_radau(h: float, h_max: float, t_left: float) -> tuple:
     """Radau IIA state after a mode change or a DOP853 stretch: (h, h_lu, need_jac,
@@ -317,7 +344,7 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
         if sticking:
             wp = y[7]
             hold_stick(y, wp)
-            angle = breakaway_angle(y, p, wp)
+            angle = max(breakaway_angle(y, p, wp), 0.0)
             t_b = min(t + angle / abs(wp), t_max) if wp != 0.0 else t_max
             if use_eval:
                 while i_eval < n_eval and t_eval[i_eval] <= t_b:
@@ -388,8 +415,15 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
             if not jac_fresh:
                 need_jac = True
             if underflow(h, t):
-                status = Status.FAILED
-                break
+                t_w, i_eval, n_out = _through_window(
+                    y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval
+                )
+                if t_w < 0.0:
+                    status = Status.FAILED
+                    break
+                t = t_w
+                sticking = True
+                continue
             continue
         for i in range(n):
             ynew[i] = y[i] + z[2, i]
@@ -417,8 +451,15 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
             if not jac_fresh:
                 need_jac = True
             if underflow(h, t):
-                status = Status.FAILED
-                break
+                t_w, i_eval, n_out = _through_window(
+                    y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval
+                )
+                if t_w < 0.0:
+                    status = Status.FAILED
+                    break
+                t = t_w
+                sticking = True
+                continue
             continue
         # ---- accepted ----
         h_new = h / quot
