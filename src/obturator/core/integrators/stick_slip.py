@@ -38,6 +38,10 @@ Transitions:
   :data:`KICK` omega_p along -G_req / |G_req| (the direction in which the saturated
   friction gives way; Radau IIA needs a defined direction at its first node).
 
+* grazing exit: a kicked slip that cannot take off (|omega_r| below the kick with
+  G_req still outside F, Radau IIA's steps collapsed) is held rigidly through the rest of
+  the window (:func:`_through_window`); its creep is below the kick's scale.
+
 The friction moment at zero slip is never evaluated in slip, and the stick reaction
 is never integrated, so there is no width; Radau IIA's Jacobian alone is taken from a
 copy of the parameters with a tiny width (:data:`JACOBIAN_WIDTH`) so that its
