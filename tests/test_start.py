@@ -1,0 +1,154 @@
+"""Open area through the tilted ball and the start of the internal flow (thesis ch. I, Eq. 2).
+
+References: closed forms (A(0) = bore area, A(beta_s) = 0, the lens of two
+circles), an independent Monte Carlo ray trace through the solid ball, and the
+Kantrowitz-Donaldson limit of :mod:`obturator.flow.inlet` (Eq. 2, tested there
+against NACA 1135).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from obturator.errors import InputError
+from obturator.flow import start_mach, swallow_area_ratio
+from obturator.model.cases import flight_case, table1_ball
+from obturator.model.geometry import BoredBall
+from obturator.model.passage import (
+    open_angle,
+    open_area,
+    open_area_ray_count,
+    ring_contact_fraction,
+)
+from obturator.model.start import full_bore_start_mach, start_condition
+from obturator.reference import TABLE1
+from obturator.solve import opening_time, simulate
+
+R_S, R_HOLE, R_BORE = TABLE1["ball_radius"], TABLE1["hole_radius"], TABLE1["bore_radius"]
+BETA_S = math.asin(R_HOLE / R_S)
+
+
+def test_open_area_aligned_is_the_bore_and_zero_at_first_light():
+    assert open_area(0.0, R_S, R_HOLE, R_BORE) == pytest.approx(math.pi * R_BORE**2, rel=1e-14)
+    # a narrower bore cuts the hole's circle: pi r_p^2; a wider one does not: pi r_s^2
+    assert open_area(0.0, R_S, R_HOLE, 3e-3) == pytest.approx(math.pi * 3e-3**2, rel=1e-9)
+    assert open_area(0.0, R_S, R_HOLE, 5.5e-3) == pytest.approx(math.pi * R_HOLE**2, rel=1e-14)
+    assert open_area(BETA_S, R_S, R_HOLE, R_BORE) == pytest.approx(0.0, abs=1e-20)
+    assert open_area(BETA_S + 0.1, R_S, R_HOLE, R_BORE) == 0.0
+    assert open_area(BETA_S - 1e-6, R_S, R_HOLE, R_BORE) > 0.0
+
+
+@given(
+    t1=st.floats(0.0, 1.2),
+    t2=st.floats(0.0, 1.2),
+    bore=st.floats(1e-3, 6e-3),
+)
+def test_open_area_falls_monotonically(t1, t2, bore):
+    lo, hi = sorted((t1, t2))
+    assert open_area(lo, R_S, R_HOLE, bore) >= open_area(hi, R_S, R_HOLE, bore) - 1e-18
+
+
+@pytest.mark.parametrize("deg", [3.0, 12.0, 25.0, 33.0])
+def test_quadrature_branch_meets_the_closed_form(deg):
+    # r_p just below r_s takes the clipped-lens quadrature; the lens lies inside the
+    # circle r_s, so the clip removes nothing and the closed form must come back
+    t = math.radians(deg)
+    exact = open_area(t, R_S, R_HOLE, R_BORE)
+    quad = open_area(t, R_S, R_HOLE, R_HOLE * (1.0 - 1e-12))
+    assert quad == pytest.approx(exact, rel=1e-9, abs=1e-18)
+
+
+@pytest.mark.parametrize(
+    ("deg", "bore"),
+    [(5.0, R_BORE), (15.0, R_BORE), (30.0, R_BORE), (35.0, R_BORE), (20.0, 3.5e-3), (8.0, 3e-3)],
+)
+def test_open_area_against_ray_count(deg, bore):
+    # independent reference: 400 000 rays traced through sphere and hole cylinder;
+    # tolerance 5 standard errors (the error is about 2.5e-4 of the bore area here)
+    t = math.radians(deg)
+    mc, se = open_area_ray_count(t, R_S, R_HOLE, bore, rays=400_000, seed=7)
+    assert open_area(t, R_S, R_HOLE, bore) == pytest.approx(mc, abs=5 * se)
+
+
+def test_open_angle_inverts_open_area():
+    full = math.pi * R_BORE**2
+    for frac in (0.0, 0.1, 0.5, 0.9, 1.0):
+        t = open_angle(frac * full, R_S, R_HOLE, R_BORE)
+        assert open_area(t, R_S, R_HOLE, R_BORE) == pytest.approx(frac * full, abs=1e-12 * full)
+    assert open_angle(0.0, R_S, R_HOLE, R_BORE) == pytest.approx(BETA_S)
+    with pytest.raises(InputError, match="area"):
+        open_angle(1.1 * full, R_S, R_HOLE, R_BORE)
+
+
+def test_ring_contact_fraction_closed_forms():
+    # r_p = r_s: q = cot(beta) tan(theta/2); whole ring backed from 2 beta_s on
+    assert ring_contact_fraction(2 * BETA_S + 1e-9, R_S, R_HOLE, R_BORE) == 1.0
+    c = math.cos(BETA_S)
+    at_light = 1.0 - math.acos(c / (1.0 + c)) / math.pi
+    assert ring_contact_fraction(BETA_S, R_S, R_HOLE, R_BORE) == pytest.approx(at_light)
+    assert ring_contact_fraction(1e-6, R_S, R_HOLE, R_BORE) == pytest.approx(0.5, abs=1e-6)
+
+
+def test_geometry_input_errors():
+    with pytest.raises(InputError, match="bore_radius"):
+        open_area(0.1, R_S, R_HOLE, 7e-3)  # beyond sqrt(R_s^2 - r_s^2) = 6.33 mm
+    with pytest.raises(InputError, match="theta"):
+        open_area(-0.1, R_S, R_HOLE, R_BORE)
+
+
+def test_theta_start_is_zero_where_the_full_bore_just_starts():
+    ball = table1_ball()
+    capture = 1.3 * math.pi * R_BORE**2  # a capture area wider than the bore
+    m_full = full_bore_start_mach(ball, R_BORE, capture_area=capture)
+    assert m_full == pytest.approx(float(start_mach(1.3)))
+    at = start_condition(m_full * (1 + 1e-12), ball, R_BORE, capture_area=capture)
+    assert at.startable
+    assert at.theta_start == pytest.approx(0.0, abs=1e-5)
+    below = start_condition(0.99 * m_full, ball, R_BORE, capture_area=capture)
+    assert not below.startable and math.isnan(below.theta_start)
+    assert below.verdict == "unstartable"
+    # the constant-area Table 1 bore starts at any supersonic Mach, at theta -> 0 as M -> 1
+    assert full_bore_start_mach(ball) == 1.0
+    assert start_condition(1.0 + 1e-9, ball).theta_start < 1e-3
+
+
+def test_theta_start_solves_the_kantrowitz_limit():
+    ball = table1_ball()
+    previous = 0.0
+    for mach in (1.5, 2.0, 2.5, 3.0, 3.5, 4.0):
+        s = start_condition(mach, ball)
+        a_t = open_area(s.theta_start, R_S, R_HOLE, R_BORE)
+        assert math.pi * R_BORE**2 / a_t == pytest.approx(float(swallow_area_ratio(mach)))
+        assert previous < s.theta_start < BETA_S  # later than first light, earlier at low M
+        previous = s.theta_start
+
+
+def test_fanno_choking_flag():
+    ball = table1_ball()
+    s = start_condition(1.3, ball)  # Table 1 bore chokes below M ~ 1.44 (thesis ch. I.B.4.c)
+    assert s.choked and s.verdict == "choked"
+    assert 1.40 < s.choke_mach < 1.50
+    assert start_condition(2.0, ball).verdict == "starts"
+    with pytest.raises(InputError, match="mach"):
+        start_condition(1.0, ball)
+
+
+def test_start_comes_after_first_light_in_flight():
+    case = flight_case()
+    s = start_condition(TABLE1["mach"], case.ball)
+    t_cr = opening_time(case)
+    started = simulate(case.with_(theta_cr=s.theta_start))
+    assert started.opened
+    assert started.opening_time > t_cr
+    assert float(started.theta[-1]) == pytest.approx(s.theta_start, abs=1e-6)
+
+
+def test_wider_bore_than_hole_is_limited_by_the_hole():
+    ball = BoredBall(R_S, 4.0e-3, TABLE1["density"])
+    s = start_condition(3.0, ball, 4.72e-3)
+    # A(0) = pi r_s^2 < A_c = pi r_p^2: ratio 1.3924 > Eq. 2's 1.3904 at Mach 3
+    assert not s.startable
