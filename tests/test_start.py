@@ -152,3 +152,30 @@ def test_wider_bore_than_hole_is_limited_by_the_hole():
     s = start_condition(3.0, ball, 4.72e-3)
     # A(0) = pi r_s^2 < A_c = pi r_p^2: ratio 1.3924 > Eq. 2's 1.3904 at Mach 3
     assert not s.startable
+
+
+def test_start_times_restart_matches_the_continuous_run_and_brackets():
+    from obturator.solve import start_times
+
+    case = flight_case()
+    s = start_condition(TABLE1["mach"], case.ball)
+    st = start_times(case, s)
+    continuous = opening_time(case.with_(theta_cr=s.theta_start))
+    assert st.t_start == pytest.approx(continuous, rel=1e-8)  # restart at t_cr is exact
+    assert st.t_cr == pytest.approx(opening_time(case), rel=1e-12)
+    low, high = s.spill_load_factors()
+    assert 0.0 < low < 1.0 < high
+    # a larger load opens faster (more sliding friction): the bracket holds t_start
+    assert st.t_start_high_load < st.t_start < st.t_start_low_load
+
+
+def test_cli_simulate_flight_reports_t_start(capsys):
+    import json
+
+    from obturator.cli import main
+
+    assert main(["simulate", "--case", "flight", "--json", "--no-check", "--mach", "2.5"]) == 0
+    out = json.loads(capsys.readouterr().out)["start"]
+    assert out["theta_start_deg"] == pytest.approx(7.805, abs=1e-3)
+    assert out["t_start_s"] > out["t_cr_s"] > 0.0
+    assert out["verdict"] == "starts"

@@ -33,7 +33,13 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from ..errors import check_range
-from ..flow import choking_mach_freestream, start_mach, swallow_area_ratio
+from ..flow import (
+    choking_mach_freestream,
+    normal_shock_pressure_ratio,
+    normal_shock_stagnation_pressure_ratio,
+    start_mach,
+    swallow_area_ratio,
+)
 from ..reference import TABLE1
 from .geometry import BoredBall
 from .passage import open_angle, open_area
@@ -68,6 +74,10 @@ class StartCondition:
         Fanno choking Mach of the started bore [-].
     choked : bool
         ``mach <= choke_mach``: the started tube chokes by friction and unstarts.
+    bore_radius : float
+        r_p [m].
+    gamma : float
+        Ratio of specific heats [-].
     """
 
     mach: float
@@ -80,6 +90,8 @@ class StartCondition:
     startable: bool
     choke_mach: float
     choked: bool
+    bore_radius: float
+    gamma: float
 
     @property
     def verdict(self) -> str:
@@ -87,6 +99,40 @@ class StartCondition:
         if not self.startable:
             return "unstartable"
         return "choked" if self.choked else "starts"
+
+    def spill_load_factors(self) -> tuple[float, float]:
+        """Bounds on the ball's load between first light and start, over the thesis's F_p [-].
+
+        Quasi-steady (the passage opens over milliseconds, the bore's acoustic
+        time L_p / a is about 0.1 ms): with the throat A(theta) choked, the bore
+        ahead of the ball holds subsonic flow at total pressure p_02 behind the
+        normal bow shock, its Mach number M_b set by pi r_p^2 / A(theta) =
+        A/A*(M_b); M_b rises from 0 at first light to M_2 at the start, where
+        Eq. 2 holds. So the pressure on the upstream face stays in [P_2, p_02],
+        the loaded area in [pi r_p^2 - A_t, pi r_p^2], and the downstream face,
+        behind the sonic throat, sees at most the throat pressure
+        p* = p_02 (2/(gamma+1))^(gamma/(gamma-1)) and at least P_1. Hence
+
+            F_high = pi r_p^2 (p_02 - P_1),
+            F_low  = (pi r_p^2 - A_t) (P_2 - p*),
+
+        against the thesis's F_p = pi r_p^2 (P_2 - P_1) (Eq. 43), which the
+        dynamics keep past first light.
+
+        Returns
+        -------
+        (float, float)
+            F_low / F_p and F_high / F_p.
+        """
+        g, m = self.gamma, self.mach
+        p2 = float(normal_shock_pressure_ratio(m, g))
+        p02 = float(normal_shock_stagnation_pressure_ratio(m, g)) * (
+            1.0 + 0.5 * (g - 1.0) * m * m
+        ) ** (g / (g - 1.0))
+        p_star = p02 * (2.0 / (g + 1.0)) ** (g / (g - 1.0))
+        bore = math.pi * self.bore_radius**2
+        low = (1.0 - min(self.throat_area, bore) / bore) * (p2 - p_star) / (p2 - 1.0)
+        return low, (p02 - 1.0) / (p2 - 1.0)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready fields (angles also in degrees; NaN as None)."""
@@ -182,4 +228,6 @@ def start_condition(
         startable=startable,
         choke_mach=choke,
         choked=m <= choke,
+        bore_radius=bore_radius,
+        gamma=gamma,
     )
