@@ -179,3 +179,30 @@ def test_cli_simulate_flight_reports_t_start(capsys):
     assert out["theta_start_deg"] == pytest.approx(7.805, abs=1e-3)
     assert out["t_start_s"] > out["t_cr_s"] > 0.0
     assert out["verdict"] == "starts"
+
+
+def test_cli_trajectory_reports_t_start(capsys):
+    import json
+
+    from obturator.cli import main
+
+    assert main(["trajectory", "--mach", "2.5", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["t_start_coupled_s"] > out["t_cr_coupled_s"]
+    assert out["t_start_constant_s"] > out["t_cr_constant_s"]
+    assert out["theta_start_muzzle_deg"] == pytest.approx(7.805, abs=1e-3)
+    # the flight slows down, so theta_start(M) at the start is below the muzzle value
+    assert out["theta_start_at_start_deg"] < out["theta_start_muzzle_deg"]
+    assert out["inlet_at_muzzle"] == "starts"
+
+
+def test_coupled_start_with_constant_mach_stop_equals_the_fixed_stop():
+    # a stop angle that does not depend on M gives the run to that angle
+    from obturator.envelope.coupled import ObturatorDesign, cached_flight, coupled_opening
+    from obturator.envelope.trajectory import Launch, Projectile
+
+    design = ObturatorDesign()
+    flight = cached_flight(Projectile(), Launch(mach=3.0), 0.2)
+    first = coupled_opening(design, flight, stop_angle=lambda m: design.ball().opening_angle)
+    plain = coupled_opening(design, flight)
+    assert first.t_cr == pytest.approx(plain.t_cr, rel=1e-12)

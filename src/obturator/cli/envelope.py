@@ -335,6 +335,7 @@ def _run_trajectory(args: argparse.Namespace) -> int:
     t_const, conv_const = constant_opening(
         model.design, launch, model.options, t_max=model.t_max, check=model.check_convergence
     )
+    start = _trajectory_start(model, flight, spin0)
     elapsed = time.perf_counter() - t0
     out = {
         "mach": launch.mach,
@@ -354,6 +355,7 @@ def _run_trajectory(args: argparse.Namespace) -> int:
         "spin_at_opening_rad_s": res.spin_end,
         "segments": res.n_segments,
         "segment_s": res.segment,
+        **start,
         "elapsed_s": elapsed,
     }
     if args.out:
@@ -389,7 +391,74 @@ def _run_trajectory(args: argparse.Namespace) -> int:
             f"difference {100 * out['relative_difference']:+.2f} %; at opening M = "
             f"{res.mach_end:.4f}, F_p = {res.force_end:.4g} N, omega_p = {res.spin_end:.1f} rad/s"
         )
+    _print_start(start)
     return 0
+
+
+def _trajectory_start(model: Any, flight: Any, spin0: float) -> dict[str, Any]:
+    """t_start (theta = theta_start(M), the shock swallowed) with both loads."""
+    from ..envelope.coupled import STATUS_FLAGS, constant_case, coupled_convergence, coupled_opening
+    from ..model.start import start_condition
+    from ..solve import start_times
+
+    design, launch = model.design, model.launch
+    angle = design.start_angle(launch.altitude_m)
+    kw = {"segment": model.segment, "t_max": model.t_max, "spin_rate": spin0, "stop_angle": angle}
+    res = coupled_opening(design, flight, model.options, **kw)
+    conv = None
+    if model.check_convergence and res.opened:
+        conv = coupled_convergence(design, flight, model.options, t_cr=res.t_cr, **kw)
+    cond = start_condition(
+        launch.mach,
+        design.ball(),
+        design.bore_radius,
+        gamma=design.gamma,
+        altitude_m=launch.altitude_m,
+    )
+    const = start_times(constant_case(design, launch, model.t_max), cond, model.options)
+    theta_end = angle(res.mach_end) if math.isfinite(res.mach_end) else math.nan
+
+    def clean(x: float) -> float | None:
+        return x if math.isfinite(x) else None
+
+    return {
+        "t_start_coupled_s": clean(res.t_cr),
+        "status_start_coupled": STATUS_FLAGS[res.status],
+        "convergence_start_coupled": None if conv is None else conv.to_dict(),
+        "theta_start_at_start_deg": clean(math.degrees(theta_end)),
+        "mach_at_start": clean(res.mach_end),
+        "t_start_constant_s": clean(const.t_start),
+        "theta_start_muzzle_deg": clean(math.degrees(cond.theta_start)),
+        "t_start_constant_spill_bracket_s": [
+            clean(const.t_start_high_load),
+            clean(const.t_start_low_load),
+        ],
+        "inlet_at_muzzle": cond.verdict,
+        "choke_mach": cond.choke_mach,
+    }
+
+
+def _print_start(start: dict[str, Any]) -> None:
+    def f(x: float | None) -> str:
+        return "-" if x is None else f"{x:.5g}"
+
+    conv = start["convergence_start_coupled"]
+    cv = "-" if conv is None else ("converged" if conv["converged"] else "NOT converged")
+    print(
+        f"t_start constant   : {f(start['t_start_constant_s'])} s "
+        f"(theta_start = {f(start['theta_start_muzzle_deg'])} deg at the muzzle Mach; "
+        f"spill load bracket {f(start['t_start_constant_spill_bracket_s'][0])}.."
+        f"{f(start['t_start_constant_spill_bracket_s'][1])} s)"
+    )
+    print(
+        f"t_start coupled    : {f(start['t_start_coupled_s'])} s "
+        f"({start['status_start_coupled']}, {cv}; theta_start = "
+        f"{f(start['theta_start_at_start_deg'])} deg at M = {f(start['mach_at_start'])})"
+    )
+    print(
+        f"inlet at the muzzle: {start['inlet_at_muzzle']} "
+        f"(Fanno choking Mach {start['choke_mach']:.4g})"
+    )
 
 
 # --------------------------------------------------------------------------- envelope
