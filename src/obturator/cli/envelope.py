@@ -429,10 +429,8 @@ def _trajectory_start(model: Any, flight: Any, spin0: float) -> dict[str, Any]:
         "mach_at_start": clean(res.mach_end),
         "t_start_constant_s": clean(const.t_start),
         "theta_start_muzzle_deg": clean(math.degrees(cond.theta_start)),
-        "t_start_constant_spill_bracket_s": [
-            clean(const.t_start_high_load),
-            clean(const.t_start_low_load),
-        ],
+        "t_start_constant_high_load_s": clean(const.t_start_high_load),
+        "t_start_constant_low_load_s": clean(const.t_start_low_load),
         "inlet_at_muzzle": cond.verdict,
         "choke_mach": cond.choke_mach,
     }
@@ -447,8 +445,8 @@ def _print_start(start: dict[str, Any]) -> None:
     print(
         f"t_start constant   : {f(start['t_start_constant_s'])} s "
         f"(theta_start = {f(start['theta_start_muzzle_deg'])} deg at the muzzle Mach; "
-        f"spill load bracket {f(start['t_start_constant_spill_bracket_s'][0])}.."
-        f"{f(start['t_start_constant_spill_bracket_s'][1])} s)"
+        f"spill load bracket {f(start['t_start_constant_high_load_s'])}.."
+        f"{f(start['t_start_constant_low_load_s'])} s)"
     )
     print(
         f"t_start coupled    : {f(start['t_start_coupled_s'])} s "
