@@ -206,3 +206,20 @@ def test_coupled_start_with_constant_mach_stop_equals_the_fixed_stop():
     first = coupled_opening(design, flight, stop_angle=lambda m: design.ball().opening_angle)
     plain = coupled_opening(design, flight)
     assert first.t_cr == pytest.approx(plain.t_cr, rel=1e-12)
+
+
+def test_envelope_maps_t_start_and_delay():
+    from obturator.envelope.envelope import EnvelopeSpec, envelope_summary, run_envelope
+    from obturator.envelope.model import FlightModel
+
+    spec = EnvelopeSpec(mach=(2.5,), altitude_m=(0.0,), model=FlightModel(check_convergence=False))
+    ds = run_envelope(spec).squeeze()
+
+    def val(name):
+        return float(ds[name].values)
+
+    assert val("t_start_coupled") > val("t_cr_coupled")
+    assert val("delay_constant") == pytest.approx(val("t_start_constant") - val("t_cr_constant"))
+    assert val("theta_start_muzzle") == pytest.approx(7.805, abs=1e-3)
+    assert val("unstartable") == 0
+    assert envelope_summary(ds)["delay_coupled_min_s"] > 0.0

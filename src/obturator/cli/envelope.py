@@ -306,6 +306,7 @@ def _run_trajectory(args: argparse.Namespace) -> int:
         coupled_convergence,
         coupled_opening,
     )
+    from ..envelope.start import trajectory_start
 
     model = model_from_args(args)
     launch = model.launch
@@ -335,7 +336,7 @@ def _run_trajectory(args: argparse.Namespace) -> int:
     t_const, conv_const = constant_opening(
         model.design, launch, model.options, t_max=model.t_max, check=model.check_convergence
     )
-    start = _trajectory_start(model, flight, spin0)
+    start = trajectory_start(model, flight, spin0)
     elapsed = time.perf_counter() - t0
     out = {
         "mach": launch.mach,
@@ -393,47 +394,6 @@ def _run_trajectory(args: argparse.Namespace) -> int:
         )
     _print_start(start)
     return 0
-
-
-def _trajectory_start(model: Any, flight: Any, spin0: float) -> dict[str, Any]:
-    """t_start (theta = theta_start(M), the shock swallowed) with both loads."""
-    from ..envelope.coupled import STATUS_FLAGS, constant_case, coupled_convergence, coupled_opening
-    from ..model.start import start_condition
-    from ..solve import start_times
-
-    design, launch = model.design, model.launch
-    angle = design.start_angle(launch.altitude_m)
-    kw = {"segment": model.segment, "t_max": model.t_max, "spin_rate": spin0, "stop_angle": angle}
-    res = coupled_opening(design, flight, model.options, **kw)
-    conv = None
-    if model.check_convergence and res.opened:
-        conv = coupled_convergence(design, flight, model.options, t_cr=res.t_cr, **kw)
-    cond = start_condition(
-        launch.mach,
-        design.ball(),
-        design.bore_radius,
-        gamma=design.gamma,
-        altitude_m=launch.altitude_m,
-    )
-    const = start_times(constant_case(design, launch, model.t_max), cond, model.options)
-    theta_end = angle(res.mach_end) if math.isfinite(res.mach_end) else math.nan
-
-    def clean(x: float) -> float | None:
-        return x if math.isfinite(x) else None
-
-    return {
-        "t_start_coupled_s": clean(res.t_cr),
-        "status_start_coupled": STATUS_FLAGS[res.status],
-        "convergence_start_coupled": None if conv is None else conv.to_dict(),
-        "theta_start_at_start_deg": clean(math.degrees(theta_end)),
-        "mach_at_start": clean(res.mach_end),
-        "t_start_constant_s": clean(const.t_start),
-        "theta_start_muzzle_deg": clean(math.degrees(cond.theta_start)),
-        "t_start_constant_high_load_s": clean(const.t_start_high_load),
-        "t_start_constant_low_load_s": clean(const.t_start_low_load),
-        "inlet_at_muzzle": cond.verdict,
-        "choke_mach": cond.choke_mach,
-    }
 
 
 def _print_start(start: dict[str, Any]) -> None:
@@ -553,6 +513,18 @@ def _print_envelope(ds: Any) -> None:
             )
             flag += "c" if ds["choked_at_opening"].values[i, j] else " "
             cells.append(f"{_fmt(tc):>8} ({_fmt(t0):>7}){flag}")
+        print(f"{m:6.3g}  " + "".join(f"{c:>20}" for c in cells))
+    if "t_start_coupled" not in ds:
+        return
+    print("t_start [s] coupled (delay t_start - t_cr); u unstartable at the muzzle Mach")
+    print(head + "   altitude [m]")
+    for i, m in enumerate(ds["mach"].values):
+        cells = []
+        for j in range(alts.size):
+            ts = float(ds["t_start_coupled"].values[i, j])
+            dl = float(ds["delay_coupled"].values[i, j])
+            flag = "u" if ds["unstartable"].values[i, j] else " "
+            cells.append(f"{_fmt(ts):>8} ({_fmt(dl):>7}){flag}")
         print(f"{m:6.3g}  " + "".join(f"{c:>20}" for c in cells))
 
 

@@ -509,8 +509,12 @@ def constant_opening(
     *,
     t_max: float = 1.0,
     check: bool = True,
+    start: bool = False,
 ) -> tuple[float, dict[str, Any] | None]:
     """Constant-load t_cr [s] at the muzzle conditions and its convergence check.
+
+    With ``start=True`` the time is t_start, to theta_start(M_0) of
+    :meth:`ObturatorDesign.start_angle` (NaN where the tube cannot start).
 
     Returns
     -------
@@ -519,6 +523,11 @@ def constant_opening(
         :meth:`obturator.solve.ConvergenceCheck.to_dict` (None with ``check=False``).
     """
     case = constant_case(design, launch, t_max)
+    if start:  # run on to theta_start at the muzzle Mach, the closed-bore load kept
+        theta = design.start_angle(launch.altitude_m)(launch.mach)
+        if not math.isfinite(theta):
+            return math.nan, None
+        case = case.with_(theta_cr=theta)
     t = opening_time(case, options)
     if not check:
         return t, None

@@ -49,7 +49,7 @@ tilted hole could use the larger windows where each mouth overlaps the bore
 (open from theta = beta_s + asin(r_p/R_s) on), but a started supersonic stream
 turned by theta (tens of degrees) exceeds the largest deflection of an attached
 oblique shock and detaches it again; the start criterion
-(:mod:`obturator.flow.start`) therefore takes the lens as the throat A_t, the
+(:mod:`obturator.model.start`) therefore takes the lens as the throat A_t, the
 conservative (later-starting) choice.
 """
 
@@ -113,8 +113,16 @@ def _clipped_lens_area(theta: float, r_s: float, r_p: float, c: float) -> float:
         return math.sqrt(max(0.0, min(lens, bore)))
 
     # crossings of lens and bore boundary: x^2 sin^2 + 2 d x + d^2 - (r_s^2 - r_p^2) cos^2 = 0
-    roots = np.roots([sin_t * sin_t, 2.0 * d, d * d - (r_s * r_s - r_p * r_p) * cos_t * cos_t])
-    points = sorted(float(z.real) for z in roots if abs(z.imag) < 1e-15 and 0.0 < z.real < x_end)
+    qa, qb = sin_t * sin_t, 2.0 * d
+    qc = d * d - (r_s * r_s - r_p * r_p) * cos_t * cos_t
+    disc = qb * qb - 4.0 * qa * qc
+    roots: list[float] = []
+    if disc >= 0.0:
+        q = -0.5 * (qb + math.sqrt(disc))  # stable for qa -> 0 (theta -> 0)
+        roots = [qc / q] if q != 0.0 else []
+        if qa > 0.0 and q != 0.0:
+            roots.append(q / qa)
+    points = sorted(x for x in roots if 0.0 < x < x_end)
     value, _ = quad(
         half_width, 0.0, x_end, points=points or None, epsabs=0.0, epsrel=1e-12, limit=200
     )
