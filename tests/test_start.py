@@ -223,3 +223,44 @@ def test_envelope_maps_t_start_and_delay():
     assert val("theta_start_muzzle") == pytest.approx(7.805, abs=1e-3)
     assert val("unstartable") == 0
     assert envelope_summary(ds)["delay_coupled_min_s"] > 0.0
+
+
+def test_split_objective():
+    from obturator.envelope.optimize import split_objective
+
+    assert split_objective("t_start") == ("t_start", "max")
+    assert split_objective("t_start:quantile:0.9") == ("t_start", "quantile:0.9")
+    assert split_objective("quantile:0.5") == ("t_cr", "quantile:0.5")
+    assert split_objective("t_cr") == ("t_cr", "max")
+
+
+def test_flight_model_event_start():
+    from obturator.envelope.model import FlightModel
+
+    point = {"mach": 3.0}
+    first = FlightModel(load="constant", check_convergence=False)(point)
+    both = FlightModel(load="constant", check_convergence=False, with_start=True)(point)
+    start = FlightModel(load="constant", check_convergence=False, event="start")(point)
+    assert start["t_cr"] == pytest.approx(both["t_start"], rel=1e-12)
+    assert start["t_cr"] > first["t_cr"] == both["t_cr"]
+    with pytest.raises(InputError, match="event"):
+        FlightModel(event="later")
+
+
+def test_cli_optimize_and_probability_for_t_start(capsys, tmp_path):
+    import json
+
+    from obturator.cli import main
+
+    common = ["--mach", "3", "--altitude-m", "0", "--no-convergence-check", "--workers", "1"]
+    args = ["optimize", *common, "--objective", "t_start", "--variables", "mu_s"]
+    args += ["--popsize", "2", "--maxiter", "1", "--no-polish", "--no-progress", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["objective"] == "max"
+    assert out["baseline_objective_s"] == pytest.approx(0.0332, rel=2e-3)  # coupled t_start
+    args = ["probability", *common, "--event", "t_start", "--method", "mc", "--samples", "8"]
+    args += ["--requirement", "0.02", "--vary", "mu_s=uniform:0.3,0.4", "--no-progress", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert "mc" in json.dumps(out)

@@ -33,7 +33,7 @@ from .coupled import (
 )
 from .trajectory import Launch, Projectile
 
-__all__ = ["INPUTS", "LOADS", "EVENTS", "FlightModel", "exceeds"]
+__all__ = ["INPUTS", "LOADS", "EVENTS", "TIMES", "FlightModel", "exceeds"]
 
 
 @dataclass(frozen=True)
@@ -65,6 +65,8 @@ INPUTS: dict[str, _Input] = {
 LOADS = ("coupled", "constant", "both")
 #: Which event ends the run: first light (t_cr) or the started tube (t_start).
 EVENTS = ("first_light", "start")
+#: The time each event gives, as the command line names it -> :attr:`FlightModel.event`.
+TIMES = {"t_cr": "first_light", "t_start": "start"}
 
 
 def exceeds(t_cr: float, status: int, requirement: float) -> bool:
@@ -238,18 +240,22 @@ class FlightModel:
             relative change under refinement), and for the coupled load
             ``mach_end``, ``force_end`` [N], ``spin_end`` [rad/s] at t_cr.
             With ``load="both"`` the constant-load results are added with the
-            suffix ``_constant``.
+            suffix ``_constant``. With ``with_start``: ``t_start`` [s] and
+            ``status_start`` (and ``t_start_constant``), the times to
+            theta_start(M). With ``event="start"`` the time reported as
+            ``t_cr`` is t_start.
         """
         try:
             design, launch = self.build(values)
         except InputError as exc:
             return _invalid(exc)
         if self.load == "constant":
-            return self._constant(design, launch)
-        try:
-            out = self._coupled(design, launch)
-        except InputError as exc:
-            return _invalid(exc)
+            out = self._constant(design, launch)
+        else:
+            try:
+                out = self._coupled(design, launch)
+            except InputError as exc:
+                return _invalid(exc)
         if self.load == "both":
             for k, v in self._constant(design, launch).items():
                 out[f"{k}_constant"] = v
