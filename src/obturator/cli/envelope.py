@@ -489,43 +489,49 @@ def _run_envelope(args: argparse.Namespace) -> int:
         )
         + f"; verdict changed at {s['verdict_changed_points']} points; choked at opening "
         f"{s['choked_at_opening_points']}, not started {s['not_started_points']}"
+        + (
+            f"; delay t_start - t_cr (coupled) {_fmt(s['delay_coupled_min_s'] or math.nan)} to "
+            f"{_fmt(s['delay_coupled_max_s'] or math.nan)} s, unstartable "
+            f"{s['unstartable_points']}"
+            if "unstartable_points" in s
+            else ""
+        )
         + (f"; wrote {', '.join(wrote)}" if wrote else "")
     )
     return 0
 
 
+def _print_grid(ds: Any, title: str, cell: Any) -> None:
+    alts = ds["altitude_m"].values
+    print(title)
+    print("  Mach  " + "".join(f"{a:>20g}" for a in alts) + "   altitude [m]")
+    for i, m in enumerate(ds["mach"].values):
+        print(f"{m:6.3g}  " + "".join(f"{cell(i, j):>20}" for j in range(alts.size)))
+
+
 def _print_envelope(ds: Any) -> None:
     if "temperature_offset_k" in ds.dims:
         ds = ds.isel(temperature_offset_k=0)
-    alts = ds["altitude_m"].values
-    head = "  Mach  " + "".join(f"{a:>20g}" for a in alts)
-    print("t_cr [s] coupled (constant load); * not converged, c choked at opening")
-    print(head + "   altitude [m]")
-    for i, m in enumerate(ds["mach"].values):
-        cells = []
-        for j in range(alts.size):
-            tc = float(ds["t_cr_coupled"].values[i, j])
-            t0 = float(ds["t_cr_constant"].values[i, j])
-            flag = (
-                "*"
-                if 2 in (ds["status_coupled"].values[i, j], ds["status_constant"].values[i, j])
-                else " "
-            )
-            flag += "c" if ds["choked_at_opening"].values[i, j] else " "
-            cells.append(f"{_fmt(tc):>8} ({_fmt(t0):>7}){flag}")
-        print(f"{m:6.3g}  " + "".join(f"{c:>20}" for c in cells))
-    if "t_start_coupled" not in ds:
-        return
-    print("t_start [s] coupled (delay t_start - t_cr); u unstartable at the muzzle Mach")
-    print(head + "   altitude [m]")
-    for i, m in enumerate(ds["mach"].values):
-        cells = []
-        for j in range(alts.size):
-            ts = float(ds["t_start_coupled"].values[i, j])
-            dl = float(ds["delay_coupled"].values[i, j])
-            flag = "u" if ds["unstartable"].values[i, j] else " "
-            cells.append(f"{_fmt(ts):>8} ({_fmt(dl):>7}){flag}")
-        print(f"{m:6.3g}  " + "".join(f"{c:>20}" for c in cells))
+
+    def pair(a: str, b: str, i: int, j: int) -> str:
+        return f"{_fmt(float(ds[a].values[i, j])):>8} ({_fmt(float(ds[b].values[i, j])):>7})"
+
+    def first_light(i: int, j: int) -> str:
+        statuses = (ds["status_coupled"].values[i, j], ds["status_constant"].values[i, j])
+        flag = "*" if 2 in statuses else " "
+        flag += "c" if ds["choked_at_opening"].values[i, j] else " "
+        return pair("t_cr_coupled", "t_cr_constant", i, j) + flag
+
+    def start(i: int, j: int) -> str:
+        flag = "u" if ds["unstartable"].values[i, j] else " "
+        return pair("t_start_coupled", "delay_coupled", i, j) + flag
+
+    _print_grid(
+        ds, "t_cr [s] coupled (constant load); * not converged, c choked at opening", first_light
+    )
+    if "t_start_coupled" in ds:
+        title = "t_start [s] coupled (delay t_start - t_cr); u unstartable at the muzzle Mach"
+        _print_grid(ds, title, start)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -241,26 +241,6 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
             np.broadcast_to(mach > m_start, shape).astype(np.int8),
             {"long_name": "muzzle Mach above the Kantrowitz self-starting Mach"},
         ),
-        "t_start_coupled": (
-            dims,
-            ts_cpl,
-            {"units": "s", "long_name": "t_start (shock swallowed), trajectory-coupled"},
-        ),
-        "t_start_constant": (
-            dims,
-            ts_con,
-            {"units": "s", "long_name": "t_start (shock swallowed), constant muzzle load"},
-        ),
-        "delay_coupled": (
-            dims,
-            ts_cpl - t_cpl,
-            {"units": "s", "long_name": "t_start - t_cr, trajectory-coupled"},
-        ),
-        "delay_constant": (
-            dims,
-            ts_con - t_con,
-            {"units": "s", "long_name": "t_start - t_cr, constant muzzle load"},
-        ),
         "theta_start_muzzle": (
             dims,
             theta_start,
@@ -274,6 +254,18 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
         "meets_requirement_coupled": (dims, meets_cpl.astype(np.int8), {}),
         "meets_requirement_constant": (dims, meets_con.astype(np.int8), {}),
     }
+    for load, t_start, t_first in (("coupled", ts_cpl, t_cpl), ("constant", ts_con, t_con)):
+        what = "trajectory-coupled" if load == "coupled" else "constant muzzle load"
+        data[f"t_start_{load}"] = (
+            dims,
+            t_start,
+            {"units": "s", "long_name": f"t_start (shock swallowed), {what}"},
+        )
+        data[f"delay_{load}"] = (
+            dims,
+            t_start - t_first,
+            {"units": "s", "long_name": f"t_start - t_cr, {what}"},
+        )
     coords = {
         "mach": ("mach", np.asarray(spec.mach), {"units": "1", "long_name": "muzzle Mach M_0"}),
         "altitude_m": ("altitude_m", np.asarray(spec.altitude_m), {"units": "m"}),
