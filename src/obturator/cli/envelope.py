@@ -492,7 +492,7 @@ def _run_envelope(args: argparse.Namespace) -> int:
         + (
             f"; delay t_start - t_cr (coupled) {_fmt(s['delay_coupled_min_s'] or math.nan)} to "
             f"{_fmt(s['delay_coupled_max_s'] or math.nan)} s, unstartable "
-            f"{s['unstartable_points']}"
+            f"{s['unstartable_points']}, choked at start {s['choked_at_start_points']}"
             if "unstartable_points" in s
             else ""
         )
@@ -524,13 +524,14 @@ def _print_envelope(ds: Any) -> None:
 
     def start(i: int, j: int) -> str:
         flag = "u" if ds["unstartable"].values[i, j] else " "
+        flag += "c" if ds["choked_at_start"].values[i, j] else " "
         return pair("t_start_coupled", "delay_coupled", i, j) + flag
 
     _print_grid(
         ds, "t_cr [s] coupled (constant load); * not converged, c choked at opening", first_light
     )
     if "t_start_coupled" in ds:
-        title = "t_start [s] coupled (delay t_start - t_cr); u unstartable at the muzzle Mach"
+        title = "t_start [s] coupled (delay t_start - t_cr); u unstartable, c choked at start"
         _print_grid(ds, title, start)
 
 

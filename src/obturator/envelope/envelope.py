@@ -171,7 +171,8 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
         ``t_start_constant`` [s] (to theta_start(M), :mod:`obturator.model.start`;
         not convergence-checked), ``delay_coupled``, ``delay_constant``
         (t_start - t_cr) [s], ``theta_start_muzzle`` [deg] and ``unstartable``
-        (1/0: the aligned ball cannot swallow the shock at the muzzle Mach).
+        (1/0: the aligned ball cannot swallow the shock at the muzzle Mach),
+        ``choked_at_start`` (1/0: Fanno-choked at the Mach of t_start, coupled).
     """
     import xarray as xr
 
@@ -245,6 +246,11 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
             dims,
             theta_start,
             {"units": "deg", "long_name": "theta_start at the muzzle Mach (Eq. 2 on A(theta))"},
+        ),
+        "choked_at_start": (
+            dims,
+            (grid("mach_at_start") <= choke[None, :, None]).astype(np.int8),
+            {"long_name": "the flight Mach at t_start is at or below the Fanno choking Mach"},
         ),
         "unstartable": (
             dims,
@@ -335,4 +341,5 @@ def envelope_summary(ds: Any) -> dict[str, Any]:
         out["delay_coupled_min_s"] = float(d[fin].min()) if fin.any() else None
         out["delay_coupled_max_s"] = float(d[fin].max()) if fin.any() else None
         out["unstartable_points"] = int(ds["unstartable"].values.sum())
+        out["choked_at_start_points"] = int(ds["choked_at_start"].values.sum())
     return out

@@ -241,7 +241,7 @@ class FlightModel:
             ``mach_end``, ``force_end`` [N], ``spin_end`` [rad/s] at t_cr.
             With ``load="both"`` the constant-load results are added with the
             suffix ``_constant``. With ``with_start``: ``t_start`` [s] and
-            ``status_start`` (and ``t_start_constant``), the times to
+            ``status_start``, ``mach_at_start`` (and ``t_start_constant``), the times to
             theta_start(M). With ``event="start"`` the time reported as
             ``t_cr`` is t_start.
         """
@@ -264,6 +264,7 @@ class FlightModel:
             started = onward(values)
             out["t_start"] = started["t_cr"]
             out["status_start"] = started["status"]
+            out["mach_at_start"] = started.get("mach_end", math.nan)
             if "t_cr_constant" in started:
                 out["t_start_constant"] = started["t_cr_constant"]
         return out
