@@ -257,10 +257,23 @@ def test_cli_optimize_and_probability_for_t_start(capsys, tmp_path):
     args += ["--popsize", "2", "--maxiter", "1", "--no-polish", "--no-progress", "--json"]
     assert main(args) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["objective"] == "max"
+    assert out["objective"] == "max" and out["event"] == "start"
     assert out["baseline_objective_s"] == pytest.approx(0.0332, rel=2e-3)  # coupled t_start
     args = ["probability", *common, "--event", "t_start", "--method", "mc", "--samples", "8"]
     args += ["--requirement", "0.02", "--vary", "mu_s=uniform:0.3,0.4", "--no-progress", "--json"]
     assert main(args) == 0
     out = json.loads(capsys.readouterr().out)
     assert "mc" in json.dumps(out)
+
+
+def test_cli_sensitivity_event_t_start(capsys):
+    from obturator.cli import main
+
+    args = ["sensitivity", "--event", "t_start", "--samples", "8", "--resamples", "10"]
+    args += ["--no-convergence-check", "--workers", "1", "--no-progress"]
+    args += ["--vary", "mu_s=uniform:0.3,0.4", "--vary", "density=uniform:7000,8000"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "Sobol indices of t_start" in out and "mean t_start 0.03" in out
+    assert main(["sensitivity", "--case", "spin-rig", "--event", "t_start"]) == 2
+    assert "--event" in capsys.readouterr().err

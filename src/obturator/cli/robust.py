@@ -183,7 +183,7 @@ def _run_probability(args: argparse.Namespace) -> int:
         data,
         coords={"mach": ("mach", machs), "altitude_m": ("altitude_m", alts, {"units": "m"})},
         attrs={
-            "title": "P(t_cr > requirement)",
+            "title": f"P({args.event} > requirement)",
             "requirement_s": req,
             "confidence": conf,
             "distributions": "; ".join(f"{k}={v}" for k, v in dists.items()),
@@ -217,7 +217,7 @@ def _run_probability(args: argparse.Namespace) -> int:
         print(_json.dumps(out))
         return 0
     pc = int(100 * conf)
-    print(f"P(t_cr > {req:g} s), {model.load} load; {pc} % intervals")
+    print(f"P({args.event} > {req:g} s), {model.load} load; {pc} % intervals")
     for pt in out["points"]:
         head = f"M {pt['mach']:g}, {pt['altitude_m']:g} m:"
         for meth in methods:
@@ -257,6 +257,8 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
 
     _check_out(args)
     rig = args.case == "spin-rig"
+    if rig and args.event == "t_start":
+        raise InputError("--event", "t_start applies to --case flight only (the rig has no inlet)")
     if rig:
         dists = _dists(args.vary, DEFAULT_RIG_RANGES, RIG_INPUTS)
         flight = model_from_args(args)
@@ -299,7 +301,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         if store is not None:
             store.close()
     elapsed = time.perf_counter() - t0
-    ds.attrs["title"] = f"Sobol indices of t_cr, {args.case}" + (
+    ds.attrs["title"] = f"Sobol indices of {args.event}, {args.case}" + (
         "" if rig else f" (M {model.launch.mach:g}, {model.launch.altitude_m:g} m, {model.load})"
     )
     _finish(args, store, ds)
@@ -323,7 +325,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
     print(
         f"{ds.attrs['n_evaluations']} runs ({runner.n_computed} computed, {runner.n_resumed} "
         f"resumed), {ds.attrs['n_censored']} not opened, {ds.attrs['n_unconverged']} not "
-        f"converged; mean t_cr {ds.attrs['mean']:.5g} s, "
+        f"converged; mean {args.event} {ds.attrs['mean']:.5g} s, "
         f"sd {math.sqrt(ds.attrs['variance']):.3g} s; {elapsed:.1f} s"
     )
     return 0

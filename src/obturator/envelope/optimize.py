@@ -377,6 +377,7 @@ class OptimisationResult:
         pb = self.problem
         return {
             "objective": pb.objective,
+            "event": pb.model.event,
             "conditions": [dict(c) for c in pb.conditions],
             "optimum": pb.values(self.x),
             "optimum_objective_s": self.optimum["objective"],
