@@ -410,7 +410,7 @@ def _print_start(start: dict[str, Any]) -> None:
     )
     print(
         f"t_start coupled    : {f(start['t_start_coupled_s'])} s "
-        f"({start['status_start_coupled']}, {cv}; theta_start = "
+        f"({start['status_start_coupled'].replace('opened', 'started')}, {cv}; theta_start = "
         f"{f(start['theta_start_at_start_deg'])} deg at M = {f(start['mach_at_start'])})"
     )
     print(
