@@ -158,6 +158,8 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return EXIT_CLUSTER
+    except BrokenPipeError:
+        raise  # output piped into `head`: run() ends quietly
     except OSError as exc:  # files named on the command line or in a config
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"obturator: error: {where}{exc.strerror or exc}", file=sys.stderr)

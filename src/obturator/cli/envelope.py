@@ -39,16 +39,16 @@ import argparse
 import math
 import sys
 import time
-import tomllib
 from dataclasses import replace
-from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, check_range
-from ..io import CONFIG_SCHEMA
-from ..solve import SolverOptions
+from ..errors import check_range
+from ..io import SOLVER_KEYS, load_config
+from ..params import PARAMS, Range
 from ..units import parse_quantity
 from . import _json
+from ._args import add_execution_flags, axis_of, quantity_of, solver_options
+from ._kinds import Axis, InputFile, NameOrFile, OutputFile, Quantity
 
 __all__ = [
     "register",
@@ -57,33 +57,69 @@ __all__ = [
     "model_from_args",
     "runner_from_args",
     "quantity",
+    "MACH_AXIS",
+    "REQUIREMENT",
+    "FIGURE",
+    "MIN_SEGMENT",
 ]
 
-_OWN_SCHEMA: dict[str, dict[str, tuple[str, str | None]]] = {
-    "projectile": {
-        "mass": ("projectile_mass", "kg"),
-        "roll_damping": ("roll_damping", ""),
-        "drag": ("drag", None),
-    },
-    "launch": {
-        "elevation": ("elevation_deg", "deg"),
-        "spin_rate": ("spin_rate", "rad/s"),
-        "twist": ("twist", "m"),
-        "segment": ("segment", "s"),
-    },
-}
+#: Config fields of the flight-trajectory commands (obturator.io.CONFIG_SCHEMA):
+#: the design, the projectile, the launch and the solver; a launch point (mach,
+#: altitude) only where the command has one (trajectory, sensitivity).
+_FLIGHT_CONFIG = (
+    "mu_s",
+    "theta0_deg",
+    "torque_model",
+    "t_max",
+    "ball_radius",
+    "hole_radius",
+    "density",
+    "gap",
+    "viscosity",
+    "bore_radius",
+    "spin_rate",
+    "projectile_mass",
+    "roll_damping",
+    "drag",
+    "elevation_deg",
+    "launch_spin_rate",
+    "twist",
+    "segment",
+    *SOLVER_KEYS,
+)
+_POINT_CONFIG = ("mach", "altitude_m")
+#: Built-in drag curves (obturator.envelope.drag.DRAG_MODELS; not imported here:
+#: start-up time).
+_DRAG_CURVES = ("tubular-closed", "tubular-open")
 
-# design / launch flags: dest -> (unit, help)
+# design flags: dest -> help (unit and range from obturator.params)
 _DESIGN_FLAGS = {
-    "mu_s": ("", "sliding friction coefficient mu_s (Table 1: 0.35)"),
-    "theta0_deg": ("deg", "initial nutation theta_0 [deg] (87.25)"),
-    "gap": ("m", "ball-socket gap h [m] (5.08e-5)"),
-    "hole_radius": ("m", "ball hole radius r_s [m] (4.72e-3)"),
-    "ball_radius": ("m", "ball radius R_s [m] (7.899e-3)"),
-    "density": ("kg/m^3", "ball density [kg/m^3] (7669.6)"),
-    "bore_radius": ("m", "bore radius r_p [m] (4.72e-3)"),
-    "viscosity": ("Pa*s", "gap fluid viscosity [Pa s] (1.917e-5)"),
+    "mu_s": "sliding friction coefficient mu_s (Table 1: 0.35)",
+    "theta0_deg": "initial nutation theta_0 [deg] (87.25)",
+    "gap": "ball-socket gap h [m] (5.08e-5)",
+    "hole_radius": "ball hole radius r_s [m] (4.72e-3)",
+    "ball_radius": "ball radius R_s [m] (7.899e-3)",
+    "density": "ball density [kg/m^3] (7669.6)",
+    "bore_radius": "bore radius r_p [m] (4.72e-3)",
+    "viscosity": "gap fluid viscosity [Pa s] (1.917e-5)",
 }
+_POSITIVE = Range(0.0, math.inf, True, True)
+#: Launch Mach: supersonic (the bow shock of Eq. 1) up to 10 (the drag curves' end).
+LAUNCH_MACH = Quantity("", Range(1.0, 10.0, True, False), "3")
+#: Off-standard temperature [K]: +-100 K covers every climate the 1976 atmosphere models.
+TEMPERATURE_OFFSET = Quantity("K", Range(-100.0, 100.0), "0 K")
+#: Shortest coupled-load segment [s]: t_max / segment segments are integrated and
+#: recorded, so 10 us keeps the default 1 s flight at 1e5 segments (the load changes
+#: on the trajectory's time scale, milliseconds, far above it).
+MIN_SEGMENT = 1e-5
+
+
+#: A grid of launch Mach numbers (supersonic, up to 10).
+MACH_AXIS = Axis("", LAUNCH_MACH.range, "3")
+#: A t_cr requirement [s].
+REQUIREMENT = Quantity("s", _POSITIVE, "0.1 s")
+#: A figure file (formats matplotlib writes).
+FIGURE = OutputFile(figure=True, example="figure.png")
 
 
 def quantity(field: str, value: Any, unit: str) -> float:
@@ -91,66 +127,74 @@ def quantity(field: str, value: Any, unit: str) -> float:
     return parse_quantity(field, value, unit)
 
 
-def _load_config(path: str) -> dict[str, Any]:
-    p = Path(path)
-    if not p.is_file():
-        raise FileNotFoundError(f"config file {path!r} not found")
-    try:
-        raw = tomllib.loads(p.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"config {p}", f"malformed TOML: {exc}") from None
-    schema = {**CONFIG_SCHEMA, **_OWN_SCHEMA}
-    out: dict[str, Any] = {}
-    for key, value in raw.items():
-        section, items = (key, value) if isinstance(value, dict) else ("", {key: value})
-        if section not in schema:
-            raise InputError(f"config {p}", f"unknown section [{section}]")
-        for k, v in items.items():
-            name = f"{section}.{k}" if section else k
-            if k not in schema[section]:
-                raise InputError(name, "unknown key; allowed: " + ", ".join(schema[section]))
-            field, unit = schema[section][k]
-            if field in ("case", "weight", "p1", "altitude_m", "mach", "n_contacts", "spin_mode"):
-                continue  # set per point by the envelope, or rig-only
-            if unit is None:
-                if not isinstance(v, str):
-                    raise InputError(name, f"expected a string, got {v!r}")
-                out[field] = v
-            else:
-                out[field] = parse_quantity(name, v, unit)
-    return out
-
-
 def add_model_arguments(p: argparse.ArgumentParser, *, launch_point: bool) -> None:
     """Design, projectile, launch and solver flags shared by the envelope commands."""
     g = p.add_argument_group("design (Table 1 defaults)")
-    for dest, (_, text) in _DESIGN_FLAGS.items():
-        g.add_argument("--" + dest.replace("_", "-"), dest=dest, metavar="X", help=text)
+    for dest, text in _DESIGN_FLAGS.items():
+        g.add_argument(
+            "--" + dest.replace("_", "-"),
+            dest=dest,
+            metavar="X",
+            type=_design_kind(dest),
+            help=text,
+        )
     g.add_argument("--torque-model", choices=("thesis", "coulomb"), default=None)
     f = p.add_argument_group("flight")
     if launch_point:
-        f.add_argument("--mach", metavar="X", help="muzzle Mach number (default 3)")
-        f.add_argument("--altitude-m", metavar="X", help="launch altitude [m] (default 0)")
         f.add_argument(
-            "--temperature-offset-k", metavar="X", help="off-standard temperature [K] (default 0)"
+            "--mach", metavar="X", type=LAUNCH_MACH, help="muzzle Mach number (default 3)"
         )
-    f.add_argument("--elevation-deg", metavar="X", help="elevation angle [deg] (default 0)")
+        f.add_argument(
+            "--altitude-m",
+            metavar="X",
+            type=quantity_of("altitude_m"),
+            help="launch altitude [m] (default 0)",
+        )
+        f.add_argument(
+            "--temperature-offset-k",
+            metavar="X",
+            type=TEMPERATURE_OFFSET,
+            help="off-standard temperature [K] (default 0)",
+        )
+    f.add_argument(
+        "--elevation-deg",
+        metavar="X",
+        type=Quantity("deg", Range(-90.0, 90.0), "0 deg"),
+        help="elevation angle [deg] (default 0)",
+    )
     f.add_argument(
         "--spin-rate",
         metavar="X",
+        type=quantity_of("spin_rate"),
         help="muzzle spin [rad/s]; default: rifling twist, 2 pi V_0 / twist "
         "(12042 rad/s at Table 1's Mach 3, sea level)",
     )
-    f.add_argument("--twist", metavar="X", help="rifling twist [m per turn] (default 0.5327)")
+    f.add_argument(
+        "--twist",
+        metavar="X",
+        type=Quantity("m", _POSITIVE, "0.5 m"),
+        help="rifling twist [m per turn] (default 0.5327)",
+    )
     f.add_argument(
         "--drag",
         "--cd-table",
         dest="drag",
         metavar="NAME|FILE.csv",
+        type=NameOrFile(_DRAG_CURVES, "tubular-open"),
         help="drag curve: tubular-closed (default), tubular-open, or a CSV with columns mach,cd",
     )
-    f.add_argument("--roll-damping", metavar="X", help="roll-damping coefficient C_lp (-0.012)")
-    f.add_argument("--projectile-mass", metavar="X", help="projectile mass [kg] (0.141)")
+    f.add_argument(
+        "--roll-damping",
+        metavar="X",
+        type=Quantity("", Range(-10.0, 10.0), "-0.012"),
+        help="roll-damping coefficient C_lp (-0.012)",
+    )
+    f.add_argument(
+        "--projectile-mass",
+        metavar="X",
+        type=Quantity("kg", _POSITIVE, "0.141 kg"),
+        help="projectile mass [kg] (0.141)",
+    )
     s = p.add_argument_group("solver")
     s.add_argument(
         "--load",
@@ -159,51 +203,72 @@ def add_model_arguments(p: argparse.ArgumentParser, *, launch_point: bool) -> No
         help="trajectory-coupled load (default) or the thesis's constant muzzle load "
         "(the envelope always computes both)",
     )
-    s.add_argument("--rtol", metavar="X", help="relative tolerance (default 1e-8)")
-    s.add_argument("--atol", metavar="X", help="absolute tolerance (default 1e-10)")
-    s.add_argument("--segment", metavar="S", help="segment of the coupled load [s] (2e-3)")
-    s.add_argument("--t-max", metavar="S", help="give up after this time [s] (default 1)")
+    s.add_argument(
+        "--rtol", metavar="X", type=quantity_of("rtol"), help="relative tolerance (default 1e-8)"
+    )
+    s.add_argument(
+        "--atol", metavar="X", type=quantity_of("atol"), help="absolute tolerance (default 1e-10)"
+    )
+    s.add_argument(
+        "--segment",
+        metavar="S",
+        type=Quantity("s", Range(MIN_SEGMENT, 0.1), "2 ms"),
+        help=f"segment of the coupled load [s] (2e-3; {MIN_SEGMENT:g} to 0.1)",
+    )
+    s.add_argument(
+        "--t-max",
+        metavar="S",
+        type=quantity_of("t_max"),
+        help="give up after this time [s] (default 1)",
+    )
     s.add_argument(
         "--no-convergence-check",
         action="store_true",
         help="skip the refined reruns (t_cr then carries no convergence status)",
     )
-    p.add_argument("--config", metavar="FILE.toml", help="TOML settings (flags override)")
+    p.add_argument(
+        "--config", metavar="FILE.toml", type=InputFile(), help="TOML settings (flags override)"
+    )
 
 
 def add_execution_arguments(p: argparse.ArgumentParser) -> None:
     """Workers, Dask scheduler, resume and output flags."""
-    e = p.add_argument_group("execution")
-    e.add_argument("--workers", metavar="N", help="local processes (default: all CPUs)")
-    e.add_argument("--scheduler", metavar="ADDRESS", help="dask.distributed, tcp://host:8786")
-    e.add_argument("--chunk-size", metavar="N", help="points per task (default automatic)")
-    e.add_argument("--restart", action="store_true", help="discard a different study's partials")
-    e.add_argument("--no-progress", action="store_true", help="no progress bar")
-    e.add_argument("--json", action="store_true", help="print one JSON object")
+    add_execution_flags(p.add_argument_group("execution"))  # type: ignore[arg-type]
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def _design_kind(dest: str) -> Quantity:
+    return quantity_of(dest) if dest in PARAMS else Quantity("Pa*s", _POSITIVE, "1.917e-5")
 
 
 def _settings(args: argparse.Namespace) -> dict[str, Any]:
-    s: dict[str, Any] = _load_config(args.config) if getattr(args, "config", None) else {}
-    units = {k: u for k, (u, _) in _DESIGN_FLAGS.items()}
-    units.update(
-        elevation_deg="deg",
-        spin_rate="rad/s",
-        twist="m",
-        roll_damping="",
-        projectile_mass="kg",
-        rtol="",
-        atol="",
-        segment="s",
-        t_max="s",
-        mach="",
-        altitude_m="m",
-        temperature_offset_k="K",
+    """Config settings (the fields this command uses) under the flags' values."""
+    used = _FLIGHT_CONFIG + (_POINT_CONFIG if hasattr(args, "altitude_m") else ())
+    if getattr(args, "mach_point", None) is not None or hasattr(args, "mach_point"):
+        used += _POINT_CONFIG
+    s: dict[str, Any] = {}
+    if getattr(args, "config", None):
+        s = load_config(args.config, args.command, used)
+        if "launch_spin_rate" in s:
+            s["spin_rate"] = s.pop("launch_spin_rate")
+    flags = (
+        *_DESIGN_FLAGS,
+        "elevation_deg",
+        "spin_rate",
+        "twist",
+        "roll_damping",
+        "projectile_mass",
+        "rtol",
+        "atol",
+        "segment",
+        "t_max",
+        "mach",
+        "altitude_m",
+        "temperature_offset_k",
+        "drag",
+        "torque_model",
     )
-    for dest, unit in units.items():
-        v = getattr(args, dest, None)
-        if v is not None:
-            s[dest] = quantity("--" + dest.replace("_", "-"), v, unit)
-    for dest in ("drag", "torque_model"):
+    for dest in flags:  # values checked and converted by their kinds
         if getattr(args, dest, None) is not None:
             s[dest] = getattr(args, dest)
     return s
@@ -217,7 +282,7 @@ def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
     from ..envelope.trajectory import Launch, Projectile
 
     s = _settings(args)
-    dkw = {k: s[k] for k in _DESIGN_FLAGS if k in s}
+    dkw: dict[str, Any] = {k: s[k] for k in _DESIGN_FLAGS if k in s}
     if "torque_model" in s:
         dkw["torque_model"] = s["torque_model"]
     design = ObturatorDesign(**dkw)
@@ -241,11 +306,10 @@ def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
         if k in s
     }
     launch = Launch(**lkw)
-    okw = {k: s[k] for k in ("rtol", "atol") if k in s}
-    options = SolverOptions(**okw)
+    options = solver_options(s)
     mkw: dict[str, Any] = {}
-    if "segment" in s:
-        mkw["segment"] = s["segment"]
+    if "segment" in s:  # the config's too: t_max / segment segments are allocated
+        mkw["segment"] = check_range("segment", s["segment"], MIN_SEGMENT, 0.1, unit="s")
     if "t_max" in s:
         mkw["t_max"] = s["t_max"]
     return FlightModel(
@@ -263,22 +327,12 @@ def runner_from_args(args: argparse.Namespace, store: Any = None) -> Any:
     """The :class:`~obturator.envelope.executor.Runner` described by the flags."""
     from ..envelope.executor import Runner
 
-    def integer(name: str, text: str | None) -> int | None:
-        if text is None:
-            return None
-        try:
-            n = int(text)
-        except ValueError:
-            raise InputError(name, f"{text!r} is not a whole number") from None
-        check_range(name, n, 1)
-        return n
-
     return Runner(
-        workers=integer("--workers", args.workers),
+        workers=args.workers,  # whole numbers >= 1 (their kinds)
         scheduler=args.scheduler,
         store=store,
         progress=not args.no_progress and sys.stderr.isatty(),
-        chunk_size=integer("--chunk-size", args.chunk_size),
+        chunk_size=args.chunk_size,
     )
 
 
@@ -399,8 +453,6 @@ def _run_envelope(args: argparse.Namespace) -> int:
     from ..envelope.envelope import EnvelopeSpec, envelope_summary, run_envelope
     from ..sweeps import parse_axis, write_netcdf
 
-    if args.out and not Path(args.out).resolve().parent.is_dir():
-        raise InputError("--out", f"directory of {args.out!r} does not exist")
     model = model_from_args(args, load="both")
     temps = (
         parse_axis(args.grid_temperature, "--temperature-offset-k")
@@ -499,8 +551,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "of the flight; compare with the thesis's constant load.",
     )
     add_model_arguments(t, launch_point=True)
-    t.add_argument("--out", metavar="FILE.nc", help="write the trajectory as NetCDF")
-    t.add_argument("--figure", metavar="FILE.png", help="theta(t), F_p(t), M(t)")
+    t.add_argument(
+        "--out", metavar="FILE.nc", type=OutputFile(), help="write the trajectory as NetCDF"
+    )
+    t.add_argument("--figure", metavar="FILE.png", type=FIGURE, help="theta(t), F_p(t), M(t)")
     t.add_argument("--json", action="store_true", help="print one JSON object")
     t.set_defaults(func=_run_trajectory)
 
@@ -512,25 +566,42 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "SPEC is START:STOP:COUNT or a,b,c.",
     )
     e.add_argument(
-        "--mach", dest="grid_mach", metavar="SPEC", required=True, help="muzzle Mach numbers"
+        "--mach",
+        dest="grid_mach",
+        metavar="SPEC",
+        required=True,
+        type=MACH_AXIS,
+        help="muzzle Mach numbers",
     )
     e.add_argument(
         "--altitude-m",
         dest="grid_altitude",
         metavar="SPEC",
         required=True,
-        help="launch altitudes [m]",
+        type=axis_of("altitude_m"),
+        help="launch altitudes [m] (units allowed: '0,1 km')",
     )
     e.add_argument(
         "--temperature-offset-k",
         dest="grid_temperature",
         metavar="SPEC",
+        type=Axis("K", TEMPERATURE_OFFSET.range, "0 K"),
         help="temperature offsets [K]",
     )
-    e.add_argument("--requirement", metavar="S", default="0.1", help="t_cr requirement [s]")
-    e.add_argument("--area-ratio", metavar="X", default="1", help="inlet A_c/A_t (default 1)")
+    e.add_argument(
+        "--requirement", metavar="S", default="0.1", type=REQUIREMENT, help="t_cr requirement [s]"
+    )
+    e.add_argument(
+        "--area-ratio",
+        metavar="X",
+        default="1",
+        type=Quantity("", Range(1.0, math.inf, False, True), "1"),
+        help="inlet A_c/A_t (default 1)",
+    )
     add_model_arguments(e, launch_point=False)
     add_execution_arguments(e)
-    e.add_argument("--out", metavar="FILE.nc", default="envelope.nc", help="NetCDF output")
-    e.add_argument("--figure", metavar="FILE.png", help="contour map")
+    e.add_argument(
+        "--out", metavar="FILE.nc", default="envelope.nc", type=OutputFile(), help="NetCDF output"
+    )
+    e.add_argument("--figure", metavar="FILE.png", type=FIGURE, help="contour map")
     e.set_defaults(func=_run_envelope)

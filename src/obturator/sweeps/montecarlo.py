@@ -32,7 +32,6 @@ from .export import (
     status_attrs,
     write_outputs,
 )
-from .grid import MAX_POINTS
 from .spec import SweepSpec
 from .stats import CI_METHOD, MonteCarloSummary, summarize_monte_carlo
 from .sweep import run_points
@@ -40,7 +39,14 @@ from .sweep import run_points
 if TYPE_CHECKING:  # pragma: no cover
     import xarray
 
-__all__ = ["monte_carlo", "monte_carlo_summary"]
+#: Largest Monte Carlo sample. At 10^6 the order-statistic interval of a 5 %
+#: quantile is +-0.04 percentage points wide (1.96 sqrt(p (1 - p) / n)), finer than
+#: the model's own accuracy; the run is ~2 minutes at the ~10^4 points/s measured
+#: on 2 workers (README) and its samples, resume file and CSV stay ~0.2 GB. 10^8
+#: samples would be ~3 hours and ~20 GB for no gain in any reported number.
+MAX_SAMPLES = 1_000_000
+
+__all__ = ["monte_carlo", "monte_carlo_summary", "MAX_SAMPLES"]
 
 
 def monte_carlo(
@@ -112,8 +118,11 @@ def monte_carlo(
         n = int(samples)
     except (TypeError, ValueError):
         raise InputError("samples", f"expected a whole number, got {samples!r}") from None
-    if n < 1 or n > MAX_POINTS:
-        raise InputError("samples", f"{n} is outside the allowed range [1, {MAX_POINTS}]")
+    if n < 1 or n > MAX_SAMPLES:
+        raise InputError(
+            "samples",
+            f"{n} is outside the allowed range [1, {MAX_SAMPLES}] (obturator.sweeps.MAX_SAMPLES)",
+        )
     try:
         seed_i = int(seed)
     except (TypeError, ValueError):
