@@ -66,6 +66,7 @@ from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
+from . import vocab
 from .errors import InputError
 from .files import MAX_FILE_BYTES, check_output_path, read_text_file
 from .params import CONFIG_SECTIONS, config_schema
@@ -98,6 +99,17 @@ CONFIG_SCHEMA: dict[str, dict[str, tuple[str, str | None]]] = {
         "twist": ("twist", "m"),
         "segment": ("segment", "s"),
     },
+}
+
+#: The allowed words of the word-valued fields.
+_WORDS: dict[str, tuple[str, ...]] = {
+    "case": vocab.CASE_NAMES,
+    "torque_model": vocab.TORQUE_MODELS,
+    "spin_mode": vocab.SPIN_MODES,
+    "speed_law": vocab.SPEED_LAWS,
+    "friction_family": vocab.FRICTION_FAMILIES,
+    "method": vocab.METHODS,
+    "formulation": vocab.FORMULATIONS,
 }
 
 #: Fields of the ``[solver]`` section (options of :class:`obturator.solve.SolverOptions`).
@@ -203,6 +215,8 @@ def load_config(
                         raise InputError(name, f"expected an integer, got {v!r}")
                 elif not isinstance(v, str) or len(v) > 256:
                     raise InputError(name, f"expected a word, got {str(v)[:40]!r}")
+                elif field in _WORDS and v not in _WORDS[field]:
+                    raise InputError(name, f"{v[:40]!r}; allowed: {', '.join(_WORDS[field])}")
                 out[field] = v
             else:
                 out[field] = parse_quantity(name, v, unit)

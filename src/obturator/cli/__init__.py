@@ -133,6 +133,13 @@ def main(argv: list[str] | None = None) -> int:
 
     argv = sys.argv[1:] if argv is None else list(argv)
     set_command(argv)
+    from ._environment import check_environment
+
+    try:  # before numba is imported: its variables break the import itself
+        check_environment()
+    except InputError as exc:
+        print(f"obturator: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
     command = _command_of(argv)
     parser = build_parser(command, full=command is not None or "--print-completion" in argv)
     args = parser.parse_args(argv)
@@ -168,7 +175,7 @@ def main(argv: list[str] | None = None) -> int:
         print("obturator: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:
-        if os.environ.get("OBTURATOR_DEBUG"):
+        if os.environ.get("OBTURATOR_DEBUG", "").strip() == "1":
             raise
         text = " ".join(str(exc).split())[:300]
         print(
@@ -206,7 +213,9 @@ def run() -> None:  # pragma: no cover - the console-script entry point
     except BrokenPipeError:  # output piped into `head` and the like: not an error
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         code = 0
-    if os.environ.get("OBTURATOR_FULL_EXIT"):  # e.g. coverage tools that save at exit
+    if (
+        os.environ.get("OBTURATOR_FULL_EXIT", "").strip() == "1"
+    ):  # e.g. coverage tools that save at exit
         sys.exit(code)
     atexit._run_exitfuncs()
     sys.stderr.flush()
