@@ -72,7 +72,7 @@ def read_text_file(path: str | Path, field: str, max_bytes: int = MAX_FILE_BYTES
     p = Path(path)
     st = _stat(field, p, "read")
     if st is None:
-        raise InputError(field, f"cannot read {str(p)!r}: no such file")
+        raise InputError(field, f"cannot read {str(p)!r}: No such file or directory")
     if not stat.S_ISREG(st.st_mode):
         raise InputError(field, f"{str(p)!r} is not a regular file")
     if st.st_size > max_bytes:

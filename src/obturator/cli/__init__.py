@@ -142,14 +142,18 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_INPUT
     command = _command_of(argv)
     parser = build_parser(command, full=command is not None or "--print-completion" in argv)
-    args = parser.parse_args(argv)
+    try:  # every value is checked here, by its kind (cli._kinds), before any work
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # a usage error (one line, printed), --help, --version
+        return exc.code if isinstance(exc.code, int) else EXIT_INPUT
     if args.print_completion:
         import shtab
 
         print(shtab.complete(parser, shell=args.print_completion))
         return 0
     if args.command is None:
-        parser.error("a COMMAND is required (see obturator --help)")
+        print("obturator: error: a COMMAND is required (see obturator --help)", file=sys.stderr)
+        return EXIT_INPUT
     try:
         return int(args.func(args) or 0)
     except InputError as exc:

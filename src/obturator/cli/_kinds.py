@@ -44,6 +44,11 @@ def _refuse(exc: InputError) -> argparse.ArgumentTypeError:
     return argparse.ArgumentTypeError(text[len(prefix) :] if text.startswith(prefix) else text)
 
 
+def _outside(x: float, rng: Range, unit: str) -> str:
+    u = f" {unit}" if unit else ""
+    return f"{x:g}{u} is outside the allowed range {rng}{u}"
+
+
 class Kind:
     """Base of the value kinds: ``kind(text)`` converts or raises ArgumentTypeError."""
 
@@ -80,9 +85,7 @@ class Quantity(Kind):
 
         x = parse_quantity("value", text, self.unit)
         if not self.range.contains(x):
-            raise InputError(
-                "value", f"{x:g} is outside the allowed range {self.range} {self.unit}".rstrip()
-            )
+            raise InputError("value", _outside(x, self.range, self.unit))
         return x
 
 
@@ -121,10 +124,7 @@ class Axis(Kind):
         values = parse_axis(text, "value", self.unit)
         bad = [float(v) for v in values if not self.range.contains(float(v))]
         if bad:
-            raise InputError(
-                "value",
-                f"{bad[0]:g} is outside the allowed range {self.range} {self.unit}".rstrip(),
-            )
+            raise InputError("value", _outside(bad[0], self.range, self.unit))
         return text
 
 
