@@ -69,7 +69,7 @@ from typing import Any
 from . import vocab
 from .errors import InputError
 from .files import MAX_FILE_BYTES, check_output_path, read_text_file
-from .params import CONFIG_SECTIONS, config_schema
+from .params import CONFIG_SECTIONS, PARAMS, config_schema
 from .units import parse_quantity
 
 __all__ = [
@@ -219,5 +219,14 @@ def load_config(
                     raise InputError(name, f"{v[:40]!r}; allowed: {', '.join(_WORDS[field])}")
                 out[field] = v
             else:
-                out[field] = parse_quantity(name, v, unit)
+                out[field] = _in_range(name, field, parse_quantity(name, v, unit))
     return out
+
+
+def _in_range(name: str, field: str, x: float) -> float:
+    """`x` if it lies in the range of parameter `field` (the flags' own ranges)."""
+    par = PARAMS.get(field)
+    if par is not None and par.range is not None and not par.range.contains(x):
+        u = f" {par.unit}" if par.unit != "1" else ""
+        raise InputError(name, f"{x:g}{u} is outside the allowed range {par.range}{u}")
+    return x
