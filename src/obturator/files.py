@@ -117,11 +117,12 @@ def check_output_path(
     if "\x00" in text:
         raise InputError(field, "the file name contains a NUL byte")
     p = Path(text)
-    if suffixes is not None and p.suffix.lower().lstrip(".") not in suffixes:
+    st = _stat(field, p, "write")
+    device = st is not None and stat.S_ISCHR(st.st_mode)  # /dev/null takes any format
+    if suffixes is not None and not device and p.suffix.lower().lstrip(".") not in suffixes:
         raise InputError(
             field, f"{text!r}: unsupported file type; allowed: .{', .'.join(sorted(suffixes))}"
         )
-    st = _stat(field, p, "write")
     if st is not None:
         if stat.S_ISDIR(st.st_mode):
             raise InputError(field, f"{text!r} is a directory")
