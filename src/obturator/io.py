@@ -5,9 +5,15 @@ in TOML config files; they are converted once (:func:`obturator.units.parse_quan
 and rejected with a message that names the field when the unit is wrong or the
 text is not a quantity.
 
-One schema serves ``simulate``, ``sweep``, ``montecarlo`` and ``calibrate``
-(``--config FILE.toml``; command-line flags win over the file). Every key is
-optional; bare numbers are in the SI unit shown. A spin-rig run, as it runs
+One schema serves every command that takes ``--config FILE.toml``
+(command-line flags win over the file). Each command names the fields it uses
+(:func:`load_config`); a key it would ignore is refused with the key's name
+(``trajectory`` refuses ``case``, ``spin_mode`` and ``[friction]``; ``envelope``
+refuses ``[flight] mach``, which its ``--mach`` grid sets). Every key is
+optional; bare numbers are in the SI unit shown; values outside a parameter's
+range (:data:`obturator.params.PARAMS`) are refused as on the command line.
+The file is read by :func:`obturator.files.read_text_file` (regular UTF-8
+file, at most 1 MiB; too deep nesting refused). A spin-rig run, as it runs
 verbatim (``obturator simulate --config rig.toml``)::
 
     case = "spin-rig"
@@ -52,6 +58,11 @@ the Coulomb contact model a ``[contact]`` section::
 
     [contact]
     patch_radius = "0.1 mm"      # m (default: the Hertz radius)
+
+The flight-trajectory commands (``trajectory``, ``envelope``, ``probability``,
+``sensitivity``, ``optimize``) also read ``[projectile]`` (``mass``,
+``roll_damping``, ``drag``) and ``[launch]`` (``elevation``, ``spin_rate``,
+``twist``, ``segment``).
 
 Spin-rig mechanisms beyond the thesis (see ``obturator validate``) go in
 ``[release]`` (``theta_dot = "0.5 rad/s"``, ``phase = "1 rad"``) and

@@ -212,9 +212,8 @@ def _design_kind(dest: str) -> Quantity:
 
 def _settings(args: argparse.Namespace) -> dict[str, Any]:
     """Config settings (the fields this command uses) under the flags' values."""
-    used = _FLIGHT_CONFIG + (_POINT_CONFIG if hasattr(args, "altitude_m") else ())
-    if getattr(args, "mach_point", None) is not None or hasattr(args, "mach_point"):
-        used += _POINT_CONFIG
+    has_point = hasattr(args, "altitude_m") or hasattr(args, "mach_point")  # not a grid
+    used = _FLIGHT_CONFIG + (_POINT_CONFIG if has_point else ())
     s: dict[str, Any] = {}
     if getattr(args, "config", None):
         s = load_config(args.config, args.command, used)
