@@ -304,20 +304,41 @@ RUNNABLE = {p: extra for p, extra in {
 }.items()}  # fmt: skip
 
 
+#: Commands whose every case runs to the end in minutes (slow: CI's full run only).
+RUNNABLE_SLOW = {
+    ("trajectory",): ["--t-max", "0.002", "--no-convergence-check", "--segment", "1 ms"],
+    ("calibrate",): ["--bootstrap", "0"],
+    ("envelope",): ["--t-max", "0.002", "--no-convergence-check", "--workers", "1"],
+}
+
+
 @pytest.mark.parametrize("path", sorted(RUNNABLE), ids=" ".join)
 def test_short_commands_run_to_the_end_with_every_case(path, files, tmp_path):
     """gasdyn and a 5 ms simulate: the whole command, not only the parse."""
+    _run_every_case(path, RUNNABLE[path], files, tmp_path)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("path", sorted(RUNNABLE_SLOW), ids=" ".join)
+def test_study_commands_run_to_the_end_with_every_case(path, files, tmp_path):
+    """trajectory, calibrate, envelope at a 2 ms horizon: the whole command."""
+    _run_every_case(path, RUNNABLE_SLOW[path], files, tmp_path)
+
+
+def _run_every_case(path, extra, files, tmp_path):
     parser = PARSERS[path]
     for action in value_options(parser):
         flag = option_name(action)
-        if flag is None or (flag == "--t-max"):
+        if flag is None:
             continue
         for value in cases(kind_of(action), action, files):
             if "\x00" in value:
                 continue
             if isinstance(kind_of(action), OutputFile | OutputDir) and value == files["new"]:
                 value = str(tmp_path / Path(value).name)
-            argv = [*minimal_argv(path, files, action), flag, value, *RUNNABLE[path]]
+            if flag in extra or flag in ("--workers", "--scheduler"):
+                continue  # the horizon and the in-process run stay as set
+            argv = [*minimal_argv(path, files, action), flag, value, *extra]
             rc, out, err = call(argv)
             check_refusal(rc, err, argv)
 

@@ -39,9 +39,17 @@ __all__ = [
 ]
 
 _POSITIVE = Range(0.0, math.inf, True, True)
-#: Bounds of the flags of parameters that have no range in obturator.params.
+#: Bounds of the flags of parameters that have no finite range in obturator.params:
+#: physical sizes of an obturator, with room to spare, so that the arithmetic stays
+#: finite (found by the generated fuzz suite: --ball-radius 1e308 overflowed).
 _FLAG_RANGES: dict[str, Range] = {
-    "patch_radius": Range(0.0, math.inf, False, True),
+    "ball_radius": Range(0.0, 1.0, True, False),
+    "bore_radius": Range(0.0, 1.0, True, False),
+    "density": Range(0.0, 1e5, True, False),  # osmium: 22,590 kg/m^3
+    "viscosity": Range(0.0, 1e3, True, False),
+    "weight": Range(0.0, 1e6, True, False),
+    "p1": Range(0.0, 1e9, True, False),
+    "patch_radius": Range(0.0, 1.0),
     "rtol": Range(0.0, 1.0, True, True),
     "atol": Range(0.0, 1.0, True, True),
     "friction_width": Range(0.0, 1.0, True, True),
@@ -76,7 +84,7 @@ SEED = Count(0, 2**63 - 1, example="0")
 def quantity_of(name: str) -> Quantity:
     """The kind of the flag of parameter `name`: its unit and range (positive if none)."""
     par = PARAMS[name]
-    rng = par.range or _FLAG_RANGES.get(name, _POSITIVE)
+    rng = _FLAG_RANGES.get(name) or par.range or _POSITIVE
     return Quantity(par.pint_unit, rng, _EXAMPLES.get(name, "1"))
 
 

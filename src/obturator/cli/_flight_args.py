@@ -12,7 +12,7 @@ from typing import Any
 
 from ..errors import check_range
 from ..io import SOLVER_KEYS, load_config
-from ..params import PARAMS, Range
+from ..params import Range
 from ..units import parse_quantity
 from ._args import add_execution_flags, quantity_of, solver_options
 from ._kinds import Axis, InputFile, NameOrFile, OutputFile, Quantity
@@ -141,7 +141,8 @@ def add_model_arguments(p: argparse.ArgumentParser, *, launch_point: bool) -> No
     f.add_argument(
         "--twist",
         metavar="X",
-        type=Quantity("m", _POSITIVE, "0.5 m"),
+        type=Quantity("m", Range(1e-3, 100.0), "0.5 m"),  # found by the fuzz suite: 1e308 m
+        # divided by zero; 1 mm to 100 m per turn spans every rifling
         help="rifling twist [m per turn] (default 0.5327)",
     )
     f.add_argument(
@@ -161,7 +162,8 @@ def add_model_arguments(p: argparse.ArgumentParser, *, launch_point: bool) -> No
     f.add_argument(
         "--projectile-mass",
         metavar="X",
-        type=Quantity("kg", _POSITIVE, "0.141 kg"),
+        type=Quantity("kg", Range(1e-3, 1e3), "0.141 kg"),  # 1 g to 1 t (fuzz: 1e-300 kg
+        # stalled the trajectory integration)
         help="projectile mass [kg] (0.141)",
     )
     s = p.add_argument_group("solver")
@@ -207,7 +209,7 @@ def add_execution_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _design_kind(dest: str) -> Quantity:
-    return quantity_of(dest) if dest in PARAMS else Quantity("Pa*s", _POSITIVE, "1.917e-5")
+    return quantity_of(dest)
 
 
 def _settings(args: argparse.Namespace) -> dict[str, Any]:
