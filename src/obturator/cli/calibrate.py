@@ -54,7 +54,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="NAMES",
         default="mu_s",
         type=Text(example="mu_s"),
-        help="comma list of fitted parameters: mu_s[,theta0_deg][,shear_constant]",
+        help="comma list of fitted parameters, mu_s among them: theta0_deg, shear_constant, "
+        "theta_dot0, release_phase, speed_ratio, slip_speed, patch_radius (bounds and their "
+        "reasons: obturator.params.FIT_SPECS)",
     )
     # 1e5 resamples give percentile intervals to ~1e-3 of their width; more is wasted time
     c.add_argument(
