@@ -47,8 +47,9 @@ def device(tmp_path: Path) -> Path:
 
 def _still_a_device(node: Path) -> None:
     assert stat.S_ISCHR(node.lstat().st_mode), f"{node} was replaced"
+    beside = [p.name for p in node.parent.iterdir() if p.name.startswith(f"{node.name}.")]
     leftovers = [p.name for p in node.parent.iterdir() if p.name.endswith(".tmp")]
-    assert not leftovers, leftovers
+    assert not leftovers and not beside, (leftovers, beside)  # no null.png, null.csv
 
 
 def test_atomic_text_writer_writes_a_device_in_place(device):
@@ -94,7 +95,7 @@ def test_netcdf_writer_writes_a_device_in_place(device):
             "--out",
             "{dev}",
         ],
-        ["simulate", "--t-max", "0.01", "--no-check", "--csv", "{dev}"],
+        ["simulate", "--t-max", "0.01", "--no-check", "--csv", "{dev}", "--plot", "{dev}"],
         [
             "trajectory",
             "--t-max",

@@ -34,6 +34,7 @@ __all__ = [
     "temporary_for",
     "publish",
     "atomic_write_text",
+    "figure_format",
 ]
 
 #: Largest config, data or drag-table file read [bytes]: 1 MiB holds ~30,000 rows of
@@ -222,3 +223,12 @@ def atomic_write_text(path: str | os.PathLike[str], text: str) -> None:
         publish(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def figure_format(path: str | os.PathLike[str]) -> str:
+    """The figure format of `path`: its suffix, or ``png`` for a name without one.
+
+    Passed to ``savefig(format=...)`` so that matplotlib never appends a suffix of
+    its own: ``--plot /dev/null`` must write the device, not create ``/dev/null.png``.
+    """
+    return Path(path).suffix.lower().lstrip(".") or "png"

@@ -131,7 +131,8 @@ def _run_sweep(args: argparse.Namespace) -> int:
     chunk = parse_integer("chunk_size", args.chunk_size, 1)
     check_output_path("out", args.out)
     csv_path = args.csv
-    if csv_path is None and not args.no_csv and spec.n_points <= AUTO_CSV_MAX_POINTS:
+    to_device = not Path(args.out).is_file() and Path(args.out).exists()  # e.g. /dev/null
+    if csv_path is None and not (args.no_csv or to_device) and spec.n_points <= AUTO_CSV_MAX_POINTS:
         csv_path = str(Path(args.out).with_suffix(".csv"))
     check_output_path("csv", csv_path)
     t0 = time.perf_counter()
