@@ -20,16 +20,16 @@ Status values stored in the ``status`` variable are those of
 """
 
 from ..params import SWEEP_PARAMS as PARAMETERS
+from ..runs.pools import default_workers
+from ..runs.store import sidecar_path
 from ..status import Status
 from .distributions import Distribution, parse_distribution, sample_inputs
-from .executors import default_workers
 from .export import write_csv, write_netcdf
 from .grid import parse_axis
 from .montecarlo import monte_carlo, monte_carlo_summary
 from .points import POINT_STATUSES
 from .spec import SweepSpec
 from .stats import MonteCarloSummary, QuantileEstimate, summarize_monte_carlo
-from .store import sidecar_path
 from .sweep import SweepRun, execute_sweep, run_sweep, sweep_summary
 
 __all__ = [

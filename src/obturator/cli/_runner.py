@@ -1,0 +1,47 @@
+"""The one place where command-line flags become a :class:`~obturator.runs.Runner`.
+
+``--workers``, ``--scheduler``, ``--chunk-size``, ``--out`` (the resume store's
+output), ``--restart`` and ``--no-progress`` (a bar on a terminal, plain lines with an
+ETA on stderr otherwise) mean the same on every command that has them.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from ..runs import Progress, Runner
+from ._args import parse_integer
+
+__all__ = ["progress_from_args", "runner_from_args"]
+
+
+def progress_from_args(args: argparse.Namespace) -> Progress:
+    """The progress reporter: nothing with ``--no-progress``, else a bar on a terminal
+    and plain lines elsewhere."""
+    return Progress.auto(not getattr(args, "no_progress", False))
+
+
+def runner_from_args(
+    args: argparse.Namespace, *, store: Any = None, workers_default: int | None = None
+) -> Runner:
+    """The :class:`Runner` the flags describe (flags a command lacks take their defaults).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+    store : path, optional
+        The output whose resume sidecar the runner keeps (default ``--out`` where the
+        command has it; pass None explicitly through `args` to keep nothing).
+    workers_default : int, optional
+        Worker count when ``--workers`` is not given (default: all CPUs).
+    """
+    workers = parse_integer("workers", getattr(args, "workers", None), 1)
+    return Runner(
+        workers=workers if workers is not None else workers_default,
+        scheduler=getattr(args, "scheduler", None),
+        chunk_size=parse_integer("chunk_size", getattr(args, "chunk_size", None), 1),
+        store=store if store is not None else getattr(args, "out", None) or None,
+        restart=bool(getattr(args, "restart", False)),
+        progress=progress_from_args(args),
+    )
