@@ -8,12 +8,14 @@ ETA on stderr otherwise) mean the same on every command that has them.
 from __future__ import annotations
 
 import argparse
+from collections.abc import Mapping
+from functools import partial
 from typing import Any
 
-from ..runs import Progress, Runner
+from ..runs import Progress, Runner, study_digest
 from ._args import parse_integer
 
-__all__ = ["progress_from_args", "runner_from_args"]
+__all__ = ["progress_from_args", "runner_from_args", "study_runner", "write_dataset"]
 
 
 def progress_from_args(args: argparse.Namespace) -> Progress:
@@ -45,3 +47,19 @@ def runner_from_args(
         restart=bool(getattr(args, "restart", False)),
         progress=progress_from_args(args),
     )
+
+
+def study_runner(args: argparse.Namespace, identity: Mapping[str, Any]) -> Runner:
+    """The runner of a study described by `identity` (its resume store opened beside
+    ``--out``, if given, for the study digest of `identity`)."""
+    runner = runner_from_args(args)
+    runner.open(study_digest(identity))
+    return runner
+
+
+def write_dataset(args: argparse.Namespace, runner: Runner, ds: Any) -> None:
+    """Write `ds` to ``--out`` (if given) and remove the resume store; a full disk is one
+    error that keeps the finished work (:meth:`Runner.write_outputs`)."""
+    from ..sweeps import write_netcdf
+
+    runner.write_outputs([(getattr(args, "out", None), partial(write_netcdf, ds))])

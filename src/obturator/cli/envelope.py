@@ -37,25 +37,24 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 import time
 import tomllib
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, check_range
+from ..errors import InputError
 from ..io import CONFIG_SCHEMA
 from ..solve import SolverOptions
 from ..units import parse_quantity
 from . import _json
+from ._runner import study_runner, write_dataset
 
 __all__ = [
     "register",
     "add_model_arguments",
     "add_execution_arguments",
     "model_from_args",
-    "runner_from_args",
     "quantity",
 ]
 
@@ -259,38 +258,6 @@ def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
     )
 
 
-def runner_from_args(args: argparse.Namespace, store: Any = None) -> Any:
-    """The :class:`~obturator.envelope.executor.Runner` described by the flags."""
-    from ..envelope.executor import Runner
-
-    def integer(name: str, text: str | None) -> int | None:
-        if text is None:
-            return None
-        try:
-            n = int(text)
-        except ValueError:
-            raise InputError(name, f"{text!r} is not a whole number") from None
-        check_range(name, n, 1)
-        return n
-
-    return Runner(
-        workers=integer("--workers", args.workers),
-        scheduler=args.scheduler,
-        store=store,
-        progress=not args.no_progress and sys.stderr.isatty(),
-        chunk_size=integer("--chunk-size", args.chunk_size),
-    )
-
-
-def open_store(args: argparse.Namespace, identity: dict[str, Any]) -> Any:
-    """The resume store next to ``--out`` (None without ``--out``)."""
-    from ..envelope.executor import ResultStore, store_path
-
-    if not getattr(args, "out", None):
-        return None
-    return ResultStore(store_path(args.out), identity, args.restart)
-
-
 def _fmt(x: float) -> str:
     return f"{x:.5g}" if math.isfinite(x) else "-"
 
@@ -397,7 +364,7 @@ def _run_trajectory(args: argparse.Namespace) -> int:
 
 def _run_envelope(args: argparse.Namespace) -> int:
     from ..envelope.envelope import EnvelopeSpec, envelope_summary, run_envelope
-    from ..sweeps import parse_axis, write_netcdf
+    from ..sweeps import parse_axis
 
     if args.out and not Path(args.out).resolve().parent.is_dir():
         raise InputError("--out", f"directory of {args.out!r} does not exist")
@@ -415,18 +382,14 @@ def _run_envelope(args: argparse.Namespace) -> int:
         requirement=quantity("--requirement", args.requirement, "s"),
         area_ratio=quantity("--area-ratio", args.area_ratio, ""),
     )
-    store = open_store(args, spec.identity())
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, spec.identity())
     t0 = time.perf_counter()
     try:
         ds = run_envelope(spec, runner)
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
-    if args.out:
-        write_netcdf(ds, args.out)
-        store.remove()
+    write_dataset(args, runner, ds)
     if args.figure:
         from ..envelope.figures import plot_envelope
 

@@ -33,13 +33,12 @@ import numpy as np
 
 from ..errors import InputError
 from . import _json
+from ._runner import study_runner, write_dataset
 from .envelope import (
     add_execution_arguments,
     add_model_arguments,
     model_from_args,
-    open_store,
     quantity,
-    runner_from_args,
 )
 
 __all__ = ["register", "DEFAULT_UNCERTAINTY", "DEFAULT_RANGES", "DEFAULT_RIG_RANGES"]
@@ -98,15 +97,6 @@ def _dists(texts: list[str] | None, defaults: tuple[str, ...], allowed: tuple[st
     return out
 
 
-def _finish(args: argparse.Namespace, store: Any, ds: Any) -> None:
-    from ..sweeps import write_netcdf
-
-    if args.out:
-        write_netcdf(ds, args.out)
-    if store is not None:
-        store.remove()
-
-
 def _check_out(args: argparse.Namespace) -> None:
     if getattr(args, "out", None) and not Path(args.out).resolve().parent.is_dir():
         raise InputError("--out", f"directory of {args.out!r} does not exist")
@@ -145,8 +135,7 @@ def _run_probability(args: argparse.Namespace) -> int:
         "model": model.identity(),
         "vary": {k: str(v) for k, v in dists.items()},
     }
-    store = open_store(args, identity)
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, identity)
     t0 = time.perf_counter()
     rows: dict[str, dict[tuple[int, int], Any]] = {m: {} for m in methods}
     try:
@@ -161,8 +150,7 @@ def _run_probability(args: argparse.Namespace) -> int:
                         perf, dists, req, samples=n_mc, seed=seed, confidence=conf
                     )
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
     data = {}
     dims = ("mach", "altitude_m")
@@ -191,7 +179,7 @@ def _run_probability(args: argparse.Namespace) -> int:
             "seed": seed,
         },
     )
-    _finish(args, store, ds)
+    write_dataset(args, runner, ds)
     out = {
         "requirement_s": req,
         "load": model.load,
@@ -283,8 +271,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         "n": n,
         "seed": seed,
     }
-    store = open_store(args, identity)
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, identity)
     t0 = time.perf_counter()
     try:
         ds = sobol_indices(
@@ -296,13 +283,12 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
             resamples=_int("--resamples", args.resamples, 10),
         )
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
     ds.attrs["title"] = f"Sobol indices of t_cr, {args.case}" + (
         "" if rig else f" (M {model.launch.mach:g}, {model.launch.altitude_m:g} m, {model.load})"
     )
-    _finish(args, store, ds)
+    write_dataset(args, runner, ds)
     if args.figure:
         plot_sobol(ds, args.figure)
     if args.json:
@@ -378,8 +364,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
     )
     seed = _int("--seed", args.seed, 0)
     identity = {"study": "optimize", "problem": problem.identity(), "seed": seed}
-    store = open_store(args, identity)
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, identity)
     t0 = time.perf_counter()
     try:
         res = optimise(
@@ -396,8 +381,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
             else None
         )
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
     summary = res.to_dict()
     cond = ("condition",)
@@ -428,7 +412,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
         for k in front.data_vars:
             ds[f"pareto_{k}"] = front[k].rename(point="pareto_point")
         ds.attrs["pareto_degenerate"] = int(front.attrs["degenerate"])
-    _finish(args, store, ds)
+    write_dataset(args, runner, ds)
     if args.figure and front is not None:
         from ..envelope.figures import plot_pareto
 

@@ -8,7 +8,7 @@ recommends coupling to a trajectory model and a numerical optimisation
 * :mod:`.drag`, :mod:`.trajectory`: point-mass flight after muzzle exit;
 * :mod:`.coupled`: the obturator integrated along the flight (trajectory-coupled
   load F_p(t) and spin omega_p(t));
-* :mod:`.executor`: resumable local / Dask evaluation of many points;
+* (the points run on a :class:`obturator.runs.Runner`: local processes or Dask, resumable);
 * :mod:`.envelope`: t_cr maps over muzzle Mach x altitude (x temperature);
 * :mod:`.reliability`: P(t_cr > requirement) by importance sampling;
 * :mod:`.sensitivity`: Sobol indices with SALib;

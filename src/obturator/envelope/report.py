@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..runs import Runner
 from .envelope import EnvelopeSpec, envelope_summary, run_envelope
-from .executor import Runner
 from .figures import plot_envelope, plot_sobol
 from .model import INPUTS, FlightModel
 from .sensitivity import sobol_indices

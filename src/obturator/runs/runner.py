@@ -136,12 +136,6 @@ class Runner:
         self.sidecar = ResumeStore(
             self.store, digest, restart=self.restart, extra_outputs=extra_outputs
         )
-        if self.sidecar.n_discarded:
-            print(
-                f"obturator: notice: {self.sidecar.n_discarded} damaged or foreign records in "
-                f"{self.sidecar.path.name} discarded; their tasks are recomputed",
-                file=sys.stderr,
-            )
 
     def close(self) -> None:
         """Close the resume store, keeping it for a rerun (after an error)."""
@@ -187,9 +181,15 @@ class Runner:
         t0 = time.perf_counter()
         n_workers = self.n_workers
         if self.sidecar is not None:
+            n_bad = self.sidecar.n_discarded
             for keys, values in self.sidecar.records:
-                if not results.restore(keys, values):
-                    self.sidecar.n_discarded += 1
+                n_bad += not results.restore(keys, values)
+            if n_bad:
+                print(
+                    f"obturator: notice: {n_bad} damaged or foreign records in "
+                    f"{self.sidecar.path.name} discarded; their tasks are recomputed",
+                    file=sys.stderr,
+                )
         todo = results.todo()
         n_resumed = n_tasks - todo.size
         computed = [0]

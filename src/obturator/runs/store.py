@@ -53,7 +53,7 @@ def full_disk_error(
 ) -> InputError:
     """The one-line error of a failed write of `path` (full disk, quota, I/O error)."""
     reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-    where = f"; the finished work is kept in {kept}" if kept is not None else ""
+    where = f"; the finished points are kept in {kept}" if kept is not None else ""
     return InputError("out", f"cannot write {str(path)!r}: {reason}{where}; free space and rerun")
 
 
