@@ -39,11 +39,11 @@ def run_mc(**kw: object) -> xr.Dataset:
         "seed": 7,
         "fixed": {"spin_rate": 450.0},
         "options": FAST,
-        "progress": False,
-        "workers": 1,
     }
+    execution = {k: kw.pop(k) for k in ("workers", "chunk_size", "store", "restart") if k in kw}
     args.update(kw)
-    return monte_carlo("spin-rig", VARY, **args)  # type: ignore[arg-type]
+    runner = Runner(**{"workers": 1, **execution})  # type: ignore[arg-type]
+    return monte_carlo("spin-rig", VARY, runner=runner, **args)  # type: ignore[arg-type]
 
 
 # --------------------------------------------------------------------------- distributions
