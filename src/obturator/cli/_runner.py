@@ -25,25 +25,26 @@ def progress_from_args(args: argparse.Namespace) -> Progress:
 
 
 def runner_from_args(
-    args: argparse.Namespace, *, store: Any = None, workers_default: int | None = None
+    args: argparse.Namespace, *, workers: int | None = None, resume: bool = True
 ) -> Runner:
     """The :class:`Runner` the flags describe (flags a command lacks take their defaults).
 
     Parameters
     ----------
     args : argparse.Namespace
-    store : path, optional
-        The output whose resume sidecar the runner keeps (default ``--out`` where the
-        command has it; pass None explicitly through `args` to keep nothing).
-    workers_default : int, optional
-        Worker count when ``--workers`` is not given (default: all CPUs).
+    workers : int, optional
+        The worker count where the command parses ``--workers`` itself (default: the
+        flag, else all CPUs).
+    resume : bool
+        Whether ``--out`` (where the command has it) keeps a resume store beside it.
     """
-    workers = parse_integer("workers", getattr(args, "workers", None), 1)
+    if workers is None:
+        workers = parse_integer("workers", getattr(args, "workers", None), 1)
     return Runner(
-        workers=workers if workers is not None else workers_default,
+        workers=workers,
         scheduler=getattr(args, "scheduler", None),
         chunk_size=parse_integer("chunk_size", getattr(args, "chunk_size", None), 1),
-        store=store if store is not None else getattr(args, "out", None) or None,
+        store=(getattr(args, "out", None) or None) if resume else None,
         restart=bool(getattr(args, "restart", False)),
         progress=progress_from_args(args),
     )

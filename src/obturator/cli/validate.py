@@ -10,11 +10,11 @@ writes everything into a folder.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from ..errors import InputError, check_range
 from . import _json
+from ._runner import runner_from_args
 
 __all__ = ["register"]
 
@@ -139,12 +139,11 @@ def _run(args: argparse.Namespace) -> int:
     result = run_validation(
         data,
         models=[c.name for c in names],
-        jobs=jobs,
+        runner=runner_from_args(args, workers=jobs, resume=False),
         t_max=t_max,
         spin_sd=spin_sd,
         gap=gap,
         profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
-        progress=not args.no_progress and sys.stderr.isatty(),
     )
     from ..validation.textreport import format_report
 

@@ -171,12 +171,14 @@ class Runner:
         label: str,
         unit: str = "points",
         max_chunk: int = TASK_CHUNK,
+        chunk_size: int | None = None,
         probe_first: bool = True,
     ) -> RunInfo:
         """Compute every task of `job` that `results` still lacks (see the module notes).
 
-        `probe_first`: time the first tasks here before starting a pool (and keep the
-        rest here when they are cheap); off for runs of few long, unequal tasks.
+        `chunk_size` overrides the runner's for this run (1: every task its own chunk,
+        in order). `probe_first`: time the first tasks here before starting a pool (and
+        keep the rest here when they are cheap); off for runs of few long, unequal tasks.
         """
         t0 = time.perf_counter()
         n_workers = self.n_workers
@@ -202,7 +204,10 @@ class Runner:
 
         try:
             chunks = make_chunks(
-                todo, n_workers if self.scheduler is None else 8, self.chunk_size, max_chunk
+                todo,
+                n_workers if self.scheduler is None else 8,
+                chunk_size or self.chunk_size,
+                max_chunk,
             )
             executor = choose_executor(n_workers, self.scheduler, len(chunks))
             estimate = None
@@ -244,6 +249,7 @@ class Runner:
         label: str = "points",
         unit: str = "points",
         warm: Callable[[], None] | None = None,
+        chunk_size: int | None = None,
         probe_first: bool = True,
     ) -> list[Any]:
         """``[fn(t) for t in tasks]``, computed as :meth:`run` computes.
@@ -258,10 +264,20 @@ class Runner:
             What the progress display calls the run and its tasks.
         warm : callable, optional
             Loads compiled code once (before workers fork and before the probe).
+        chunk_size : int, optional
+            Tasks per chunk of this map (default the runner's).
         probe_first : bool
             See :meth:`run`.
         """
         results = MapResults(tasks, keyed=self.sidecar is not None)
         job = Job(run_tasks, lambda idx: (fn, [tasks[i] for i in idx.tolist()]), warm)
-        self.run(job, results, results.n_unique, label=label, unit=unit, probe_first=probe_first)
+        self.run(
+            job,
+            results,
+            results.n_unique,
+            label=label,
+            unit=unit,
+            chunk_size=chunk_size,
+            probe_first=probe_first,
+        )
         return results.values()

@@ -33,7 +33,7 @@ class ValidationSection:
 
 def run_for_report(quick: bool) -> ValidationResult:
     """The study behind the section (quick: three candidates, Wald intervals only)."""
-    return run_validation(models=QUICK_MODELS if quick else None, profile=not quick, jobs=2)
+    return run_validation(models=QUICK_MODELS if quick else None, profile=not quick)
 
 
 def validation_section(
