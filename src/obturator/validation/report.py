@@ -10,6 +10,7 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..runs import Runner
 from .plotting import save_validation_figure
 from .results import ValidationResult
 from .study import run_validation
@@ -31,9 +32,10 @@ class ValidationSection:
     pre: tuple[str, ...] = ()
 
 
-def run_for_report(quick: bool) -> ValidationResult:
+def run_for_report(quick: bool, runner: Runner | None = None) -> ValidationResult:
     """The study behind the section (quick: three candidates, Wald intervals only)."""
-    return run_validation(models=QUICK_MODELS if quick else None, profile=not quick)
+    models = QUICK_MODELS if quick else None
+    return run_validation(models=models, profile=not quick, runner=runner)
 
 
 def validation_section(
