@@ -25,7 +25,7 @@ import sys
 import threading
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from contextlib import AbstractContextManager, contextmanager
+from contextlib import AbstractContextManager, contextmanager, suppress
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -136,9 +136,26 @@ class ProcessPool:
                     sink(idx, fut.result())
                     advance(idx.size)
         except BaseException:
-            pool.shutdown(wait=False, cancel_futures=True)
+            _stop(pool)
             raise
         pool.shutdown(wait=True)
+
+
+def _stop(pool: ProcessPoolExecutor) -> None:
+    """End a pool now: cancel the waiting chunks and terminate the running ones.
+
+    Without it the interpreter's exit waits for every running chunk (a full disk or
+    Ctrl-C during a Monte Carlo study with convergence checks: minutes). Their results
+    would be lost anyway; the finished chunks are in the resume store.
+    """
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in processes:
+        with suppress(Exception):
+            proc.terminate()
+    for proc in processes:
+        with suppress(Exception):
+            proc.join(timeout=5)
 
 
 def choose_executor(workers: int, scheduler: Any, n_chunks: int) -> Executor:

@@ -36,6 +36,7 @@ __all__ = [
     "full_disk_error",
     "remove_stale_temporaries",
     "sidecar_path",
+    "write_all",
 ]
 
 #: Format tag of the sidecar's first line.
@@ -94,11 +95,12 @@ class StoreLock:
             except OSError as exc:
                 raise full_disk_error(self.path, exc, None) from None
             try:
-                with os.fdopen(fd, "w", encoding="utf-8") as fh:
-                    fh.write(text)
+                write_all(fd, text.encode())
             except OSError as exc:
                 self.path.unlink(missing_ok=True)
                 raise full_disk_error(self.path, exc, None) from None
+            finally:
+                os.close(fd)
             return
         raise InputError("out", f"cannot lock {out} (lock file {self.path})")
 
@@ -168,7 +170,7 @@ class ResumeStore:
                 self._load(header)
             else:
                 self._atomic(json.dumps(header) + "\n")
-            self._fh = self.path.open("ab")
+            self._fd: int | None = os.open(self.path, os.O_WRONLY | os.O_APPEND)
         except BaseException:
             self.lock.release()
             raise
@@ -212,11 +214,13 @@ class ResumeStore:
             self._append(b"\n")
 
     def _append(self, line: bytes) -> None:
+        fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
         try:
-            with self.path.open("ab") as fh:
-                fh.write(line)
+            write_all(fd, line)
         except OSError as exc:
             raise full_disk_error(self.path, exc, self.path) from None
+        finally:
+            os.close(fd)
 
     def append(self, keys: list[Any], values: Any) -> None:
         """Record one finished chunk (flushed and synced at once).
@@ -233,30 +237,20 @@ class ResumeStore:
             "study": self.digest,
             "crc": record_crc(keys, values),
         }
+        if self._fd is None:
+            raise InputError("store", f"{self.path} is closed")
         try:
-            self._fh.write((json.dumps(rec) + "\n").encode())
-            self._fh.flush()
-            os.fsync(self._fh.fileno())
+            write_all(self._fd, (json.dumps(rec) + "\n").encode())
+            os.fsync(self._fd)
         except OSError as exc:
-            self._cut_short()
+            self.close()  # a partial line is discarded on resume
             raise full_disk_error(self.path, exc, self.path) from None
-
-    def _cut_short(self) -> None:
-        """After a failed write: close without flushing the rest of the buffer (a partial
-        line is discarded on resume) and release the lock."""
-        try:
-            self._fh.close()
-        except OSError:
-            pass  # the buffered rest of the failed record: lost, as intended
-        self.close()
 
     def close(self) -> None:
         """Close the file (kept for a later resume) and release the lock."""
-        if not self._fh.closed:
-            try:
-                self._fh.close()
-            except OSError:
-                pass
+        if getattr(self, "_fd", None) is not None:
+            os.close(self._fd)
+            self._fd = None
         if self.lock is not None:
             self.lock.release()
             self.lock = None
@@ -267,15 +261,30 @@ class ResumeStore:
         self.path.unlink(missing_ok=True)
 
 
+def _write(fd: int, data: memoryview) -> int:
+    """``os.write``: the one place where the stores' bytes reach the disk (the full-disk
+    tests inject ENOSPC here)."""
+    return os.write(fd, data)
+
+
+def write_all(fd: int, data: bytes) -> None:
+    """Write every byte of `data` to the file descriptor `fd` (short writes continued)."""
+    view = memoryview(data)
+    while view:
+        view = view[_write(fd, view) :]
+
+
 def atomic_write_text(path: Path, text: str) -> None:
     """Write `text` to a temporary file beside `path`, fsync, and rename it into place."""
     path = Path(path)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
-        with tmp.open("w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        try:
+            write_all(fd, text.encode("utf-8"))
+            os.fsync(fd)
+        finally:
+            os.close(fd)
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
