@@ -44,7 +44,7 @@ RESULT = {"sweep": "t_cr", "montecarlo": "t_cr", "envelope": "t_cr_coupled"}
 
 
 def _run(study: str, out: Path) -> int:
-    return main([*STUDIES[study], *FAST, "--workers", "1", "--out", str(out)])
+    return main([*STUDIES[study], *FAST, "--workers", "1", "--no-progress", "--out", str(out)])
 
 
 def _values(study: str, out: Path) -> np.ndarray:
@@ -181,7 +181,7 @@ def test_real_full_tmpfs(study: str, reference: dict[str, np.ndarray], tmp_path:
         filler = disk / "filler"
         filler.write_bytes(b"\0" * ((512 - left_kb) * 1024))
         out = disk / "o.nc"
-        argv = [*STUDIES[study], *FAST, "--workers", "2", "--out", str(out)]
+        argv = [*STUDIES[study], *FAST, "--workers", "2", "--no-progress", "--out", str(out)]
         for flag, value in changes.items():
             argv[argv.index(flag) + 1] = value
         cmd = [sys.executable, "-m", "obturator", *argv]

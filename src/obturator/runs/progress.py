@@ -88,7 +88,7 @@ class Progress:
         if estimate_s is None:
             self.note(f"{label}: {work}")
         elif estimate_s >= PLAN_MIN_S:
-            self.note(f"{label}: {work}; estimated {fmt_duration(estimate_s)}")
+            self.note(f"{label}: {work}; estimated {fmt_duration(estimate_s)} on idle cores")
 
     @contextmanager
     def track(
