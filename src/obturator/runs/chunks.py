@@ -48,6 +48,11 @@ class Job:
     meanwhile : callable, optional
         Work for this process while the workers compute, where a core is spare
         (the sweep imports its output writer).
+    separable : bool
+        Whether a task's result is the same whatever chunk it runs in (False for
+        points integrated in lanes, where a chunk's count of stiff points picks the
+        Radau path: a probe in this process then only times, and its tasks run again
+        in their chunk, so a run's results do not depend on whether it was probed).
     """
 
     fn: Callable[..., Any]
@@ -55,6 +60,7 @@ class Job:
     warm: Callable[[], None] | None = None
     ahead: Callable[[list[np.ndarray]], Job] | None = None
     meanwhile: Callable[[], None] | None = None
+    separable: bool = True
 
     def run(self, idx: np.ndarray) -> Any:
         """Compute one chunk in this process."""
@@ -104,21 +110,28 @@ class Probe:
         return self.seconds_per_task * n_tasks
 
 
-def probe(job: Job, chunks: list[np.ndarray], sink: Callable[[np.ndarray, Any], None]) -> Probe:
+def probe(
+    job: Job, chunks: list[np.ndarray], sink: Callable[[np.ndarray, Any], None], keep: bool = True
+) -> Probe:
     """Run the first :data:`PROBE_TASKS` tasks of the first chunk here, timed.
 
     Chunks take every k-th task of the run (see :func:`make_chunks`), so the probe's
-    cost per task is representative. Its result goes to `sink` (and the resume store)
-    like any other chunk's; its tasks are removed from `chunks` (in place).
+    cost per task is representative. With `keep`, its result goes to `sink` (and the
+    resume store) like any other chunk's and its tasks are removed from `chunks` (in
+    place); else it is only timed.
     """
     if job.warm is not None:
         job.warm()  # compile/load once; not part of the per-task cost
     first, rest = chunks[0][:PROBE_TASKS], chunks[0][PROBE_TASKS:]
-    if rest.size:
-        chunks[0] = rest
-    else:
-        chunks.pop(0)
+    if keep:
+        if rest.size:
+            chunks[0] = rest
+        else:
+            chunks.pop(0)
     # CPU time of this thread: other threads (or a busy machine) must not inflate it
     t0 = time.thread_time()
-    sink(first, job.run(first))
-    return Probe(int(first.size), (time.thread_time() - t0) / first.size)
+    result = job.run(first)
+    seconds = time.thread_time() - t0
+    if keep:
+        sink(first, result)
+    return Probe(int(first.size), seconds / first.size)

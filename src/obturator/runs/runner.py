@@ -22,7 +22,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..errors import InputError
-from .chunks import TASK_CHUNK, Job, make_chunks, probe
+from .chunks import PROBE_TASKS, TASK_CHUNK, Job, make_chunks, probe
 from .pools import InProcess, ProcessPool, choose_executor, default_workers
 from .progress import Progress
 from .results import MapResults, run_tasks
@@ -213,11 +213,15 @@ class Runner:
             estimate = None
             if isinstance(executor, ProcessPool) and job.ahead is not None:
                 job = job.ahead(chunks)
+            pool = isinstance(executor, ProcessPool)
             if chunks and probe_first and self.scheduler is None:
-                if isinstance(executor, ProcessPool) or self.reporter.enabled:
-                    cost = probe(job, chunks, sink)
+                # in this process only to announce the estimate: timed, not kept, where
+                # splitting a chunk could change results (and where that costs <3 %)
+                keep = pool or job.separable
+                if pool or (self.reporter.enabled and (keep or todo.size > 32 * PROBE_TASKS)):
+                    cost = probe(job, chunks, sink, keep)
                     serial = cost.serial_s(sum(c.size for c in chunks))
-                    if isinstance(executor, ProcessPool) and serial < POOL_MIN_SERIAL_S:
+                    if pool and serial < POOL_MIN_SERIAL_S:
                         executor = InProcess()
                     estimate = serial / max(1, executor.workers)
             if chunks:
@@ -230,7 +234,8 @@ class Runner:
                 if n_resumed:
                     work += f" ({n_resumed} resumed)"
                 self.reporter.plan(label, work, estimate)
-                track = partial(self.reporter.track, label, n_tasks, n_tasks - todo.size, unit)
+                left = sum(c.size for c in chunks)  # the probe's tasks are done
+                track = partial(self.reporter.track, label, n_tasks, n_tasks - left, unit)
                 executor.run(job, chunks, sink, track)
         except BaseException:
             self.close()

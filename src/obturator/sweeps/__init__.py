@@ -7,8 +7,8 @@ embarrassingly parallel. One concern per module:
 * :mod:`.grid`: parsing axes (``START:STOP:COUNT``, ``a,b,c``, with units);
 * :mod:`.spec`: :class:`SweepSpec`, the study and its identity (hash);
 * :mod:`.points`: one point's t_cr and :class:`~obturator.status.Status`;
-* :mod:`.executors`: where chunks run (this process, a pool, Dask), one interface;
-* :mod:`.store`: the resume sidecar, its lock, atomic files;
+* :mod:`.job`: a study's chunks as a job of :class:`obturator.runs.Runner` (which
+  runs them here, on a pool or Dask, resumably) and their results;
 * :mod:`.sweep`: running a study (:func:`run_sweep`, :func:`execute_sweep`);
 * :mod:`.export`: the Dataset, NetCDF and CSV;
 * :mod:`.distributions`, :mod:`.stats`, :mod:`.montecarlo`: Monte Carlo.

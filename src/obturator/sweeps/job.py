@@ -85,13 +85,15 @@ def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: i
     Where the points run in lanes, the job can pack points ahead (:mod:`.ahead`).
     """
     radau_lanes = largest_chunk >= RADAU_LANES_MIN
+    lanes = batchable(spec.options, spec.check_convergence)
     job = Job(
         run_chunk,
         lambda idx: (spec, names, rows_of(idx)),
         partial(warm, spec.options, radau_lanes=radau_lanes),
         meanwhile=prefetch_output,
+        separable=not lanes,
     )
-    if batchable(spec.options, spec.check_convergence):
+    if lanes:
         job = replace(
             job, ahead=partial(_pack_while_loading, job, spec, names, rows_of, radau_lanes)
         )

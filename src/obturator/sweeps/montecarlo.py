@@ -1,7 +1,7 @@
 """Monte Carlo studies of t_cr under uncertain inputs.
 
 :func:`monte_carlo` draws the inputs (:mod:`.distributions`), computes every
-sample like a sweep point (same executors and resume store, :mod:`.sweep`) and
+sample like a sweep point (on the same :class:`~obturator.runs.Runner`, :mod:`.sweep`) and
 summarises t_cr by order statistics (:mod:`.stats`).
 """
 
