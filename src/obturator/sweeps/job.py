@@ -18,14 +18,15 @@ import numpy as np
 
 from ..runs.chunks import Job
 from ..runs.pools import default_workers, gc_frozen, mp_context
+from ..solve import batchable
+from ..solve.many import RADAU_LANES_MIN
 from .ahead import pack_ahead
-from .batch import RADAU_LANES_MIN, batchable
 from .points import POINT_STATUSES, is_warm, run_chunk, warm
 from .spec import SweepSpec
 
 __all__ = ["LANE_CHUNK", "PointResults", "sweep_job"]
 
-#: Largest default chunk of points integrated in lanes (:mod:`obturator.sweeps.batch`):
+#: Largest default chunk of points integrated in lanes (:func:`obturator.solve.opening_times`):
 #: a chunk's stiff points go through Radau IIA lanes together, which pay off from a few
 #: dozen per chunk and keep improving with more (measured, 10,000 rig points over
 #: 100-700 rad/s in one process, AMD EPYC Zen 5: 1.84-1.96 s in 256-point chunks,

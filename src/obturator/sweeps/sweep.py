@@ -21,8 +21,8 @@ import numpy as np
 from ..errors import InputError
 from ..runs import Runner
 from ..runs.chunks import TASK_CHUNK, chunk_length
+from ..solve import batchable
 from ..status import Status
-from .batch import batchable
 from .export import check_distinct_outputs, grid_dataset, write_outputs
 from .job import LANE_CHUNK, PointResults, sweep_job
 from .spec import SweepSpec
