@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -177,6 +178,14 @@ def _phase_task(
 
 
 # --------------------------------------------------------------------------- tasks
+
+
+def _warm(options: SolverOptions) -> None:
+    """Load the compiled integrators once in this process, so that the forked workers of
+    both phases inherit them (instead of each loading them)."""
+    from ..model.cases import rig_case
+
+    opening_times([rig_case(spin_rate=300.0, mu_s=0.55)], options)
 
 
 def _call(task: tuple[Any, ...]) -> Any:
@@ -338,6 +347,7 @@ def run_validation(
         unit="fits",
         chunk_size=1,
         probe_first=False,
+        warm=partial(_warm, options),
     )
     fits = {c.name: res[0] for c, res in zip(cands, fitted, strict=True)}
     timings["all_run_fits"] = time.perf_counter() - t_start
@@ -384,6 +394,7 @@ def run_validation(
         unit="tasks",
         chunk_size=1,
         probe_first=False,
+        warm=partial(_warm, options),
     )
     sub: dict[str, dict[str, Any]] = {c.name: {} for c in cands}
     prof: dict[str, dict[str, dict[int, float]]] = {}
