@@ -196,3 +196,25 @@ def test_real_full_tmpfs(study: str, reference: dict[str, np.ndarray], tmp_path:
             np.testing.assert_array_equal(_values(study, out), reference[study])
     finally:
         subprocess.run(["umount", str(disk)], check=False)
+
+
+def test_validate_on_a_full_disk_is_one_line_and_leaves_no_partial_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """validate keeps no resume store (its fits take seconds to minutes); its text and
+    JSON files are whole or absent, and a full disk is one line."""
+    data = tmp_path / "runs.csv"
+    w = [150.0, 151.0, 180.0, 230.0, 231.0, 300.0, 302.0, 400.0]
+    t = [0.62, 0.61, 0.52, 0.41, 0.42, 0.33, 0.33, 0.26]  # rough rig t_cr [s]
+    rows = [f"{a},{b},{int(a > 200)}" for a, b in zip(w, t, strict=True)]
+    data.write_text("spin_rate_rad_s,t_cr_s,starred\n" + "\n".join(rows) + "\n")
+    out = tmp_path / "study"
+    argv = ["validate", "--data", str(data), "--models", "mu", "--jobs", "1"]
+    argv += ["--no-profile", "--no-progress", "--out", str(out)]
+    with monkeypatch.context() as m:
+        _fail_at(m, 1)  # validation.txt is written, validation.json is not
+        assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err == f"obturator: error: {out / 'validation.json'}: No space left on device\n"
+    assert (out / "validation.txt").exists() and not (out / "validation.json").exists()
+    assert not list(out.glob(".*.tmp"))

@@ -145,6 +145,7 @@ def _run(args: argparse.Namespace) -> int:
         gap=gap,
         profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
     )
+    from ..runs.store import atomic_write_text
     from ..validation.textreport import format_report
 
     text = format_report(result)
@@ -155,9 +156,9 @@ def _run(args: argparse.Namespace) -> int:
             save_validation_figure(result, plot)
         if out is not None:
             save_validation_figure(result, out / "validation.png")
-            (out / "validation.txt").write_text(text + "\n", encoding="utf-8")
-            (out / "validation.json").write_text(
-                _json.dumps(result.to_dict(), indent=1) + "\n", encoding="utf-8"
+            atomic_write_text(out / "validation.txt", text + "\n")
+            atomic_write_text(
+                out / "validation.json", _json.dumps(result.to_dict(), indent=1) + "\n"
             )
     if args.json:
         print(_json.dumps(result.to_dict()))

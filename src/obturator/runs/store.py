@@ -286,6 +286,8 @@ def atomic_write_text(path: Path, text: str) -> None:
         finally:
             os.close(fd)
         os.replace(tmp, path)
+    except OSError as exc:  # name the file the caller meant, not the temporary
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
     finally:
         tmp.unlink(missing_ok=True)
 

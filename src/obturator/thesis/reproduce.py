@@ -23,6 +23,7 @@ from .. import calibration as cal
 from ..model.cases import rig_case
 from ..reference import TABLE1, THESIS_MU_S
 from ..runs import Progress, Runner
+from ..runs.store import atomic_write_text
 from ..solve import SolverOptions, opening_time
 from .explorer import explorer_data
 from .histories import (
@@ -355,6 +356,6 @@ def reproduce(
     ctx["images"] = {p.name: base64.b64encode(p.read_bytes()).decode("ascii") for p in paths}
     ctx["explorer"] = explorer_html(res["explorer"])
     md, hp = out / "report.md", out / "report.html"
-    md.write_text(to_markdown(ctx), encoding="utf-8")
-    hp.write_text(to_html(ctx), encoding="utf-8")
+    atomic_write_text(md, to_markdown(ctx))  # whole or absent, also on a full disk
+    atomic_write_text(hp, to_html(ctx))
     return ReproduceResult(out, paths, md, hp, rows, res["fit"], elapsed, res)
