@@ -471,9 +471,7 @@ def _print_envelope(ds: Any) -> None:
     if "temperature_offset_k" in ds.dims:
         ds = ds.isel(temperature_offset_k=0)
     alts = ds["altitude_m"].values
-    head = "  Mach  " + "".join(f"{a:>20g}" for a in alts)
-    print("t_cr [s] coupled (constant load); * not converged, c choked at opening")
-    print(head + "   altitude [m]")
+    rows = []
     for i, m in enumerate(ds["mach"].values):
         cells = []
         for j in range(alts.size):
@@ -485,8 +483,14 @@ def _print_envelope(ds: Any) -> None:
                 else " "
             )
             flag += "c" if ds["choked_at_opening"].values[i, j] else " "
-            cells.append(f"{_fmt(tc):>8} ({_fmt(t0):>7}){flag}")
-        print(f"{m:6.3g}  " + "".join(f"{c:>20}" for c in cells))
+            cells.append(f"{_fmt(tc)} ({_fmt(t0)}){flag}")
+        rows.append((f"{m:.3g}", cells))
+    # one width for every column, so that the rows line up whatever the digits
+    width = max([len(f"{a:g}") + 2 for a in alts] + [len(c) for _, cs in rows for c in cs])
+    print("t_cr [s] coupled (constant load); * not converged, c choked at opening")
+    print("  Mach  " + "".join(f"  {f'{a:g}  ':>{width}}" for a in alts) + " altitude [m]")
+    for m, cells in rows:
+        print(f"{m:>6}  " + "".join(f"  {c:>{width}}" for c in cells).rstrip())
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
