@@ -61,3 +61,20 @@ def test_step_limit_names_cause_and_fix(monkeypatch, capsys):
     assert err.startswith("obturator: solver failure: step limit: 200 steps reached at t = ")
     for fragment in ("near stick", "width 2.6e-07 rad/s", "--friction-width", "--t-max", "unit"):
         assert fragment in err
+
+
+@pytest.mark.parametrize(
+    ("toml", "field"),
+    [
+        ('[ball]\nradius = "7.899"\n', "ball.radius"),  # metres as documented: a 7.9 m ball
+        ("[ball]\ndensity = 7.8e6\n", "ball.density"),
+    ],
+)
+def test_config_error_names_the_key_the_user_wrote(tmp_path, capsys, toml, field):
+    """Not the rig weight W = rho g V derived from it, which the user never set."""
+    cfg = tmp_path / "run.toml"
+    cfg.write_text(toml)
+    assert main(["simulate", "--config", str(cfg), "--no-check"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"obturator: error: {field}: ") and "weight:" not in err
+    assert "outside the allowed [0, 10] N" in err
