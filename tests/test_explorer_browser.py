@@ -16,7 +16,6 @@ import base64
 import fcntl
 import json
 import os
-import shutil
 import subprocess
 import time
 from pathlib import Path
@@ -28,16 +27,6 @@ import pytest
 from obturator.calibration import load_thesis_data
 from obturator.reference import THESIS_MU_S
 from obturator.thesis.explorer import explorer_data, explorer_html
-
-
-def _browser() -> str:
-    for name in ("chromium", "chromium-browser", "google-chrome"):
-        path = shutil.which(name)
-        if path:
-            return path
-    if os.environ.get("CI"):
-        pytest.fail("a headless Chromium is required in CI (apt-get install chromium)")
-    pytest.skip("no Chromium on this machine")
 
 
 class DevTools:
@@ -178,9 +167,9 @@ def explorer_page(tmp_path_factory) -> tuple[Path, Any]:
     return page, ds
 
 
-def test_explorer_dropdown_title_trace_and_hover(explorer_page):
+def test_explorer_dropdown_title_trace_and_hover(explorer_page, chromium):
     page, ds = explorer_page
-    tools = DevTools(_browser())
+    tools = DevTools(chromium)
     try:
         tools.page("Page.enable")
         tools.page("Page.navigate", url=page.as_uri())
