@@ -48,6 +48,7 @@ _LAZY = {
     "SolverOptions": "solve",
     "simulate": "solve",
     "opening_time": "solve",
+    "opening_times": "solve",
     "convergence_check": "solve",
     "ConvergenceCheck": "solve",
     "NutationResult": "result",

@@ -64,7 +64,7 @@ def _load(method: str) -> None:
     if method == "radau-lanes":
         load_radau_lanes()
         return
-    if method == "lanes":  # the batched kernel itself (sweeps.batch drives it)
+    if method == "lanes":  # the batched kernel itself (solve.many drives it)
         import numpy as np
 
         from .core.integrators.lanes import integrate_lanes

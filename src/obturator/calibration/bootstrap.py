@@ -26,7 +26,7 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import minimize_scalar
 
 from ..errors import SolverError
-from .rig_model import model_opening_times
+from .rig_model import model_opening_times_grid
 
 __all__ = ["TableSettings", "OpeningTimeTable", "BootstrapResult", "bootstrap_mu_s"]
 
@@ -111,7 +111,7 @@ class OpeningTimeTable:
             Keyword arguments of :func:`model_opening_times` other than mu_s.
         """
         mu_grid = np.asarray(mu_grid, dtype=float)
-        rows = np.array([model_opening_times(spin_rates, mu_s=m, **model) for m in mu_grid])
+        rows = model_opening_times_grid(spin_rates, mu_grid, **model)
         ok = np.isfinite(rows).all(axis=1)
         centre = len(mu_grid) // 2
         if not ok[centre]:
@@ -130,7 +130,7 @@ class OpeningTimeTable:
         mids = 0.5 * (table.mu_s[1:] + table.mu_s[:-1])
         pick = np.unique(np.linspace(0, mids.size - 1, min(int(verify), mids.size)).round())
         mids = mids[pick.astype(int)]
-        exact = np.array([model_opening_times(spin_rates, mu_s=m, **model) for m in mids])
+        exact = model_opening_times_grid(spin_rates, mids, **model)
         err = np.abs(np.array([table(m) for m in mids]) - exact)
         return cls(
             table.mu_s,

@@ -46,17 +46,21 @@ from .bootstrap import BootstrapResult, OpeningTimeTable, TableSettings, bootstr
 from .data import SpinRigData, load_spin_rig_csv, load_thesis_data
 from .parameters import FitParameter, check_fit_names, fit_bounds
 from .report import fit_to_dict, fit_to_json, format_fit
-from .rig_model import model_opening_times
+from .rig_model import model_opening_times, rig_model_case
 from .thesis_fit import ThesisLeastSquares, thesis_least_squares
 
 __all__ = ["ExactFit", "calibrate_csv", "fit_exact", "select_runs"]
 
 _DIFF_STEP = 1e-4  # relative FD step: t_cr noise ~1e-8 relative, curvature ~1
-#: The model's fixed inputs and their defaults (keyword arguments of model_opening_times).
+#: The model's fixed inputs and their defaults (solver options and the keyword arguments
+#: of rig_model_case).
 _MODEL_DEFAULTS: dict[str, Any] = {
-    k: p.default
-    for k, p in inspect.signature(model_opening_times).parameters.items()
-    if p.kind is p.KEYWORD_ONLY and p.default is not p.empty
+    "options": None,
+    **{
+        k: p.default
+        for k, p in inspect.signature(rig_model_case).parameters.items()
+        if p.kind is p.KEYWORD_ONLY and p.default is not p.empty
+    },
 }
 #: Reported with every fit, fitted or not.
 _ALWAYS = ("theta0_deg", "shear_constant")

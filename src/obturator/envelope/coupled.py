@@ -121,7 +121,7 @@ class ObturatorDesign:
     viscosity : float
         Gap fluid viscosity mu_f [Pa s] (1.917e-5).
     torque_model : {"thesis", "coulomb"}
-        Friction model of :func:`obturator.cases.flight_case`.
+        Friction model of :func:`obturator.model.cases.flight_case`.
     gamma : float
         Ratio of specific heats of air [-] (1.4).
     """

@@ -7,11 +7,11 @@ where the internal flow model changes once the bore is open:
 
 * **not started** (Kantrowitz-Donaldson, thesis Eq. 2): below the self-starting
   Mach number of the capture-to-throat ratio A_c/A_t
-  (:func:`obturator.gasdynamics.start_mach`) the bow shock is not swallowed;
+  (:func:`obturator.flow.inlet.start_mach`) the bow shock is not swallowed;
   the constant-area Table 1 bore (A_c/A_t = 1) starts at any supersonic Mach.
 * **choked** (Fanno, thesis chapter I.B.4.c): below the choking Mach of the bore
   (L/D = L_p / 2 r_p = 8.07 for Table 1) a normal shock stands in the bore;
-  :func:`obturator.gasdynamics.choking_mach_freestream` iterates the friction
+  :func:`obturator.flow.fanno.choking_mach_freestream` iterates the friction
   factor with the free-stream Reynolds number of the launch altitude
   (standard day). Marked at the muzzle and at the moment of opening.
 

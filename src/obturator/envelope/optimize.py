@@ -15,7 +15,7 @@ condition where the bore does not open by t_max counts as 2 t_max.
 Constraints (each written g(x) >= 0 in :meth:`DesignProblem.constraints`):
 
 1. the ball can be bored: r_s <= (1 - 0.01) R_s / sqrt(2) (thesis p. 77;
-   :class:`obturator.geometry.BoredBall`);
+   :class:`obturator.model.geometry.BoredBall`);
 2. the hole does not throttle the bore: r_s >= r_p (a lower bound);
 3. the ball fits the projectile with a socket wall: R_s <= R_p - t_wall (an
    upper bound; default t_wall = Table 1's R_p - R_s = 2.061 mm, so the Table 1

@@ -2,7 +2,7 @@
 
 Each :class:`Candidate` names a set of fitted parameters (keys of
 :data:`PARAMETERS`) and fixed settings, and builds a
-:class:`~obturator.solve.Case` for one spin rate from a parameter vector
+:class:`~obturator.model.case.Case` for one spin rate from a parameter vector
 (:meth:`Candidate.build`). Every mechanism is also a plain keyword of
 :func:`obturator.model.cases.rig_case` (so ``simulate`` and ``sweep`` reach it too):
 
@@ -327,7 +327,7 @@ class Candidate:
     def build(
         self, spin_rate: float, fitted: Sequence[float] | Mapping[str, float], t_max: float
     ) -> Case:
-        """The rig :class:`~obturator.solve.Case` at `spin_rate` [rad/s] for these values.
+        """The rig :class:`~obturator.model.case.Case` at `spin_rate` [rad/s] for these values.
 
         Parameters
         ----------
