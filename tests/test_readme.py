@@ -12,7 +12,6 @@ minute or a few each (slow); reproduce and validate 3-20 min each, run only with
 from __future__ import annotations
 
 import os
-import re
 import sys
 from pathlib import Path
 
@@ -69,11 +68,3 @@ def test_excerpt_marks_each_gap_once():
     lines = ["a 1", "b", "c", "a 2", "d"]
     assert rb.excerpt(lines, (r"^a",)) == ["a 1", "...", "a 2", "..."]
     assert rb.excerpt(lines, ()) == lines
-
-
-def test_excerpts_in_the_readme_are_marked():
-    """A block that keeps only some lines shows where it left lines out."""
-    text = rb.README.read_text(encoding="utf-8")
-    for name, block in rb.BLOCKS.items():
-        if block.keep:
-            assert re.search(r"^\.\.\.$", rb.block_text(text, name), re.M), name
