@@ -63,7 +63,8 @@ class Block:
     slow : bool
         Too expensive for the fast test subset.
     cost : str
-        What one run costs, and where that was measured.
+        What one run cost on the development machine (2-core AMD EPYC Zen 4, shared by
+        several jobs: load ~13, so several times an idle machine's time).
     """
 
     commands: tuple[str, ...]
@@ -85,24 +86,24 @@ BLOCKS: dict[str, Block] = {
             (r"\d+ / \d+", "<steps> / <rhs>"),
         ),
         rtol=1e-4,
-        cost="~2 s (Zen 4 development machine, loaded)",
+        cost="3 s",
     ),
     "reproduce": Block(
         ("obturator reproduce --out report",),
         slow=True,
-        cost="3-20 min (the validation study of 54 runs is most of it)",
+        cost="~3 min idle, 30+ min loaded (the 54-run validation study)",
     ),
     "calibrate": Block(
         ("obturator calibrate examples/rig_runs.csv --bootstrap 0 --plot residuals.png",),
         keep=(r"^\s+mu_s\s+=",),
         rtol=1e-3,
-        cost="~10 s",
+        cost="8 s",
     ),
     "validate": Block(
         ("obturator validate --out validation",),
         rtol=2e-3,
         slow=True,
-        cost="3-20 min with 2 workers",
+        cost="~3 min idle, 20+ min loaded",
     ),
     "envelope": Block(
         (
@@ -113,7 +114,7 @@ BLOCKS: dict[str, Block] = {
         keep=(r"^(M0|t_cr|difference)", r"^envelope:"),
         rtol=1e-4,
         slow=True,
-        cost="~1 min",
+        cost="50 s",
     ),
     "probability": Block(
         (
@@ -122,7 +123,7 @@ BLOCKS: dict[str, Block] = {
         ),
         keep=(r"p = ", r"IS inside"),
         slow=True,
-        cost="~2-5 min",
+        cost="28 min (1651 s)",
     ),
     "optimize": Block(
         (
@@ -132,7 +133,7 @@ BLOCKS: dict[str, Block] = {
         keep=(r"^ball mass", r"^bore blocked", r"^max:"),
         rtol=1e-4,
         slow=True,
-        cost="~2-5 min",
+        cost="62 s",
     ),
     "sweep": Block(
         (
@@ -143,7 +144,7 @@ BLOCKS: dict[str, Block] = {
         ),
         # the sweep's 40 rad/s point sticks for 43 s: its t_cr varies in the 6th digit
         rtol=1e-4,
-        cost="~15 s",
+        cost="21 s",
     ),
 }
 
