@@ -101,6 +101,14 @@ BLOCKS: dict[str, Block] = {
     ),
     "validate": Block(
         ("obturator validate --out validation",),
+        # the ranking table and the recommended model's parameters (two-space indent)
+        keep=(
+            r"^Models ranked",
+            r"^\s+(#|replicate floor|\d+ \S)",
+            r"^  k counts",
+            r"^  (mu_s|speed_ratio|slip_speed|sigma) ",
+        ),
+        # near-stick runs: fitted values and out-of-band rms move in the 4th digit
         rtol=2e-3,
         slow=True,
         cost="~3 min idle, 20+ min loaded",
