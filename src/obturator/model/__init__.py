@@ -11,6 +11,11 @@ module                      what (thesis)
                             :class:`~.torques.TorqueModel` packs them for the core
 :mod:`.case`                :class:`~.case.Case` (ball + torques + spin + release state) and
                             :func:`~.case.initial_state` (co-rotating release, Eqs. 13-17)
+:mod:`.passage`             open area A(theta) of the straight passage through the tilted
+                            ball (lens of the two mouth projections), its inverse, a ray
+                            trace as independent check, the seat ring's backed share
+:mod:`.start`               theta_start(M): Kantrowitz-Donaldson (Eq. 2) on A(theta), the
+                            unstartable and Fanno-choked flags, the spill load bracket
 :mod:`.cases`               the built-in cases (:func:`~.cases.rig_case`,
                             :func:`~.cases.flight_case`, :func:`~.cases.couette_case`) and
                             settings -> :class:`~.case.Case` (:func:`~.cases.case_from_settings`)

@@ -9,7 +9,9 @@ takes; SIMD lanes where the options allow, else one by one, same answers.
 Settings (:mod:`~obturator.solve.options`): :class:`SolverOptions` and the measured
 accuracy table. Convergence (:mod:`~obturator.solve.convergence`):
 :func:`convergence_check` reruns with tighter tolerances, a narrower width and
-another regularisation family. :mod:`~obturator.solve.setup` packs a case for the
+another regularisation family. Past first light (:mod:`~obturator.solve.start`):
+:func:`start_times` runs on to the start of the internal flow, theta_start.
+:mod:`~obturator.solve.setup` packs a case for the
 compiled integrators (shared by both paths).
 """
 
@@ -33,6 +35,7 @@ from .options import (
     tolerances_for_opening_time,
 )
 from .setup import error_scale, integration_controls, integration_setup, pack_parameters
+from .start import StartTimes, start_times
 
 __all__ = [
     "MAX_STEP_PERIODS",
@@ -42,6 +45,7 @@ __all__ = [
     "ConvergenceCheck",
     "PackedPoints",
     "SolverOptions",
+    "StartTimes",
     "alternative_family",
     "batchable",
     "convergence_check",
@@ -56,5 +60,6 @@ __all__ = [
     "pack_points",
     "point_status",
     "simulate",
+    "start_times",
     "tolerances_for_opening_time",
 ]

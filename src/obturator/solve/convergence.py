@@ -136,6 +136,10 @@ def convergence_check(
     t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
     t1 = opening_time(case, options.tighter(factor))
     narrow = replace(options.tighter(factor), friction_width=options.friction_width / factor)
+    other = replace(options, friction_family=family)
+    if options.method == "set-valued":  # no width: the regularised path is the check
+        narrow = replace(narrow, method="auto")
+        other = replace(narrow, friction_family=family)
     t2 = opening_time(case, narrow)
-    t3 = opening_time(case, replace(options, friction_family=family))
+    t3 = opening_time(case, other)
     return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)

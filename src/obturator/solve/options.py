@@ -70,7 +70,7 @@ class SolverOptions:
     max_step : float or None
         Largest step [s]; default :func:`max_step_periods` of a spin period (a
         twentieth on the rig, a tenth in flight).
-    method : {"auto", "radau", "rosenbrock"}
+    method : {"auto", "radau", "rosenbrock", "set-valued"}
         Compiled integrator. ``"auto"`` (default): the explicit eighth-order
         Dormand-Prince pair DOP853 (no Jacobian; the problem is not stiff
         outside sticking), handing the run over to Radau IIA (at a third of the
@@ -89,6 +89,12 @@ class SolverOptions:
         and ~1e2-1e4x fewer steps in long sticking phases). ``"rosenbrock"``:
         the L-stable Rosenbrock pair of Shampine (ode23s). Radau transforms rtol as RADAU5 does
         (0.1 rtol^(2/3)); t_cr errors stay below ~3e-7 relative at rtol 1e-8.
+        ``"set-valued"``: the thesis law with no width (``friction_width`` and
+        ``friction_family`` unused): exact stick and event-driven transitions
+        (:mod:`obturator.core.integrators.stick_slip`, ``docs/stick_slip.md``); quaternion
+        form, thesis friction, constant or free spin. :func:`convergence_check` then
+        compares with the regularised path (``"auto"``) at the narrower width, both
+        families.
     """
 
     rtol: float = 1e-8
