@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "src" / "obturator"
-EDGE = ("cli", "io", "sweeps", "thesis", "plotting", "validation", "envelope")
+EDGE = ("cli", "io", "files", "sweeps", "thesis", "plotting", "validation", "envelope")
 
 # module prefix (relative to obturator) -> obturator subpackages/modules it must not import
 FORBIDDEN: dict[str, tuple[str, ...]] = {
@@ -52,6 +52,8 @@ FORBIDDEN: dict[str, tuple[str, ...]] = {
     "plotting": ("cli", "sweeps"),
     "warmup": (*EDGE, "calibration"),
     "io": ("cli", "core", "sweeps", "thesis", "plotting"),
+    # files at the edge (readers, output checks, writers): below every user of files
+    "files": ("cli", "io", "core", "model", "solve", "sweeps", "thesis", "plotting"),
 }
 
 

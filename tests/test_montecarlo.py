@@ -262,7 +262,7 @@ def test_cli_montecarlo_table_and_json(tmp_path: Path, capsys: pytest.CaptureFix
         (["--vary", "mu_s:normal:0.5,0.1"], "vary"),
         (["--vary", "mu_s=normal:0.5,0.1", "--samples", "ten"], "samples"),
         (["--vary", "mu_s=normal:0.5,0.1", "--quantiles", "50,120"], "quantiles"),
-        (["--vary", "mu_s=normal:0.5,0.1", "--spin-rate", "fast"], "spin_rate"),
+        (["--vary", "mu_s=normal:0.5,0.1", "--spin-rate", "fast"], "--spin-rate"),
     ],
 )
 def test_cli_montecarlo_bad_input(

@@ -310,7 +310,8 @@ def test_cli_validate_bad_input_is_one_line_exit_2(argv, field, capsys):
     assert main(["validate", *argv]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
-    assert err[0].startswith(f"obturator: error: {field}: ")
+    flag = "--" + field.replace("_", "-")  # refused while parsing (its kind) or after
+    assert err[0].startswith((f"obturator: error: {field}: ", f"obturator: error: {flag}: "))
 
 
 def test_cli_validate_bad_csv_names_the_field(tmp_path, capsys):

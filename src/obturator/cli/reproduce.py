@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from ._kinds import OutputDir
+
 __all__ = ["register"]
 
 
@@ -16,7 +18,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "exact-model friction calibrations, and write PNG figures plus report.md and "
         "report.html comparing every checkable printed number with the computed one.",
     )
-    p.add_argument("--out", metavar="DIR", required=True, help="output directory (created)")
+    p.add_argument(
+        "--out",
+        metavar="DIR",
+        required=True,
+        type=OutputDir(),
+        help="output directory (created)",
+    )
     p.add_argument(
         "--quick", action="store_true", help="fewer points and a smaller bootstrap (seconds)"
     )

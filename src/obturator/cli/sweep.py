@@ -38,6 +38,7 @@ from ..vocab import SPEED_LAWS
 from . import _json
 from ._args import (
     add_study_flags,
+    axis_of,
     flag,
     parse_integer,
     show_progress,
@@ -45,6 +46,7 @@ from ._args import (
     study_options,
     study_t_max,
 )
+from ._kinds import OutputFile
 
 __all__ = ["register", "AUTO_CSV_MAX_POINTS"]
 
@@ -65,10 +67,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     for name, par in SWEEP_PARAMS.items():
         extra = " (flight only)" if par.flight_only else ""
         p.add_argument(
-            flag(name), dest=name, metavar="SPEC", help=f"{par.long_name} [{par.unit}]{extra}"
+            flag(name),
+            dest=name,
+            metavar="SPEC",
+            type=axis_of(name),
+            help=f"{par.long_name} [{par.unit}]{extra}",
         )
     add_study_flags(p)
-    p.add_argument("--out", metavar="FILE.nc", required=True, help="NetCDF output")
+    p.add_argument(
+        "--out", metavar="FILE.nc", required=True, type=OutputFile(), help="NetCDF output"
+    )
     p.add_argument(
         "--speed-law",
         choices=SPEED_LAWS,
@@ -82,7 +90,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "regularisation family and mark points whose t_cr moves by more than 1e-3 "
         "(status 4; 4x the cost)",
     )
-    p.add_argument("--csv", metavar="FILE.csv", help="also write a CSV table")
+    p.add_argument(
+        "--csv",
+        metavar="FILE.csv",
+        type=OutputFile(example="out.csv"),
+        help="also write a CSV table",
+    )
     p.add_argument(
         "--no-csv",
         action="store_true",
@@ -119,7 +132,8 @@ def _run_sweep(args: argparse.Namespace) -> int:
     chunk = parse_integer("chunk_size", args.chunk_size, 1)
     check_output_path("out", args.out)
     csv_path = args.csv
-    if csv_path is None and not args.no_csv and spec.n_points <= AUTO_CSV_MAX_POINTS:
+    to_device = not Path(args.out).is_file() and Path(args.out).exists()  # e.g. /dev/null
+    if csv_path is None and not (args.no_csv or to_device) and spec.n_points <= AUTO_CSV_MAX_POINTS:
         csv_path = str(Path(args.out).with_suffix(".csv"))
     check_output_path("csv", csv_path)
     t0 = time.perf_counter()

@@ -25,7 +25,7 @@ from .distributions import Distribution, parse_distribution, sample_inputs
 from .executors import default_workers
 from .export import write_csv, write_netcdf
 from .grid import parse_axis
-from .montecarlo import monte_carlo, monte_carlo_summary
+from .montecarlo import MAX_SAMPLES, monte_carlo, monte_carlo_summary
 from .points import POINT_STATUSES
 from .spec import SweepSpec
 from .stats import MonteCarloSummary, QuantileEstimate, summarize_monte_carlo
@@ -47,6 +47,7 @@ __all__ = [
     "execute_sweep",
     "sweep_summary",
     "monte_carlo",
+    "MAX_SAMPLES",
     "summarize_monte_carlo",
     "monte_carlo_summary",
     "sample_inputs",

@@ -128,11 +128,13 @@ def write_netcdf(ds: xarray.Dataset, path: str | os.PathLike[str]) -> str:
         engine = "netcdf4"
     except ImportError:  # pragma: no cover - optional engine
         engine = "scipy"
+    from ..files import publish, temporary_for
+
     out = Path(path)
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    tmp = temporary_for(out)
     try:
         ds.to_netcdf(tmp, engine=engine)
-        os.replace(tmp, out)
+        publish(tmp, out)  # never renamed over a device node
     finally:
         tmp.unlink(missing_ok=True)
     return engine

@@ -185,17 +185,14 @@ class Sidecar:
 
 
 def atomic_write_text(path: Path, text: str) -> None:
-    """Write `text` to a temporary file beside `path`, fsync, and rename it into place."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        with tmp.open("w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
+    """Write `text` to a temporary file beside `path`, fsync, and rename it into place.
+
+    A character device (``/dev/null``) is written in place, never renamed over
+    (:func:`obturator.files.atomic_write_text`).
+    """
+    from ..files import atomic_write_text as write
+
+    write(path, text)
 
 
 def remove_stale_temporaries(path: Path) -> None:
