@@ -34,6 +34,7 @@ __all__ = [
     "temporary_for",
     "publish",
     "atomic_write_text",
+    "write_all",
     "figure_format",
 ]
 
@@ -212,15 +213,35 @@ def publish(tmp: Path, target: str | os.PathLike[str]) -> None:
     os.replace(tmp, target)
 
 
+def _write(fd: int, data: memoryview) -> int:
+    """``os.write``: the one place where the package's stored bytes reach the disk (the
+    full-disk tests inject ENOSPC here)."""
+    return os.write(fd, data)
+
+
+def write_all(fd: int, data: bytes) -> None:
+    """Write every byte of `data` to the file descriptor `fd` (short writes continued)."""
+    view = memoryview(data)
+    while view:
+        view = view[_write(fd, view) :]
+
+
 def atomic_write_text(path: str | os.PathLike[str], text: str) -> None:
-    """Write `text` to a temporary file, fsync, and :func:`publish` it at `path`."""
+    """Write `text` to a temporary file, fsync, and :func:`publish` it at `path`.
+
+    Whole or absent, also on a full disk; an error names `path`, not the temporary.
+    """
     tmp = temporary_for(path)
     try:
-        with tmp.open("w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644)
+        try:
+            write_all(fd, text.encode("utf-8"))
+            os.fsync(fd)
+        finally:
+            os.close(fd)
         publish(tmp, path)
+    except OSError as exc:
+        raise OSError(exc.errno, exc.strerror, str(path)) from None
     finally:
         tmp.unlink(missing_ok=True)
 

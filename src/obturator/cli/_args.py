@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from collections.abc import Mapping
 from typing import Any
 
@@ -29,7 +28,6 @@ __all__ = [
     "study_config",
     "study_options",
     "study_t_max",
-    "show_progress",
     "fmt_seconds",
     "quantity_of",
     "axis_of",
@@ -252,11 +250,6 @@ def study_t_max(args: argparse.Namespace) -> float | None:
     if args.t_max is None:
         return None
     return check_range("t_max", parse_number("t_max", args.t_max), 0.0, lo_open=True, unit="s")
-
-
-def show_progress(args: argparse.Namespace) -> bool:
-    """A progress bar unless ``--no-progress`` or stderr is not a terminal."""
-    return not args.no_progress and sys.stderr.isatty()
 
 
 def fmt_seconds(x: float, infinite: str = "-") -> str:

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from typing import Any
 
 from ..errors import check_range
@@ -21,8 +20,6 @@ __all__ = [
     "add_model_arguments",
     "add_execution_arguments",
     "model_from_args",
-    "runner_from_args",
-    "open_store",
     "quantity",
     "LAUNCH_MACH",
     "TEMPERATURE_OFFSET",
@@ -291,25 +288,3 @@ def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
         check_convergence=not args.no_convergence_check,
         **mkw,
     )
-
-
-def runner_from_args(args: argparse.Namespace, store: Any = None) -> Any:
-    """The :class:`~obturator.envelope.executor.Runner` described by the flags."""
-    from ..envelope.executor import Runner
-
-    return Runner(
-        workers=args.workers,  # whole numbers >= 1 (their kinds)
-        scheduler=args.scheduler,
-        store=store,
-        progress=not args.no_progress and sys.stderr.isatty(),
-        chunk_size=args.chunk_size,
-    )
-
-
-def open_store(args: argparse.Namespace, identity: dict[str, Any]) -> Any:
-    """The resume store next to ``--out`` (None without ``--out``)."""
-    from ..envelope.executor import ResultStore, store_path
-
-    if not getattr(args, "out", None):
-        return None
-    return ResultStore(store_path(args.out), identity, args.restart)

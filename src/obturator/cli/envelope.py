@@ -54,25 +54,22 @@ from ._flight_args import (
     add_execution_arguments,
     add_model_arguments,
     model_from_args,
-    open_store,
     quantity,
-    runner_from_args,
 )
 from ._kinds import Axis, OutputFile, Quantity
+from ._runner import study_runner, write_dataset
 
 __all__ = [
     "register",
     "add_model_arguments",
     "add_execution_arguments",
     "model_from_args",
-    "runner_from_args",
     "quantity",
     "MACH_AXIS",
     "REQUIREMENT",
     "FIGURE",
     "MIN_SEGMENT",
     "LAUNCH_MACH",
-    "open_store",
 ]
 
 
@@ -209,7 +206,7 @@ def _print_start(start: dict[str, Any]) -> None:
 
 def _run_envelope(args: argparse.Namespace) -> int:
     from ..envelope.envelope import EnvelopeSpec, envelope_summary, run_envelope
-    from ..sweeps import parse_axis, write_netcdf
+    from ..sweeps import parse_axis
 
     model = model_from_args(args, load="both")
     temps = (
@@ -225,18 +222,14 @@ def _run_envelope(args: argparse.Namespace) -> int:
         requirement=quantity("--requirement", args.requirement, "s"),
         area_ratio=quantity("--area-ratio", args.area_ratio, ""),
     )
-    store = open_store(args, spec.identity())
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, spec.identity())
     t0 = time.perf_counter()
     try:
         ds = run_envelope(spec, runner)
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
-    if args.out:
-        write_netcdf(ds, args.out)
-        store.remove()
+    write_dataset(args, runner, ds)
     if args.figure:
         from ..envelope.figures import plot_envelope
 

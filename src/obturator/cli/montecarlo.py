@@ -36,12 +36,12 @@ from ._args import (
     parse_integer,
     parse_number,
     quantity_of,
-    show_progress,
     study_config,
     study_options,
     study_t_max,
 )
 from ._kinds import Count, OutputFile, Quantity, Text
+from ._runner import runner_from_args
 
 __all__ = ["register"]
 
@@ -159,8 +159,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
     confidence = parse_number("confidence", args.confidence)
     samples = parse_integer("samples", args.samples, 1)
     seed = parse_integer("seed", args.seed, 0)
-    workers = parse_integer("workers", args.workers, 1)
-    chunk = parse_integer("chunk_size", args.chunk_size, 1)
+    runner = runner_from_args(args)
     check_output_path("out", args.out)
     check_output_path("csv", args.csv)
     t0 = time.perf_counter()
@@ -176,12 +175,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
         t_max=study_t_max(args),
         quantiles=quantiles,
         confidence=confidence,
-        workers=workers,
-        scheduler=args.scheduler,
-        store=args.out,
-        restart=args.restart,
-        chunk_size=chunk,
-        progress=show_progress(args),
+        runner=runner,
         csv=args.csv,
         check_convergence=not args.no_check_convergence,
     )

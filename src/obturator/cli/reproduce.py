@@ -45,11 +45,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _reproduce(args: argparse.Namespace) -> int:
     from .._provenance import command_line
     from ..thesis.reproduce import reproduce
+    from ._runner import runner_from_args
 
     res = reproduce(
         args.out,
         quick=args.quick,
-        progress=not args.no_progress,
+        runner=runner_from_args(args, resume=False),
         command=command_line(),
         envelope=args.envelope,
         validation=not args.no_validation,

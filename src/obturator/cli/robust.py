@@ -39,11 +39,10 @@ from ._robust_args import (
     DEFAULT_UNCERTAINTY,
     add_robust_commands,
 )
+from ._runner import study_runner, write_dataset
 from .envelope import (
     model_from_args,
-    open_store,
     quantity,
-    runner_from_args,
 )
 
 __all__ = ["register", "DEFAULT_UNCERTAINTY", "DEFAULT_RANGES", "DEFAULT_RIG_RANGES"]
@@ -69,15 +68,6 @@ def _dists(texts: list[str] | None, defaults: tuple[str, ...], allowed: tuple[st
             raise InputError("vary", f"{name} given twice")
         out[name] = dist
     return out
-
-
-def _finish(args: argparse.Namespace, store: Any, ds: Any) -> None:
-    from ..sweeps import write_netcdf
-
-    if args.out:
-        write_netcdf(ds, args.out)
-    if store is not None:
-        store.remove()
 
 
 def _check_out(args: argparse.Namespace) -> None:
@@ -118,8 +108,7 @@ def _run_probability(args: argparse.Namespace) -> int:
         "model": model.identity(),
         "vary": {k: str(v) for k, v in dists.items()},
     }
-    store = open_store(args, identity)
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, identity)
     t0 = time.perf_counter()
     rows: dict[str, dict[tuple[int, int], Any]] = {m: {} for m in methods}
     try:
@@ -134,8 +123,7 @@ def _run_probability(args: argparse.Namespace) -> int:
                         perf, dists, req, samples=n_mc, seed=seed, confidence=conf
                     )
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
     data = {}
     dims = ("mach", "altitude_m")
@@ -164,7 +152,7 @@ def _run_probability(args: argparse.Namespace) -> int:
             "seed": seed,
         },
     )
-    _finish(args, store, ds)
+    write_dataset(args, runner, ds)
     out = {
         "requirement_s": req,
         "load": model.load,
@@ -258,8 +246,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         "n": n,
         "seed": seed,
     }
-    store = open_store(args, identity)
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, identity)
     t0 = time.perf_counter()
     try:
         ds = sobol_indices(
@@ -271,13 +258,12 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
             resamples=_int("--resamples", args.resamples, 10),
         )
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
     ds.attrs["title"] = f"Sobol indices of {args.event}, {args.case}" + (
         "" if rig else f" (M {model.launch.mach:g}, {model.launch.altitude_m:g} m, {model.load})"
     )
-    _finish(args, store, ds)
+    write_dataset(args, runner, ds)
     if args.figure:
         plot_sobol(ds, args.figure)
     if args.json:
@@ -357,8 +343,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
     )
     seed = _int("--seed", args.seed, 0)
     identity = {"study": "optimize", "problem": problem.identity(), "seed": seed}
-    store = open_store(args, identity)
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, identity)
     t0 = time.perf_counter()
     try:
         res = optimise(
@@ -375,8 +360,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
             else None
         )
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
     summary = res.to_dict()
     cond = ("condition",)
@@ -408,7 +392,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
         for k in front.data_vars:
             ds[f"pareto_{k}"] = front[k].rename(point="pareto_point")
         ds.attrs["pareto_degenerate"] = int(front.attrs["degenerate"])
-    _finish(args, store, ds)
+    write_dataset(args, runner, ds)
     if args.figure and front is not None:
         from ..envelope.figures import plot_pareto
 

@@ -40,13 +40,12 @@ from ._args import (
     add_study_flags,
     axis_of,
     flag,
-    parse_integer,
-    show_progress,
     study_config,
     study_options,
     study_t_max,
 )
 from ._kinds import OutputFile
+from ._runner import runner_from_args
 
 __all__ = ["register", "AUTO_CSV_MAX_POINTS"]
 
@@ -128,8 +127,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         check_convergence=args.check_convergence,
         speed_law=args.speed_law,
     )
-    workers = parse_integer("workers", args.workers, 1)
-    chunk = parse_integer("chunk_size", args.chunk_size, 1)
+    runner = runner_from_args(args)
     check_output_path("out", args.out)
     csv_path = args.csv
     to_device = not Path(args.out).is_file() and Path(args.out).exists()  # e.g. /dev/null
@@ -137,16 +135,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         csv_path = str(Path(args.out).with_suffix(".csv"))
     check_output_path("csv", csv_path)
     t0 = time.perf_counter()
-    run = execute_sweep(
-        spec,
-        workers=workers,
-        scheduler=args.scheduler,
-        store=args.out,
-        restart=args.restart,
-        chunk_size=chunk,
-        progress=show_progress(args),
-        csv=csv_path,
-    )
+    run = execute_sweep(spec, runner, csv=csv_path)
     wall = time.perf_counter() - t0
     summ = sweep_summary(run.dataset)
     rate = run.n_computed / run.elapsed_s if run.elapsed_s > 0 else math.inf

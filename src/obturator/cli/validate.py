@@ -10,13 +10,13 @@ writes everything into a folder.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from ..errors import InputError
 from ..params import Range
 from . import _json
 from ._kinds import Count, InputFile, OutputDir, OutputFile, Quantity, Text
+from ._runner import runner_from_args
 
 __all__ = ["register"]
 
@@ -150,13 +150,13 @@ def _run(args: argparse.Namespace) -> int:
     result = run_validation(
         data,
         models=[c.name for c in names],
-        jobs=jobs,
+        runner=runner_from_args(args, workers=jobs, resume=False),
         t_max=t_max,
         spin_sd=spin_sd,
         gap=gap,
         profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
-        progress=not args.no_progress and sys.stderr.isatty(),
     )
+    from ..runs.store import atomic_write_text
     from ..validation.textreport import format_report
 
     text = format_report(result)
@@ -167,9 +167,9 @@ def _run(args: argparse.Namespace) -> int:
             save_validation_figure(result, plot)
         if out is not None:
             save_validation_figure(result, out / "validation.png")
-            (out / "validation.txt").write_text(text + "\n", encoding="utf-8")
-            (out / "validation.json").write_text(
-                _json.dumps(result.to_dict(), indent=1) + "\n", encoding="utf-8"
+            atomic_write_text(out / "validation.txt", text + "\n")
+            atomic_write_text(
+                out / "validation.json", _json.dumps(result.to_dict(), indent=1) + "\n"
             )
     if args.json:
         print(_json.dumps(result.to_dict()))

@@ -1,14 +1,12 @@
 """Monte Carlo studies of t_cr under uncertain inputs.
 
 :func:`monte_carlo` draws the inputs (:mod:`.distributions`), computes every
-sample like a sweep point (same executors and resume store, :mod:`.sweep`) and
+sample like a sweep point (on the same :class:`~obturator.runs.Runner`, :mod:`.sweep`) and
 summarises t_cr by order statistics (:mod:`.stats`).
 """
 
 from __future__ import annotations
 
-import hashlib
-import json
 import os
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -16,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
+from ..runs import Runner, study_digest
 from ..solve import SolverOptions
 from .distributions import (
     Distribution,
@@ -65,12 +64,7 @@ def monte_carlo(
     t_max: float | None = None,
     quantiles: Sequence[float] = (0.05, 0.5, 0.95),
     confidence: float = 0.95,
-    workers: int | None = None,
-    scheduler: Any = None,
-    store: str | os.PathLike[str] | None = None,
-    restart: bool = False,
-    chunk_size: int | None = None,
-    progress: bool = True,
+    runner: Runner | None = None,
     csv: str | os.PathLike[str] | None = None,
     check_convergence: bool = True,
 ) -> xarray.Dataset:
@@ -102,8 +96,11 @@ def monte_carlo(
         Probabilities reported, default 5, 50 and 95 %.
     confidence : float
         Confidence level of the intervals.
-    workers, scheduler, store, restart, chunk_size, progress
-        As in :func:`run_sweep` (the store holds the samples' results).
+    runner : Runner, optional
+        Where and how the samples run, as in :func:`~.sweep.run_sweep` (its store is
+        the NetCDF output, and its resume store holds the samples' results).
+    csv : path, optional
+        Flat CSV table of the samples, written after the NetCDF file.
 
     Returns
     -------
@@ -132,7 +129,8 @@ def monte_carlo(
         raise InputError("seed", f"expected a whole number, got {seed!r}") from None
     if seed_i < 0:
         raise InputError("seed", f"{seed_i} is outside the allowed range >= 0")
-    check_distinct_outputs(store, csv)
+    runner = runner or Runner()
+    check_distinct_outputs(runner.store, csv)
     fixed = dict(fixed or {})
     for name in dists:
         if name in fixed:
@@ -160,20 +158,16 @@ def monte_carlo(
         "seed": seed_i,
         "samples": n,
     }
-    digest = hashlib.sha256(json.dumps(ident, sort_keys=True).encode()).hexdigest()
+    digest = study_digest(ident)
     out = run_points(
         spec,
         names,
         lambda idx: table[idx],
         n,
         digest,
-        workers=workers,
-        scheduler=scheduler,
-        store=store,
-        restart=restart,
-        chunk_size=chunk_size,
-        progress=progress,
+        runner,
         label="monte carlo",
+        unit="samples",
         extra_outputs=() if csv is None else (str(csv),),
     )
     t_max_used = spec.t_max if spec.t_max is not None else spec.build_case({}).t_max
@@ -217,7 +211,7 @@ def monte_carlo(
     attrs.update(common_attrs(spec))
     attrs["study_hash"] = digest
     ds = xr.Dataset(data, coords=coords, attrs=attrs)
-    write_outputs(ds, out, store, csv)
+    write_outputs(ds, runner, csv)
     return ds
 
 
