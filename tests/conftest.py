@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+import os
+import shutil
 
 import numpy as np
 import pytest
@@ -92,3 +94,16 @@ def _pools_even_for_small_studies(monkeypatch: pytest.MonkeyPatch) -> None:
     from obturator.runs import runner
 
     monkeypatch.setattr(runner, "POOL_MIN_SERIAL_S", 0.0)
+
+
+@pytest.fixture
+def chromium() -> str:
+    """Path of a headless-capable Chromium; in CI a missing browser fails the test
+    (``.ci/run`` installs Debian's ``chromium``), elsewhere it skips."""
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    if os.environ.get("CI"):
+        pytest.fail("a headless Chromium is required in CI (apt-get install chromium)")
+    pytest.skip("no Chromium on this machine")

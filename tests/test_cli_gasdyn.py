@@ -78,7 +78,7 @@ def test_choke_freestream(capsys: pytest.CaptureFixture[str]) -> None:
 
 def test_atmosphere(capsys: pytest.CaptureFixture[str]) -> None:
     d = run_json(capsys, "atmosphere", "--altitude-m", "0")
-    assert d["pressure"] == 101325.0 and d["temperature"] == 288.15
+    assert d["pressure_Pa"] == 101325.0 and d["temperature_K"] == 288.15
     assert main(["gasdyn", "atmosphere", "--altitude-m", "11000"]) == 0
     out = capsys.readouterr().out
     assert "Pa" in out and "kg/m^3" in out and "216.774" in out

@@ -69,11 +69,20 @@ def test_warmup_fills_an_empty_cache_and_later_runs_load_it(tmp_path):
         capture_output=True, text=True, env=env, check=True,
     )  # fmt: skip
     rec = json.loads(out.stdout)
-    assert set(rec["seconds"]) == {"dop853", "radau", "lanes", "radau-lanes"} and rec["wall_s"] > 0
+    assert set(rec["time_s"]) == {"dop853", "radau", "lanes", "radau-lanes"} and rec["wall_s"] > 0
+    assert all(rec["compiled"].values()) and rec["cache_directory"] == str(tmp_path)
+    assert rec["obturator_version"]
     names = {p.name for p in tmp_path.rglob("*.nbi")}
     assert any(n.startswith("dop853.integrate") for n in names)
     assert any(n.startswith("radau.integrate") for n in names)
     assert any(n.startswith("lanes.integrate_lanes") for n in names)
+    again = subprocess.run(
+        [sys.executable, "-m", "obturator", "warmup"],
+        capture_output=True, text=True, env=env, check=True,
+    )  # fmt: skip
+    # says truthfully that nothing was compiled the second time, and where the cache is
+    assert again.stdout.startswith("loaded from the cache in ")
+    assert "compiled" not in again.stdout and again.stdout.rstrip().endswith(str(tmp_path))
 
 
 def test_warmup_refuses_zero_jobs():

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import base64
 import io
-import os
 import re
 import shutil
 import subprocess
@@ -21,16 +20,6 @@ import numpy as np
 import pytest
 
 from obturator.cli import main
-
-
-def _browser() -> str:
-    for name in ("chromium", "chromium-browser", "google-chrome"):
-        path = shutil.which(name)
-        if path:
-            return path
-    if os.environ.get("CI"):
-        pytest.fail("a headless Chromium is required in CI (apt-get install chromium)")
-    pytest.skip("no Chromium on this machine")
 
 
 def _chromium(browser: str, *args: str) -> subprocess.CompletedProcess:
@@ -71,8 +60,8 @@ def test_report_is_self_contained(lone_report):
     assert "SPEC" not in markup  # cite the thesis, not our working notes
 
 
-def test_report_renders_in_chromium(lone_report, tmp_path):
-    browser = _browser()
+def test_report_renders_in_chromium(lone_report, tmp_path, chromium):
+    browser = chromium
     dom = _chromium(browser, "--dump-dom", lone_report.as_uri())
     assert dom.returncode == 0, dom.stderr[-2000:]
     html = dom.stdout

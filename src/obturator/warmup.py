@@ -10,6 +10,7 @@ side by side, and leaves the machine code in the cache directory of
 
 from __future__ import annotations
 
+import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
@@ -29,16 +30,40 @@ WARMUP_TARGETS: dict[str, str] = {
 }
 
 
-def _compile(method: str) -> tuple[str, float, str | None]:
-    """In a fresh process: compile (or load) `method` with a short rig run."""
+def _compiled_anything() -> bool:
+    """True when this process compiled any jitted core function (a numba cache miss)
+    rather than only loading machine code from the cache."""
+    import sys
+
+    from numba.core.registry import CPUDispatcher
+
+    return any(
+        sum(v.stats.cache_misses.values()) > 0
+        for name, module in list(sys.modules.items())
+        if name.startswith("obturator.core")
+        for v in vars(module).values()
+        if isinstance(v, CPUDispatcher)
+    )
+
+
+def _compile(method: str) -> tuple[str, float, str | None, bool]:
+    """In a fresh process: compile (or load) `method` with a short rig run; return the
+    method, the seconds it took, the cache directory and whether it compiled."""
     t0 = time.perf_counter()
+    _load(method)
     from .core.jit_cache import configure_cache
+
+    return method, time.perf_counter() - t0, configure_cache(), _compiled_anything()
+
+
+def _load(method: str) -> None:
+    """Run `method` once so that numba compiles it or loads it from the cache."""
     from .model.cases import rig_case
     from .solve import SolverOptions, opening_time
 
     if method == "radau-lanes":
         load_radau_lanes()
-        return method, time.perf_counter() - t0, configure_cache()
+        return
     if method == "lanes":  # the batched kernel itself (solve.many drives it)
         import numpy as np
 
@@ -52,14 +77,13 @@ def _compile(method: str) -> tuple[str, float, str | None]:
             c.h_max * one, np.full(1, c.max_steps), np.zeros(1, dtype=np.int64), c.rtol,
             c.atol, c.event_tol, 16,
         )  # fmt: skip
-        return method, time.perf_counter() - t0, configure_cache()
+        return
     # a short run that stays non-stiff: "auto" compiles DOP853 alone; each process
     # also compiles what every run needs (parameter packing), so none waits for another
     opening_time(
         rig_case(300.0, 0.5, t_max=1e-3),
         SolverOptions(method="auto" if method == "dop853" else method),  # type: ignore[arg-type]
     )
-    return method, time.perf_counter() - t0, configure_cache()
 
 
 def load_radau_lanes() -> None:
@@ -94,7 +118,8 @@ def warm_up(*, jobs: int = 2, everything: bool = False) -> dict[str, object]:
     -------
     dict
         ``seconds`` per integrator (compile or cache load, in its process),
-        ``wall_s`` of the whole warm-up and the cache ``directory``.
+        ``compiled`` per integrator (False: loaded from the cache), ``wall_s`` of
+        the whole warm-up and the cache ``directory`` (``NUMBA_CACHE_DIR`` when set).
     """
     if int(jobs) < 1:
         raise InputError("jobs", f"{jobs} is outside the allowed range >= 1")
@@ -104,7 +129,8 @@ def warm_up(*, jobs: int = 2, everything: bool = False) -> dict[str, object]:
     with ProcessPoolExecutor(max_workers=int(jobs), mp_context=get_context("spawn")) as pool:
         done = list(pool.map(_compile, targets))
     return {
-        "seconds": {m: s for m, s, _ in done},
+        "seconds": {m: s for m, s, _, _ in done},
+        "compiled": {m: c for m, _, _, c in done},
         "wall_s": time.perf_counter() - t0,
-        "directory": done[0][2],
+        "directory": done[0][2] or os.environ.get("NUMBA_CACHE_DIR"),
     }

@@ -110,14 +110,14 @@ def format_fit(fit: ExactFit) -> str:
         )
     lines.append("[[Variables]]")
     for k, par in fit.params.items():
-        v, u = par.value, par.unit
+        v, u = par.value, ("" if par.unit == "1" else f" {par.unit}")  # "1": a pure number
         if par.vary:
             lo, hi = par.ci95
             lines.append(
-                f"    {k:<15} = {v:.6g} +/- {par.stderr:.3g} {u} (95% CI [{lo:.5g}, {hi:.5g}])"
+                f"    {k:<15} = {v:.6g} +/- {par.stderr:.3g}{u} (95% CI [{lo:.5g}, {hi:.5g}])"
             )
         else:
-            lines.append(f"    {k:<15} = {v:.6g} {u} (fixed)")
+            lines.append(f"    {k:<15} = {v:.6g}{u} (fixed)")
     if fit.nvarys > 1:
         lines.append("[[Correlations]]")
         for i in range(fit.nvarys):

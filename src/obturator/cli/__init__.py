@@ -154,6 +154,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         print("obturator: error: a COMMAND is required (see obturator --help)", file=sys.stderr)
         return EXIT_INPUT
+    from . import _interrupt
+
+    _interrupt.note_command(args.command, getattr(args, "out", None))
     try:
         return int(args.func(args) or 0)
     except InputError as exc:
@@ -176,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"obturator: error: {where}{exc.strerror or exc}", file=sys.stderr)
         return EXIT_INPUT
     except KeyboardInterrupt:
-        print("obturator: interrupted", file=sys.stderr)
+        print(_interrupt.line(), file=sys.stderr)
         return 130
     except Exception as exc:
         if os.environ.get("OBTURATOR_DEBUG", "").strip() == "1":

@@ -185,7 +185,7 @@ def add_study_flags(p: argparse.ArgumentParser) -> None:
         type=Quantity("", Range(0.0, 1.0, True, True), "1e-4"),
         help="set the tolerances for this relative t_cr accuracy (>= 4.5e-7; measured table "
         "in obturator.solve.OPENING_TIME_ACCURACY, set by the rig's long near-stick runs "
-        "below 100 rad/s; the default rtol 1e-8 gives <= 3e-7 above 100 rad/s, <= 1.6e-4 "
+        "below 100 rad/s; the default rtol 1e-8 gives <= 3e-7 above 100 rad/s, <= 1.6e-3 "
         "below)",
     )
     p.add_argument("--method", choices=METHODS, default=None, help="integrator")

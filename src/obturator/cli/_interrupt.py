@@ -31,6 +31,25 @@ __all__ = ["install"]
 
 _MESSAGES = {signal.SIGINT: ("interrupted", 130), signal.SIGTERM: ("terminated", 143)}
 
+#: Commands whose finished work is kept in their ``--out`` store, so that running the
+#: same command again resumes (``envelope`` always has one: its default --out).
+RESUMING = ("sweep", "montecarlo", "envelope", "probability", "sensitivity", "optimize")
+
+#: Appended to the one line when the running command resumes (set by :func:`note_command`).
+_resume_hint = ""
+
+
+def note_command(command: str | None, out: str | None) -> None:
+    """Remember whether `command` with store `out` resumes when run again."""
+    global _resume_hint
+    resumes = command in RESUMING and (out is not None or command == "envelope")
+    _resume_hint = "; run the same command again to resume (finished work is kept)" * resumes
+
+
+def line(text: str = "interrupted") -> str:
+    """The one line printed when the command stops: ``obturator: <text>[; resume hint]``."""
+    return f"obturator: {text}{_resume_hint}"
+
 
 #: Taken by whichever of the two paths stops the process first.
 _EXITING = threading.Lock()
@@ -42,7 +61,7 @@ def _stop(signum: int) -> None:
         return
     text, code = _MESSAGES.get(signum, ("interrupted", 130))
     try:
-        os.write(2, f"obturator: {text}\n".encode())
+        os.write(2, f"{line(text)}\n".encode())
     finally:
         os._exit(code)
 

@@ -2,6 +2,9 @@
 
 Non-finite floats (Python or NumPy) become ``null``; NumPy scalars and arrays
 become plain numbers and lists; anything else that json cannot encode is an error.
+Every top-level object carries ``obturator_version``, so that a saved result says
+which release made it. Keys of quantities with a unit end in the unit
+(``pressure_Pa``, ``wall_s``; ``tests/test_json_outputs.py`` checks the commands).
 """
 
 from __future__ import annotations
@@ -31,5 +34,10 @@ def to_jsonable(obj: Any) -> Any:
 
 
 def dumps(obj: Any, **kwargs: Any) -> str:
-    """``json.dumps`` of :func:`to_jsonable` (obj) with ``allow_nan=False``."""
+    """``json.dumps`` of :func:`to_jsonable` (obj) with ``allow_nan=False``; a dict
+    gains ``obturator_version`` (the package version) unless it has it."""
+    if isinstance(obj, dict) and "obturator_version" not in obj:
+        from .._provenance import package_version
+
+        obj = {**obj, "obturator_version": package_version()}
     return json.dumps(to_jsonable(obj), allow_nan=False, **kwargs)

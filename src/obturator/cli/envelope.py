@@ -279,10 +279,16 @@ def _run_envelope(args: argparse.Namespace) -> int:
 
 def _print_grid(ds: Any, title: str, cell: Any) -> None:
     alts = ds["altitude_m"].values
+    rows = [
+        (f"{m:.3g}", [cell(i, j) for j in range(alts.size)])
+        for i, m in enumerate(ds["mach"].values)
+    ]
+    # one width for every column (flags after the value), so the rows line up
+    width = max([len(f"{a:g}") + 2 for a in alts] + [len(c) for _, cs in rows for c in cs])
     print(title)
-    print("  Mach  " + "".join(f"{a:>20g}" for a in alts) + "   altitude [m]")
-    for i, m in enumerate(ds["mach"].values):
-        print(f"{m:6.3g}  " + "".join(f"{cell(i, j):>20}" for j in range(alts.size)))
+    print("  Mach  " + "".join(f"  {f'{a:g}  ':>{width}}" for a in alts) + " altitude [m]")
+    for m, cells in rows:
+        print(f"{m:>6}  " + "".join(f"  {c:>{width}}" for c in cells).rstrip())
 
 
 def _print_envelope(ds: Any) -> None:
@@ -290,7 +296,7 @@ def _print_envelope(ds: Any) -> None:
         ds = ds.isel(temperature_offset_k=0)
 
     def pair(a: str, b: str, i: int, j: int) -> str:
-        return f"{_fmt(float(ds[a].values[i, j])):>8} ({_fmt(float(ds[b].values[i, j])):>7})"
+        return f"{_fmt(float(ds[a].values[i, j]))} ({_fmt(float(ds[b].values[i, j]))})"
 
     def first_light(i: int, j: int) -> str:
         statuses = (ds["status_coupled"].values[i, j], ds["status_constant"].values[i, j])

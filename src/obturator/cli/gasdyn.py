@@ -247,12 +247,12 @@ def _cmd_atmosphere(args: argparse.Namespace) -> int:
     data = {
         "altitude_m": atm.altitude_m,
         "geopotential_m": atm.geopotential_m,
-        "temperature": atm.temperature,
-        "pressure": atm.pressure,
-        "density": atm.density,
-        "speed_of_sound": atm.speed_of_sound,
-        "dynamic_viscosity": atm.dynamic_viscosity,
-        "kinematic_viscosity": atm.kinematic_viscosity,
+        "temperature_K": atm.temperature,
+        "pressure_Pa": atm.pressure,
+        "density_kg_m3": atm.density,
+        "speed_of_sound_m_s": atm.speed_of_sound,
+        "dynamic_viscosity_Pa_s": atm.dynamic_viscosity,
+        "kinematic_viscosity_m2_s": atm.kinematic_viscosity,
     }
     rows: list[Row] = [
         ("geometric altitude", atm.altitude_m, "m"),

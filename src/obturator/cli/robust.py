@@ -277,9 +277,10 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
     pc = int(100 * float(ds.attrs["confidence"]))
     print(f"{'input':>14} {'S1':>8} {'+-' + str(pc) + '%':>8} {'ST':>8} {'+-':>8}")
     for k, name in enumerate(ds["input"].values):
+        # + 0.0 after rounding: an index of -3e-6 prints as 0.0000, not -0.0000
+        cells = (ds.S1, ds.S1_conf, ds.ST, ds.ST_conf)
         print(
-            f"{name!s:>14} {ds.S1.values[k]:8.4f} {ds.S1_conf.values[k]:8.4f} "
-            f"{ds.ST.values[k]:8.4f} {ds.ST_conf.values[k]:8.4f}"
+            f"{name!s:>14} " + " ".join(f"{round(float(c.values[k]), 4) + 0.0:8.4f}" for c in cells)
         )
     print(
         f"{ds.attrs['n_evaluations']} runs ({runner.n_computed} computed, {runner.n_resumed} "

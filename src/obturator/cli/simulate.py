@@ -3,13 +3,17 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import sys
+import time
 from typing import Any
 
 from ..errors import SolverError
 from ..io import check_output_path, load_config
+from ..model.case import Case
 from ..model.cases import case_from_settings
+from ..model.validity import outside_validated_range
 from ..params import PARAMS
 from ..result import NutationResult
 from ..solve import (
@@ -20,6 +24,7 @@ from ..solve import (
     simulate,
     start_times,
 )
+from ..status import Status
 from ..units import parse_quantity
 from ..vocab import (
     CASE_NAMES,
@@ -245,6 +250,59 @@ def _plot(res: NutationResult, path: str) -> None:
     save(theta_history_figure(res), path)
 
 
+_FIX = (
+    "check the spin's unit (the rig's runs are 78-446 rad/s), widen --friction-width "
+    "(e.g. 1e-5: the convergence check shows what that changes) or shorten --t-max"
+)
+
+
+def _duration(seconds: float) -> str:
+    """`seconds` [s] as s, min or h."""
+    if seconds < 120.0:
+        return f"{seconds:.2g} s"
+    return f"{seconds / 60:.2g} min" if seconds < 7200.0 else f"{seconds / 3600:.2g} h"
+
+
+def _expected_cost(case: Case, options: SolverOptions) -> str:
+    """Time a short stretch of the run and extrapolate to t_max or the step limit."""
+    tiny = case.with_(t_max=min(1e-6, case.t_max))
+    for method in dict.fromkeys((options.method, "radau")):  # load the compiled code first
+        simulate(tiny, dataclasses.replace(options, method=method))
+    horizon, wall, steps = 1e-4, 0.0, 0
+    for _ in range(12):
+        t0 = time.perf_counter()
+        probe = simulate(case.with_(t_max=min(horizon, case.t_max)), options)
+        wall, steps = time.perf_counter() - t0, probe.n_steps
+        if probe.status != Status.T_MAX or horizon >= case.t_max or wall >= 0.2:
+            break
+        horizon *= 4.0
+    if probe.status != Status.T_MAX:
+        return "a timed probe ended early; no cost estimate"
+    # near stick the steps per simulated second grow as the run goes on: a lower bound
+    t_limit = options.max_steps * horizon / max(steps, 1)
+    cost = wall * min(case.t_max, t_limit) / horizon
+    text = (
+        f"a timed probe ({horizon:.2g} s of motion in {wall:.2g} s) expects at least "
+        f"~{_duration(cost)} for this run"
+    )
+    if t_limit < case.t_max:
+        text += f", then the step limit ({options.max_steps:,} steps) by t = {t_limit:.2g} s"
+    if cost < 10.0 and t_limit >= case.t_max:
+        return text
+    return f"{text} (--no-check skips the check's 3 reruns); {_FIX}"
+
+
+def _step_limit_message(res: NutationResult, case: Case, options: SolverOptions) -> str:
+    """The step limit with its cause (stiff near-stick friction) and the fixes."""
+    width = options.friction_width * case.spin_rate
+    return (
+        f"step limit: {res.n_steps:,} steps reached at t = {res.t[-1]:.3g} s of t_max "
+        f"{case.t_max:g} s before the bore opened; near stick the regularised friction "
+        f"(width {width:.2g} rad/s = friction_width x omega_p) needs tiny steps, the more "
+        f"so the lower the spin; {_FIX}"
+    )
+
+
 def _run(args: argparse.Namespace) -> int:
     settings = _merge(args)
     case = case_from_settings(settings)
@@ -254,7 +312,12 @@ def _run(args: argparse.Namespace) -> int:
         from ..plotting import figure_suffixes
 
         check_output_path("--plot", args.plot, figure_suffixes())
+    note = outside_validated_range(case)
+    if note:
+        print(f"obturator: warning: {note}; {_expected_cost(case, options)}", file=sys.stderr)
     res = simulate(case, options)
+    if res.status == Status.STEP_LIMIT:
+        raise SolverError(_step_limit_message(res, case, options))
     if not res.success:
         raise SolverError(res.message)
     if args.csv:

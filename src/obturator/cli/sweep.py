@@ -60,7 +60,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="t_cr on a grid of parameters (parallel, resumable)",
         description="Evaluate the opening time t_cr on the Cartesian grid of the given "
         "parameters. SPEC is START:STOP:COUNT (both ends included) or a list a,b,c; "
-        "a single value fixes the parameter. SI units.",
+        "a single value fixes the parameter. Values take units (e.g. --spin-rate "
+        "'1000:6000:11 rpm'); a number without a unit is in the unit shown.",
     )
     for name, par in SWEEP_PARAMS.items():
         extra = " (flight only)" if par.flight_only else ""

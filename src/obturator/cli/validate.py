@@ -99,9 +99,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.set_defaults(func=_run)
 
 
-def _list_models() -> int:
+def _list_models(as_json: bool) -> int:
     from ..validation.candidates import CANDIDATES, DEFAULT_MODELS, PARAMETERS
 
+    if as_json:
+        models = [
+            {
+                "name": c.name,
+                "parameters": {k: PARAMETERS[k].unit for k in c.params},
+                "description": c.description,
+                "default": c.name in DEFAULT_MODELS,
+            }
+            for c in CANDIDATES.values()
+        ]
+        print(_json.dumps({"models": models}))
+        return 0
     for c in CANDIDATES.values():
         mark = "*" if c.name in DEFAULT_MODELS else " "
         params = ", ".join(f"{k} [{PARAMETERS[k].unit}]" for k in c.params) or "-"
@@ -112,7 +124,7 @@ def _list_models() -> int:
 
 def _run(args: argparse.Namespace) -> int:
     if args.list_models:
-        return _list_models()
+        return _list_models(args.json)
     from ..calibration.data import load_spin_rig_csv, load_thesis_data
     from ..validation import get_candidates, run_validation
     from ..validation.floor import DEFAULT_CLUSTER_GAP

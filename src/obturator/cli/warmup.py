@@ -15,9 +15,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p = subparsers.add_parser(
         "warmup",
         help="compile the integrators into numba's cache (once, after installing)",
-        description="Compile DOP853 and Radau IIA (with --all also Rosenbrock) side by side "
-        "in fresh processes and store the machine code in numba's cache, so that the "
-        "first simulation or sweep starts warm.",
+        description="Compile the four integrators (DOP853 and Radau IIA, and the sweeps' "
+        "DOP853 and Radau IIA lanes; with --all also Rosenbrock) side by side in fresh "
+        "processes and store the machine code in numba's cache, so that the first "
+        "simulation or sweep starts warm. Says whether each was compiled or loaded from "
+        "the cache, and where the cache is.",
     )
     p.add_argument("--jobs", metavar="N", default="2", help="processes compiling at once (2)")
     p.add_argument("--all", action="store_true", help="also the Rosenbrock method")
@@ -31,9 +33,14 @@ def _run(args: argparse.Namespace) -> int:
     jobs = parse_integer("jobs", args.jobs, lo=1)
     res = warm_up(jobs=jobs if jobs is not None else 2, everything=args.all)
     if args.json:
-        print(_json.dumps(res))
+        keys = {"seconds": "time_s", "directory": "cache_directory"}  # unit-suffixed keys
+        print(_json.dumps({keys.get(k, k): v for k, v in res.items()}))
         return 0
-    each = ", ".join(f"{m} {s:.1f} s" for m, s in res["seconds"].items())  # type: ignore[union-attr]
-    where = res["directory"] or "NUMBA_CACHE_DIR"
-    print(f"compiled in {res['wall_s']:.1f} s ({each}); cache: {where}")
+    compiled: dict[str, bool] = res["compiled"]  # type: ignore[assignment]
+    each = ", ".join(
+        f"{m} {'compiled' if compiled[m] else 'loaded'} {s:.1f} s"
+        for m, s in res["seconds"].items()  # type: ignore[union-attr]
+    )
+    verb = "compiled" if any(compiled.values()) else "loaded from the cache"
+    print(f"{verb} in {res['wall_s']:.1f} s ({each}); cache: {res['directory']}")
     return 0

@@ -36,6 +36,16 @@ def _save(fig: Any, path: str | Path) -> str:
     return str(path)
 
 
+def _round_log_ticks(lo: float, hi: float) -> list[float]:
+    """1-2-5 values in [lo, hi] (any unit): colorbar ticks of log-spaced levels that read
+    as round numbers, not as the levels' own digits."""
+    from matplotlib.ticker import LogLocator
+
+    ticks = LogLocator(subs=(1.0, 2.0, 5.0)).tick_values(lo, hi)
+    inside = [float(t) for t in ticks if lo <= t <= hi]
+    return inside if len(inside) >= 2 else [lo, hi]
+
+
 def plot_envelope(ds: Any, path: str | Path) -> str:
     """t_cr map (coupled load) with the requirement, and the coupled - constant difference.
 
@@ -50,6 +60,8 @@ def plot_envelope(ds: Any, path: str | Path) -> str:
     mach = ds["mach"].values
     alt_km = ds["altitude_m"].values / 1000.0
     req = float(ds.attrs["requirement_s"])
+    from matplotlib.patches import Patch
+
     fig, (ax, bx) = _figure(2)
     tc = ds["t_cr_coupled"].values.T
     t0 = ds["t_cr_constant"].values.T
@@ -57,24 +69,32 @@ def plot_envelope(ds: Any, path: str | Path) -> str:
     if finite.size and mach.size > 1 and alt_km.size > 1:
         levels = np.geomspace(finite.min(), finite.max(), 12) if finite.max() > finite.min() else 8
         cf = ax.contourf(mach, alt_km, tc, levels=levels, cmap="viridis")
-        fig.colorbar(cf, ax=ax, label="t_cr, trajectory-coupled [s]", format="%.3g")
+        cb = fig.colorbar(cf, ax=ax, label="t_cr, trajectory-coupled [s]", format="%g")
+        cb.set_ticks(_round_log_ticks(finite.min(), finite.max()))
         if np.nanmin(tc) < req < np.nanmax(tc):
             cs = ax.contour(mach, alt_km, tc, levels=[req], colors="red", linewidths=2.5)
             ax.clabel(cs, fmt=f"{req:g} s (coupled)")
         if np.nanmin(t0) < req < np.nanmax(t0):
             ax.contour(mach, alt_km, t0, levels=[req], colors="k", linestyles="--", linewidths=1.5)
-        for name, hatch in (("choked_at_opening", "//"), ("started", "\\\\")):
+        hatched = []
+        for name, hatch, what in (
+            ("choked_at_opening", "//", "bore choked at opening (Fanno)"),
+            ("started", "\\\\", "inlet not started (Kantrowitz)"),
+        ):
             mask = ds[name].values.T.astype(float)
             if name == "started":
                 mask = 1.0 - mask
             if mask.any():
                 ax.contourf(mach, alt_km, mask, levels=[0.5, 1.5], colors="none", hatches=[hatch])
                 ax.contour(mach, alt_km, mask, levels=[0.5], colors="0.3", linewidths=0.8)
+                hatched.append(Patch(facecolor="white", edgecolor="0.3", hatch=hatch, label=what))
+        if hatched:
+            ax.legend(handles=hatched, loc="lower right", fontsize="small", framealpha=0.9)
         rd = 100.0 * ds["relative_difference"].values.T
         cf2 = bx.contourf(mach, alt_km, rd, levels=12, cmap="magma")
         fig.colorbar(cf2, ax=bx, label="t_cr coupled / constant - 1 [%]")
     else:  # a single row or column: line plots
-        x, xlabel = (mach, "muzzle Mach M_0") if mach.size > 1 else (alt_km, "altitude [km]")
+        x, xlabel = (mach, "muzzle Mach $M_0$") if mach.size > 1 else (alt_km, "altitude [km]")
         ax.plot(x, np.ravel(tc), "o-", label="coupled")
         ax.plot(x, np.ravel(t0), "s--", label="constant load")
         ax.axhline(req, color="red")
@@ -92,7 +112,7 @@ def plot_envelope(ds: Any, path: str | Path) -> str:
         ax.plot(mm[unconv], aa[unconv], "wx", label="not converged")
     if mach.size > 1 and alt_km.size > 1:
         for a in (ax, bx):
-            a.set_xlabel("muzzle Mach M_0")
+            a.set_xlabel("muzzle Mach $M_0$")
             a.set_ylabel("launch altitude [km]")
     ax.set_title(f"opening time; red: {req:g} s coupled, dashed: constant load")
     bx.set_title("trajectory-coupled vs constant load")
@@ -136,6 +156,7 @@ def plot_pareto(ds: Any, path: str | Path) -> str:
 
 def plot_coupled(hist: dict[str, np.ndarray], t_const: float, path: str | Path) -> str:
     """theta(t), F_p(t) and M(t) of one trajectory-coupled opening."""
+
     fig, (ax, bx) = _figure(2)
     t = hist["t"]
     ax.plot(t, np.degrees(hist["theta"]), label="theta, coupled")

@@ -519,7 +519,7 @@ def optimise(
     )
     x, f = np.asarray(res.x, dtype=float), float(res.fun)
     n_eval = gen.n_eval
-    message = str(res.message)
+    message = str(res.message).rstrip(".")  # scipy's sentence; clauses follow it
     if polish:
         xp, fp, n = _polish(problem, runner, x)
         n_eval += n

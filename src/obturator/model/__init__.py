@@ -19,6 +19,8 @@ module                      what (thesis)
 :mod:`.cases`               the built-in cases (:func:`~.cases.rig_case`,
                             :func:`~.cases.flight_case`, :func:`~.cases.couette_case`) and
                             settings -> :class:`~.case.Case` (:func:`~.cases.case_from_settings`)
+:mod:`.validity`            where the model is validated (Appendix B's spins) and a note for
+                            a case far outside (:func:`~.validity.outside_validated_range`)
 ==========================  =============================================================
 
 Plain SI floats throughout; quantities with units are converted at the edges

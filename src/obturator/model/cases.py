@@ -19,6 +19,7 @@ from ..vocab import CASE_NAMES, SPIN_MODES, TORQUE_MODELS, SpinMode, TorqueName,
 from .case import Case
 from .geometry import BoredBall
 from .torques import (
+    MAX_RIG_WEIGHT,
     CouetteViscous,
     CoulombContactFriction,
     NakabayashiViscous,
@@ -261,6 +262,21 @@ def couette_case(scale: float = 1.0, *, t_max: float = 0.1) -> Case:
     )
 
 
+def _check_derived_weight(s: Mapping[str, Any], ball: BoredBall) -> None:
+    """Name the geometry input (as the config spells it) that makes the rig ball's weight
+    W = rho g V [N] impossible, before the friction model reports the derived W."""
+    if 0.0 <= ball.weight <= MAX_RIG_WEIGHT:
+        return
+    key = next(k for k in ("ball_radius", "hole_radius", "density") if k in s)
+    par = PARAMS[key]
+    raise InputError(
+        par.config or key,
+        f"{s[key]:g} {par.unit} makes the rig ball weigh W = rho g V = {ball.weight:.3g} N, "
+        f"outside the allowed [0, {MAX_RIG_WEIGHT:g}] N (Table 1: R_s = 7.899 mm, "
+        "rho = 7669.6 kg/m^3); a number without a unit is in SI units: write e.g. '7.899 mm'",
+    )
+
+
 def case_from_settings(s: Mapping[str, Any]) -> Case:
     """The :class:`Case` of merged settings: config file, flags or a study's point.
 
@@ -318,6 +334,7 @@ def case_from_settings(s: Mapping[str, Any]) -> Case:
         if "weight" in s:
             common["weight"] = s["weight"]
         elif geometry_changed:
+            _check_derived_weight(s, ball)
             common["weight"] = None  # the weight follows the modified ball
         return rig_case(**common)
     if "weight" in s:

@@ -135,14 +135,32 @@ def _tcr_figure(ds: xr.Dataset):
                 f" (mu_s = {THESIS_MU_S}, theta0 = {TABLE1['theta0_deg']} deg)<extra></extra>",
             )
         )
+    ticks = _log_ticks(np.concatenate([ds["t_cr"].values.ravel(), ds["measured"].values]))
     fig.update_layout(
-        title="Opening time t_cr vs spin rate (exact model, spin rig)",
+        title={"text": "Opening time t_cr vs spin rate (exact model, spin rig)"},
         xaxis_title="projectile spin omega_p [rad/s]",
-        yaxis={"title": "t_cr [s]", "type": "log"},
+        # explicit 1-2-5 ticks with their full values: plotly's own minor log ticks
+        # read "2" and "5" for 0.2 s and 0.5 s
+        yaxis={
+            "title": {"text": "t_cr [s]"},
+            "type": "log",
+            "tickvals": ticks,
+            "ticktext": [f"{v:g}" for v in ticks],
+        },
         height=520,
         template="plotly_white",
     )
     return fig
+
+
+def _log_ticks(values: np.ndarray) -> list[float]:
+    """1-2-5 tick values [same unit as `values`] spanning the finite positive `values`."""
+    v = values[np.isfinite(values) & (values > 0)]
+    if v.size == 0:
+        return [0.1, 1.0]
+    lo, hi = math.floor(math.log10(v.min())), math.ceil(math.log10(v.max()))
+    ticks = [m * 10.0**e for e in range(lo, hi + 1) for m in (1, 2, 5)]
+    return [float(f"{t:.12g}") for t in ticks if v.min() / 2.0 <= t <= v.max() * 2.0]
 
 
 def _theta_figure(ds: xr.Dataset):
@@ -174,12 +192,13 @@ def _theta_figure(ds: xr.Dataset):
             {
                 "label": f"run {run}",
                 "method": "update",
-                "args": [{"visible": vis}, {"title": title}],
+                # plotly.js 3 ignores a plain-string title in a layout update
+                "args": [{"visible": vis}, {"title.text": title}],
             }
         )
     fig.update_layout(
         updatemenus=[{"buttons": buttons, "direction": "down", "x": 1.0, "y": 1.15}],
-        title=buttons[0]["args"][1]["title"] if buttons else "theta(t)",
+        title={"text": buttons[0]["args"][1]["title.text"] if buttons else "theta(t)"},
         xaxis_title="time t [s]",
         yaxis_title="nutation angle theta [deg]",
         height=420,

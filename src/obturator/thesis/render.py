@@ -140,7 +140,7 @@ def to_html(ctx: dict[str, Any]) -> str:
         + "".join(f"<p>{e(p)}</p>" for p in sec.paragraphs)
         + "".join(f"<pre>{e(block)}</pre>" for block in getattr(sec, "pre", ()))
         + "".join(
-            f'<figure><img src="{src(n)}" alt="{e(c)}" data-file="{e(n)}">'
+            f'<figure class="wide"><img src="{src(n)}" alt="{e(c)}" data-file="{e(n)}">'
             f"<figcaption><b>{e(c)}.</b></figcaption></figure>"
             for n, c in sec.figures
         )
@@ -160,6 +160,9 @@ th {{ background: #eee; }}
 figure {{ display: inline-block; margin: 0.5em; max-width: 580px; vertical-align: top; }}
 figcaption {{ font-size: 0.85em; }}
 img {{ max-width: 560px; }}
+figure.wide {{ display: block; max-width: 100%; }}
+figure.wide img {{ max-width: 100%; }}
+.explorer {{ width: 100%; }}
 pre {{ background: #f6f6f6; padding: 0.5em; font-size: 0.85em; }}
 </style></head><body>
 <h1>obturator: reproduction of Bloomer (1980)</h1>
