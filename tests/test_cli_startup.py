@@ -90,4 +90,4 @@ def test_warmup_refuses_zero_jobs():
         [sys.executable, "-m", "obturator", "warmup", "--jobs", "0"], capture_output=True, text=True
     )
     assert out.returncode == 2
-    assert out.stderr.strip() == "obturator: error: jobs: 0 is outside the allowed range >= 1"
+    assert out.stderr.strip() == "obturator: error: --jobs: 0 is outside the allowed range [1, 64]"

@@ -370,7 +370,8 @@ def test_dataframe_round_trip(tmp_path, data):
         ),
         (
             "readout_hz,t_cr_s\n700,0.2\n710,abc\n",
-            r"^t_cr_s: .*rig\.csv, line 3: 'abc' is not a number \(allowed range \(1e-06, 1e\+06\] s\)",
+            r"^t_cr_s: .*rig\.csv, line 3: 'abc' is not a number "
+            r"\(allowed range \(1e-06, 1e\+06\] s\)",
         ),
         (
             "readout_hz,t_cr_s\n700,0.2\n710,-0.1\n",

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from . import _json
-from ._args import parse_integer
+from ._kinds import Count
 
 __all__ = ["register"]
 
@@ -21,7 +21,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "simulation or sweep starts warm. Says whether each was compiled or loaded from "
         "the cache, and where the cache is.",
     )
-    p.add_argument("--jobs", metavar="N", default="2", help="processes compiling at once (2)")
+    p.add_argument(
+        "--jobs",
+        metavar="N",
+        default=2,
+        type=Count(1, 64, example="2"),
+        help="processes compiling at once (2; at most 64: one per integrator is all it uses)",
+    )
     p.add_argument("--all", action="store_true", help="also the Rosenbrock method")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_run)
@@ -30,8 +36,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _run(args: argparse.Namespace) -> int:
     from ..warmup import warm_up
 
-    jobs = parse_integer("jobs", args.jobs, lo=1)
-    res = warm_up(jobs=jobs if jobs is not None else 2, everything=args.all)
+    res = warm_up(jobs=args.jobs, everything=args.all)  # checked by its kind
     if args.json:
         keys = {"seconds": "time_s", "directory": "cache_directory"}  # unit-suffixed keys
         print(_json.dumps({keys.get(k, k): v for k, v in res.items()}))
