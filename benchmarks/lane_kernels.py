@@ -6,7 +6,7 @@ Calls :func:`integrate_lanes` on rig points (omega_p over 100-700 rad/s, the the
 mu_s) and flight points (Mach 1.5-4), and :func:`integrate_radau_lanes` on the rig
 points DOP853 found stiff, from DOP853's last accepted states, as the batched sweep
 does; no process pool, no packing in the timings (compiled code loaded first). Writes
-every output array and the best-of-`repeats` seconds of each call to OUT.npz, so two
+every output array and the best-of-`repeats` CPU seconds of each call to OUT.npz, so two
 source trees (run each with its own ``PYTHONPATH`` and ``NUMBA_CACHE_DIR``) can be
 compared bit for bit and timed back to back.
 """
@@ -55,11 +55,13 @@ def _radau(pk, options, t0, y0):
 
 
 def _best(fn, repeats):
+    """Best of `repeats` in CPU seconds of this process (less disturbed than wall time
+    on a shared machine; the integrators run on one thread) and the last result."""
     best = np.inf
     for _ in range(repeats):
-        t = time.perf_counter()
+        t = time.process_time()
         out = fn()
-        best = min(best, time.perf_counter() - t)
+        best = min(best, time.process_time() - t)
     return best, out
 
 

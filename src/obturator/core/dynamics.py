@@ -137,6 +137,9 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
 
     Notes
     -----
+    The thesis's viscous coefficient and moment arm come from
+    :mod:`obturator.core.thesis_law`, as in the specialised kernel.
+
     Thesis friction laws (rig Eq. 61, flight Appendix A): the moment arm is a
     function of the *true* slip direction u = omega_r/|omega_r|, as Appendix A
     computes it (``ARM = SQRT(1.-C(1)*(OMXR/OMR)**2-...)``); only the magnitude

@@ -53,9 +53,9 @@ from ..dop853 import (
     stiffness_product,
 )
 from .dop853_sums import error_sums, stage_sum
-from .points import Outcome, Points, copy_lane, finish, new_outcome
+from .points import Outcome, Points, copy_lane, finish, new_outcome, pack_lanes
 from .rates import cos_nutation_lanes, rhs_generic_lanes, rhs_thesis_lanes
-from .simd import LANE_KERNEL, LANES, NO_REFCOUNT
+from .simd import DRIVER_PHASE, LANE_KERNEL, LANES, NO_REFCOUNT
 
 __all__ = ["integrate_lanes", "LANES", "DEFAULT_LANES"]
 
@@ -63,10 +63,6 @@ DEFAULT_LANES = LANES
 
 _N = N_STATE
 _KS = N_STATE * LANES  # stride of one stage in k
-#: The driver's phases: inlined into :func:`_run`, compiled as it is (FMA contraction,
-#: the NumPy error model, no reference counting).
-_PHASE = {"cache": True, "fastmath": {"contract"}, "error_model": "numpy", "inline": "always"}
-_PHASE |= NO_REFCOUNT
 
 
 class Lanes(NamedTuple):
@@ -226,7 +222,7 @@ def _run(
                 ln.live[j] = _load(pts, ln, at, out, j, pts.order[nxt])
                 nxt += 1
         if nxt >= n_pts:  # the queue is empty: pack the live lanes to the front
-            nl = _pack(ln, nl)
+            nl = pack_lanes(ln, nl, _move_lane)
             if nl == 0:
                 break
         _attempt(ln, at, nl, quaternion, rtol, atol)
@@ -235,7 +231,7 @@ def _run(
                 ln.live[j] = _next_step(ln, out, j)
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _load(pts: Points, ln: Lanes, at: Attempt, out: Outcome, j, q) -> bool:
     """Load point q into lane j, as :func:`~obturator.core.integrators.dop853.integrate`
     starts a run; whether it goes on (False: it ended before its first step)."""
@@ -270,21 +266,7 @@ def _load(pts: Points, ln: Lanes, at: Attempt, out: Outcome, j, q) -> bool:
     return _next_step(ln, out, j)
 
 
-@njit(**_PHASE)
-def _pack(ln: Lanes, nl):
-    """Move the live lanes of 0..nl-1 to the front; returns how many there are."""
-    j = 0
-    while j < nl:
-        if ln.live[j]:
-            j += 1
-            continue
-        if nl - 1 > j:
-            _move_lane(ln, nl - 1, j)
-        nl -= 1
-    return nl
-
-
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _move_lane(ln: Lanes, a, b) -> None:
     """Copy every per-lane quantity of lane a into lane b; lane a is then free."""
     for x in (ln.y, ln.k, ln.p, ln.scale):  # vectors
@@ -300,7 +282,7 @@ def _move_lane(ln: Lanes, a, b) -> None:
     ln.live[a] = False
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _attempt(ln: Lanes, at: Attempt, nl, quaternion, rtol, atol) -> None:
     """One trial step of every lane: stages, f(y_new), error estimate, step factor and
     stiffness estimate (and cos(theta) at the step ends in quaternion form)."""
@@ -316,7 +298,7 @@ def _attempt(ln: Lanes, at: Attempt, nl, quaternion, rtol, atol) -> None:
     _control_lanes(at.err, at.fac, at.hl, ln.h, at.f1, ln.k, at.ynew, at.work, at.s5, at.s3)
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _settle(ln: Lanes, at: Attempt, out: Outcome, j, quaternion, event_tol) -> bool:
     """Lane j's decision on its trial step, as :func:`~obturator.core.integrators.dop853
     .integrate` takes it: reject (shorter step), accept (stiffness test, opening test,
@@ -364,7 +346,7 @@ def _settle(ln: Lanes, at: Attempt, out: Outcome, j, quaternion, event_tol) -> b
     return True
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _g_new(ln: Lanes, at: Attempt, j, quaternion) -> float:
     """theta - theta_cr at lane j's step end, or +inf where cos(theta_new) is well below
     cos(theta_cr) (theta well above theta_cr: the sign is all the test needs); the exact
@@ -378,7 +360,7 @@ def _g_new(ln: Lanes, at: Attempt, j, quaternion) -> float:
     return nutation_angle_of_state(at.yn, at.ps) - at.ps[P_THETA_CR]
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _opening(ln: Lanes, at: Attempt, out: Outcome, j, g_new, event_tol) -> bool:
     """Locate the opening inside lane j's accepted step
     (:func:`~obturator.core.integrators.dop853.locate_event`) and end its point there."""
@@ -399,13 +381,13 @@ def _opening(ln: Lanes, at: Attempt, out: Outcome, j, g_new, event_tol) -> bool:
     return finish(out, j, Status.OPENED, t_ev, ln.y, ln.t, ln.idx, ln.cnt)
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _end(ln: Lanes, out: Outcome, j, status) -> bool:
     """End lane j's point with `status` at its last accepted state; False."""
     return finish(out, j, status, math.nan, ln.y, ln.t, ln.idx, ln.cnt)
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _next_step(ln: Lanes, out: Outcome, j) -> bool:
     """The checks at the top of dop853.integrate's loop for lane j (:func:`_top_of_step`);
     whether its point goes on (else it has ended)."""

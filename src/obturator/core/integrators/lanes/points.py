@@ -14,9 +14,17 @@ import numpy as np
 from numba import njit
 
 from ...layout import N_STATE
-from .simd import LANES, NO_REFCOUNT
+from .simd import DRIVER_PHASE, LANES, NO_REFCOUNT
 
-__all__ = ["Points", "Outcome", "new_outcome", "finish", "copy_lane", "lane_vector"]
+__all__ = [
+    "Points",
+    "Outcome",
+    "new_outcome",
+    "finish",
+    "pack_lanes",
+    "copy_lane",
+    "lane_vector",
+]
 
 
 class Points(NamedTuple):
@@ -69,6 +77,21 @@ def finish(out, j, status, t_event, y, t, idx, cnt) -> bool:
     for c in range(3):
         out.counts[c, q] = cnt[c, j]
     return False
+
+
+@njit(**DRIVER_PHASE)
+def pack_lanes(ln, nl, move_lane) -> int:
+    """Move the live lanes (``ln.live``) of 0..nl-1 to the front, ``move_lane(ln, a, b)``
+    copying lane a into lane b; returns how many there are."""
+    j = 0
+    while j < nl:
+        if ln.live[j]:
+            j += 1
+            continue
+        if nl - 1 > j:
+            move_lane(ln, nl - 1, j)
+        nl -= 1
+    return nl
 
 
 @njit(cache=True, inline="always", **NO_REFCOUNT)

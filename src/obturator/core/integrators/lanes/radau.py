@@ -61,7 +61,7 @@ from ..radau_control import (
     step_quotient,
 )
 from .lu import lu_factor_complex_lanes, lu_factor_lanes
-from .points import Outcome, Points, copy_lane, finish, lane_vector, new_outcome
+from .points import Outcome, Points, copy_lane, finish, lane_vector, new_outcome, pack_lanes
 from .radau_steps import (
     NW_F,
     NW_R1,
@@ -84,7 +84,7 @@ from .radau_steps import (
     wnorm_lanes,
 )
 from .rates import cos_nutation_lanes, rhs_thesis_lanes
-from .simd import LANES, NO_REFCOUNT
+from .simd import DRIVER_PHASE, LANES, NO_REFCOUNT
 from .solves import lu_solve_lanes, lu_solve_pair_lanes
 
 __all__ = ["integrate_radau_lanes"]
@@ -94,10 +94,6 @@ _V = N_STATE * LANES  # one vector of every lane
 _M = N_STATE * N_STATE * LANES  # one matrix of every lane
 # Newton outcome of a lane in the current attempt
 _RUNNING, _CONVERGED, _FAILED, _IDLE = 0, 1, 2, 3
-#: The driver's phases: inlined into :func:`_run`, compiled as it is (FMA contraction,
-#: the NumPy error model, no reference counting).
-_PHASE = {"cache": True, "fastmath": {"contract"}, "error_model": "numpy", "inline": "always"}
-_PHASE |= NO_REFCOUNT
 
 
 class Lanes(NamedTuple):
@@ -389,7 +385,7 @@ def _run(pts: Points, ln: Lanes, at: Attempt, one: OneLane, out: Outcome, nl, to
     while True:
         nxt = _refill(pts, ln, one, out, nl, nxt)
         if nxt >= n_pts:
-            nl = _pack(ln, nl)
+            nl = pack_lanes(ln, nl, _move_lane)
             if nl == 0:
                 break
         _prepare(ln, at, nl, tol.vw)
@@ -404,7 +400,7 @@ def _run(pts: Points, ln: Lanes, at: Attempt, one: OneLane, out: Outcome, nl, to
         f0_masked(ln.y, ln.p, ln.f0, at.fw, at.acc, ln.cnt, tol.vw)
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _refill(pts: Points, ln: Lanes, one: OneLane, out: Outcome, nl, nxt):
     """Load points into free lanes, then the checks at the top of the scalar loop (t_max,
     step limit) in every lane; returns the next entry of ``pts.order`` to load."""
@@ -426,7 +422,7 @@ def _refill(pts: Points, ln: Lanes, one: OneLane, out: Outcome, nl, nxt):
     return nxt
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _load(pts: Points, ln: Lanes, one: OneLane, j, q) -> None:
     """Load point q into lane j, as :func:`obturator.core.integrators.radau.integrate`
     starts a run."""
@@ -468,21 +464,7 @@ def _load(pts: Points, ln: Lanes, one: OneLane, j, q) -> None:
     ln.h_lim[j] = math.inf
 
 
-@njit(**_PHASE)
-def _pack(ln: Lanes, nl):
-    """Move the live lanes of 0..nl-1 to the front; returns how many there are."""
-    j = 0
-    while j < nl:
-        if ln.live[j]:
-            j += 1
-            continue
-        if nl - 1 > j:
-            _move_lane(ln, nl - 1, j)
-        nl -= 1
-    return nl
-
-
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _move_lane(ln: Lanes, a, b) -> None:
     """Copy everything lane a carries from step to step into lane b; lane a is then free."""
     for x in (ln.p, ln.y, ln.f0, ln.scale, ln.cap, ln.z_acc, ln.jac):  # vectors, matrices
@@ -500,7 +482,7 @@ def _move_lane(ln: Lanes, a, b) -> None:
     ln.live[a] = False
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _prepare(ln: Lanes, at: Attempt, nl, vw) -> None:
     """Before an attempt: harmless numbers in the idle lanes, f(y) of the lanes just
     filled, the Jacobian where stale (phase 1), the step cut to end at t_max."""
@@ -528,7 +510,7 @@ def _prepare(ln: Lanes, at: Attempt, nl, vw) -> None:
             ln.h[j] = ln.t_max[j] - ln.t[j]
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _factor(ln: Lanes, at: Attempt, out: Outcome, nl, vw) -> None:
     """Phase 2: the real and complex LU of every lane; a singular lane halves its step
     (and fails where the step underflows) and sits out the attempt."""
@@ -549,7 +531,7 @@ def _factor(ln: Lanes, at: Attempt, out: Outcome, nl, vw) -> None:
         at.state[j] = _IDLE
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _newton(ln: Lanes, at: Attempt, nl, tol: Settings) -> None:
     """Phase 3: the simplified Newton iterations of every running lane, from the
     extrapolated collocation polynomial, until each has converged or failed."""
@@ -584,7 +566,7 @@ def _newton(ln: Lanes, at: Attempt, nl, tol: Settings) -> None:
                 at.state[j] = _CONVERGED
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _running(at: Attempt, nl) -> bool:
     """Whether any lane still iterates; lanes out of iterations fail (step halved)."""
     running = False
@@ -598,7 +580,7 @@ def _running(at: Attempt, nl) -> bool:
     return running
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _contraction(ln: Lanes, at: Attempt, j, fnewt) -> None:
     """Lane j's Newton convergence test after an iteration (radau_control)."""
     at.newt[j] += 1
@@ -618,7 +600,7 @@ def _contraction(ln: Lanes, at: Attempt, j, fnewt) -> None:
     at.run[j] = True
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _newton_failures(ln: Lanes, at: Attempt, out: Outcome, nl) -> None:
     """Lanes whose Newton iteration failed: a shorter step, a new Jacobian unless it is
     fresh, failure where the step underflows."""
@@ -634,7 +616,7 @@ def _newton_failures(ln: Lanes, at: Attempt, out: Outcome, nl) -> None:
                 ln.live[j] = _end(ln, out, j, Status.FAILED)
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _estimate(ln: Lanes, at: Attempt, nl, tol: Settings) -> None:
     """Phase 4: the embedded error estimate (filtered once more where the scalar code
     does), and the largest cos(theta) over the nodes c1, c2 and the step end (the
@@ -668,7 +650,7 @@ def _estimate(ln: Lanes, at: Attempt, nl, tol: Settings) -> None:
             at.cos_n[j] = max(at.cos_n[j], at.cos_k[j])
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _decide(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Settings) -> bool:
     """Lane j's decision on a converged attempt, as radau.integrate takes it: reject, or
     accept (opening test and location, hand-back test, next step size). Returns whether
@@ -724,7 +706,7 @@ def _decide(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Settings
     return True
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _opening(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Settings) -> bool:
     """The exact opening test of lane j's converged step and, where theta crosses
     theta_cr inside it, its location (radau.locate_opening on the lane's data); whether
@@ -773,7 +755,7 @@ def _opening(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Setting
     return False
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _sliding_resumed(ln: Lanes, one: OneLane, j) -> bool:
     """The hand-back test at lane j's accepted state (radau_control.sliding_resumed)."""
     lane_vector(ln.y, j, 0, one.y)
@@ -784,7 +766,7 @@ def _sliding_resumed(ln: Lanes, one: OneLane, j) -> bool:
     return back
 
 
-@njit(**_PHASE)
+@njit(**DRIVER_PHASE)
 def _end(ln: Lanes, out: Outcome, j, status) -> bool:
     """End lane j's point with `status` at its current state; False."""
     return finish(out, j, status, math.nan, ln.y, ln.t, ln.idx, ln.cnt)
