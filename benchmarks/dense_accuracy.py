@@ -9,7 +9,7 @@ takes every point of a rig sweep (mu_s = 0.5473, omega_p over 100-700 rad/s by
 default, the issue's sweep; ``--spins 40,100`` is the long near-stick band) and
 compares:
 
-* the sweep path (:func:`obturator.sweeps.batch.opening_times`: DOP853 lanes, stiff
+* the sweep path (:func:`obturator.solve.opening_times`: DOP853 lanes, stiff
   points in Radau IIA lanes) at each rtol (atol = rtol/100) with
 * a reference by another method: Radau IIA alone (in lanes) from release at rtol
   1e-12 (near stick Radau IIA at rtol 1e-11 is itself up to 1e-7 off), and
@@ -33,8 +33,7 @@ import numpy as np
 
 from obturator.core.integrators.lanes import LANES, integrate_radau_lanes
 from obturator.model.cases import rig_case
-from obturator.solve import SolverOptions, integration_setup, opening_time
-from obturator.sweeps.batch import opening_times
+from obturator.solve import SolverOptions, integration_setup, opening_time, opening_times
 
 MU_S = 0.5473
 REFERENCE_RTOL = 1e-12

@@ -33,6 +33,9 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
   scalar path, for rig (100-700 rad/s, default tolerances and t_cr rtol 1e-6) and
   flight (Mach 1.5-4) sweeps of 1,000 and 10,000 points with 1 and 2 workers, every
   point compared with the scalar path.
+* Set-valued stick-slip (:mod:`benchmarks.stick_slip`): cost per trajectory of
+  ``method="set-valued"`` against the regularised path at 40-1000 rad/s and flight,
+  as ratios, with each t_cr's error against a tight set-valued reference.
 * Other integrators (:mod:`benchmarks.alternatives`, optional ``.[bench]`` extra):
   numbalsoda's DOP853 and LSODA and diffrax's Tsit5 and Dopri8 on the same trajectory.
 """
@@ -581,6 +584,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         for case, tol in (("rig", "default"), ("rig", "1e-6"), ("flight", "default"))
         for k in (1, 2)
     ]
+    from benchmarks import stick_slip
+
+    rec["stick_slip"] = stick_slip.cost(
+        stick_slip.SPINS_QUICK if args.quick else stick_slip.SPINS, 2 if args.quick else 5
+    )
     rec["cli_latency"] = latency.cli_latency(2 if args.quick else 5)
     from benchmarks import alternatives
 
@@ -589,6 +597,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     _print_low_spin(rec["low_spin"])
     operating_range.print_range(rec["cost_per_point"], rec["throughput"])
     lanes.print_table(rec["lanes"])
+    stick_slip.print_table(rec["stick_slip"])
     latency.print_latency(rec["cli_latency"])
     alternatives.print_alternatives(rec["alternatives"])
     if args.plot:

@@ -1,7 +1,7 @@
 """Points packed by a helper process while the integrators load (obturator.sweeps.ahead).
 
 The reference is the packing done where the points are integrated
-(:func:`obturator.sweeps.batch.pack_rows` in the worker), which the helper must
+(:func:`obturator.sweeps.points.pack_rows` in the worker), which the helper must
 reproduce exactly, and a sweep without the helper, which the sweep with it must
 reproduce bit for bit.
 """
@@ -17,7 +17,7 @@ import obturator.sweeps.points as points
 from obturator.solve import SolverOptions
 from obturator.status import Status
 from obturator.sweeps import SweepSpec, execute_sweep
-from obturator.sweeps.batch import pack_rows
+from obturator.sweeps.points import pack_rows
 
 FAST = SolverOptions(rtol=1e-6, atol=1e-8)
 SPEC = SweepSpec(
@@ -83,7 +83,6 @@ def test_sweep_with_helper_is_identical_to_sweep_without(monkeypatch):
     dataset is identical to the in-process sweep's."""
     import time
 
-    import obturator.sweeps.batch as batch
     import obturator.sweeps.executors as executors
 
     one = execute_sweep(SPEC, workers=1, progress=False).dataset
@@ -107,7 +106,7 @@ def test_sweep_with_helper_is_identical_to_sweep_without(monkeypatch):
     monkeypatch.setattr(executors, "pack_ahead", spy)
     monkeypatch.setattr(executors, "warm", slow_warm)
     monkeypatch.setattr(executors, "default_workers", lambda: 2)
-    monkeypatch.setattr(batch, "pack_rows", no_packing)
+    monkeypatch.setattr(points, "pack_rows", no_packing)
     run = execute_sweep(SPEC, workers=2, chunk_size=2, progress=False)
     assert run.workers == 2 and used == [12]
     xr.testing.assert_identical(one, run.dataset)

@@ -65,6 +65,11 @@ def test_exact_fit_recovers_mu_from_noise_free_synthetic_data():
     assert fit.mu_s == pytest.approx(0.45, abs=2e-4)
     assert fit.rms < 1e-4
     assert fit.names == ("mu_s",) and fit.nvarys == 1 and fit.dof == 7
+    # the bounds are the one registry's, shared with the validation study
+    from obturator.params import FIT_SPECS
+    from obturator.validation.candidates import PARAMETERS
+
+    assert fit.params["mu_s"].bounds == FIT_SPECS["mu_s"].bounds == PARAMETERS["mu_s"].bounds
 
 
 def test_exact_fit_with_noise_statistics_and_bootstrap():
@@ -172,6 +177,9 @@ def test_input_errors(tmp_path):
     data = _synthetic(0.5, [250.0, 300.0, 350.0])
     with pytest.raises(InputError, match="fit"):
         cal.fit_exact(data, fit=("mu_s", "bogus"), bootstrap=0)
+    # phi_dot0 is a registered fit parameter but not an input of the rig model
+    with pytest.raises(InputError, match="^fit: 'phi_dot0'; allowed: mu_s, theta0_deg"):
+        cal.fit_exact(data, fit=("mu_s", "phi_dot0"), bootstrap=0)
     with pytest.raises(InputError, match="mu_s must"):
         cal.fit_exact(data, fit=("theta0_deg",), bootstrap=0)
     with pytest.raises(InputError, match="need at least 2"):

@@ -17,12 +17,18 @@ import pytest
 
 from obturator.core.dynamics import rhs
 from obturator.core.layout import KERNEL_GENERIC, KERNEL_THESIS, P_KERNEL
-from obturator.errors import InputError
+from obturator.errors import InputError, SolverError
 from obturator.model.cases import flight_case, rig_case
-from obturator.solve import SolverError, SolverOptions, opening_time, pack_parameters
+from obturator.solve import (
+    SolverOptions,
+    integrate_packed,
+    opening_time,
+    opening_times,
+    pack_parameters,
+    pack_points,
+)
 from obturator.status import Status
 from obturator.sweeps import SweepSpec, run_sweep
-from obturator.sweeps.batch import opening_times
 
 MU_S = 0.5473  # thesis's rig value
 
@@ -219,15 +225,25 @@ def test_lane_count_does_not_change_results(n_lanes):
 
 
 def test_statuses_match_scalar_path():
-    """Not opened by t_max, an invalid point; methods other than auto are refused."""
+    """Not opened by t_max, an invalid point; methods other than auto go one by one (the
+    lanes integrate only auto) and give the one-trajectory answers; with ``strict`` a
+    failed or invalid case raises as opening_time does."""
     opts = SolverOptions()
     cases = [rig_case(300.0, MU_S, t_max=0.05), rig_case(400.0, MU_S)]
     t, s, _ = _assert_same(cases, opts)
     assert list(s) == [Status.T_MAX, Status.OPENED]
     t, s, _ = opening_times([InputError("mu_s", "bad"), cases[1]], opts)
     assert s[0] == Status.INVALID_INPUT and math.isnan(t[0]) and s[1] == Status.OPENED
+    radau = SolverOptions(method="radau")
+    t, s, stats = opening_times(cases, radau)
+    assert list(s) == [Status.T_MAX, Status.OPENED] and stats["nfev"] == 0  # one by one
+    assert t[1] == opening_time(cases[1], radau)
     with pytest.raises(InputError, match="method"):
-        opening_times(cases, SolverOptions(method="radau"))
+        integrate_packed(pack_points(cases, radau), radau)
+    with pytest.raises(InputError, match="mu_s"):
+        opening_times([cases[1], InputError("mu_s", "bad")], opts, strict=True)
+    with pytest.raises(SolverError, match="Step limit"):
+        opening_times([rig_case(300.0, MU_S)], SolverOptions(max_steps=10), strict=True)
 
 
 def test_sweep_results_identical_with_and_without_lanes(monkeypatch):
@@ -243,7 +259,7 @@ def test_sweep_results_identical_with_and_without_lanes(monkeypatch):
 
 
 def test_point_status_mapping_matches_evaluate_point():
-    from obturator.sweeps.points import point_status
+    from obturator.solve import point_status
 
     assert point_status(Status.OPENED, 0.25) == (0.25, Status.OPENED)
     t, s = point_status(Status.T_MAX, math.nan)
@@ -258,29 +274,29 @@ def test_lanes_sweep_resumes_after_interruption(monkeypatch, tmp_path):
     without recomputing finished chunks and gives the uninterrupted result."""
     import xarray as xr
 
-    from obturator.sweeps import batch, execute_sweep
+    from obturator.sweeps import execute_sweep, points
 
     spec = SweepSpec(
         case="spin-rig", axes={"spin_rate": np.linspace(250.0, 650.0, 8)}, fixed={"mu_s": MU_S}
     )
     store = tmp_path / "s.nc"
-    original = batch.run_rows
+    original = points.rows_to_cases
     chunks: list[int] = []
 
-    def exploding(sp, names, rows, packed=None):
+    def exploding(sp, names, rows):
         if len(chunks) == 2:
             raise KeyboardInterrupt
         chunks.append(len(rows))
-        return original(sp, names, rows, packed)
+        return original(sp, names, rows)
 
-    monkeypatch.setattr(batch, "run_rows", exploding)
+    monkeypatch.setattr(points, "rows_to_cases", exploding)
     with pytest.raises(KeyboardInterrupt):
         execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
     chunks.clear()
-    monkeypatch.setattr(batch, "run_rows", lambda *a: (chunks.append(1), original(*a))[1])
+    monkeypatch.setattr(points, "rows_to_cases", lambda *a: (chunks.append(1), original(*a))[1])
     run = execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
     assert run.n_resumed == 4 and run.n_computed == 4 and len(chunks) == 2
-    monkeypatch.setattr(batch, "run_rows", original)
+    monkeypatch.setattr(points, "rows_to_cases", original)
     xr.testing.assert_identical(run.dataset, run_sweep(spec, workers=1, progress=False))
 
 

@@ -136,24 +136,26 @@ def test_independent_of_workers_and_chunking() -> None:
 
 def test_monte_carlo_store_resumes(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     store = tmp_path / "mc.nc"
-    original = points.evaluate_point
+    original = points.rows_to_cases  # every chunk's rows become cases here
     calls: list[int] = []
 
-    def exploding(spec: ss.SweepSpec, values: dict[str, float]) -> tuple[float, int]:
+    def exploding(spec: ss.SweepSpec, names, rows) -> list:
         if len(calls) == 4:
             raise KeyboardInterrupt
-        calls.append(1)
-        return original(spec, values)
+        calls.extend([1] * len(rows))
+        return original(spec, names, rows)
 
-    monkeypatch.setattr(points, "evaluate_point", exploding)
+    monkeypatch.setattr(points, "rows_to_cases", exploding)
     with pytest.raises(KeyboardInterrupt):
         run_mc(store=store, chunk_size=2)
     assert sidecar_path(store).exists()
     calls.clear()
-    monkeypatch.setattr(points, "evaluate_point", lambda s, v: (calls.append(1), original(s, v))[1])
+    monkeypatch.setattr(
+        points, "rows_to_cases", lambda s, n, r: (calls.extend([1] * len(r)), original(s, n, r))[1]
+    )
     ds = run_mc(store=store, chunk_size=2)
     assert len(calls) == 6 and not sidecar_path(store).exists()
-    monkeypatch.setattr(points, "evaluate_point", original)
+    monkeypatch.setattr(points, "rows_to_cases", original)
     xr.testing.assert_identical(ds, run_mc())
     with xr.open_dataset(store) as on_disk:
         np.testing.assert_array_equal(on_disk["t_cr"].values, ds["t_cr"].values)

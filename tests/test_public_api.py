@@ -44,6 +44,7 @@ PUBLIC = [
     "monte_carlo",
     "normal_shock",
     "opening_time",
+    "opening_times",
     "parse_quantity",
     "reproduce",
     "rig_approximation",

@@ -29,10 +29,11 @@ from obturator.solve import (
     SolverOptions,
     integration_setup,
     opening_time,
+    opening_times,
 )
+from obturator.solve import many as batch
+from obturator.solve.many import RADAU_LANES_MIN
 from obturator.status import Status
-from obturator.sweeps import batch
-from obturator.sweeps.batch import RADAU_LANES_MIN, opening_times
 
 MU_S = 0.5473  # thesis's rig value
 # near-stick band of the rig at the thesis's mu_s: DOP853 reports stiffness below ~215 rad/s

@@ -231,7 +231,7 @@ def test_solver_failure_is_recorded(monkeypatch: pytest.MonkeyPatch) -> None:
     # the failure is injected into the per-point path; the lanes' statuses are
     # checked against it in tests/test_lanes.py
     monkeypatch.setenv("OBTURATOR_LANES", "0")
-    monkeypatch.setattr(points, "opening_time", fail)
+    monkeypatch.setattr("obturator.solve.many.opening_time", fail)
     ds = run_sweep(small_spec(axes={"spin_rate": [300.0, 400.0]}), workers=1, progress=False)
     assert ds["status"].values.tolist() == [Status.FAILED] * 2
     assert np.all(np.isnan(ds["t_cr"].values))
@@ -247,17 +247,16 @@ class Boom(Exception):
 def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 350.0, 400.0, 450.0, 500.0], "mu_s": [0.5, 0.6]})
     store = tmp_path / "s.nc"
-    original = points.evaluate_point
+    original = points.rows_to_cases  # every chunk's rows become cases here
     calls: list[tuple[float, float]] = []
 
-    def exploding(sp: SweepSpec, values: dict[str, float]) -> tuple[float, int]:
-        if len(calls) == 5:
+    def exploding(sp: SweepSpec, names, rows) -> list:
+        if len(calls) == 4:
             raise Boom
-        calls.append((values["spin_rate"], values["mu_s"]))
-        return original(sp, values)
+        calls.extend((r[0], r[1]) for r in rows.tolist())
+        return original(sp, names, rows)
 
-    monkeypatch.setenv("OBTURATOR_LANES", "0")  # the interruption is injected per point
-    monkeypatch.setattr(points, "evaluate_point", exploding)
+    monkeypatch.setattr(points, "rows_to_cases", exploding)
     with pytest.raises(Boom):
         run_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
     side = sidecar_path(store)
@@ -270,16 +269,16 @@ def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path:
 
     recomputed: list[tuple[float, float]] = []
 
-    def counting(sp: SweepSpec, values: dict[str, float]) -> tuple[float, int]:
-        recomputed.append((values["spin_rate"], values["mu_s"]))
-        return original(sp, values)
+    def counting(sp: SweepSpec, names, rows) -> list:
+        recomputed.extend((r[0], r[1]) for r in rows.tolist())
+        return original(sp, names, rows)
 
-    monkeypatch.setattr(points, "evaluate_point", counting)
+    monkeypatch.setattr(points, "rows_to_cases", counting)
     run = execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
     assert run.n_resumed == 4 and run.n_computed == 6
     assert len(recomputed) == 6 and not done & set(recomputed)
     assert store.exists() and not side.exists()
-    monkeypatch.setattr(points, "evaluate_point", original)
+    monkeypatch.setattr(points, "rows_to_cases", original)
     full = run_sweep(spec, workers=1, progress=False)
     xr.testing.assert_identical(full, run.dataset)
     with xr.open_dataset(store) as on_disk:

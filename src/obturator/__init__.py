@@ -48,6 +48,7 @@ _LAZY = {
     "SolverOptions": "solve",
     "simulate": "solve",
     "opening_time": "solve",
+    "opening_times": "solve",
     "convergence_check": "solve",
     "ConvergenceCheck": "solve",
     "NutationResult": "result",
@@ -62,7 +63,7 @@ _LAZY = {
     "load_spin_rig_csv": "calibration",
     "fit_exact": "calibration",
     "ExactFit": "calibration",
-    "FitParameter": "calibration",
+    "FitParameter": "fitting",
     # studies and the thesis report
     "SweepSpec": "sweeps",
     "run_sweep": "sweeps",

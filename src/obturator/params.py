@@ -15,17 +15,20 @@ number, ``"Pa s"``); :attr:`Param.pint_unit` is the same unit for
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Literal
 
 from .reference import TABLE1
 
 __all__ = [
     "Range",
-    "FitDefaults",
+    "FitSpec",
+    "Transform",
     "Param",
     "PARAMS",
     "SWEEP_PARAMS",
     "FIT_PARAMS",
+    "FIT_SPECS",
     "CONFIG_SECTIONS",
     "config_schema",
 ]
@@ -51,13 +54,38 @@ class Range:
         return f"{left}{self.lo:g}, {self.hi:g}{right}"
 
 
-@dataclass(frozen=True)
-class FitDefaults:
-    """How a calibration fits a parameter: start, bounds, and an internal scale that
-    makes the optimiser's variable O(1)."""
+Transform = Literal["linear", "log10"]
 
-    initial: float
+
+@dataclass(frozen=True)
+class FitSpec:
+    """How a fit treats a parameter: start, bounds, transform, and why the bounds.
+
+    Attributes
+    ----------
+    start : float
+        Default starting value of a fit [the parameter's unit].
+    bounds : (float, float)
+        Hard bounds of every fit (calibration and validation alike): where the
+        model is still defined and cheap, argued in `reason`.
+    plausible : (float, float)
+        The physically argued range inside `bounds`; a fitted value outside it
+        is reported as the data asking for more than the mechanism can give.
+    reason : str
+        Why the bounds and the plausible range are what they are (physics and
+        the thesis's chapter, page, figure or equation).
+    transform : {"linear", "log10"}
+        The optimiser's variable: value / scale, or log10(value) for scale
+        parameters spanning decades.
+    scale : float
+        Typical size (linear transform): the optimiser's variable is O(1).
+    """
+
+    start: float
     bounds: tuple[float, float]
+    plausible: tuple[float, float]
+    reason: str
+    transform: Transform = "linear"
     scale: float = 1.0
 
 
@@ -82,8 +110,9 @@ class Param:
         May be swept or sampled by :mod:`obturator.sweeps`.
     flight_only : bool
         Applies to the flight case only.
-    fit : FitDefaults or None
-        Fittable by :func:`obturator.calibration.fit_exact`.
+    fit : FitSpec or None
+        Fittable (by :mod:`obturator.fitting`, in calibration and validation):
+        start, bounds and their reason, transform (table :data:`FIT_SPECS`).
     """
 
     name: str
@@ -93,7 +122,7 @@ class Param:
     range: Range | None = None
     sweep: bool = False
     flight_only: bool = False
-    fit: FitDefaults | None = None
+    fit: FitSpec | None = None
 
     @property
     def pint_unit(self) -> str:
@@ -104,131 +133,227 @@ class Param:
 _R_S = TABLE1["ball_radius"]
 _POSITIVE = Range(0.0, math.inf, True, True)
 
-#: Every physical parameter, by name.
-PARAMS: dict[str, Param] = {
-    p.name: p
-    for p in (
-        Param("spin_rate", "rad/s", "projectile spin rate omega_p", "spin_rate", _POSITIVE, True),
-        Param(
-            "mu_s",
-            "1",
-            "sliding friction coefficient mu_s",
-            "mu_s",
-            Range(0.0, 2.0),
-            True,
-            fit=FitDefaults(0.55, (0.02, 1.2)),
-        ),
-        Param(
-            "theta0_deg",
-            "deg",
-            "initial nutation angle theta_0",
-            "theta0",
-            Range(0.0, 90.0, True, False),
-            True,
-            fit=FitDefaults(TABLE1["theta0_deg"], (70.0, 89.9), 10.0),
-        ),
-        Param("density", "kg/m^3", "ball density rho", "ball.density", _POSITIVE, True),
-        Param(
-            "hole_radius",
-            "m",
-            "ball hole radius r_s",
-            "ball.hole_radius",
-            Range(0.0, _R_S / math.sqrt(2.0), False, True),
-            True,
-        ),
-        Param("gap", "m", "ball-socket gap h", "gap.width", Range(0.0, _R_S, True, True), True),
-        Param(
-            "mach",
-            "1",
-            "flight Mach number M_1",
-            "flight.mach",
-            Range(1.0, math.inf, False, True),
-            True,
-            True,
-        ),
-        Param(
-            "altitude_m",
-            "m",
-            "flight altitude (US 1976 atmosphere)",
-            "flight.altitude",
-            Range(0.0, 86_000.0),
-            True,
-            True,
-        ),
-        Param("ball_radius", "m", "ball radius R_s", "ball.radius"),
-        Param("viscosity", "Pa s", "gap-fluid viscosity mu_f", "gap.viscosity"),
-        Param("weight", "N", "normal load on the rig W", "rig.weight"),
-        Param(
-            "patch_radius",
-            "m",
-            "contact patch radius a",
-            "contact.patch_radius",
-            fit=FitDefaults(2.79e-4, (1e-5, 1e-3), 1e-4),
-        ),
-        Param("p1", "Pa", "free-stream pressure P_1", "flight.p1"),
-        Param("bore_radius", "m", "bore radius r_p", "flight.bore_radius"),
-        Param("pressure_force", "N", "pressure force on the ball F_p"),
-        Param("t_max", "s", "integration horizon t_max", "t_max"),
-        Param("rtol", "1", "relative tolerance", "solver.rtol"),
-        Param("atol", "1", "absolute tolerance (rates in omega_p0)", "solver.atol"),
-        Param(
-            "friction_width",
-            "1",
-            "friction regularisation width / omega_p0",
-            "solver.friction_width",
-        ),
-        Param(
-            "shear_constant",
-            "N m s",
-            "viscous shear constant S (Eq. 42)",
-            fit=FitDefaults(TABLE1["shear_constant"], (0.0, 2e-7), 1e-8),
-        ),
-        # mechanisms of the validation study (obturator.validation): release
-        # transient theta_dot_0 (a plunger/jet kick of a few rad/s at most), slip-speed
-        # law of mu (ratio r, speed v_s around the rig's slip speeds 0-1.6 m/s),
-        # release phase psi_0, Coulomb contact patch radius (around the 0.28 mm Hertz value)
-        Param(
-            "theta_dot0",
-            "rad/s",
-            "release rate theta_dot_0 (spin rig)",
-            "release.theta_dot",
-            Range(-1e3, 1e3),
-            True,
-            fit=FitDefaults(0.0, (-3.0, 3.0)),
-        ),
-        Param(
-            "speed_ratio",
-            "1",
-            "slip-speed law ratio r (spin rig, with speed_law)",
-            "friction.speed_ratio",
-            Range(0.0, 1.0, True, False),
-            True,
-            fit=FitDefaults(0.5, (0.05, 1.0)),
-        ),
-        Param(
-            "slip_speed",
-            "m/s",
-            "slip-speed law reference speed v_s (spin rig, with speed_law)",
-            "friction.slip_speed",
-            Range(0.0, 100.0, True, False),
-            True,
-            fit=FitDefaults(0.05, (0.002, 2.0), 0.1),
-        ),
-        Param(
-            "release_phase",
-            "rad",
-            "release phase psi_0 (spin rig)",
-            "release.phase",
-            Range(-2.0 * math.pi, 2.0 * math.pi),
-            True,
-            fit=FitDefaults(0.0, (0.0, 2.0 * math.pi)),
-        ),
-    )
+_PHYSICAL: tuple[Param, ...] = (
+    Param("spin_rate", "rad/s", "projectile spin rate omega_p", "spin_rate", _POSITIVE, True),
+    Param("mu_s", "1", "sliding friction coefficient mu_s", "mu_s", Range(0.0, 2.0), True),
+    Param(
+        "theta0_deg",
+        "deg",
+        "initial nutation angle theta_0",
+        "theta0",
+        Range(0.0, 90.0, True, False),
+        True,
+    ),
+    Param("density", "kg/m^3", "ball density rho", "ball.density", _POSITIVE, True),
+    Param(
+        "hole_radius",
+        "m",
+        "ball hole radius r_s",
+        "ball.hole_radius",
+        Range(0.0, _R_S / math.sqrt(2.0), False, True),
+        True,
+    ),
+    Param("gap", "m", "ball-socket gap h", "gap.width", Range(0.0, _R_S, True, True), True),
+    Param(
+        "mach",
+        "1",
+        "flight Mach number M_1",
+        "flight.mach",
+        Range(1.0, math.inf, False, True),
+        True,
+        True,
+    ),
+    Param(
+        "altitude_m",
+        "m",
+        "flight altitude (US 1976 atmosphere)",
+        "flight.altitude",
+        Range(0.0, 86_000.0),
+        True,
+        True,
+    ),
+    Param("ball_radius", "m", "ball radius R_s", "ball.radius"),
+    Param("viscosity", "Pa s", "gap-fluid viscosity mu_f", "gap.viscosity"),
+    Param("weight", "N", "normal load on the rig W", "rig.weight"),
+    Param("patch_radius", "m", "contact patch radius a", "contact.patch_radius"),
+    Param("p1", "Pa", "free-stream pressure P_1", "flight.p1"),
+    Param("bore_radius", "m", "bore radius r_p", "flight.bore_radius"),
+    Param("pressure_force", "N", "pressure force on the ball F_p"),
+    Param("t_max", "s", "integration horizon t_max", "t_max"),
+    Param("rtol", "1", "relative tolerance", "solver.rtol"),
+    Param("atol", "1", "absolute tolerance (rates in omega_p0)", "solver.atol"),
+    Param(
+        "friction_width",
+        "1",
+        "friction regularisation width / omega_p0",
+        "solver.friction_width",
+    ),
+    Param("shear_constant", "N m s", "viscous shear constant S (Eq. 42)"),
+    # mechanisms of the validation study (obturator.validation): release
+    # transient, slip-speed law of mu, release phase (ranges argued in FIT_SPECS)
+    Param(
+        "theta_dot0",
+        "rad/s",
+        "release rate theta_dot_0 (spin rig)",
+        "release.theta_dot",
+        Range(-1e3, 1e3),
+        True,
+    ),
+    Param(
+        "speed_ratio",
+        "1",
+        "slip-speed law ratio r (spin rig, with speed_law)",
+        "friction.speed_ratio",
+        Range(0.0, 1.0, True, False),
+        True,
+    ),
+    Param(
+        "slip_speed",
+        "m/s",
+        "slip-speed law reference speed v_s (spin rig, with speed_law)",
+        "friction.slip_speed",
+        Range(0.0, 100.0, True, False),
+        True,
+    ),
+    Param(
+        "release_phase",
+        "rad",
+        "release phase psi_0 (spin rig)",
+        "release.phase",
+        Range(-2.0 * math.pi, 2.0 * math.pi),
+        True,
+    ),
+    Param("phi_dot0", "rad/s", "release spin rate phi_dot_0 about the hole axis (spin rig)"),
+    Param("psi_dot0", "rad/s", "release precession rate psi_dot_0 - omega_p (spin rig)"),
+)
+
+_RATE_BOUND = 20.0  # rad/s, fit bounds of the three release rates (argued at theta_dot0)
+_RATE_PLAUSIBLE = (-1.5, 1.5)  # rad/s
+
+#: Fit start, bounds, physical range and transform of every fittable parameter,
+#: one row each, with the argument for the bounds. Calibration
+#: (:func:`obturator.calibration.fit_exact`) and validation
+#: (:mod:`obturator.validation`) both fit through :mod:`obturator.fitting`,
+#: which reads this table only.
+FIT_SPECS: dict[str, FitSpec] = {
+    "mu_s": FitSpec(
+        0.55,
+        (0.1, 1.5),
+        (0.2, 1.0),
+        "Dry sliding of the steel ball on the rig's lucite (PMMA) seat. The thesis "
+        "started from 0.35 for laminated plastic on steel (chapter V, ref. [27]) and "
+        "fitted 0.5473 (chapter IV, Eqs. 95-96); handbook values for PMMA or laminated "
+        "plastics on steel span about 0.2-0.8 (static values at the top). Plausible: "
+        "0.2-1.0. Bounds 0.1-1.5: below 0.1 no dry polymer-on-steel pair slides, and the "
+        "rig would open after T2 omega_p = 3.03e-4 / mu omega_p (Eq. 95) > 1.3 s at "
+        "446 rad/s, near the calibration's 5 s horizon at the slow runs; 1.5 is twice "
+        "the highest handbook static value.",
+    ),
+    "theta0_deg": FitSpec(
+        TABLE1["theta0_deg"],
+        (80.0, 89.9),
+        (86.25, 88.25),
+        "Initial nutation set by centring the laser reflection from a polished spot on "
+        "the ball (chapter III.B, Figs. 29-31); the thesis states theta_0 = 87.25 deg "
+        "'could only vary by +-1 deg' (chapter IV, p. 97). Plausible: the stated "
+        "86.25-88.25 deg. The reflection measures the spot's normal, not the hole axis, "
+        "so a larger offset is conceivable but undocumented; the fit is allowed 80 deg "
+        "(7 times the stated tolerance) to show what the data want, and at most 89.9 deg: "
+        "at 90 deg the hole axis is square to the spin axis, an equilibrium from which "
+        "t_cr grows without bound.",
+        scale=10.0,
+    ),
+    "theta_dot0": FitSpec(
+        -1.0,
+        (-_RATE_BOUND, _RATE_BOUND),
+        _RATE_PLAUSIBLE,
+        "Nutation rate at release (negative: towards opening). The holding jet "
+        "(chapter III.B, Figs. 26-27) is cut by the retracting plunger; the plunger "
+        "never touches the ball. Upper bound: a jet force of about 0.04 N (air at "
+        "~100 m/s through a ~2 mm nozzle) acting fully tangentially at R_s for a 10 ms "
+        "decay gives 0.04 x 7.9e-3 x 0.01 / A = 14 rad/s (A = 2.2e-7 kg m^2): bounds "
+        "+-20 rad/s. A jet on a sphere pushes along the normal, through the centre: only "
+        "surface shear and the hole edge give a moment, of order 10 % of that. "
+        "Plausible: |theta_dot_0| <= 1.5 rad/s.",
+    ),
+    "phi_dot0": FitSpec(
+        1.0,
+        (-_RATE_BOUND, _RATE_BOUND),
+        _RATE_PLAUSIBLE,
+        "Spin about the hole axis at release, left by the holding jet (chapter III.B); "
+        "bounds and range as theta_dot0.",
+    ),
+    "psi_dot0": FitSpec(
+        1.0,
+        (-_RATE_BOUND, _RATE_BOUND),
+        _RATE_PLAUSIBLE,
+        "Precession rate relative to the rig at release, psi_dot_0 - omega_p, left by "
+        "the holding jet (chapter III.B); bounds and range as theta_dot0.",
+    ),
+    "release_phase": FitSpec(
+        1.0,
+        (0.0, math.pi),
+        (0.0, math.pi),
+        "psi_0, azimuth of the line of nodes relative to gravity (-X) at release. The "
+        "switch is thrown at an arbitrary instant (chapter III.B), so psi_0 is really "
+        "uniform per run; a single fitted psi_0 tests whether the data prefer a phase at "
+        "all. The rig friction depends on (w_X)^2 (Eq. 61), so psi_0 and psi_0 + pi are "
+        "alike: 0-pi covers all phases.",
+    ),
+    "speed_ratio": FitSpec(
+        0.5,
+        (0.02, 1.0),
+        (0.2, 1.0),
+        "r of SlipSpeedLaw: friction at one end of the slip-speed range over mu_s at the "
+        "other (weakening: kinetic/static; strengthening: at-rest/fast); 1 is the "
+        "thesis's one mu at every slip speed (Eq. 61), 0.02 a fifty-fold change. "
+        "Polymer-on-steel friction changes by up "
+        "to a factor of a few over several decades of sliding speed (viscoelastic and "
+        "ploughing contributions; Stribeck curves of boundary lubrication likewise). "
+        "Plausible: 0.2-1.",
+    ),
+    "slip_speed": FitSpec(
+        0.1,
+        (1e-3, 5.0),
+        (0.01, 1.0),
+        "v_s of SlipSpeedLaw, the slip speed of the transition. The rig's slip speeds "
+        "R_s |omega_r| run from 0 at stick to about R_s omega_p = 0.6-3.5 m/s "
+        "(78-446 rad/s, Appendix B); bounds 1 mm/s-5 m/s span them with margin, and a "
+        "transition the data can see lies inside 0.01-1 m/s. Fitted in log10.",
+        transform="log10",
+    ),
+    "patch_radius": FitSpec(
+        2.7867796851585276e-4,
+        (5e-5, 2e-3),
+        (1.5e-4, 6e-4),
+        "Radius a of the contact patch of the Coulomb model (pivot friction "
+        "3 pi a / 16 mu N). Start: the Hertz radius of the steel ball in the lucite seat "
+        "under W with the Table 1 gap, 0.279 mm (chapter III, Fig. 22; "
+        "model.torques.hertz_patch_radius); a ~ (R*/E*)^(1/3) moves by +-15 % for "
+        "E(PMMA) 2.4-3.3 GPa and by +-25 % for a gap 50 % off; roughness and seat "
+        "out-of-roundness spread it further. Plausible: 0.15-0.6 mm; bounds 0.05-2 mm, "
+        "a sixth to seven times Hertz.",
+        scale=1e-4,
+    ),
+    "shear_constant": FitSpec(
+        TABLE1["shear_constant"],
+        (0.0, 2e-7),
+        (6e-9, 2.5e-8),
+        "S of the viscous torque, Eq. (42): Table 1 gives 12.38e-9 N m s (air, "
+        "mu_f = 1.917e-5 Pa s, h = 50.8 um). S is proportional to mu_f (1.7-2.0e-5 "
+        "Pa s for air at 0-60 C) and grows as the gap narrows; plausible: half to twice "
+        "Table 1. Bounds 0 (no viscous torque) to 2e-7, 16 times Table 1, where the "
+        "viscous torque would rival the friction at the slow runs.",
+        scale=1e-8,
+    ),
 }
+
+#: Every physical parameter, by name (fittable ones carry their row of FIT_SPECS).
+PARAMS: dict[str, Param] = {p.name: replace(p, fit=FIT_SPECS.get(p.name)) for p in _PHYSICAL}
 
 #: Parameters a sweep or Monte Carlo study may vary (in this order).
 SWEEP_PARAMS: dict[str, Param] = {k: p for k, p in PARAMS.items() if p.sweep}
-#: Parameters a calibration may fit.
+#: Parameters a fit may vary (calibration and validation).
 FIT_PARAMS: dict[str, Param] = {k: p for k, p in PARAMS.items() if p.fit is not None}
 
 #: Config-file keys that are words or whole numbers, not quantities: key -> field.

@@ -1,4 +1,4 @@
-"""Figures of the thesis reproduction, drawn from the :mod:`obturator.studies` Datasets.
+"""Figures of the thesis reproduction, drawn from the :mod:`obturator.thesis` Datasets.
 
 Every function returns a :class:`matplotlib.figure.Figure` built without
 pyplot (an Agg canvas is attached), so nothing here touches global matplotlib
@@ -151,7 +151,7 @@ def fig09_couette(ds: xr.Dataset) -> Figure:
 
 
 def theta_history_figure(res: Any) -> Figure:
-    """theta(t) of one :class:`~obturator.solve.NutationResult` with theta_cr and t_cr."""
+    """theta(t) of one :class:`~obturator.result.NutationResult` with theta_cr and t_cr."""
     fig, ax = _figure(size=(6.4, 4.0))
     a = ax[0, 0]
     a.plot(res.t, np.degrees(res.theta), lw=1.0, label=r"$\theta(t)$")

@@ -5,7 +5,7 @@ and a tuple of its values (for validation, ``argparse`` choices, config files
 and messages), the tuple derived from the Literal so the two cannot drift.
 
 >>> METHODS
-('auto', 'radau', 'rosenbrock')
+('auto', 'radau', 'rosenbrock', 'set-valued')
 >>> check_choice("spin_mode", "free", SPIN_MODES)
 'free'
 """
@@ -41,8 +41,9 @@ CaseName = Literal["spin-rig", "flight"]
 #: Projectile spin: held constant (driven rig), free (axial momentum conserved),
 #: or Appendix A's energy form.
 SpinMode = Literal["constant", "free", "thesis-energy"]
-#: Compiled integrators (``auto``: DOP853, Radau IIA when stiff).
-Method = Literal["auto", "radau", "rosenbrock"]
+#: Compiled integrators (``auto``: DOP853, Radau IIA when stiff; ``set-valued``: the
+#: event-driven stick-slip solver of the unregularised thesis law).
+Method = Literal["auto", "radau", "rosenbrock", "set-valued"]
 #: State formulations of the equations of motion.
 Formulation = Literal["quaternion", "euler"]
 #: Regularisation families of the Coulomb friction magnitude.

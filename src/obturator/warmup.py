@@ -39,7 +39,7 @@ def _compile(method: str) -> tuple[str, float, str | None]:
     if method == "radau-lanes":
         load_radau_lanes()
         return method, time.perf_counter() - t0, configure_cache()
-    if method == "lanes":  # the batched kernel itself (sweeps.batch drives it)
+    if method == "lanes":  # the batched kernel itself (solve.many drives it)
         import numpy as np
 
         from .core.integrators.lanes import integrate_lanes

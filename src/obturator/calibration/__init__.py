@@ -4,17 +4,18 @@
 * :mod:`.thesis_fit`: the thesis's least squares of t = T2 omega_p (Eqs. 95-96)
   and its printed sums;
 * :mod:`.rig_model`: the exact rig model, t_cr as a function of its parameters;
-* :mod:`.parameters`: named fit parameters (:class:`FitParameter`);
-* :mod:`.exact`: the exact-model fit (:func:`fit_exact`, :class:`ExactFit`);
+* :mod:`.exact`: the exact-model fit (:func:`fit_exact`) through the fit engine
+  :mod:`obturator.fitting` (named parameters :class:`~obturator.fitting.FitParameter`);
+* :mod:`.result`: its result (:class:`ExactFit`);
 * :mod:`.bootstrap`: bootstrap of mu_s on an interpolated t_cr table;
 * :mod:`.report`: the fit as JSON and as a text report.
 """
 
+from ..fitting import FitParameter
 from ..params import FIT_PARAMS as PARAMETERS
 from .bootstrap import BootstrapResult, OpeningTimeTable, TableSettings, bootstrap_mu_s
 from .data import SpinRigData, load_spin_rig_csv, load_thesis_data, readout_to_spin_rate
 from .exact import ExactFit, calibrate_csv, fit_exact, select_runs
-from .parameters import FitParameter
 from .report import format_fit
 from .rig_model import model_opening_times
 from .thesis_fit import (

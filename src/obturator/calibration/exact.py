@@ -3,12 +3,13 @@
 mu_s (optionally also theta_0, the viscous constant S and the validation
 study's mechanisms) chosen so that the integrated equations of motion
 (:func:`~.rig_model.model_opening_times`) reproduce the measured t_cr, by
-:func:`scipy.optimize.least_squares` with bounds. The result
-(:class:`ExactFit`) is frozen and holds lmfit-style named parameters
-(:class:`~.parameters.FitParameter`): best values, covariance from the
-Jacobian at the optimum (central differences, scaled by the reduced
-chi-square when no measurement sigma is given), standard errors, 95 %
-Student-t intervals, chi-square, residuals; its text report is
+bounded least squares (the fit engine, :mod:`obturator.fitting`; bounds,
+transforms and their reasons in :data:`obturator.params.FIT_SPECS`). The
+result (:class:`~.result.ExactFit`) is frozen and holds lmfit-style named
+parameters (:class:`obturator.fitting.FitParameter`): best values,
+covariance from the Jacobian at the optimum (central differences, scaled by
+the reduced chi-square when no measurement sigma is given), standard errors,
+95 % Student-t intervals, chi-square, residuals; its text report is
 :mod:`.report`. An optional bootstrap of mu_s (:mod:`.bootstrap`) and the
 chapter IV method on the same runs (:mod:`.thesis_fit`) come with it.
 
@@ -28,35 +29,49 @@ from __future__ import annotations
 
 import inspect
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import stats
-from scipy.optimize import least_squares
 
 from ..errors import InputError, SolverError, check_range
-from ..params import FIT_PARAMS
+from ..fitting import (
+    FIT_PARAMETERS,
+    Estimate,
+    FitParameter,
+    LeastSquaresSettings,
+    ParameterSet,
+    central_jacobian,
+    covariance_internal,
+    minimize_least_squares,
+    registered,
+    wald,
+)
 from ..reference import TABLE1
 from ..solve import SolverOptions
 from .bootstrap import BootstrapResult, OpeningTimeTable, TableSettings, bootstrap_mu_s
 from .data import SpinRigData, load_spin_rig_csv, load_thesis_data
-from .parameters import FitParameter, check_fit_names, fit_bounds
-from .report import fit_to_dict, fit_to_json, format_fit
-from .rig_model import model_opening_times
-from .thesis_fit import ThesisLeastSquares, thesis_least_squares
+from .result import ExactFit
+from .rig_model import model_opening_times, rig_model_case
+from .thesis_fit import thesis_least_squares
 
-__all__ = ["ExactFit", "calibrate_csv", "fit_exact", "select_runs"]
+__all__ = ["ExactFit", "calibrate_csv", "check_fit_names", "fit_exact", "select_runs"]
 
 _DIFF_STEP = 1e-4  # relative FD step: t_cr noise ~1e-8 relative, curvature ~1
-#: The model's fixed inputs and their defaults (keyword arguments of model_opening_times).
+#: The optimiser's settings (scipy's trust-region reflective defaults otherwise).
+_SETTINGS = LeastSquaresSettings("3-point", _DIFF_STEP, "jac", 1e-8, 1e-8, _DIFF_STEP)
+#: The model's fixed inputs and their defaults (solver options and the keyword arguments
+#: of rig_model_case).
 _MODEL_DEFAULTS: dict[str, Any] = {
-    k: p.default
-    for k, p in inspect.signature(model_opening_times).parameters.items()
-    if p.kind is p.KEYWORD_ONLY and p.default is not p.empty
+    "options": None,
+    **{
+        k: p.default
+        for k, p in inspect.signature(rig_model_case).parameters.items()
+        if p.kind is p.KEYWORD_ONLY and p.default is not p.empty
+    },
 }
 #: Reported with every fit, fitted or not.
 _ALWAYS = ("theta0_deg", "shear_constant")
@@ -78,118 +93,129 @@ def select_runs(data: SpinRigData, min_spin: float | None = None) -> SpinRigData
     return out
 
 
-@dataclass(frozen=True)
-class ExactFit:
-    """Result of :func:`fit_exact` (lmfit-style, frozen).
+def check_fit_names(fit: Sequence[str]) -> tuple[str, ...]:
+    """The fitted names without repeats: registered fit parameters that are inputs of
+    the rig model (:func:`~.rig_model.model_opening_times`), mu_s among them."""
+    names = tuple(dict.fromkeys(fit))
+    allowed = [k for k in FIT_PARAMETERS if k == "mu_s" or k in _MODEL_DEFAULTS]
+    for k in names:
+        if k not in allowed:
+            raise InputError("fit", f"{k!r}; allowed: {', '.join(allowed)}")
+    if "mu_s" not in names:
+        raise InputError("fit", "mu_s must be among the fitted parameters")
+    return names
 
-    Attributes
-    ----------
-    names : tuple of str
-        Fitted parameters, in fit order (the order of the covariance rows).
-    params : dict of str to FitParameter
-        Every model parameter reported: mu_s, theta_0, S and anything fitted,
-        each with its value, unit, and (fitted ones) bounds, stderr and ci95.
-    covariance : ndarray
-        Covariance of the fitted parameters (order of `names`).
-    correlation : ndarray
-    chisqr, redchi : float
-        Sum of squared (weighted) residuals and chisqr / dof.
-    ndata, nvarys, dof : int
-    residuals : ndarray
-        t_model - t_measured [s].
-    spin_rate, measured, model : ndarray
-        Per run: omega_p [rad/s], measured and model t_cr [s].
-    run : ndarray
-        Run numbers.
-    sigma : float or None
-        Assumed measurement standard deviation of t_cr [s] (None: unit
-        weights, covariance scaled by redchi).
-    success : bool
-    message : str
-    nfev : int
-    settings : dict
-        Fixed inputs, solver options and the data source.
-    bootstrap : BootstrapResult or None
-    thesis : ThesisLeastSquares or None
-        The chapter IV fit on the same runs, for comparison.
-    censored : ndarray of bool or None
-        Runs whose model t_cr exceeds the horizon ``t_max`` (right-censored:
-        the model only says t_cr > t_max). Their residual is taken at t_max,
-        the smallest model value consistent with the censoring, so a model
-        that opens too late is never rewarded; they are listed in the report.
+
+@dataclass(frozen=True)
+class _RigObjective:
+    """The calibration's objective: residuals of the exact model's t_cr at the runs.
+
+    A run the model has not opened by ``t_max`` counts as opening at ``t_max``
+    (right-censored: the smallest model value consistent with it).
     """
 
-    names: tuple[str, ...]
-    params: dict[str, FitParameter]
-    covariance: NDArray[np.float64]
-    correlation: NDArray[np.float64]
-    chisqr: float
-    redchi: float
-    ndata: int
-    nvarys: int
-    dof: int
-    residuals: NDArray[np.float64]
     spin_rate: NDArray[np.float64]
     measured: NDArray[np.float64]
-    model: NDArray[np.float64]
-    run: NDArray[np.int64]
-    sigma: float | None
-    success: bool
-    message: str
-    nfev: int
-    settings: dict[str, Any]
-    bootstrap: BootstrapResult | None = None
-    thesis: ThesisLeastSquares | None = None
-    censored: NDArray[np.bool_] | None = None
+    t_max: float
+    weight: float
+    params: ParameterSet
+    held: dict[str, float]
+    model_kw: dict[str, Any]
 
-    @property
-    def censored_runs(self) -> list[int]:
-        """Runs the best-fit model does not open within ``t_max`` (right-censored)."""
-        if self.censored is None:
-            return []
-        return [int(r) for r in self.run[self.censored]]
+    def values(self, x: NDArray[np.float64]) -> dict[str, float]:
+        """Every reported parameter: held values, then the fitted ones at x."""
+        return {**self.held, **self.params.values(x)}
 
-    @property
-    def mu_s(self) -> float:
-        """Best-fit mu_s [-]."""
-        return self.params["mu_s"].value
+    def model(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Model t_cr [s] per run (NaN: not opened by ``t_max``)."""
+        return model_opening_times(self.spin_rate, **self.values(x), **self.model_kw)
 
-    @property
-    def values(self) -> dict[str, float]:
-        """Name -> value of every reported parameter (fitted and fixed)."""
-        return {k: p.value for k, p in self.params.items()}
+    def residuals_of(self, t_model: NDArray[np.float64]) -> NDArray[np.float64]:
+        """weight (t_model - t_measured), censored runs taken at ``t_max``."""
+        t = np.where(np.isfinite(t_model), t_model, self.t_max)
+        return self.weight * (t - self.measured)
 
-    @property
-    def units(self) -> dict[str, str]:
-        """Name -> unit of every reported parameter."""
-        return {k: p.unit for k, p in self.params.items()}
+    def __call__(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        return self.residuals_of(self.model(x))
 
-    @property
-    def stderr(self) -> dict[str, float]:
-        """Name -> standard error of the fitted parameters."""
-        return {k: p.stderr for k, p in self.params.items() if p.stderr is not None}
 
-    @property
-    def ci95(self) -> dict[str, tuple[float, float]]:
-        """Name -> 95 % interval of the fitted parameters."""
-        return {k: p.ci95 for k, p in self.params.items() if p.ci95 is not None}
+def _objective(
+    runs: SpinRigData,
+    names: tuple[str, ...],
+    initial: Mapping[str, float] | None,
+    bounds: Mapping[str, tuple[float, float]] | None,
+    sigma: float | None,
+    model: Mapping[str, Any],
+) -> tuple[_RigObjective, dict[str, Any]]:
+    """The objective and the model's inputs (defaults, then those given)."""
+    unknown = sorted(set(model) - set(_MODEL_DEFAULTS))
+    if unknown:
+        raise InputError(unknown[0], "is not an input of the rig model (model_opening_times)")
+    given = {**_MODEL_DEFAULTS, **model}
+    # reported: mu_s, theta_0 and S always, then anything else fitted; started at
+    # the value given, else the model's, else the registry's start
+    start = {k: given.get(k, FIT_PARAMETERS[k].start) for k in ("mu_s", *_ALWAYS)}
+    start.update({k: model[k] if k in model else FIT_PARAMETERS[k].start for k in names})
+    start.update(initial or {})
+    objective = _RigObjective(
+        spin_rate=runs.spin_rate,
+        measured=runs.opening_time,
+        t_max=float(given["t_max"]),
+        weight=1.0 if sigma is None else 1.0 / sigma,
+        params=ParameterSet.of(names, {k: v for k, v in (bounds or {}).items() if k in names}),
+        held=start,
+        model_kw={k: v for k, v in given.items() if k not in start},
+    )
+    return objective, given
 
-    @property
-    def rms(self) -> float:
-        """Root-mean-square residual [s]."""
-        return float(np.sqrt(np.mean(self.residuals**2)))
 
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready summary (see :func:`.report.fit_to_dict`)."""
-        return fit_to_dict(self)
+def _reported(
+    objective: _RigObjective, values: dict[str, float], est: Estimate
+) -> dict[str, FitParameter]:
+    """Every reported parameter: fitted ones with their errors, the others held."""
+    fitted = {
+        p.name: replace(p, value=values[p.name], stderr=est.stderr[p.name], ci95=est.ci95[p.name])
+        for p in objective.params
+    }
+    return {k: fitted.get(k) or registered(k, v, vary=False) for k, v in values.items()}
 
-    def to_json(self) -> str:
-        """:meth:`to_dict` as JSON (NaN written as null)."""
-        return fit_to_json(self)
 
-    def report(self) -> str:
-        """Readable text report (see :func:`.report.format_fit`)."""
-        return format_fit(self)
+def _describe(
+    runs: SpinRigData, data: SpinRigData, min_spin: float | None, given: dict[str, Any]
+) -> dict[str, Any]:
+    """The fit's settings as reported: data, selection, model, solver, Jacobian."""
+    opts = given["options"] or SolverOptions()
+    return {
+        "source": runs.source or data.source,
+        "selection": f"omega_p >= {min_spin:g} rad/s"
+        if min_spin is not None
+        else ("starred runs" if data.starred.any() else "all runs"),
+        "weight": given["weight"],
+        "torque_model": given["torque_model"],
+        "t_max": given["t_max"],
+        "solver": f"{opts.method} rtol={opts.rtol:g} atol={opts.atol:g} "
+        f"friction_width={opts.friction_width:g} formulation={opts.formulation}",
+        "jacobian": f"central differences, relative step {_DIFF_STEP:g}",
+    }
+
+
+def _bootstrap(
+    objective: _RigObjective,
+    values: dict[str, float],
+    stderr_mu: float,
+    t_best: NDArray[np.float64],
+    n_resamples: int,
+    seed: int,
+    table: TableSettings | None,
+) -> BootstrapResult:
+    """Bootstrap of mu_s on a t_cr table around the best fit, the rest held at it."""
+    tab = table or TableSettings()
+    grid = tab.mu_grid(values["mu_s"], stderr_mu, objective.spin_rate, t_best)
+    held = {k: v for k, v in values.items() if k != "mu_s"}
+    t = OpeningTimeTable.build(
+        objective.spin_rate, grid, verify=tab.verify, **held, **objective.model_kw
+    )
+    return bootstrap_mu_s(objective.measured, t, n_resamples=n_resamples, seed=seed)
 
 
 def fit_exact(
@@ -212,7 +238,7 @@ def fit_exact(
     data : SpinRigData, optional
         Runs (default: thesis Appendix B); selected by :func:`select_runs`.
     fit : sequence of str
-        Parameters to fit (:data:`obturator.params.FIT_PARAMS`): ``mu_s``
+        Parameters to fit (:data:`obturator.params.FIT_SPECS`): ``mu_s``
         (always), ``theta0_deg`` [deg], ``shear_constant`` [N m s], and the
         validation study's mechanisms; the others stay at the model's values.
     initial : dict, optional
@@ -256,135 +282,49 @@ def fit_exact(
     names = check_fit_names(fit)
     if sigma is not None:
         check_range("sigma", sigma, 0.0, math.inf, lo_open=True, hi_open=True, unit="s")
-    unknown = sorted(set(model) - set(_MODEL_DEFAULTS))
-    if unknown:
-        raise InputError(unknown[0], "is not an input of the rig model (model_opening_times)")
-    given = {**_MODEL_DEFAULTS, **model}
-    # reported: mu_s, theta_0 and S always, then anything else fitted
-    start = {k: given.get(k, FIT_PARAMS[k].fit.initial) for k in ("mu_s", *_ALWAYS)}
-    start.update({k: model[k] if k in model else FIT_PARAMS[k].fit.initial for k in names})
-    start.update(initial or {})
-    model_kw = {k: v for k, v in given.items() if k not in start}
-    t_max = float(given["t_max"])
-    bnd = fit_bounds(names, bounds)
-    scale = np.array([FIT_PARAMS[k].fit.scale for k in names])
-    lo = np.array([bnd[k][0] for k in names]) / scale
-    hi = np.array([bnd[k][1] for k in names]) / scale
-    x0 = np.clip(np.array([start[k] for k in names]) / scale, lo, hi)
-    w, t_meas = runs.spin_rate, runs.opening_time
-    wt = 1.0 if sigma is None else 1.0 / sigma
-
-    def params(x: NDArray[np.float64]) -> dict[str, float]:
-        p = dict(start)
-        p.update({k: float(v) for k, v in zip(names, x * scale, strict=True)})
-        return p
-
-    def model(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        return model_opening_times(w, **params(x), **model_kw)
-
-    def resid(x: NDArray[np.float64]) -> NDArray[np.float64]:
-        t = model(x)
-        return wt * (np.where(np.isfinite(t), t, t_max) - t_meas)
-
-    res = least_squares(
-        resid, x0, bounds=(lo, hi), jac="3-point", diff_step=_DIFF_STEP, x_scale="jac"
-    )
-    x = res.x
-    # Jacobian at the optimum by central differences in the internal variables,
-    # steps kept inside the bounds.
-    jac = np.empty((w.size, len(names)))
-    for j in range(len(names)):
-        h = _DIFF_STEP * max(abs(x[j]), 1.0)
-        xp, xm = x.copy(), x.copy()
-        xp[j] = min(x[j] + h, hi[j])
-        xm[j] = max(x[j] - h, lo[j])
-        jac[:, j] = (resid(xp) - resid(xm)) / (xp[j] - xm[j])
-    t_best = model(x)
-    r = resid(x)
+    objective, given = _objective(runs, names, initial, bounds, sigma, model)
+    box = objective.params.internal_bounds()
+    x0 = objective.params.start([objective.held[k] for k in names])
+    best = minimize_least_squares(objective, x0, box, _SETTINGS)
+    x = best.x
+    jac = central_jacobian(objective, x, box, _SETTINGS.covariance_step)
+    t_best = objective.model(x)
+    r = objective.residuals_of(t_best)
     if not np.all(np.isfinite(r)):
         raise SolverError("exact-model fit: residuals are not all finite at the optimum")
-    n, p = w.size, len(names)
+    n, p = r.size, len(names)
     dof = max(n - p, 1)
     chisqr = float(r @ r)
     redchi = chisqr / dof
-    try:
-        cov_int = np.linalg.inv(jac.T @ jac)
-    except np.linalg.LinAlgError:
-        cov_int = np.full((p, p), np.nan)
-    if sigma is None:
-        cov_int = cov_int * redchi
-    cov = cov_int * np.outer(scale, scale)
-    se = np.sqrt(np.diag(cov))
-    corr = cov / np.outer(se, se)
-    tq = float(stats.t.ppf(0.975, dof))
-    best = params(x)
-    stderr = {k: float(s) for k, s in zip(names, se, strict=True)}
-    fitted = {
-        k: FitParameter(
-            k,
-            best[k],
-            FIT_PARAMS[k].unit,
-            True,
-            bnd[k],
-            stderr[k],
-            (best[k] - tq * stderr[k], best[k] + tq * stderr[k]),
-        )
-        for k in names
-    }
-    params_out = {
-        k: fitted.get(k) or FitParameter(k, v, FIT_PARAMS[k].unit, vary=False)
-        for k, v in best.items()
-    }
-    opts = given["options"] or SolverOptions()
-    settings = {
-        "source": runs.source or data.source,
-        "selection": f"omega_p >= {min_spin:g} rad/s"
-        if min_spin is not None
-        else ("starred runs" if data.starred.any() else "all runs"),
-        "weight": given["weight"],
-        "torque_model": given["torque_model"],
-        "t_max": given["t_max"],
-        "solver": f"{opts.method} rtol={opts.rtol:g} atol={opts.atol:g} "
-        f"friction_width={opts.friction_width:g} formulation={opts.formulation}",
-        "jacobian": f"central differences, relative step {_DIFF_STEP:g}",
-    }
+    est = wald(objective.params, x, covariance_internal(jac, redchi if sigma is None else 1.0), dof)
+    values = objective.values(x)
     boot = None
     if bootstrap > 0:
-        tab = table or TableSettings()
-        mu = best["mu_s"]
-        half = max(tab.halfwidth * mu, 6.0 * stderr["mu_s"])
-        ok = np.isfinite(t_best)
-        period = float(np.min(math.pi * mu / (w[ok] * t_best[ok]))) if ok.any() else half
-        n_rows = int(
-            np.clip(math.ceil(2.0 * half * tab.resolution / period) + 1, 4, tab.max_points)
+        boot = _bootstrap(
+            objective, values, est.stderr["mu_s"], t_best, bootstrap, bootstrap_seed, table
         )
-        grid = np.linspace(max(mu - half, 1e-3), mu + half, n_rows)
-        held = {k: v for k, v in best.items() if k != "mu_s"}
-        table_ = OpeningTimeTable.build(w, grid, verify=tab.verify, **held, **model_kw)
-        boot = bootstrap_mu_s(t_meas, table_, n_resamples=bootstrap, seed=bootstrap_seed)
-    thesis = thesis_least_squares(runs, theta0=math.radians(best["theta0_deg"]))
     return ExactFit(
         names=names,
-        params=params_out,
-        covariance=cov,
-        correlation=corr,
+        params=_reported(objective, values, est),
+        covariance=est.covariance,
+        correlation=est.correlation,
         chisqr=chisqr,
         redchi=redchi,
         ndata=n,
         nvarys=p,
         dof=dof,
-        residuals=np.where(np.isfinite(t_best), t_best, t_max) - t_meas,
-        spin_rate=np.asarray(w),
-        measured=np.asarray(t_meas),
+        residuals=np.where(np.isfinite(t_best), t_best, objective.t_max) - objective.measured,
+        spin_rate=np.asarray(objective.spin_rate),
+        measured=np.asarray(objective.measured),
         model=t_best,
         run=np.asarray(runs.run),
         sigma=sigma,
-        success=bool(res.success),
-        message=str(res.message),
-        nfev=int(res.nfev),
-        settings=settings,
+        success=best.success,
+        message=best.message,
+        nfev=best.nfev,
+        settings=_describe(runs, data, min_spin, given),
         bootstrap=boot,
-        thesis=thesis,
+        thesis=thesis_least_squares(runs, theta0=math.radians(values["theta0_deg"])),
         censored=~np.isfinite(t_best),
     )
 

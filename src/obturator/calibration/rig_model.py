@@ -9,16 +9,18 @@ slip-speed law of mu and the contact patch.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ..model.case import Case
 from ..model.cases import rig_case
 from ..reference import TABLE1
-from ..solve import SolverOptions, opening_time
+from ..solve import SolverOptions, opening_times
 
-__all__ = ["S_TABLE1", "model_opening_times"]
+__all__ = ["S_TABLE1", "model_opening_times", "model_opening_times_grid", "rig_model_case"]
 
 #: Viscous constant S of Eq. (42) with the Table 1 inputs [N m s].
 S_TABLE1: float = rig_case().torque.viscous.coefficient
@@ -28,27 +30,99 @@ def model_opening_times(
     spin_rates: NDArray[np.float64],
     *,
     mu_s: float,
+    options: SolverOptions | None = None,
+    **model: Any,
+) -> NDArray[np.float64]:
+    """Exact rig t_cr [s] at each spin rate [rad/s] (NaN where the ball does not open).
+
+    All spins in one call of :func:`obturator.solve.opening_times` (lanes where the
+    options allow).
+
+    Parameters
+    ----------
+    spin_rates : ndarray
+        omega_p [rad/s].
+    mu_s : float
+        Sliding friction coefficient [-].
+    options : SolverOptions, optional
+    **model
+        The rig model's other inputs: keyword arguments of :func:`rig_model_case`.
+    """
+    return model_opening_times_grid(spin_rates, [mu_s], options=options, **model)[0]
+
+
+def model_opening_times_grid(
+    spin_rates: NDArray[np.float64],
+    mu_values: Sequence[float] | NDArray[np.float64],
+    *,
+    options: SolverOptions | None = None,
+    **model: Any,
+) -> NDArray[np.float64]:
+    """Exact rig t_cr [s], shape (len(mu_values), len(spin_rates)): every (mu_s, spin)
+    pair in one call of :func:`obturator.solve.opening_times`, so the lanes stay full
+    (a bootstrap table has ~90 mu_s rows of ~30 runs).
+
+    Parameters
+    ----------
+    spin_rates : ndarray
+        omega_p [rad/s].
+    mu_values : sequence of float
+        mu_s [-] of each row.
+    options : SolverOptions, optional
+    **model
+        The rig model's other inputs: keyword arguments of :func:`rig_model_case`.
+    """
+    w = np.asarray(spin_rates, dtype=float).reshape(-1)
+    cases = [rig_model_case(float(x), mu_s=float(m), **model) for m in mu_values for x in w]
+    return opening_times(cases, options, strict=True)[0].reshape(-1, w.size)
+
+
+def rig_model_case(
+    spin_rate: float,
+    *,
+    mu_s: float,
     theta0_deg: float = TABLE1["theta0_deg"],
     shear_constant: float = S_TABLE1,
     weight: float = TABLE1["rig_weight"],
     torque_model: str = "thesis",
     t_max: float = 5.0,
-    options: SolverOptions | None = None,
     theta_dot0: float = 0.0,
     speed_law: str = "constant",
     speed_ratio: float = 1.0,
     slip_speed: float = 0.05,
     release_phase: float = 0.0,
     patch_radius: float | None = None,
-) -> NDArray[np.float64]:
-    """Exact rig t_cr [s] at each spin rate [rad/s] (NaN where the ball does not open).
+) -> Case:
+    """The spin-rig case (:func:`obturator.model.cases.rig_case`) of the rig model's inputs.
 
     The viscous constant is set through the gap-fluid viscosity, to which the
-    Eq. (42) constant S is proportional. `theta_dot0` [rad/s] and
-    `release_phase` [rad] set the release state, `speed_law` with `speed_ratio`
-    and `slip_speed` [m/s] the slip-speed dependence of mu
-    (:class:`obturator.model.torques.SlipSpeedLaw`), `patch_radius` [m] the Coulomb
-    contact patch.
+    Eq. (42) constant S is proportional.
+
+    Parameters
+    ----------
+    spin_rate : float
+        omega_p [rad/s].
+    mu_s : float
+        Sliding friction coefficient [-].
+    theta0_deg : float
+        theta_0 [deg].
+    shear_constant : float
+        Viscous constant S of Eq. (42) [N m s].
+    weight : float
+        Normal load W [N].
+    torque_model : str
+        ``"thesis"`` (Eqs. 56-61) or ``"coulomb"`` (contact patch of `patch_radius` [m]).
+    t_max : float
+        Horizon [s].
+    theta_dot0 : float
+        Release nutation rate [rad/s].
+    speed_law, speed_ratio, slip_speed : str, float, float
+        Slip-speed dependence of mu (:class:`obturator.model.torques.SlipSpeedLaw`;
+        `slip_speed` [m/s]).
+    release_phase : float
+        Release phase [rad].
+    patch_radius : float, optional
+        Coulomb contact patch radius [m].
     """
     from ..model.torques import SlipSpeedLaw
 
@@ -61,21 +135,13 @@ def model_opening_times(
     if torque_model == "coulomb":
         extra["patch_radius"] = patch_radius
     visc = TABLE1["viscosity"] * shear_constant / S_TABLE1
-    return np.array(
-        [
-            opening_time(
-                rig_case(
-                    float(w),
-                    mu_s,
-                    theta0_deg=theta0_deg,
-                    weight=weight,
-                    torque_model=torque_model,
-                    viscosity=visc,
-                    t_max=t_max,
-                    **extra,
-                ),
-                options,
-            )
-            for w in spin_rates
-        ]
+    return rig_case(
+        spin_rate,
+        mu_s,
+        theta0_deg=theta0_deg,
+        weight=weight,
+        torque_model=torque_model,
+        viscosity=visc,
+        t_max=t_max,
+        **extra,
     )

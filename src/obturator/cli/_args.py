@@ -14,7 +14,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from ..errors import InputError, check_range
-from ..io import SOLVER_KEYS, study_settings
+from ..io import study_settings
 from ..params import SWEEP_PARAMS
 from ..solve import SolverOptions, tolerances_for_opening_time
 from ..vocab import CASE_NAMES, FRICTION_FAMILIES, METHODS, SPIN_MODES, TORQUE_MODELS
@@ -67,10 +67,7 @@ def solver_options(settings: Mapping[str, Any]) -> SolverOptions:
 
     A relative tolerance without an absolute one sets atol = rtol / 100.
     """
-    kw = {k: settings[k] for k in SOLVER_KEYS if k in settings}
-    if "rtol" in kw and "atol" not in kw:
-        kw["atol"] = kw["rtol"] * 1e-2
-    return SolverOptions(**kw)
+    return SolverOptions.from_settings(settings)
 
 
 def add_study_flags(p: argparse.ArgumentParser) -> None:

@@ -40,7 +40,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--fit",
         metavar="NAMES",
         default="mu_s",
-        help="comma list of fitted parameters: mu_s[,theta0_deg][,shear_constant]",
+        help="comma list of fitted parameters, mu_s among them: theta0_deg, shear_constant, "
+        "theta_dot0, release_phase, speed_ratio, slip_speed, patch_radius (bounds and their "
+        "reasons: obturator.params.FIT_SPECS)",
     )
     c.add_argument(
         "--bootstrap", metavar="N", type=int, default=200, help="bootstrap resamples (0: none)"

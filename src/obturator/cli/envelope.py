@@ -306,6 +306,7 @@ def _run_trajectory(args: argparse.Namespace) -> int:
         coupled_convergence,
         coupled_opening,
     )
+    from ..envelope.start import trajectory_start
 
     model = model_from_args(args)
     launch = model.launch
@@ -335,6 +336,7 @@ def _run_trajectory(args: argparse.Namespace) -> int:
     t_const, conv_const = constant_opening(
         model.design, launch, model.options, t_max=model.t_max, check=model.check_convergence
     )
+    start = trajectory_start(model, flight, spin0)
     elapsed = time.perf_counter() - t0
     out = {
         "mach": launch.mach,
@@ -354,6 +356,7 @@ def _run_trajectory(args: argparse.Namespace) -> int:
         "spin_at_opening_rad_s": res.spin_end,
         "segments": res.n_segments,
         "segment_s": res.segment,
+        **start,
         "elapsed_s": elapsed,
     }
     if args.out:
@@ -389,7 +392,31 @@ def _run_trajectory(args: argparse.Namespace) -> int:
             f"difference {100 * out['relative_difference']:+.2f} %; at opening M = "
             f"{res.mach_end:.4f}, F_p = {res.force_end:.4g} N, omega_p = {res.spin_end:.1f} rad/s"
         )
+    _print_start(start)
     return 0
+
+
+def _print_start(start: dict[str, Any]) -> None:
+    def f(x: float | None) -> str:
+        return "-" if x is None else f"{x:.5g}"
+
+    conv = start["convergence_start_coupled"]
+    cv = "-" if conv is None else ("converged" if conv["converged"] else "NOT converged")
+    print(
+        f"t_start constant   : {f(start['t_start_constant_s'])} s "
+        f"(theta_start = {f(start['theta_start_muzzle_deg'])} deg at the muzzle Mach; "
+        f"spill load bracket {f(start['t_start_constant_high_load_s'])}.."
+        f"{f(start['t_start_constant_low_load_s'])} s)"
+    )
+    print(
+        f"t_start coupled    : {f(start['t_start_coupled_s'])} s "
+        f"({start['status_start_coupled'].replace('opened', 'started')}, {cv}; theta_start = "
+        f"{f(start['theta_start_at_start_deg'])} deg at M = {f(start['mach_at_start'])})"
+    )
+    print(
+        f"inlet at the muzzle: {start['inlet_at_muzzle']} "
+        f"(Fanno choking Mach {start['choke_mach']:.4g})"
+    )
 
 
 # --------------------------------------------------------------------------- envelope
@@ -462,31 +489,50 @@ def _run_envelope(args: argparse.Namespace) -> int:
         )
         + f"; verdict changed at {s['verdict_changed_points']} points; choked at opening "
         f"{s['choked_at_opening_points']}, not started {s['not_started_points']}"
+        + (
+            f"; delay t_start - t_cr (coupled) {_fmt(s['delay_coupled_min_s'] or math.nan)} to "
+            f"{_fmt(s['delay_coupled_max_s'] or math.nan)} s, unstartable "
+            f"{s['unstartable_points']}, choked at start {s['choked_at_start_points']}"
+            if "unstartable_points" in s
+            else ""
+        )
         + (f"; wrote {', '.join(wrote)}" if wrote else "")
     )
     return 0
 
 
+def _print_grid(ds: Any, title: str, cell: Any) -> None:
+    alts = ds["altitude_m"].values
+    print(title)
+    print("  Mach  " + "".join(f"{a:>20g}" for a in alts) + "   altitude [m]")
+    for i, m in enumerate(ds["mach"].values):
+        print(f"{m:6.3g}  " + "".join(f"{cell(i, j):>20}" for j in range(alts.size)))
+
+
 def _print_envelope(ds: Any) -> None:
     if "temperature_offset_k" in ds.dims:
         ds = ds.isel(temperature_offset_k=0)
-    alts = ds["altitude_m"].values
-    head = "  Mach  " + "".join(f"{a:>20g}" for a in alts)
-    print("t_cr [s] coupled (constant load); * not converged, c choked at opening")
-    print(head + "   altitude [m]")
-    for i, m in enumerate(ds["mach"].values):
-        cells = []
-        for j in range(alts.size):
-            tc = float(ds["t_cr_coupled"].values[i, j])
-            t0 = float(ds["t_cr_constant"].values[i, j])
-            flag = (
-                "*"
-                if 2 in (ds["status_coupled"].values[i, j], ds["status_constant"].values[i, j])
-                else " "
-            )
-            flag += "c" if ds["choked_at_opening"].values[i, j] else " "
-            cells.append(f"{_fmt(tc):>8} ({_fmt(t0):>7}){flag}")
-        print(f"{m:6.3g}  " + "".join(f"{c:>20}" for c in cells))
+
+    def pair(a: str, b: str, i: int, j: int) -> str:
+        return f"{_fmt(float(ds[a].values[i, j])):>8} ({_fmt(float(ds[b].values[i, j])):>7})"
+
+    def first_light(i: int, j: int) -> str:
+        statuses = (ds["status_coupled"].values[i, j], ds["status_constant"].values[i, j])
+        flag = "*" if 2 in statuses else " "
+        flag += "c" if ds["choked_at_opening"].values[i, j] else " "
+        return pair("t_cr_coupled", "t_cr_constant", i, j) + flag
+
+    def start(i: int, j: int) -> str:
+        flag = "u" if ds["unstartable"].values[i, j] else " "
+        flag += "c" if ds["choked_at_start"].values[i, j] else " "
+        return pair("t_start_coupled", "delay_coupled", i, j) + flag
+
+    _print_grid(
+        ds, "t_cr [s] coupled (constant load); * not converged, c choked at opening", first_light
+    )
+    if "t_start_coupled" in ds:
+        title = "t_start [s] coupled (delay t_start - t_cr); u unstartable, c choked at start"
+        _print_grid(ds, title, start)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -118,13 +118,13 @@ def _check_out(args: argparse.Namespace) -> None:
 def _run_probability(args: argparse.Namespace) -> int:
     import xarray as xr
 
-    from ..envelope.model import INPUTS
+    from ..envelope.model import INPUTS, TIMES
     from ..envelope.reliability import brute_force, importance_sampling
     from ..envelope.uncertain import performance
     from ..sweeps import parse_axis
 
     _check_out(args)
-    model = model_from_args(args)
+    model = model_from_args(args).with_(event=TIMES[args.event])
     dists = _dists(args.vary, DEFAULT_UNCERTAINTY, tuple(INPUTS))
     machs = parse_axis(args.grid_mach, "--mach")
     alts = parse_axis(args.grid_altitude, "--altitude-m")
@@ -183,7 +183,7 @@ def _run_probability(args: argparse.Namespace) -> int:
         data,
         coords={"mach": ("mach", machs), "altitude_m": ("altitude_m", alts, {"units": "m"})},
         attrs={
-            "title": "P(t_cr > requirement)",
+            "title": f"P({args.event} > requirement)",
             "requirement_s": req,
             "confidence": conf,
             "distributions": "; ".join(f"{k}={v}" for k, v in dists.items()),
@@ -217,7 +217,7 @@ def _run_probability(args: argparse.Namespace) -> int:
         print(_json.dumps(out))
         return 0
     pc = int(100 * conf)
-    print(f"P(t_cr > {req:g} s), {model.load} load; {pc} % intervals")
+    print(f"P({args.event} > {req:g} s), {model.load} load; {pc} % intervals")
     for pt in out["points"]:
         head = f"M {pt['mach']:g}, {pt['altitude_m']:g} m:"
         for meth in methods:
@@ -251,12 +251,14 @@ def _launch(model: Any, mach: float, altitude: float) -> Any:
 
 def _run_sensitivity(args: argparse.Namespace) -> int:
     from ..envelope.figures import plot_sobol
-    from ..envelope.model import INPUTS
+    from ..envelope.model import INPUTS, TIMES
     from ..envelope.sensitivity import sobol_indices
     from ..envelope.uncertain import RIG_INPUTS, RigModel, performance
 
     _check_out(args)
     rig = args.case == "spin-rig"
+    if rig and args.event == "t_start":
+        raise InputError("--event", "t_start applies to --case flight only (the rig has no inlet)")
     if rig:
         dists = _dists(args.vary, DEFAULT_RIG_RANGES, RIG_INPUTS)
         flight = model_from_args(args)
@@ -265,7 +267,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         )
     else:
         dists = _dists(args.vary, DEFAULT_RANGES, tuple(INPUTS))
-        model = model_from_args(args)
+        model = model_from_args(args).with_(event=TIMES[args.event])
         if args.mach_point is not None or args.altitude_point is not None:
             model = model.with_(
                 launch=_launch(
@@ -299,7 +301,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         if store is not None:
             store.close()
     elapsed = time.perf_counter() - t0
-    ds.attrs["title"] = f"Sobol indices of t_cr, {args.case}" + (
+    ds.attrs["title"] = f"Sobol indices of {args.event}, {args.case}" + (
         "" if rig else f" (M {model.launch.mach:g}, {model.launch.altitude_m:g} m, {model.load})"
     )
     _finish(args, store, ds)
@@ -323,7 +325,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
     print(
         f"{ds.attrs['n_evaluations']} runs ({runner.n_computed} computed, {runner.n_resumed} "
         f"resumed), {ds.attrs['n_censored']} not opened, {ds.attrs['n_unconverged']} not "
-        f"converged; mean t_cr {ds.attrs['mean']:.5g} s, "
+        f"converged; mean {args.event} {ds.attrs['mean']:.5g} s, "
         f"sd {math.sqrt(ds.attrs['variance']):.3g} s; {elapsed:.1f} s"
     )
     return 0
@@ -335,17 +337,20 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
 def _run_optimize(args: argparse.Namespace) -> int:
     import xarray as xr
 
+    from ..envelope.model import TIMES
     from ..envelope.optimize import (
         DEFAULT_BOUNDS,
         DESIGN_VARIABLES,
         DesignProblem,
         optimise,
+        split_objective,
     )
     from ..envelope.pareto import pareto_front
     from ..sweeps import parse_axis
 
     _check_out(args)
-    model = model_from_args(args)
+    event, aggregate = split_objective(args.objective)
+    model = model_from_args(args).with_(event=TIMES[event])
     names = [v.strip() for v in args.variables.split(",") if v.strip()]
     bounds: dict[str, tuple[float, float]] = {}
     for name in names:
@@ -369,7 +374,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
         model,
         conditions,
         bounds,
-        objective=args.objective,
+        objective=aggregate,
         mass_budget=None
         if args.mass_budget is None
         else quantity("--mass-budget", args.mass_budget, "kg"),
@@ -414,6 +419,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
     attrs = {
         "title": "robust obturator design",
         "objective": problem.objective,
+        "event": problem.model.event,
         "optimum_objective_s": res.optimum["objective"],
         "baseline_objective_s": res.baseline["objective"],
         "improvement": res.improvement,
@@ -453,7 +459,9 @@ def _print_optimum(problem: Any, res: Any, s: dict[str, Any], elapsed: float, ru
 
     base = problem.values(problem.baseline())
     print(
-        f"objective: {problem.objective} of t_cr over {len(problem.conditions)} conditions "
+        f"objective: {problem.objective} of "
+        f"{'t_start' if problem.model.event == 'start' else 't_cr'} over "
+        f"{len(problem.conditions)} conditions "
         f"({problem.model.load} load)"
     )
     print(f"{'variable':>12} {'Table 1':>11} {'optimum':>11} {'unit':>7} {'dJ/dx*x/J':>10} active")
@@ -471,7 +479,8 @@ def _print_optimum(problem: Any, res: Any, s: dict[str, Any], elapsed: float, ru
         f"(budget {1e3 * float(problem.mass_budget):.3f} g); active constraints: "
         + ("; ".join(active) or "none")
     )
-    print("condition            t_cr Table 1 [s]   t_cr optimum [s]")
+    t = "t_start" if problem.model.event == "start" else "t_cr"
+    print(f"condition         {t:>7} Table 1 [s] {t:>7} optimum [s]")
     for c, tb, to, sb, so in zip(
         problem.conditions,
         res.baseline["t_cr"],
@@ -514,6 +523,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--vary", action="append", metavar="NAME=KIND:ARGS", help="uncertain input")
     p.add_argument("--requirement", default="0.1", metavar="S", help="t_cr requirement [s]")
+    p.add_argument("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
     p.add_argument("--method", choices=("is", "mc", "both"), default="is")
     p.add_argument("--samples", default="2000", metavar="N", help="brute-force samples")
     p.add_argument("--stage-samples", default="500", metavar="N", help="IS samples per stage")
@@ -539,6 +549,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     s.add_argument("--altitude-m", dest="altitude_point", metavar="X", help="altitude [m] (0)")
     s.add_argument("--vary", action="append", metavar="NAME=KIND:ARGS", help="uncertain input")
     s.add_argument("--samples", default="256", metavar="N", help="SALib base N (power of 2)")
+    s.add_argument("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
     s.add_argument("--resamples", default="1000", metavar="N", help="bootstrap resamples")
     s.add_argument("--seed", default="0", metavar="S")
     s.add_argument("--confidence", default="0.95", metavar="C")
@@ -558,7 +569,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     o.add_argument("--mach", dest="grid_mach", default="1.5,2.75,4", metavar="SPEC")
     o.add_argument("--altitude-m", dest="grid_altitude", default="0,10000", metavar="SPEC")
-    o.add_argument("--objective", default="max", metavar="max|quantile:Q")
+    o.add_argument(
+        "--objective",
+        default="max",
+        metavar="[t_cr:|t_start:]max|quantile:Q",
+        help="aggregate over the conditions of t_cr (default) or of t_start, e.g. t_start, "
+        "t_start:quantile:0.9",
+    )
     o.add_argument(
         "--variables",
         default="hole_radius,ball_radius,density,gap,mu_s",

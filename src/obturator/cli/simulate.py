@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from typing import Any
 
@@ -11,7 +12,14 @@ from ..io import check_output_path, load_config
 from ..model.cases import case_from_settings
 from ..params import PARAMS
 from ..result import NutationResult
-from ..solve import ConvergenceCheck, SolverOptions, convergence_check, simulate
+from ..solve import (
+    ConvergenceCheck,
+    SolverOptions,
+    StartTimes,
+    convergence_check,
+    simulate,
+    start_times,
+)
 from ..units import parse_quantity
 from ..vocab import (
     CASE_NAMES,
@@ -128,7 +136,53 @@ def options_from_settings(s: dict[str, Any]) -> SolverOptions:
     return solver_options(s)
 
 
-def _print_table(res: NutationResult, check: ConvergenceCheck | None) -> None:
+def _flight_start(
+    case: Any, settings: dict[str, Any], options: SolverOptions, check: bool
+) -> tuple[StartTimes, ConvergenceCheck | None]:
+    """theta_start at the case's Mach and t_start past first light (flight only)."""
+    from ..model.start import start_condition
+    from ..reference import TABLE1
+
+    cond = start_condition(
+        settings.get("mach", TABLE1["mach"]),
+        case.ball,
+        settings.get("bore_radius", TABLE1["bore_radius"]),
+        altitude_m=settings.get("altitude_m", 0.0),
+    )
+    st = start_times(case, cond, options)
+    conv = None
+    if check and st.t_start == st.t_start:  # the continuous run to theta_start, refined
+        started = case.with_(theta_cr=cond.theta_start)
+        conv = convergence_check(started, options, opening_time_s=st.t_start)
+    return st, conv
+
+
+def _start_rows(st: StartTimes, check: ConvergenceCheck | None) -> list[tuple[str, str, str]]:
+    c = st.condition
+    t = st.t_start
+    rows = [
+        ("theta_start (shock swallowed, Eq. 2)", f"{math.degrees(c.theta_start):.6g}", "deg"),
+        ("start time t_start", f"{t:.6g} s" if t == t else "not started by t_max", ""),
+        ("delay t_start - t_cr", f"{st.delay:.6g} s" if t == t else "-", ""),
+        (
+            "t_start, spill load bracket",
+            f"[{st.t_start_high_load:.4g}, {st.t_start_low_load:.4g}] s",
+            "",
+        ),
+        ("inlet", f"{c.verdict} (Fanno choking Mach {c.choke_mach:.4g})", ""),
+    ]
+    if check is not None:
+        verdict = "converged" if check.converged else "NOT converged"
+        change = max(check.tolerance_change, check.width_change, check.family_change)
+        rows.append(("t_start convergence", f"{verdict}: relative change {change:.1e}", ""))
+    return rows
+
+
+def _print_table(
+    res: NutationResult,
+    check: ConvergenceCheck | None,
+    start: list[tuple[str, str, str]] | None = None,
+) -> None:
     s = res.summary()
     t_cr = res.opening_time
     rows = [
@@ -139,6 +193,7 @@ def _print_table(res: NutationResult, check: ConvergenceCheck | None) -> None:
         ("theta_0", f"{s['theta0_deg']:.6g}", "deg"),
         ("theta_cr = beta_s", f"{s['theta_cr_deg']:.6g}", "deg"),
         ("opening time t_cr", f"{t_cr:.6g} s" if res.opened else "not opened by t_max", ""),
+        *(start or []),
         (
             "friction regularisation",
             f"{s['friction_family']}, width {s['friction_width']:g}",
@@ -193,13 +248,20 @@ def _run(args: argparse.Namespace) -> int:
     check = (
         None if args.no_check else convergence_check(case, options, opening_time_s=res.opening_time)
     )
+    start = None
+    if case.name == "flight":
+        start = _flight_start(case, settings, options, not args.no_check)
     if args.json:
         out = res.summary()
         if check is not None:
             out["convergence"] = check.to_dict()
+        if start is not None:
+            out["start"] = start[0].to_dict()
+            if start[1] is not None:
+                out["start"]["convergence"] = start[1].to_dict()
         print(_json.dumps(out))
     else:
-        _print_table(res, check)
+        _print_table(res, check, None if start is None else _start_rows(*start))
     if check is not None and not check.converged:
         print(
             "obturator: warning: t_cr is not converged (it changes by more than "

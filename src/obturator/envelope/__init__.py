@@ -9,7 +9,10 @@ recommends coupling to a trajectory model and a numerical optimisation
 * :mod:`.coupled`: the obturator integrated along the flight (trajectory-coupled
   load F_p(t) and spin omega_p(t));
 * :mod:`.executor`: resumable local / Dask evaluation of many points;
-* :mod:`.envelope`: t_cr maps over muzzle Mach x altitude (x temperature);
+* :mod:`.envelope`: t_cr and t_start maps over muzzle Mach x altitude (x temperature),
+  with the delay t_start - t_cr and the unstartable region;
+* :mod:`.start`: t_start (the bow shock swallowed, :mod:`obturator.model.start`)
+  along one flight, both loads;
 * :mod:`.reliability`: P(t_cr > requirement) by importance sampling;
 * :mod:`.sensitivity`: Sobol indices with SALib;
 * :mod:`.optimize`: robust design optimisation and the t_cr-mass Pareto front.

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
@@ -45,6 +45,7 @@ from ..flow import pressure_force
 from ..model.case import Case, initial_state
 from ..model.cases import TABLE1, flight_case
 from ..model.geometry import BoredBall
+from ..model.start import start_condition
 from ..solve import (
     SolverOptions,
     alternative_family,
@@ -93,6 +94,9 @@ STATUS_FLAGS = {
     )
 }
 
+#: Stop angle of a segment whose Mach cannot start the tube [rad] (never reached).
+_NEVER = 1e-12
+
 #: Default segment length Delta [s] of the piecewise-constant load.
 DEFAULT_SEGMENT = 2e-3
 
@@ -121,7 +125,7 @@ class ObturatorDesign:
     viscosity : float
         Gap fluid viscosity mu_f [Pa s] (1.917e-5).
     torque_model : {"thesis", "coulomb"}
-        Friction model of :func:`obturator.cases.flight_case`.
+        Friction model of :func:`obturator.model.cases.flight_case`.
     gamma : float
         Ratio of specific heats of air [-] (1.4).
     """
@@ -163,7 +167,9 @@ class ObturatorDesign:
         """Ball mass [kg]."""
         return self.ball().mass
 
-    def case(self, force: float, spin_rate: float, t_max: float) -> Case:
+    def case(
+        self, force: float, spin_rate: float, t_max: float, theta_cr: float | None = None
+    ) -> Case:
         """Thesis flight case with load F_p = `force` [N] and spin `spin_rate` [rad/s].
 
         Parameters
@@ -174,8 +180,10 @@ class ObturatorDesign:
             omega_p [rad/s].
         t_max : float
             Integration limit [s].
+        theta_cr : float, optional
+            Stop angle [rad]; default first light, beta_s.
         """
-        return flight_case(
+        case = flight_case(
             spin_rate,
             self.mu_s,
             theta0_deg=self.theta0_deg,
@@ -187,6 +195,24 @@ class ObturatorDesign:
             viscosity=self.viscosity,
             t_max=t_max,
         )
+        return case if theta_cr is None else case.with_(theta_cr=theta_cr)
+
+    def start_angle(self, altitude_m: float = 0.0) -> Callable[[float], float]:
+        """theta_start(M) [rad] of this design (NaN where the tube cannot start).
+
+        :func:`obturator.model.start.start_condition` with the bore as capture
+        area; memoised per Mach number (a flight repeats few values).
+        """
+        ball = self.ball()
+
+        @functools.lru_cache(maxsize=1024)
+        def angle(mach: float) -> float:
+            cond = start_condition(
+                mach, ball, self.bore_radius, gamma=self.gamma, altitude_m=altitude_m
+            )
+            return cond.theta_start
+
+        return angle
 
     def with_(self, **changes: Any) -> ObturatorDesign:
         """A copy with fields replaced (validated again)."""
@@ -272,6 +298,7 @@ def coupled_opening(
     t_max: float | None = None,
     spin_rate: float | None = None,
     record: bool = False,
+    stop_angle: Callable[[float], float] | None = None,
 ) -> CoupledOpening:
     """Integrate the obturator along a flight with piecewise-constant load and spin.
 
@@ -292,6 +319,11 @@ def coupled_opening(
         translational motion does not depend on it).
     record : bool
         Keep theta(t), F_p(t), omega_p(t), M(t) (20 samples per segment).
+    stop_angle : callable, optional
+        theta_stop(M) [rad] per segment instead of first light: with
+        :meth:`ObturatorDesign.start_angle` the run ends when the tube starts
+        (t_start, the closed-bore load kept past first light); NaN (cannot
+        start at that Mach) runs the segment without a stop.
 
     Returns
     -------
@@ -326,7 +358,10 @@ def coupled_opening(
         spin = scale * float(spin0)
         y = y.copy()
         y[7] = spin
-        case = design.case(float(force), spin, float(h))
+        stop = None if stop_angle is None else float(stop_angle(float(mach)))
+        if stop is not None and not math.isfinite(stop):
+            stop = _NEVER
+        case = design.case(float(force), spin, float(h), theta_cr=stop)
         te = np.linspace(0.0, h, 21)[1:] if record else np.array([h])
         res = simulate(case, options, y0=y, t_eval=te)
         nfev += res.nfev
@@ -421,6 +456,7 @@ def coupled_convergence(
     threshold: float = 1e-3,
     t_cr: float | None = None,
     variants: Mapping[str, SolverOptions] | None = None,
+    stop_angle: Callable[[float], float] | None = None,
 ) -> CoupledConvergence:
     """Recompute the coupled t_cr with refined tolerances, friction width and segment.
 
@@ -441,9 +477,11 @@ def coupled_convergence(
         the width stay resolved), and the other regularisation family
         (:func:`obturator.solve.alternative_family`), since a width study alone cannot
         show convergence to the wrong limit. The half-segment rerun is always added.
+    stop_angle : callable, optional
+        As for :func:`coupled_opening` (the check of t_start).
     """
     options = options or SolverOptions()
-    kw = {"segment": segment, "t_max": t_max, "spin_rate": spin_rate}
+    kw = {"segment": segment, "t_max": t_max, "spin_rate": spin_rate, "stop_angle": stop_angle}
     if t_cr is None:
         t_cr = coupled_opening(design, trajectory, options, **kw).t_cr  # type: ignore[arg-type]
     if variants is None:
@@ -471,8 +509,12 @@ def constant_opening(
     *,
     t_max: float = 1.0,
     check: bool = True,
+    start: bool = False,
 ) -> tuple[float, dict[str, Any] | None]:
     """Constant-load t_cr [s] at the muzzle conditions and its convergence check.
+
+    With ``start=True`` the time is t_start, to theta_start(M_0) of
+    :meth:`ObturatorDesign.start_angle` (NaN where the tube cannot start).
 
     Returns
     -------
@@ -481,6 +523,11 @@ def constant_opening(
         :meth:`obturator.solve.ConvergenceCheck.to_dict` (None with ``check=False``).
     """
     case = constant_case(design, launch, t_max)
+    if start:  # run on to theta_start at the muzzle Mach, the closed-bore load kept
+        theta = design.start_angle(launch.altitude_m)(launch.mach)
+        if not math.isfinite(theta):
+            return math.nan, None
+        case = case.with_(theta_cr=theta)
     t = opening_time(case, options)
     if not check:
         return t, None

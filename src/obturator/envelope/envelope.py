@@ -7,11 +7,11 @@ where the internal flow model changes once the bore is open:
 
 * **not started** (Kantrowitz-Donaldson, thesis Eq. 2): below the self-starting
   Mach number of the capture-to-throat ratio A_c/A_t
-  (:func:`obturator.gasdynamics.start_mach`) the bow shock is not swallowed;
+  (:func:`obturator.flow.inlet.start_mach`) the bow shock is not swallowed;
   the constant-area Table 1 bore (A_c/A_t = 1) starts at any supersonic Mach.
 * **choked** (Fanno, thesis chapter I.B.4.c): below the choking Mach of the bore
   (L/D = L_p / 2 r_p = 8.07 for Table 1) a normal shock stands in the bore;
-  :func:`obturator.gasdynamics.choking_mach_freestream` iterates the friction
+  :func:`obturator.flow.fanno.choking_mach_freestream` iterates the friction
   factor with the free-stream Reynolds number of the launch altitude
   (standard day). Marked at the muzzle and at the moment of opening.
 
@@ -92,7 +92,7 @@ class EnvelopeSpec:
         )
         if not isinstance(self.model, FlightModel):
             raise InputError("model", "expected a FlightModel")
-        object.__setattr__(self, "model", self.model.with_(load="both"))
+        object.__setattr__(self, "model", self.model.with_(load="both", with_start=True))
         check_range("requirement", self.requirement, 0.0, 10.0, lo_open=True, unit="s")
         check_range("area_ratio", self.area_ratio, 1.0, 10.0)
         check_range("relative_roughness", self.relative_roughness, 0.0, 0.05)
@@ -167,7 +167,12 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
         [rad/s], ``muzzle_velocity`` [m/s], ``muzzle_spin`` [rad/s],
         ``choke_mach`` (per altitude), ``choked_at_muzzle``,
         ``choked_at_opening``, ``started``, ``meets_requirement_coupled`` and
-        ``meets_requirement_constant`` (1/0).
+        ``meets_requirement_constant`` (1/0); ``t_start_coupled``,
+        ``t_start_constant`` [s] (to theta_start(M), :mod:`obturator.model.start`;
+        not convergence-checked), ``delay_coupled``, ``delay_constant``
+        (t_start - t_cr) [s], ``theta_start_muzzle`` [deg] and ``unstartable``
+        (1/0: the aligned ball cannot swallow the shock at the muzzle Mach),
+        ``choked_at_start`` (1/0: Fanno-choked at the Mach of t_start, coupled).
     """
     import xarray as xr
 
@@ -181,6 +186,12 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
         return np.asarray(vals, dtype=dtype).reshape(shape)
 
     t_cpl, t_con = grid("t_cr"), grid("t_cr_constant")
+    ts_cpl, ts_con = grid("t_start"), grid("t_start_constant")  # not convergence-checked
+    design = spec.model.design
+    theta_start = np.empty(shape)
+    for i, task in enumerate(spec.tasks()):
+        angle = design.start_angle(task["altitude_m"])
+        theta_start.flat[i] = math.degrees(angle(task["mach"]))
     s_cpl, s_con = grid("status", np.int8), grid("status_constant", np.int8)
     m_open = grid("mach_end")
     choke = np.array([spec.choke_mach(h) for h in spec.altitude_m])
@@ -231,9 +242,36 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
             np.broadcast_to(mach > m_start, shape).astype(np.int8),
             {"long_name": "muzzle Mach above the Kantrowitz self-starting Mach"},
         ),
+        "theta_start_muzzle": (
+            dims,
+            theta_start,
+            {"units": "deg", "long_name": "theta_start at the muzzle Mach (Eq. 2 on A(theta))"},
+        ),
+        "choked_at_start": (
+            dims,
+            (grid("mach_at_start") <= choke[None, :, None]).astype(np.int8),
+            {"long_name": "the flight Mach at t_start is at or below the Fanno choking Mach"},
+        ),
+        "unstartable": (
+            dims,
+            (~np.isfinite(theta_start)).astype(np.int8),
+            {"long_name": "even the aligned ball cannot swallow the shock at the muzzle Mach"},
+        ),
         "meets_requirement_coupled": (dims, meets_cpl.astype(np.int8), {}),
         "meets_requirement_constant": (dims, meets_con.astype(np.int8), {}),
     }
+    for load, t_start, t_first in (("coupled", ts_cpl, t_cpl), ("constant", ts_con, t_con)):
+        what = "trajectory-coupled" if load == "coupled" else "constant muzzle load"
+        data[f"t_start_{load}"] = (
+            dims,
+            t_start,
+            {"units": "s", "long_name": f"t_start (shock swallowed), {what}"},
+        )
+        data[f"delay_{load}"] = (
+            dims,
+            t_start - t_first,
+            {"units": "s", "long_name": f"t_start - t_cr, {what}"},
+        )
     coords = {
         "mach": ("mach", np.asarray(spec.mach), {"units": "1", "long_name": "muzzle Mach M_0"}),
         "altitude_m": ("altitude_m", np.asarray(spec.altitude_m), {"units": "m"}),
@@ -297,4 +335,11 @@ def envelope_summary(ds: Any) -> dict[str, Any]:
     out["verdict_changed_points"] = int(flip.values.sum())
     out["choked_at_opening_points"] = int(ds["choked_at_opening"].values.sum())
     out["not_started_points"] = int((ds["started"] == 0).values.sum())
+    if "delay_coupled" in ds:
+        d = ds["delay_coupled"].values
+        fin = np.isfinite(d)
+        out["delay_coupled_min_s"] = float(d[fin].min()) if fin.any() else None
+        out["delay_coupled_max_s"] = float(d[fin].max()) if fin.any() else None
+        out["unstartable_points"] = int(ds["unstartable"].values.sum())
+        out["choked_at_start_points"] = int(ds["choked_at_start"].values.sum())
     return out

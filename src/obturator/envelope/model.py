@@ -33,7 +33,7 @@ from .coupled import (
 )
 from .trajectory import Launch, Projectile
 
-__all__ = ["INPUTS", "LOADS", "FlightModel", "exceeds"]
+__all__ = ["INPUTS", "LOADS", "EVENTS", "TIMES", "FlightModel", "exceeds"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +63,10 @@ INPUTS: dict[str, _Input] = {
 
 #: Load models: the thesis's constant muzzle load, the trajectory-coupled one, or both.
 LOADS = ("coupled", "constant", "both")
+#: Which event ends the run: first light (t_cr) or the started tube (t_start).
+EVENTS = ("first_light", "start")
+#: The time each event gives, as the command line names it -> :attr:`FlightModel.event`.
+TIMES = {"t_cr": "first_light", "t_start": "start"}
 
 
 def exceeds(t_cr: float, status: int, requirement: float) -> bool:
@@ -109,6 +113,14 @@ class FlightModel:
         Convergence threshold [-].
     tie_bore : bool
         The bore radius r_p follows the hole radius r_s (design studies).
+    event : {"first_light", "start"}
+        The time reported as ``t_cr``: first light (theta = beta_s, the
+        thesis's t_cr) or the start of the internal flow (theta =
+        theta_start(M), :mod:`obturator.model.start`; t_start).
+    with_start : bool
+        With ``event="first_light"``, also report ``t_start`` (and
+        ``t_start_constant`` with ``load="both"``) and ``status_start``, from a
+        second run to theta_start without the convergence reruns.
     """
 
     design: ObturatorDesign = field(default_factory=ObturatorDesign)
@@ -121,8 +133,12 @@ class FlightModel:
     check_convergence: bool = True
     threshold: float = 1e-3
     tie_bore: bool = False
+    event: str = "first_light"
+    with_start: bool = False
 
     def __post_init__(self) -> None:
+        if self.event not in EVENTS:
+            raise InputError("event", f"{self.event!r}; allowed: {', '.join(EVENTS)}")
         if self.load not in LOADS:
             raise InputError("load", f"{self.load!r}; allowed: {', '.join(LOADS)}")
         check_range("segment", self.segment, 0.0, 0.1, lo_open=True, unit="s")
@@ -144,6 +160,8 @@ class FlightModel:
             "check_convergence": self.check_convergence,
             "threshold": self.threshold,
             "tie_bore": self.tie_bore,
+            "event": self.event,
+            "with_start": self.with_start,
         }
 
     def build(self, values: Mapping[str, float]) -> tuple[ObturatorDesign, Launch]:
@@ -167,7 +185,12 @@ class FlightModel:
     def _constant(self, design: ObturatorDesign, launch: Launch) -> dict[str, Any]:
         try:
             t, conv = constant_opening(
-                design, launch, self.options, t_max=self.t_max, check=self.check_convergence
+                design,
+                launch,
+                self.options,
+                t_max=self.t_max,
+                check=self.check_convergence,
+                start=self.event == "start",
             )
         except RuntimeError:
             return {"t_cr": math.nan, "status": STATUS_FAILED, "change": math.nan}
@@ -185,6 +208,8 @@ class FlightModel:
     def _coupled(self, design: ObturatorDesign, launch: Launch) -> dict[str, Any]:
         flight = cached_flight(self.projectile, replace(launch, spin_rate=None), self.t_max)
         kw = {"segment": self.segment, "t_max": self.t_max, "spin_rate": launch.muzzle_spin}
+        if self.event == "start":
+            kw["stop_angle"] = design.start_angle(launch.altitude_m)
         res = coupled_opening(design, flight, self.options, **kw)  # type: ignore[arg-type]
         out = {
             "t_cr": res.t_cr,
@@ -215,21 +240,33 @@ class FlightModel:
             relative change under refinement), and for the coupled load
             ``mach_end``, ``force_end`` [N], ``spin_end`` [rad/s] at t_cr.
             With ``load="both"`` the constant-load results are added with the
-            suffix ``_constant``.
+            suffix ``_constant``. With ``with_start``: ``t_start`` [s] and
+            ``status_start``, ``mach_at_start`` (and ``t_start_constant``), the times to
+            theta_start(M). With ``event="start"`` the time reported as
+            ``t_cr`` is t_start.
         """
         try:
             design, launch = self.build(values)
         except InputError as exc:
             return _invalid(exc)
         if self.load == "constant":
-            return self._constant(design, launch)
-        try:
-            out = self._coupled(design, launch)
-        except InputError as exc:
-            return _invalid(exc)
+            out = self._constant(design, launch)
+        else:
+            try:
+                out = self._coupled(design, launch)
+            except InputError as exc:
+                return _invalid(exc)
         if self.load == "both":
             for k, v in self._constant(design, launch).items():
                 out[f"{k}_constant"] = v
+        if self.with_start and self.event == "first_light":
+            onward = self.with_(event="start", with_start=False, check_convergence=False)
+            started = onward(values)
+            out["t_start"] = started["t_cr"]
+            out["status_start"] = started["status"]
+            out["mach_at_start"] = started.get("mach_end", math.nan)
+            if "t_cr_constant" in started:
+                out["t_start_constant"] = started["t_cr_constant"]
         return out
 
     def with_(self, **changes: Any) -> FlightModel:

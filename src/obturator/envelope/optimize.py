@@ -15,7 +15,7 @@ condition where the bore does not open by t_max counts as 2 t_max.
 Constraints (each written g(x) >= 0 in :meth:`DesignProblem.constraints`):
 
 1. the ball can be bored: r_s <= (1 - 0.01) R_s / sqrt(2) (thesis p. 77;
-   :class:`obturator.geometry.BoredBall`);
+   :class:`obturator.model.geometry.BoredBall`);
 2. the hole does not throttle the bore: r_s >= r_p (a lower bound);
 3. the ball fits the projectile with a socket wall: R_s <= R_p - t_wall (an
    upper bound; default t_wall = Table 1's R_p - R_s = 2.061 mm, so the Table 1
@@ -53,6 +53,7 @@ from .executor import Runner
 from .model import FlightModel
 
 __all__ = [
+    "split_objective",
     "DESIGN_VARIABLES",
     "DEFAULT_BOUNDS",
     "DesignProblem",
@@ -97,6 +98,19 @@ def _objective_value(t: np.ndarray, kind: str, t_max: float) -> float:
         return float(y.max())
     q = float(kind.split(":", 1)[1])
     return float(np.quantile(y, q))
+
+
+def split_objective(text: str) -> tuple[str, str]:
+    """``"t_start"``, ``"t_start:quantile:0.9"``, ``"max"`` -> (time, aggregate).
+
+    The time (``t_cr`` or ``t_start``, :data:`obturator.envelope.model.TIMES`)
+    selects the model's event; the aggregate over the conditions is checked
+    by :class:`DesignProblem`. Without a prefix the time is t_cr.
+    """
+    head, _, rest = text.partition(":")
+    if head in ("t_cr", "t_start"):
+        return head, rest or "max"
+    return "t_cr", text
 
 
 def _check_objective(kind: str) -> str:
@@ -363,6 +377,7 @@ class OptimisationResult:
         pb = self.problem
         return {
             "objective": pb.objective,
+            "event": pb.model.event,
             "conditions": [dict(c) for c in pb.conditions],
             "optimum": pb.values(self.x),
             "optimum_objective_s": self.optimum["objective"],

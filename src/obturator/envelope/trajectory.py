@@ -24,7 +24,7 @@ representative of spin-stabilised 20-30 mm projectiles at supersonic speed
 roll damping: give your own with ``roll_damping``). With it the spin decays by
 about 1 % in 0.1 s at Mach 3, sea level.
 
-Air: U.S. Standard Atmosphere 1976 (:func:`obturator.atmosphere.standard_atmosphere`)
+Air: U.S. Standard Atmosphere 1976 (:func:`obturator.flow.atmosphere.standard_atmosphere`)
 at the current altitude (launch altitude plus height gained; below 0 m the
 sea-level state is used, since a flat-fire shot from a sea-level gun drops only
 centimetres while the ball opens). An off-standard day is a temperature offset

@@ -1,6 +1,6 @@
 """Uncertain inputs: distributions, the map from standard-normal space, point functions.
 
-Distributions are the package's :class:`obturator.studies_sweep.Distribution`
+Distributions are the package's :class:`obturator.sweeps.Distribution`
 (``normal:MEAN,SD``, ``uniform:LO,HI``, ``lognormal:MEDIAN,SIGMA_LN``,
 ``truncnormal:MEAN,SD,LO,HI``). Reliability and sensitivity methods work in a
 space of independent standard normal variables z; :func:`ppf` maps each
@@ -47,7 +47,7 @@ __all__ = [
     "Performance",
 ]
 
-#: Inputs the spin-rig model accepts (as :class:`obturator.studies_sweep.SweepSpec`).
+#: Inputs the spin-rig model accepts (as :class:`obturator.sweeps.SweepSpec`).
 RIG_INPUTS = ("spin_rate", "mu_s", "theta0_deg", "density", "hole_radius", "gap")
 
 _HELP = "normal:MEAN,SD | uniform:LO,HI | lognormal:MEDIAN,SIGMA_LN | truncnormal:MEAN,SD,LO,HI"
@@ -116,7 +116,7 @@ def points_from_uniform(dists: Mapping[str, Distribution], u: np.ndarray) -> lis
 class RigModel:
     """t_cr on the spin rig (Table 1 "gravitational model", Eqs. 56-61) for given inputs.
 
-    Built with :meth:`obturator.studies_sweep.SweepSpec.build_case`, so the
+    Built with :meth:`obturator.sweeps.SweepSpec.build_case`, so the
     rig's normal load follows the ball's weight when density or hole radius
     are varied (thesis Figs. 16-17), as in ``obturator sweep``.
 

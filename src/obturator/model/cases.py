@@ -129,7 +129,7 @@ def rig_case(
         Slip-speed dependence of mu (default: constant, the thesis's law).
     release_rate, release_phase
         Release transient (theta_dot_0, phi_dot_0, psi_dot_0 - omega_p) [rad/s]
-        and psi_0 [rad]; see :class:`~obturator.solve.Case`.
+        and psi_0 [rad]; see :class:`~obturator.model.case.Case`.
     t_max : float
         Integration limit [s]. Default 100 s: near-stick runs at low spin open
         late (about 43 s at 40 rad/s, mu_s = 0.5473).

@@ -4,7 +4,7 @@ Before a process pool's workers are forked warm, this process loads the compiled
 integrators once (:func:`obturator.sweeps.points.warm`): ~0.3 s in a fresh process,
 mostly numba's first-use set-up, while the other cores idle. Packing points (building
 and validating each point's case and the integrators' inputs,
-:func:`obturator.sweeps.batch.pack_rows`: ~30 us per point of Python, 15 % of a rig
+:func:`obturator.sweeps.points.pack_rows`: ~30 us per point of Python, 15 % of a rig
 sweep's work) needs no compiled code, so a helper forked first packs the study's first
 points, chunk order, into shared memory meanwhile; once the integrators are loaded the
 helper is stopped and the chunks it has packed go to the workers packed, so that they
@@ -26,8 +26,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..core.layout import N_PARAM, N_STATE
-from .batch import PackedPoints, pack_rows
+from ..solve import PackedPoints
+from ..solve.many import PACKED_WIDTHS
+from .points import pack_rows
 from .spec import SweepSpec
 
 __all__ = ["AHEAD_POINTS", "PackedAhead", "pack_ahead"]
@@ -38,7 +39,7 @@ AHEAD_POINTS = 32_768
 #: Points the helper packs between two updates of its progress counter.
 _BATCH = 256
 # one row per point: valid, y0, p, scale, t_max, h0, h_max, spin
-_WIDTHS = (1, N_STATE, N_PARAM, N_STATE, 1, 1, 1, 1)
+_WIDTHS = PACKED_WIDTHS
 _COLS = sum(_WIDTHS)
 
 

@@ -37,8 +37,9 @@ from typing import Any, Protocol
 import numpy as np
 
 from ..errors import ClusterError, InputError
+from ..solve import batchable
+from ..solve.many import RADAU_LANES_MIN
 from .ahead import pack_ahead
-from .batch import RADAU_LANES_MIN, batchable
 from .points import is_warm, run_chunk, warm
 from .spec import SweepSpec
 
@@ -67,7 +68,7 @@ __all__ = [
 
 #: Largest default chunk of tasks computed one by one (a chunk is the unit of resumed work).
 TASK_CHUNK = 256
-#: Largest default chunk of points integrated in lanes (:mod:`obturator.sweeps.batch`):
+#: Largest default chunk of points integrated in lanes (:func:`obturator.solve.opening_times`):
 #: a chunk's stiff points go through Radau IIA lanes together, which pay off from a few
 #: dozen per chunk and keep improving with more (measured, 10,000 rig points over
 #: 100-700 rad/s in one process, AMD EPYC Zen 5: 1.84-1.96 s in 256-point chunks,

@@ -23,8 +23,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..errors import InputError
+from ..solve import batchable
 from ..status import Status
-from .batch import batchable
 from .executors import (
     LANE_CHUNK,
     TASK_CHUNK,

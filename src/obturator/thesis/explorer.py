@@ -24,7 +24,7 @@ import xarray as xr
 from ..calibration import SpinRigData, load_thesis_data
 from ..model.cases import rig_case
 from ..reference import TABLE1, THESIS_MU_S
-from ..solve import SolverOptions, opening_time, simulate
+from ..solve import SolverOptions, opening_times, simulate
 
 __all__ = ["explorer_data", "explorer_html"]
 
@@ -65,12 +65,8 @@ def explorer_data(
     w = np.geomspace(60.0, 700.0, 28) if spin_rates is None else np.asarray(spin_rates, float)
     mus = [float(m) for m in mu_s_values]
     ths = [float(t) for t in theta0_deg_values]
-    curves = np.array(
-        [
-            [[opening_time(rig_case(x, m, theta0_deg=t), options) for x in w] for t in ths]
-            for m in mus
-        ]
-    )
+    cases = [rig_case(x, m, theta0_deg=t) for m in mus for t in ths for x in w]
+    curves = opening_times(cases, options, strict=True)[0].reshape(len(mus), len(ths), w.size)
     n = len(data.run)
     theta = np.full((n, _N_THETA), np.nan)
     times = np.full((n, _N_THETA), np.nan)

@@ -39,7 +39,7 @@ from ..errors import InputError, SolverError, check_range
 from ..model.case import Case
 from ..model.cases import couette_case, flight_case, rig_case, table1_ball
 from ..reference import CAPTION_SHEAR_CONSTANT, TABLE1
-from ..solve import SolverOptions, opening_time, simulate
+from ..solve import SolverOptions, opening_time, opening_times, simulate
 from .common import RIG_T_MAX, STICK_T_END, rig_approx, solver_attrs
 
 __all__ = [
@@ -305,7 +305,7 @@ def _geometry_study(
 ) -> xr.Dataset:
     """Rig histories over one geometry parameter `dim`; `attrs` label the Dataset."""
     cases = [make_case(v) for v in values]
-    tcr = [opening_time(c, options) for c in cases]
+    tcr = opening_times(cases, options, strict=True)[0].tolist()
     finite = [x for x in tcr if math.isfinite(x)]
     t_end = 1.3 * max(finite) if finite else STICK_T_END
     runs = [_history(c, t_end, n_points, options) for c in cases]

@@ -31,7 +31,7 @@ from ..errors import InputError, check_range
 from ..model.case import Case
 from ..model.cases import rig_case, table1_ball
 from ..reference import TABLE1, THESIS_MU_S
-from ..solve import SolverOptions, opening_time
+from ..solve import SolverOptions, opening_time, opening_times
 from .common import RIG_T_MAX, rig_approx, solver_attrs
 
 __all__ = ["fig43_study", "opening_time_minimum", "opening_time_vs_spin"]
@@ -87,14 +87,18 @@ def opening_time_vs_spin(
     tcr = np.full(shape, np.nan)
     eps = np.full(shape, np.nan)
     zeta = np.full(shape, np.nan)
-    for i, mu in enumerate(mus):
-        for j, th0 in enumerate(th0s):
-            for k, wk in enumerate(w):
-                case = rig_case(wk, mu, theta0_deg=th0, weight=weight, t_max=t_max)
-                if method == "exact":
-                    tcr[i, j, k] = opening_time(case, options)
-                else:
-                    tcr[i, j, k], eps[i, j, k], zeta[i, j, k] = _approx_point(case, mu)
+    cases = [
+        rig_case(wk, mu, theta0_deg=th0, weight=weight, t_max=t_max)
+        for mu in mus
+        for th0 in th0s
+        for wk in w
+    ]
+    if method == "exact":
+        tcr[...] = opening_times(cases, options, strict=True)[0].reshape(shape)
+    else:
+        for flat, case in enumerate(cases):
+            i, j, k = np.unravel_index(flat, shape)
+            tcr[i, j, k], eps[i, j, k], zeta[i, j, k] = _approx_point(case, mus[i])
     dims = ("mu_s", "theta0_deg", "spin_rate")
     data: dict[str, Any] = {
         "t_cr": (dims, tcr, {"units": "s", "long_name": f"opening time ({method})"}),
@@ -194,9 +198,8 @@ def fig43_study(
     lam, a = ball.inertia_ratio, ball.transverse_inertia
     th0 = math.radians(theta0_deg)
     t1 = (lam + 1.0) / lam * ls.mu_bar * TABLE1["rig_weight"] * ball.radius / (a * math.cos(th0))
-    t_exact = np.array(
-        [opening_time(rig_case(x, ls.mu_s, theta0_deg=theta0_deg, t_max=t_max), options) for x in w]
-    )
+    cases = [rig_case(x, ls.mu_s, theta0_deg=theta0_deg, t_max=t_max) for x in w]
+    t_exact = opening_times(cases, options, strict=True)[0]
     ds = xr.Dataset(
         {
             **_data_vars(data, used),
@@ -300,7 +303,10 @@ def opening_time_minimum(
     w_a, t_a = float(res_a.x), float(res_a.fun)
 
     grid = np.linspace(lo, hi, n_grid)
-    t_grid = np.array([_exact_tcr(w, mu_s, theta0_deg, weight, t_max, options) for w in grid])
+    grid_cases = [
+        rig_case(w, mu_s, theta0_deg=theta0_deg, weight=weight, t_max=t_max) for w in grid
+    ]
+    t_grid = opening_times(grid_cases, options, strict=True)[0]
     opened = np.isfinite(t_grid)
     closed = np.flatnonzero(~opened)
     # Only the opening branch above the highest non-opening grid point counts.

@@ -23,7 +23,7 @@ import numpy as np
 from .. import calibration as cal
 from ..model.cases import rig_case
 from ..reference import TABLE1, THESIS_MU_S
-from ..solve import SolverOptions, opening_time
+from ..solve import SolverOptions, opening_times
 from .explorer import explorer_data
 from .histories import (
     couette_study,
@@ -187,12 +187,9 @@ def _tighter(options: SolverOptions | None) -> SolverOptions:
 
 
 def _exact_vs_eq92(spins: tuple[float, ...], options: SolverOptions | None) -> dict[float, tuple]:
-    out = {}
-    for w in spins:
-        ex = opening_time(rig_case(w, THESIS_MU_S), options)
-        ap = opening_time_vs_spin([w], mu_s_values=(THESIS_MU_S,))
-        out[w] = (ex, float(ap["t_cr"].values.ravel()[0]))
-    return out
+    exact = opening_times([rig_case(w, THESIS_MU_S) for w in spins], options, strict=True)[0]
+    approx = opening_time_vs_spin(list(spins), mu_s_values=(THESIS_MU_S,))["t_cr"].values.ravel()
+    return {w: (float(ex), float(ap)) for w, ex, ap in zip(spins, exact, approx, strict=True)}
 
 
 # ---------------------------------------------------------------------------

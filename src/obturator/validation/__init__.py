@@ -3,19 +3,21 @@
 One concern per module:
 
 * :mod:`.floor` - replicate clusters and the pure-error floor;
-* :mod:`.candidates` - the registry of candidate mechanisms, their parameters,
-  bounds and physical ranges;
+* :mod:`.candidates` - the registry of candidate mechanisms and the parameters they
+  fit (bounds and physical ranges: the fit registry, :data:`obturator.params.FIT_SPECS`);
 * :mod:`.likelihood` - the censored Gaussian likelihood with the spin
   error-in-variables term;
 * :mod:`.evaluate` - cached exact-model t_cr per (parameter vector, spin);
-* :mod:`.fit` - maximum-likelihood fit, Wald and profile-likelihood intervals;
+* :mod:`.fit` - maximum-likelihood fit, Wald and profile-likelihood intervals, through
+  the fit engine :mod:`obturator.fitting`;
 * :mod:`.results` - result objects (numbers, JSON);
 * :mod:`.textreport` - text and Markdown tables;
 * :mod:`.plotting` - the validation figure;
 * :mod:`.study` - the whole study (``obturator validate``).
 """
 
-from .candidates import CANDIDATES, DEFAULT_MODELS, PARAMETERS, Candidate, Parameter, get_candidates
+from . import candidates as _candidates
+from .candidates import CANDIDATES, DEFAULT_MODELS, PARAMETERS, Candidate, get_candidates
 from .fit import fit_candidate, profile_interval
 from .floor import BANDS, ReplicateFloor, cluster_runs, replicate_floor
 from .likelihood import SPIN_SD, nll_terms
@@ -32,7 +34,6 @@ __all__ = [
     "Candidate",
     "CandidateFit",
     "ModelResult",
-    "Parameter",
     "ReplicateFloor",
     "ValidationResult",
     "cluster_runs",
@@ -45,3 +46,9 @@ __all__ = [
     "replicate_floor",
     "run_validation",
 ]
+
+
+def __getattr__(name: str) -> object:
+    if name == "Parameter":  # deprecated: obturator.fitting.FitParameter
+        return _candidates.__getattr__(name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

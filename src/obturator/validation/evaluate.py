@@ -8,14 +8,14 @@ keeps every t_cr it has computed, keyed by (parameter vector, spin).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..solve import SolverOptions, opening_time
+from ..solve import SolverOptions, opening_times
+from ..status import Status
 from .candidates import Candidate
 from .floor import SPIN_REGULATION
 
@@ -61,21 +61,6 @@ class ModelEvaluator:
     n_failed: int = 0
     _cache: dict[tuple[tuple[float, ...], float], float] = field(default_factory=dict, repr=False)
 
-    def _one(self, key: tuple[float, ...], w: float) -> float:
-        k = (key, w)
-        hit = self._cache.get(k)
-        if hit is not None:
-            return hit
-        case = self.candidate.build(w, key, self.t_max)
-        self.n_integrations += 1
-        try:
-            t = opening_time(case, self.options or VALIDATION_OPTIONS)
-        except RuntimeError:
-            self.n_failed += 1
-            t = math.nan
-        self._cache[k] = t
-        return t
-
     def opening_times(self, values: Sequence[float], spin_rate: ArrayLike) -> NDArray[np.float64]:
         """t_cr [s] at each spin [rad/s] (NaN: not opened by ``t_max``).
 
@@ -86,15 +71,34 @@ class ModelEvaluator:
         spin_rate : array_like
             omega_p [rad/s].
         """
-        key = tuple(float(v) for v in values)
-        w = np.asarray(spin_rate, dtype=float).reshape(-1)
-        return np.array([self._one(key, float(x)) for x in w])
+        return self.opening_times_of([values], spin_rate)[0]
+
+    def opening_times_of(
+        self, values: Sequence[Sequence[float]], spin_rate: ArrayLike
+    ) -> NDArray[np.float64]:
+        """t_cr [s] of several parameter vectors at each spin, shape (len(values), n_spins).
+
+        Every (vector, spin) not yet in the cache goes through one call of
+        :func:`obturator.solve.opening_times` (lanes where the options allow: the more
+        points a call has, the fuller the lanes; a finite-difference Jacobian asks for
+        all its columns at once).
+        """
+        keys = [tuple(float(v) for v in vals) for vals in values]
+        w = [float(x) for x in np.asarray(spin_rate, dtype=float).reshape(-1)]
+        missing = list(dict.fromkeys((k, x) for k in keys for x in w if (k, x) not in self._cache))
+        if missing:
+            cases = [self.candidate.build(x, k, self.t_max) for k, x in missing]
+            t, status, _ = opening_times(cases, self.options or VALIDATION_OPTIONS)
+            self.n_integrations += len(missing)
+            self.n_failed += int(np.isin(status, (Status.FAILED, Status.STEP_LIMIT)).sum())
+            self._cache.update(zip(missing, t.tolist(), strict=True))
+        return np.array([[self._cache[(k, x)] for x in w] for k in keys]).reshape(len(keys), -1)
 
     def slopes(
         self, values: Sequence[float], spin_rate: ArrayLike, half_width: float = SPIN_REGULATION
     ) -> NDArray[np.float64]:
         """Secant dt_cr/domega_p [s^2] over w +- `half_width` (NaN if either end is censored)."""
         w = np.asarray(spin_rate, dtype=float).reshape(-1)
-        up = self.opening_times(values, w + half_width)
-        down = self.opening_times(values, np.maximum(w - half_width, 1e-3))
-        return (up - down) / (w + half_width - np.maximum(w - half_width, 1e-3))
+        lo = np.maximum(w - half_width, 1e-3)
+        both = self.opening_times_of([values], np.concatenate((w + half_width, lo)))[0]
+        return (both[: w.size] - both[w.size :]) / (w + half_width - lo)

@@ -4,7 +4,7 @@ Algorithm (effective-variance iteration, see :mod:`.likelihood`):
 
 1. start from the candidate's default (or given) values, slopes g = 0;
 2. with the effective SDs s_i fixed, minimise sum ((m_i - y_i)/s_i)^2 over the
-   physical parameters by :func:`scipy.optimize.least_squares` (trust-region
+   physical parameters by :func:`obturator.fitting.minimize_least_squares` (trust-region
    reflective, bounds, forward differences with a relative step of 1e-3 on
    the optimiser scale: large enough to step over the tiny ripple of t_cr in
    the parameters, small against their uncertainties);
@@ -17,30 +17,41 @@ At fixed s_i, step 2 is the exact ML step; the outer loop is Orear's
 effective-variance method for errors in variables (it neglects d s_i/d theta
 in the gradient, a second-order effect at the optimum).
 
-Uncertainties: standard errors from the Gauss-Newton information J^T J of
-the scaled residuals at the optimum (central differences), on the optimiser
-scale (log10 for ``slip_speed``), transformed by the delta method; Wald 95 %
-intervals with the Student-t quantile for n - k degrees of freedom, clipped
-to the fit bounds (an interval that reaches a bound: the parameter is not
-identified on that side). For
-chosen parameters :func:`profile_interval` gives profile-likelihood intervals
-instead (each probe a refit of the other parameters with the slopes held at
-the best fit's).
+The optimiser, the Jacobian and the intervals are the fit engine's
+(:mod:`obturator.fitting`); parameters, bounds and transforms are the fit
+registry's (:data:`obturator.params.FIT_SPECS`). Uncertainties: standard
+errors from the Gauss-Newton information J^T J of the scaled residuals at
+the optimum (central differences), on the optimiser scale (log10 for
+``slip_speed``), transformed by the delta method; Wald 95 % intervals with
+the Student-t quantile for n - k degrees of freedom, clipped to the fit
+bounds (an interval that reaches a bound: the parameter is not identified on
+that side). For chosen parameters :func:`profile_interval` gives
+profile-likelihood intervals instead (each probe a refit of the other
+parameters with the slopes held at the best fit's).
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Mapping, Sequence
-from dataclasses import replace
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import stats
-from scipy.optimize import least_squares
 
 from ..errors import InputError, check_range
+from ..fitting import (
+    CHI2_95,
+    LeastSquaresSettings,
+    ParameterSet,
+    central_jacobian,
+    covariance_internal,
+    minimize_least_squares,
+    profile_limit,
+    wald,
+)
 from ..solve import SolverOptions
 from .candidates import PARAMETERS, Candidate
 from .evaluate import DEFAULT_T_MAX, ModelEvaluator
@@ -48,12 +59,8 @@ from .floor import band_of
 from .likelihood import SPIN_SD, effective_sd, nll_terms, profile_sigma, scaled_residuals
 from .results import CandidateFit
 
-__all__ = ["CHI2_95", "fit_candidate", "predict", "profile_interval"]
+__all__ = ["CHI2_95", "FitControls", "fit_candidate", "predict", "profile_interval"]
 
-#: chi-square(1) 95 % quantile: the profile-likelihood threshold on 2 delta(-log L).
-CHI2_95 = float(stats.chi2.ppf(0.95, 1))
-_DIFF_STEP = 1e-3
-_COV_STEP = 1e-3
 # optimiser stopping (relative step of the parameters): tight in the first pass,
 # whose valley (mu_s against v_s) is long and curved, looser in the later
 # passes, which start next to the optimum; the parameters' standard errors are
@@ -61,16 +68,132 @@ _COV_STEP = 1e-3
 _XTOL = 1e-6
 _XTOL_LATER = 1e-4
 _FTOL = 1e-8
+#: Forward differences, relative step 1e-3 on the optimiser's scale (also the
+#: central step of the covariance's Jacobian).
+_SETTINGS = LeastSquaresSettings("2-point", 1e-3, 1.0, _XTOL, _FTOL, 1e-3)
 
 
-def _internal(cand: Candidate, values: Sequence[float]) -> NDArray[np.float64]:
-    return np.array(
-        [PARAMETERS[k].to_internal(v) for k, v in zip(cand.params, values, strict=True)]
-    )
+def _parameters(cand: Candidate) -> ParameterSet:
+    return ParameterSet(tuple(PARAMETERS[k] for k in cand.params))
 
 
-def _physical(cand: Candidate, x: NDArray[np.float64]) -> list[float]:
-    return [PARAMETERS[k].from_internal(float(v)) for k, v in zip(cand.params, x, strict=True)]
+@dataclass(frozen=True)
+class FitControls:
+    """How :func:`fit_candidate` iterates: a full fit by default; a profile probe
+    holds the slopes, skips the covariance and stops earlier.
+
+    Attributes
+    ----------
+    slopes : array_like, optional
+        Fixed dt_cr/domega_p per run [s^2]: no outer iteration (profile probes).
+    max_outer : int
+        Effective-variance passes.
+    covariance : bool
+        Compute the Wald covariance.
+    xtol : float
+        Relative parameter step at which the first pass stops.
+    """
+
+    slopes: ArrayLike | None = None
+    max_outer: int = 4
+    covariance: bool = True
+    xtol: float = _XTOL
+
+
+@dataclass
+class _Objective:
+    """The model t_cr of one candidate at the runs, in the optimiser's variables."""
+
+    params: ParameterSet
+    evaluator: ModelEvaluator
+    spin_rate: NDArray[np.float64]
+    measured: NDArray[np.float64]
+    t_max: float
+    nfev: int = 0
+
+    def model(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Model t_cr [s] per run (NaN: censored)."""
+        self.nfev += 1
+        return self.evaluator.opening_times(self.params.from_internal(x), self.spin_rate)
+
+    def residuals(self, sd: NDArray[np.float64]) -> Callable[[NDArray[np.float64]], NDArray]:
+        """x -> (m_i - y_i) / s_i at fixed effective SDs (Gauss-Newton residuals)."""
+        return lambda x: scaled_residuals(self.measured, self.model(x), sd, self.t_max)
+
+
+class _Optimum(NamedTuple):
+    x: NDArray[np.float64]
+    model: NDArray[np.float64]
+    slope: NDArray[np.float64]
+    sigma: float
+    success: bool
+    message: str
+
+
+def _effective_variance(
+    obj: _Objective, x: NDArray[np.float64], spin_sd: float, controls: FitControls
+) -> _Optimum:
+    """Steps 1-4 of the module notes: least squares at fixed s_i, then slopes and sigma."""
+    y, t_max, w = obj.measured, obj.t_max, obj.spin_rate
+    eiv = spin_sd > 0.0
+    held = controls.slopes is not None
+    g = np.asarray(controls.slopes, dtype=float).copy() if held else np.zeros(w.size)
+    success, message = True, "no free parameters"
+    m = obj.model(x)
+    sigma = float(np.sqrt(np.mean((np.where(np.isfinite(m), m, t_max) - y) ** 2)))
+    sigma = max(sigma, 1e-3)
+    nll_prev = math.inf
+    outer = 1 if (held or not eiv) else max(1, int(controls.max_outer))
+    for it in range(outer):
+        sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd if eiv else 0.0)
+        if len(obj.params):
+            best = minimize_least_squares(
+                obj.residuals(sd),
+                x,
+                obj.params.internal_bounds(),
+                _SETTINGS,
+                xtol=controls.xtol if it == 0 else _XTOL_LATER,
+            )
+            x, success, message = best.x, best.success, best.message
+            m = obj.model(x)
+        if eiv and not held:
+            g = obj.evaluator.slopes(obj.params.from_internal(x), w)
+        sigma, nll = profile_sigma(y, m, g, t_max, spin_sd if eiv else 0.0)
+        if abs(nll_prev - nll) < 1e-3:
+            break
+        nll_prev = nll
+    return _Optimum(x, m, g, sigma, success, message)
+
+
+def _runs(
+    candidate: Candidate,
+    spin_rate: ArrayLike,
+    measured: ArrayLike,
+    band: ArrayLike | None,
+    run: ArrayLike | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.str_], NDArray[np.int64]]:
+    """Spins, measured t_cr, bands and run numbers, checked."""
+    w = np.asarray(spin_rate, dtype=float).reshape(-1)
+    y = np.asarray(measured, dtype=float).reshape(-1)
+    if w.size != y.size:
+        raise InputError("measured", f"has {y.size} entries, expected {w.size}")
+    if w.size < candidate.n_params + 2:
+        raise InputError(
+            "runs", f"{w.size} runs for {candidate.n_params} parameters and sigma; need more"
+        )
+    bands = band_of(w) if band is None else np.asarray(band).astype(str)
+    runs = np.arange(1, w.size + 1) if run is None else np.asarray(run, dtype=np.int64)
+    return w, y, bands, runs
+
+
+def _start_values(
+    candidate: Candidate, start: Sequence[float] | Mapping[str, float] | None
+) -> list[float]:
+    if start is None:
+        return list(candidate.start())
+    if isinstance(start, Mapping):
+        return [float(start.get(k, PARAMETERS[k].start)) for k in candidate.params]
+    return [float(v) for v in start]
 
 
 def fit_candidate(
@@ -82,14 +205,11 @@ def fit_candidate(
     run: ArrayLike | None = None,
     selection: str = "all",
     start: Sequence[float] | Mapping[str, float] | None = None,
-    slopes: ArrayLike | None = None,
     spin_sd: float = SPIN_SD,
     t_max: float = DEFAULT_T_MAX,
     options: SolverOptions | None = None,
     evaluator: ModelEvaluator | None = None,
-    max_outer: int = 4,
-    covariance: bool = True,
-    xtol: float = _XTOL,
+    controls: FitControls | None = None,
 ) -> CandidateFit:
     """Fit one candidate to runs by maximum likelihood (censored Gaussian with spin EIV).
 
@@ -108,8 +228,6 @@ def fit_candidate(
         Label of the run selection.
     start : sequence or mapping, optional
         Starting values of ``candidate.params`` (default: their ``start``).
-    slopes : array_like, optional
-        Fixed dt_cr/domega_p per run [s^2]: no outer iteration (profile probes).
     spin_sd : float
         Spin error SD sigma_w [rad/s]; 0 switches the error-in-variables term off.
     t_max : float
@@ -117,30 +235,17 @@ def fit_candidate(
     options : SolverOptions, optional
     evaluator : ModelEvaluator, optional
         Reused (with its cache) if it belongs to this candidate and horizon.
-    max_outer : int
-        Effective-variance passes.
-    covariance : bool
-        Compute the Wald covariance (skipped for profile probes).
-    xtol : float
-        Relative parameter step at which the first pass stops.
+    controls : FitControls, optional
+        Iteration settings (default: a full fit with its covariance).
 
     Returns
     -------
     CandidateFit
     """
     t_start = time.perf_counter()
-    w = np.asarray(spin_rate, dtype=float).reshape(-1)
-    y = np.asarray(measured, dtype=float).reshape(-1)
-    if w.size != y.size:
-        raise InputError("measured", f"has {y.size} entries, expected {w.size}")
-    if w.size < candidate.n_params + 2:
-        raise InputError(
-            "runs", f"{w.size} runs for {candidate.n_params} parameters and sigma; need more"
-        )
+    w, y, bands, runs = _runs(candidate, spin_rate, measured, band, run)
     check_range("spin_sd", spin_sd, 0.0, math.inf, hi_open=True, unit="rad/s")
     check_range("t_max", t_max, 0.0, math.inf, lo_open=True, hi_open=True, unit="s")
-    bands = band_of(w) if band is None else np.asarray(band).astype(str)
-    runs = np.arange(1, w.size + 1) if run is None else np.asarray(run, dtype=np.int64)
     if (
         evaluator is None
         or evaluator.candidate != candidate
@@ -149,96 +254,26 @@ def fit_candidate(
     ):
         evaluator = ModelEvaluator(candidate, t_max, options)
     n_int0, n_fail0 = evaluator.n_integrations, evaluator.n_failed
-    p = candidate.n_params
-    if start is None:
-        v0 = list(candidate.start())
-    elif isinstance(start, Mapping):
-        v0 = [float(start.get(k, PARAMETERS[k].start)) for k in candidate.params]
-    else:
-        v0 = [float(v) for v in start]
-    lo = np.array([PARAMETERS[k].internal_bounds()[0] for k in candidate.params])
-    hi = np.array([PARAMETERS[k].internal_bounds()[1] for k in candidate.params])
-    x = np.clip(_internal(candidate, v0), lo, hi) if p else np.empty(0)
-    eiv = spin_sd > 0.0
-    g = np.zeros(w.size) if slopes is None else np.asarray(slopes, dtype=float).copy()
-    nfev = 0
-    message = "no free parameters"
-    success = True
-
-    def model(xi: NDArray[np.float64]) -> NDArray[np.float64]:
-        nonlocal nfev
-        nfev += 1
-        return evaluator.opening_times(_physical(candidate, xi), w)
-
-    m = model(x)
-    sigma = float(np.sqrt(np.mean((np.where(np.isfinite(m), m, t_max) - y) ** 2)))
-    sigma = max(sigma, 1e-3)
-    nll_prev = math.inf
-    outer = 1 if (slopes is not None or not eiv) else max(1, int(max_outer))
-    for it in range(outer):
-        sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd if eiv else 0.0)
-        if p:
-            res = least_squares(
-                lambda xi, sd=sd: scaled_residuals(y, model(xi), sd, t_max),
-                x,
-                bounds=(lo, hi),
-                method="trf",
-                jac="2-point",
-                diff_step=_DIFF_STEP,
-                x_scale=1.0,
-                xtol=xtol if it == 0 else _XTOL_LATER,
-                ftol=_FTOL,
-            )
-            x = np.clip(res.x, lo, hi)
-            success, message = bool(res.success), str(res.message)
-            m = model(x)
-        if eiv and slopes is None:
-            g = evaluator.slopes(_physical(candidate, x), w)
-        sigma, nll = profile_sigma(y, m, g, t_max, spin_sd if eiv else 0.0)
-        if abs(nll_prev - nll) < 1e-3:
-            break
-        nll_prev = nll
-    sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd if eiv else 0.0)
+    controls = controls or FitControls()
+    obj = _Objective(_parameters(candidate), evaluator, w, y, t_max)
+    opt = _effective_variance(
+        obj, obj.params.start(_start_values(candidate, start)), spin_sd, controls
+    )
+    m, g, sigma = opt.model, opt.slope, opt.sigma
+    sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd)
     sd = np.where(np.isfinite(m), sd, sigma)
     nll = float(np.sum(nll_terms(y, m, sd, t_max)))
-    values = dict(zip(candidate.params, _physical(candidate, x), strict=True))
+    values = obj.params.values(opt.x)
+    p = len(obj.params)
     cov = np.full((p, p), math.nan)
     stderr = {k: math.nan for k in candidate.params}
     ci95 = {k: (math.nan, math.nan) for k in candidate.params}
-    if p and covariance:
-        jac = np.empty((w.size, p))
-        for j in range(p):
-            h = _COV_STEP * max(abs(x[j]), 1.0)
-            xp, xm = x.copy(), x.copy()
-            xp[j] = min(x[j] + h, hi[j])
-            xm[j] = max(x[j] - h, lo[j])
-            jac[:, j] = (
-                scaled_residuals(y, model(xp), sd, t_max)
-                - scaled_residuals(y, model(xm), sd, t_max)
-            ) / (xp[j] - xm[j])
-        try:
-            cov_int = np.linalg.inv(jac.T @ jac)
-        except np.linalg.LinAlgError:
-            cov_int = np.full((p, p), math.nan)
-        # delta method to physical units
-        d = np.array(
-            [
-                PARAMETERS[k].from_internal(float(xi)) * math.log(10.0)
-                if PARAMETERS[k].log
-                else PARAMETERS[k].scale
-                for k, xi in zip(candidate.params, x, strict=True)
-            ]
-        )
-        cov = cov_int * np.outer(d, d)
-        dof = max(w.size - (p + 1), 1)
-        tq = float(stats.t.ppf(0.975, dof))
-        for j, k in enumerate(candidate.params):
-            se_int = math.sqrt(cov_int[j, j]) if cov_int[j, j] >= 0 else math.nan
-            stderr[k] = math.sqrt(cov[j, j]) if cov[j, j] >= 0 else math.nan
-            # clipped to the fit bounds (an interval reaching them: not identified)
-            a = PARAMETERS[k].from_internal(float(max(x[j] - tq * se_int, lo[j])))
-            b = PARAMETERS[k].from_internal(float(min(x[j] + tq * se_int, hi[j])))
-            ci95[k] = (min(a, b), max(a, b))
+    if p and controls.covariance:
+        box = obj.params.internal_bounds()
+        jac = central_jacobian(obj.residuals(sd), opt.x, box, _SETTINGS.covariance_step)
+        # sigma is fitted too: n - (p + 1) degrees of freedom
+        est = wald(obj.params, opt.x, covariance_internal(jac), max(w.size - (p + 1), 1))
+        cov, stderr, ci95 = est.covariance, est.stderr, est.ci95
     return CandidateFit(
         name=candidate.name,
         selection=selection,
@@ -260,9 +295,9 @@ def fit_candidate(
         run=runs,
         t_max=float(t_max),
         covariance=cov,
-        success=success,
-        message=message,
-        nfev=nfev,
+        success=opt.success,
+        message=opt.message,
+        nfev=obj.nfev,
         n_integrations=evaluator.n_integrations - n_int0,
         n_failed=evaluator.n_failed - n_fail0,
         elapsed_s=time.perf_counter() - t_start,
@@ -325,10 +360,8 @@ def profile_interval(
         raise InputError("name", f"{name!r} is not fitted by {candidate.name!r}")
     par = PARAMETERS[name]
     others = tuple(k for k in candidate.params if k != name)
-    zq = math.sqrt(CHI2_95)
     x_best = par.to_internal(best.values[name])
-    lo_b, hi_b = par.internal_bounds()
-    wald = [par.to_internal(v) for v in best.ci95[name]]
+    wald_limits = [par.to_internal(v) for v in best.ci95[name]]
 
     def signed_root(xv: float) -> float:
         sub = replace(
@@ -343,37 +376,21 @@ def profile_interval(
             band=best.band,
             run=best.run,
             start={k: best.values[k] for k in others},
-            slopes=best.slope,
             spin_sd=spin_sd,
             t_max=best.t_max,
             options=options,
-            covariance=False,
-            xtol=_XTOL_LATER,
+            controls=FitControls(best.slope, covariance=False, xtol=_XTOL_LATER),
         )
         d = max(2.0 * (f.nll - best.nll), 0.0)
         return math.copysign(math.sqrt(d), xv - x_best)
 
     out = {-1: math.nan, 1: math.nan}
-    for side, bound, guess in ((-1.0, lo_b, wald[0]), (1.0, hi_b, wald[1])):
-        if int(side) not in sides:
-            continue
-        target = side * zq
-        if not math.isfinite(guess) or guess == x_best:
-            guess = x_best + side * 0.05 * max(abs(x_best), 1.0)
-        xa, ra = x_best, 0.0
-        xb = min(max(guess, lo_b), hi_b)
-        rb = signed_root(xb)
-        for _ in range(max_probes - 1):
-            if abs(rb - target) < 0.05 or (xb == bound and side * rb < zq) or rb == ra:
-                break
-            xn = min(max(xb + (target - rb) * (xb - xa) / (rb - ra), lo_b), hi_b)
-            xa, ra = xb, rb
-            xb, rb = xn, signed_root(xn)
-        if (ra - target) * (rb - target) < 0.0:  # bracketed: interpolate
-            result = xa + (target - ra) * (xb - xa) / (rb - ra)
-        else:
-            result = xb
-        out[int(side)] = par.from_internal(result)
+    for side, guess in ((-1, wald_limits[0]), (1, wald_limits[1])):
+        if side in sides:
+            x_lim = profile_limit(
+                signed_root, x_best, side, par.internal_bounds(), guess, max_probes
+            )
+            out[side] = par.from_internal(x_lim)
     if par.log or par.scale > 0:  # monotone increasing transform
         return (out[-1], out[1])
     return (out[1], out[-1])  # pragma: no cover - no decreasing transforms

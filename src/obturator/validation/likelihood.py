@@ -54,9 +54,9 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import minimize_scalar
 from scipy.special import log_ndtr
 
+from ..fitting import minimize_bounded_scalar
 from .floor import SPIN_REGULATION
 
 __all__ = [
@@ -155,8 +155,8 @@ def profile_sigma(
         sigma = min(max(sigma, _SIGMA_RANGE[0]), _SIGMA_RANGE[1])
         return sigma, total(math.log(sigma))
     lo, hi = (math.log(x) for x in _SIGMA_RANGE)
-    res = minimize_scalar(total, bounds=(lo, hi), method="bounded", options={"xatol": 1e-8})
-    return float(math.exp(res.x)), float(res.fun)
+    log_sigma, nll = minimize_bounded_scalar(total, (lo, hi), 1e-8)
+    return math.exp(log_sigma), nll
 
 
 def aic(nll: float, k: int) -> float:

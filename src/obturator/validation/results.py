@@ -10,12 +10,13 @@ ranking and the recommendation.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ..fitting import FitParameter
 from .candidates import CANDIDATES, PARAMETERS
 from .floor import ReplicateFloor, band_labels
 
@@ -172,19 +173,33 @@ class CandidateFit:
         """Every fitted value in its physical range."""
         return all(self.plausible.values())
 
+    @property
+    def parameters(self) -> dict[str, FitParameter]:
+        """Each fitted parameter: its registry entry with this fit's estimate."""
+        return {
+            k: replace(
+                PARAMETERS[k],
+                value=self.values[k],
+                stderr=self.stderr.get(k, math.nan),
+                ci95=self.ci95.get(k, (math.nan, math.nan)),
+                ci_method=self.ci_method.get(k, "wald"),
+            )
+            for k in self.params
+        }
+
     def params_dict(self) -> dict[str, dict[str, Any]]:
         """{name: {value, stderr, ci95, ci_method, unit, plausible_range, plausible}}."""
         return {
             k: {
-                "value": self.values[k],
-                "stderr": self.stderr.get(k, math.nan),
-                "ci95": list(self.ci95.get(k, (math.nan, math.nan))),
-                "ci_method": self.ci_method.get(k, "wald"),
-                "unit": PARAMETERS[k].unit,
-                "plausible_range": list(PARAMETERS[k].plausible),
+                "value": p.value,
+                "stderr": p.stderr,
+                "ci95": list(p.ci95 or (math.nan, math.nan)),
+                "ci_method": p.ci_method,
+                "unit": p.unit,
+                "plausible_range": list(p.plausible),
                 "plausible": self.plausible.get(k, True),
             }
-            for k in self.params
+            for k, p in self.parameters.items()
         }
 
     def to_dict(self) -> dict[str, Any]:

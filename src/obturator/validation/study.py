@@ -43,7 +43,7 @@ from numpy.typing import NDArray
 
 from ..calibration.data import SpinRigData, load_thesis_data
 from ..errors import InputError, check_range
-from ..solve import SolverOptions, convergence_check
+from ..solve import SolverOptions, convergence_check, opening_times
 from ..sweeps.executors import die_with_parent, mp_context
 from .candidates import CANDIDATES, PARAMETERS, get_candidates
 from .evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS, ModelEvaluator
@@ -161,17 +161,12 @@ def _phase_task(
 ) -> dict[str, Any]:
     cand = CANDIDATES[name]
     phases = np.linspace(0.0, math.pi, _PHASES, endpoint=False)
-    table = np.array(
-        [
-            [
-                _opening(
-                    cand.build(float(w), {**values, "release_phase": float(ph)}, t_max), options
-                )
-                for ph in phases
-            ]
-            for w in spins
-        ]
-    )
+    cases = [
+        cand.build(float(w), {**values, "release_phase": float(ph)}, t_max)
+        for w in spins
+        for ph in phases
+    ]
+    table = opening_times(cases, options)[0].reshape(len(spins), -1)
     sd = np.nanstd(table, axis=1, ddof=1)
     return {
         "model": name,
@@ -182,15 +177,6 @@ def _phase_task(
         "note": "psi_0 uniform per run (switch thrown at an arbitrary instant): "
         "this SD is part of the replicate scatter the model itself predicts",
     }
-
-
-def _opening(case: Any, options: SolverOptions | None) -> float:
-    from ..solve import opening_time
-
-    try:
-        return opening_time(case, options)
-    except RuntimeError:
-        return math.nan
 
 
 # --------------------------------------------------------------------------- executor

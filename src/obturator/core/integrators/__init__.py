@@ -53,7 +53,12 @@ def auto_radau_tolerances(rtol: float, atol: float) -> tuple[float, float]:
 
 
 #: Method name -> module defining ``integrate(problem, controls)``.
-_MODULES = {"dop853": "dop853", "radau": "radau", "rosenbrock": "rosenbrock"}
+_MODULES = {
+    "dop853": "dop853",
+    "radau": "radau",
+    "rosenbrock": "rosenbrock",
+    "set-valued": "stick_slip",
+}
 
 
 def method_module(name: str):
@@ -87,7 +92,7 @@ def continue_auto(
     at most :data:`AUTO_HAND_BACKS` times in all (`hand_backs` already done). On the
     rig the stiff stretch is the stick-slip phase after release; the sliding that
     follows costs DOP853 far less than Radau IIA. The batched lanes
-    (:mod:`obturator.sweeps.batch`) switch at the same points.
+    (:mod:`obturator.solve.many`) switch at the same points.
     """
     dop853 = method_module("dop853").integrate
     while out.status == Status.STIFF:

@@ -1,12 +1,15 @@
-"""Opening times of many points at once: batched DOP853 lanes, stiff lanes handed to Radau.
+"""Opening times of many cases: the one front door every study goes through.
 
-:func:`opening_times` is what a sweep or Monte Carlo chunk computes. It gives the
-same t_cr and status per point as :func:`obturator.sweeps.points.evaluate_point`
-(one :func:`obturator.solve.opening_time` call per point), but integrates the
-points together in the lanes of :func:`obturator.core.integrators.lanes.integrate_lanes`:
+:func:`opening_times` takes a sequence of cases (an
+:class:`~obturator.errors.InputError` in place of a case marks an invalid point) and
+returns t_cr, a :class:`~obturator.status.Status` per case and work counters. Where
+the options allow (method ``auto``, no convergence check) the cases are integrated
+together in the SIMD lanes of :func:`obturator.core.integrators.lanes.integrate_lanes`,
+else one by one through :func:`obturator.solve.opening_time`; both give the same
+t_cr and status per case:
 
-1. every point's case is built and packed (a point that is not a valid case
-   gets ``INVALID_INPUT``), and points are grouped by right-hand-side kernel;
+1. every case is packed (:func:`pack_points`, :class:`PackedPoints`), and cases are
+   grouped by right-hand-side kernel;
 2. each group runs in lanes, highest spin rate first (spin sets the steps per
    second of simulated time, so the costliest enter first and the tail of the
    batch is short);
@@ -25,16 +28,16 @@ with the scalar path to the last bit on the cases checked
 (``tests/test_lanes.py``); points continued in Radau IIA lanes agree with the
 scalar Radau IIA to rounding amplified by the near-stick dynamics (~1e-8
 relative measured; ``OBTURATOR_RADAU_LANES=0`` continues them one by one).
-Options the lanes do not cover (methods other than
-``auto``, the convergence check) fall back to the per-point path.
+This module is the only one above :mod:`obturator.core` besides
+:mod:`obturator.solve.one` that drives the integrators.
 """
 
 from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping, Sequence
-from typing import NamedTuple
+from collections.abc import Sequence
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -47,21 +50,24 @@ from ..core.integrators import (
 )
 from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes, integrate_radau_lanes
 from ..core.layout import KERNEL_THESIS, N_PARAM, N_STATE, P_KERNEL
-from ..errors import InputError
-from ..solve import SolverOptions, integration_controls, integration_setup
-from ..status import Status
-from .points import point_status
+from ..errors import InputError, SolverError
+from ..status import MESSAGES, Status
+from .one import opening_time
+from .options import SolverOptions
+from .setup import integration_controls, integration_setup
 
 __all__ = [
     "BATCH_METHODS",
+    "PACKED_WIDTHS",
+    "POINT_STATUSES",
     "RADAU_LANES_MIN",
     "PackedPoints",
     "batchable",
+    "env_switch",
     "integrate_packed",
     "opening_times",
     "pack_points",
-    "pack_rows",
-    "run_rows",
+    "point_status",
 ]
 
 #: Methods the lanes integrate (``auto``: DOP853, stiff lanes handed to Radau IIA).
@@ -89,29 +95,64 @@ def env_switch(name: str) -> bool:
 
 
 def batchable(options: SolverOptions, check_convergence: bool = False) -> bool:
-    """True when points with these options run in lanes.
+    """True when cases with these options run in lanes.
 
-    ``OBTURATOR_LANES=0`` in the environment turns the lanes off (every point
-    through :func:`~obturator.sweeps.points.evaluate_point`, the scalar path):
-    for benchmarks and for cross-checks; results are the same.
+    ``OBTURATOR_LANES=0`` in the environment turns the lanes off (every case
+    through :func:`~obturator.solve.opening_time`, the scalar path): for
+    benchmarks and for cross-checks; results are the same.
     """
     if not env_switch("OBTURATOR_LANES"):
         return False
     return options.method in BATCH_METHODS and not check_convergence
 
 
+#: The statuses a case of :func:`opening_times` can have (a study's ``status``
+#: variable's flag values).
+POINT_STATUSES: tuple[Status, ...] = (
+    Status.INVALID_INPUT,
+    Status.FAILED,
+    Status.T_MAX,
+    Status.OPENED,
+    Status.STEP_LIMIT,
+    Status.UNCONVERGED,
+)
+
+
+def point_status(status: Status, t: float) -> tuple[float, int]:
+    """(t_cr, status) of a case from an integration's status and t_event [s].
+
+    ``FAILED`` or ``STEP_LIMIT`` when the integration failed (t_cr NaN), ``T_MAX``
+    when it did not open, else ``OPENED``. Shared by the one-by-one path and the lanes.
+    """
+    if not status.success:
+        return math.nan, Status.STEP_LIMIT if status == Status.STEP_LIMIT else Status.FAILED
+    return (t, Status.OPENED) if math.isfinite(t) else (math.nan, Status.T_MAX)
+
+
 def opening_times(
-    cases: Sequence[object], options: SolverOptions, *, n_lanes: int = DEFAULT_LANES
+    cases: Sequence[object],
+    options: SolverOptions | None = None,
+    *,
+    check_convergence: bool = False,
+    strict: bool = False,
+    n_lanes: int = DEFAULT_LANES,
 ) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
-    """t_cr [s] and status of many cases, integrated in lanes.
+    """t_cr [s] and status of many cases: the front door of every study.
 
     Parameters
     ----------
     cases : sequence of Case or InputError
-        The points; an :class:`~obturator.errors.InputError` in place of a case
+        The cases; an :class:`~obturator.errors.InputError` in place of a case
         marks a point that is not a valid case (status ``INVALID_INPUT``).
-    options : SolverOptions
-        Solver options (method ``"auto"``).
+    options : SolverOptions, optional
+        Solver options (default :class:`SolverOptions`). With method ``"auto"``
+        the cases run in lanes (:func:`batchable`), else one by one.
+    check_convergence : bool
+        Also run :func:`~obturator.solve.convergence_check` on every opened case;
+        status ``UNCONVERGED`` where it fails (one by one: four runs per case).
+    strict : bool
+        Raise, as :func:`~obturator.solve.opening_time` does, where a case is invalid
+        or its integration failed (for studies that cannot use a partial answer).
     n_lanes : int
         Lanes advanced together (1 to 16).
 
@@ -120,14 +161,61 @@ def opening_times(
     t_cr : ndarray
         Opening times [s] (NaN where not opened).
     status : ndarray of int8
-        :class:`~obturator.status.Status` per point, as
-        :func:`~obturator.sweeps.points.evaluate_point` gives it.
+        :class:`~obturator.status.Status` per case: ``OPENED``, ``T_MAX`` (did not
+        open by ``case.t_max``), ``STEP_LIMIT``, ``FAILED``, ``INVALID_INPUT``,
+        ``UNCONVERGED``.
     stats : dict
-        ``n_points``, ``nfev`` (right-hand sides, all points), ``n_stiff``
-        (points handed to Radau IIA), ``n_hand_backs`` (Radau IIA lanes that went
-        back to DOP853 lanes).
+        ``n_points``, ``nfev`` (right-hand sides, all points; lanes only),
+        ``n_stiff`` (points handed to Radau IIA), ``n_hand_backs`` (Radau IIA lanes
+        that went back to DOP853 lanes).
+
+    Raises
+    ------
+    InputError
+        With `strict`, the first invalid case's error.
+    SolverError
+        With `strict`, where an integration failed or reached the step limit.
     """
-    return integrate_packed(pack_points(cases, options), options, n_lanes=n_lanes)
+    options = options or SolverOptions()
+    if batchable(options, check_convergence):
+        out = integrate_packed(pack_points(cases, options), options, n_lanes=n_lanes)
+    else:
+        n = len(cases)
+        t_cr = np.full(n, math.nan)
+        status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
+        for k, case in enumerate(cases):
+            if not isinstance(case, InputError):
+                t_cr[k], status[k] = _one_by_one(case, options, check_convergence)
+        out = t_cr, status, {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0}
+    if strict:
+        _raise_failed(cases, out[1])
+    return out
+
+
+def _raise_failed(cases: Sequence[object], status: np.ndarray) -> None:
+    """Raise for the first case that is invalid or whose integration failed."""
+    for case, s in zip(cases, status.tolist(), strict=True):
+        if isinstance(case, InputError):
+            raise case
+        if s in (Status.FAILED, Status.STEP_LIMIT):
+            name = getattr(case, "name", "") or "case"
+            raise SolverError(f"{name}: {MESSAGES[Status(s)]}", status=Status(s))
+
+
+def _one_by_one(case: Any, options: SolverOptions, check_convergence: bool) -> tuple[float, int]:
+    """(t_cr, status) of one case through the one-trajectory path (never raises for a
+    failed integration)."""
+    from .convergence import convergence_check
+
+    try:
+        t = opening_time(case, options)
+        if check_convergence and math.isfinite(t):
+            if not convergence_check(case, options, opening_time_s=t).converged:
+                return t, Status.UNCONVERGED
+    except RuntimeError as exc:  # SolverError, or anything else the integrator raised
+        limit = getattr(exc, "status", None) == Status.STEP_LIMIT
+        return point_status(Status.STEP_LIMIT if limit else Status.FAILED, math.nan)
+    return point_status(Status.OPENED, t)
 
 
 class PackedPoints(NamedTuple):
@@ -151,6 +239,11 @@ class PackedPoints(NamedTuple):
     def take(self, rows: np.ndarray) -> PackedPoints:
         """The points at positions `rows`."""
         return PackedPoints(*(a[rows] for a in self))
+
+
+#: Columns of one point's row when :class:`PackedPoints` travel as one 2-D array
+#: (valid, y0, p, scale, t_max, h0, h_max, spin), e.g. through shared memory.
+PACKED_WIDTHS: tuple[int, ...] = (1, N_STATE, N_PARAM, N_STATE, 1, 1, 1, 1)
 
 
 def pack_points(cases: Sequence[object], options: SolverOptions) -> PackedPoints:
@@ -273,25 +366,3 @@ def _settle(sel, st, t_ev, final, end_status, t_event) -> None:
     """Record the outcome of the points of `sel` whose run ended (`final`)."""
     end_status[sel[final]] = st[final]
     t_event[sel[final]] = t_ev[final]
-
-
-def pack_rows(spec, names: tuple[str, ...], rows: np.ndarray) -> PackedPoints:
-    """:class:`PackedPoints` of the rows of one sweep chunk (values in `names` order)."""
-    cases: list[object] = []
-    for row in rows:
-        values: Mapping[str, float] = dict(zip(names, row.tolist(), strict=True))
-        try:
-            cases.append(spec.build_case(values))
-        except InputError as exc:
-            cases.append(exc)
-    return pack_points(cases, spec.options)
-
-
-def run_rows(
-    spec, names: tuple[str, ...], rows: np.ndarray, packed: PackedPoints | None = None
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`opening_times` of the rows of one sweep chunk (values in `names` order),
-    from `packed` (:func:`pack_rows` of the same rows) where given."""
-    t, s, _ = integrate_packed(pack_rows(spec, names, rows) if packed is None else packed,
-                               spec.options)  # fmt: skip
-    return t, s

@@ -1,0 +1,103 @@
+"""Set-valued stick-slip solver against the regularised path, per trajectory.
+
+``python -m benchmarks.stick_slip [--quick] [--json PATH]``; also part of
+``python -m benchmarks``. For the rig at 40-1000 rad/s (mu_s = 0.5473) and the
+flight case (Table 1): best-of wall time per trajectory of ``opening_time`` with
+
+* the regularised path at its defaults (method "auto", rtol 1e-8, width 1e-7 omega_p),
+* the set-valued solver (method "set-valued") at rtol 1e-8 and at rtol 1e-10,
+
+their ratios (set-valued / regularised, in the same run), and each t_cr's relative
+error against the set-valued solver at rtol 1e-12 (which agrees with the regularised
+family limit, ``docs/stick_slip.md``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from collections.abc import Sequence
+from typing import Any
+
+from obturator.model.cases import flight_case, rig_case
+from obturator.solve import SolverOptions, opening_time
+
+MU_S = 0.5473
+SPINS = (40.0, 60.0, 78.0, 100.0, 150.0, 200.0, 300.0, 700.0, 1000.0)
+SPINS_QUICK = (78.0, 200.0, 1000.0)
+PATHS = {
+    "regularised": SolverOptions(),
+    "set-valued": SolverOptions(method="set-valued"),
+    "set-valued 1e-10": SolverOptions(method="set-valued", rtol=1e-10, atol=1e-12),
+}
+REFERENCE = SolverOptions(method="set-valued", rtol=1e-12, atol=1e-14)
+
+
+def _best(case, options: SolverOptions, repeat: int) -> tuple[float, float]:
+    """(best wall time [s], t_cr [s]) of `repeat` runs (one warm-up first)."""
+    t_cr = opening_time(case, options)
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        opening_time(case, options)
+        best = min(best, time.perf_counter() - t0)
+    return best, t_cr
+
+
+def cost(spins: Sequence[float] = SPINS, repeat: int = 5) -> list[dict[str, Any]]:
+    """One row per case: wall time, t_cr and error of each path, and the ratios."""
+    cases = [(f"rig {w:g} rad/s", rig_case(w, MU_S)) for w in spins]
+    cases.append(("flight (Table 1)", flight_case()))
+    rows = []
+    for name, case in cases:
+        ref = opening_time(case, REFERENCE)
+        row: dict[str, Any] = {"case": name, "t_cr_reference_s": ref}
+        for label, options in PATHS.items():
+            # fewer repeats where one run takes long (the low-spin regularised path)
+            wall, t_cr = _best(case, options, repeat if ref < 5.0 else max(1, repeat // 5))
+            row[label] = {"wall_s": wall, "t_cr_s": t_cr, "rel_error": abs(t_cr - ref) / ref}
+        base = row["regularised"]["wall_s"]
+        row["ratio"] = {k: row[k]["wall_s"] / base for k in PATHS if k != "regularised"}
+        rows.append(row)
+    return rows
+
+
+def print_table(rows: list[dict[str, Any]]) -> None:
+    """The rows as a rich table (ms per trajectory, ratio to the regularised path)."""
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title="set-valued stick-slip vs regularised, per trajectory (best of runs)")
+    t.add_column("case")
+    t.add_column("t_cr ref [s]", justify="right")
+    for label in PATHS:
+        t.add_column(f"{label} [ms]", justify="right")
+        t.add_column("err", justify="right")
+    t.add_column("ratio sv/reg", justify="right")
+    t.add_column("ratio sv 1e-10/reg", justify="right")
+    for r in rows:
+        cells = [r["case"], f"{r['t_cr_reference_s']:.9g}"]
+        for label in PATHS:
+            cells += [f"{r[label]['wall_s'] * 1e3:.2f}", f"{r[label]['rel_error']:.1e}"]
+        cells += [f"{r['ratio']['set-valued']:.2f}", f"{r['ratio']['set-valued 1e-10']:.2f}"]
+        t.add_row(*cells)
+    Console().print(t)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m benchmarks.stick_slip``."""
+    ap = argparse.ArgumentParser(prog="python -m benchmarks.stick_slip")
+    ap.add_argument("--quick", action="store_true", help="three spins, two repeats")
+    ap.add_argument("--json", metavar="PATH", help="write the rows as JSON")
+    args = ap.parse_args(argv)
+    rows = cost(SPINS_QUICK if args.quick else SPINS, 2 if args.quick else 5)
+    print_table(rows)
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(rows, fh, indent=2)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,598 @@
+"""Event-driven stick-slip integration of the thesis friction law, with no width.
+
+Formulation: the *switch model* of Leine and Nijmeijer (*Dynamics and Bifurcations
+of Non-Smooth Mechanical Systems*, Springer 2004, ch. 2 and 9), with the exact set of
+admissible moments in place of Leine's stick band (Glocker, *Set-Valued Force Laws*,
+Springer 2001; Acary and Brogliato, *Numerical Methods for Nonsmooth Dynamical
+Systems*, Springer 2008, ch. 7: event-driven schemes). The ball is in one of two
+modes (``docs/stick_slip.md`` derives them from thesis Eqs. 35-36, 56-64, Appendix A):
+
+* **stick**, omega_r = 0: the ball turns rigidly with the socket, so its attitude is a
+  rotation about Z and nothing is integrated; the reaction is G_req =
+  omega_p^2 (C - A) z_Z (Z x z) (:func:`obturator.core.friction_sets.required_reaction`)
+  and the mode holds while G_req lies in the admissible set F. The exit (G_req on the
+  boundary of F) is a closed-form rotation angle
+  (:func:`~obturator.core.friction_sets.breakaway_angle`), exact to rounding.
+* **slip**, omega_r != 0: thesis Eqs. 62-64 with the true-direction law at full
+  magnitude (``P_WIDTH = 0``: no regularisation). Slip right after breakaway and before
+  sticking is stiff in the slip *direction* (relaxation rate ~ M / (A |omega_r|),
+  unbounded as omega_r -> 0: the rig's creep about X is a sliding motion on this slow
+  manifold), so an explicit method would need unboundedly many steps there: it is
+  integrated by fifth-order Radau IIA (the steps, Newton iteration, error estimate and
+  opening-event location of :mod:`.radau`, at ``auto``'s third of the tolerances).
+  Above |omega_r| = :data:`FAST_SLIP` (M / A) h_max the direction is resolved by the
+  largest step and the slip runs in DOP853 stretches (:mod:`.dop853`, the tolerances
+  as given), each short enough that |omega_r| cannot fall below half that level at
+  twice its present rate of change; DOP853's stiffness test (status ``STIFF``) hands
+  back to Radau IIA otherwise.
+
+Transitions:
+
+* slip -> stick: stick is the only continuation once |omega_r| reaches 0 with G_req
+  inside F. When G_req is inside F and |omega_r| decreases, the step is cut to
+  :data:`HOME_IN` of the predicted time to zero slip (Newton's method on |omega_r|(t)),
+  and stick starts once |omega_r| <= :data:`STICK_SLIP` omega_p: omega_r is then set to
+  0. Projecting from |omega_r| = r changes the attitude by O(r^2 / a) (a the
+  deceleration), far below the step error.
+* stick -> slip: at the breakaway angle; the slip starts with omega_r =
+  :data:`KICK` omega_p along -G_req / |G_req| (the direction in which the saturated
+  friction gives way; Radau IIA needs a defined direction at its first node).
+
+* grazing exit: a kicked slip that cannot take off (|omega_r| below the kick with
+  G_req still outside F, Radau IIA's steps collapsed) is held rigidly through the rest of
+  the window (:func:`_through_window`); its creep is below the kick's scale.
+
+The friction moment at zero slip is never evaluated in slip, and the stick reaction
+is never integrated, so there is no width; Radau IIA's Jacobian alone is taken from a
+copy of the parameters with a tiny width (:data:`JACOBIAN_WIDTH`) so that its
+forward differences stay below the slip speed. Requires the quaternion formulation,
+the thesis friction law (rig or flight), and a constant or free spin.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ...errors import InputError
+from ..dynamics import nutation_angle_of_state, rhs
+from ..friction_sets import (
+    breakaway_angle,
+    hold_stick,
+    relative_rate,
+    required_reaction,
+    stick_margin,
+    turn_by,
+    turn_rigidly,
+)
+from ..jit_flags import NO_REFCOUNT
+from ..layout import (
+    FORM_QUATERNION,
+    FRIC_THESIS_FLIGHT,
+    FRIC_THESIS_RIG,
+    KERNEL_GENERIC,
+    N_STATE,
+    P_A,
+    P_FAMILY,
+    P_FORM,
+    P_FRIC,
+    P_KERNEL,
+    P_SPEED,
+    P_SPIN_MODE,
+    P_THETA_CR,
+    P_WIDTH,
+    SPEED_CONSTANT,
+    SPIN_THESIS_ENERGY,
+)
+from . import AUTO_RADAU_TOL_FACTOR
+from .common import append_row, jacobian, record_row, rms_norm, start, underflow
+from .contract import Controls, Problem, RawSolution, Status
+from .dop853 import integrate as dop853_integrate
+from .linalg import lu_solve
+from .radau import _UROUND, _colloc_weights, _dense, _factor, _newton, locate_opening
+from .radau_coefficients import C1, C2, E1, E2, E3
+from .radau_control import _LIM_SHRINK, next_step, step_quotient
+
+__all__ = ["STICK_SLIP", "KICK", "HOME_IN", "JACOBIAN_WIDTH", "FAST_SLIP", "integrate"]
+
+#: Slip speed, in units of |omega_p|, at which a decaying slip with G_req inside F
+#: becomes stick.
+STICK_SLIP = 1e-6
+#: Slip speed, in units of |omega_p|, given at breakaway (along -G_req / |G_req|).
+KICK = 1e-9
+#: Fraction of the predicted time to zero slip taken as the step when homing in.
+HOME_IN = 0.98
+#: Width, in units of the slip speed, of the parameter copy used for Radau IIA's
+#: Jacobian only (its forward differences are capped at 1e-4 widths; the width is
+#: at least 1e-10 omega_p, so that they stay above rounding).
+JACOBIAN_WIDTH = 1e-3
+#: Slip speed above which slip is integrated by DOP853, in units of (M / A) h_max: the
+#: slip direction relaxes at ~ M / (A |omega_r|), so there h_max resolves it.
+FAST_SLIP = 4.0
+#: Fraction of |omega_r| / |omega_r'| that one DOP853 stretch may last.
+_CHUNK = 0.5
+#: Relative margin (of M) that G_req must keep inside F to enter stick.
+_MARGIN = 1e-9
+
+
+def integrate(
+    problem: Problem, controls: Controls, stick_slip: float = STICK_SLIP, kick: float = KICK
+) -> RawSolution:
+    """Integrate with exact stick and slip modes from t0 to the opening or t_max.
+
+    Keeps the contract of :mod:`.contract`; the regularisation width and family in
+    ``problem.p`` are ignored (the law is used at zero width). `stick_slip` and
+    `kick` override :data:`STICK_SLIP` and :data:`KICK` (convergence studies).
+
+    Raises
+    ------
+    InputError
+        For a case outside the solver's scope (Euler-angle formulation, the thesis's
+        energy spin mode, a friction law other than the thesis's, a slip-speed law).
+    """
+    p = np.array(problem.p, dtype=float)
+    if p[P_FORM] != FORM_QUATERNION:
+        raise InputError("formulation", "the set-valued solver integrates 'quaternion' only")
+    if p[P_SPIN_MODE] == SPIN_THESIS_ENERGY:
+        raise InputError("spin_mode", "the set-valued solver takes 'constant' or 'free'")
+    if p[P_FRIC] not in (FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT) or p[P_SPEED] != SPEED_CONSTANT:
+        raise InputError(
+            "torque_model", "the set-valued solver takes the thesis law with constant mu_s"
+        )
+    spin = abs(float(problem.y0[7])) or 1.0
+    p[P_KERNEL] = KERNEL_GENERIC
+    p[P_WIDTH] = 0.0
+    p[P_FAMILY] = 0.0
+    p_jac = p.copy()
+    p_jac[P_WIDTH] = JACOBIAN_WIDTH * spin
+    return _integrate(problem._replace(p=p), controls, p_jac, stick_slip, kick)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _slip(y: np.ndarray) -> tuple[float, float, float, float]:
+    """omega_r (inertial) and |omega_r| [rad/s] of a state."""
+    wx, wy, wz = relative_rate(y, y[7])
+    return wx, wy, wz, math.sqrt(wx * wx + wy * wy + wz * wz)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _stick_admissible(y: np.ndarray, p: np.ndarray) -> bool:
+    """G_req of `y` inside F with the relative margin _MARGIN."""
+    gx, gy, gz = required_reaction(y, p, y[7])
+    return stick_margin(gx, gy, gz, p) > _MARGIN * p[P_FRIC + 1]
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _slip_rate(y: np.ndarray, f: np.ndarray) -> float:
+    """d|omega_r|/dt [rad/s^2] at `y` with derivative `f` (omega_r' = R w' - omega_p' Z)."""
+    wx, wy, wz, r = _slip(y)
+    if r == 0.0:
+        return 0.0
+    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
+    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    a1, a2, a3 = f[4], f[5], f[6]
+    ax = (1.0 - s * (q2 * q2 + q3 * q3)) * a1 + s * (q1 * q2 - q0 * q3) * a2
+    ax += s * (q1 * q3 + q0 * q2) * a3
+    ay = s * (q1 * q2 + q0 * q3) * a1 + (1.0 - s * (q1 * q1 + q3 * q3)) * a2
+    ay += s * (q2 * q3 - q0 * q1) * a3
+    az = s * (q1 * q3 - q0 * q2) * a1 + s * (q2 * q3 + q0 * q1) * a2
+    az += (1.0 - s * (q1 * q1 + q2 * q2)) * a3 - f[7]
+    return (wx * ax + wy * ay + wz * az) / r
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _excess(y: np.ndarray, p: np.ndarray) -> float:
+    """-stick_margin of G_req at `y` [N m]: how far G_req is outside F."""
+    gx, gy, gz = required_reaction(y, p, y[7])
+    return -stick_margin(gx, gy, gz, p)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> float:
+    """Start a slip from zero slip at `y` (in place); returns the time it takes [s].
+
+    Leaving F, the ball slips along u = -G_req / |G_req| (perpendicular to the hole
+    axis, so the inertia along u is A) with |omega_r|(tau) = a tau + j tau^2 / 2,
+    a = e / A and j = de/dt / A, e the excess of |G_req| over the radius of F.
+    The slip starts at |omega_r| = `kick`, i.e. at the tau where that series reaches
+    it, from the rigid motion turned on by omega_p tau (the slip's own turn there,
+    ~ kick tau / 3, is dropped).
+    """
+    wp = y[7]
+    a_inv = 1.0 / p[P_A]
+    dphi = 1e-6
+    e0 = _excess(y, p)
+    turn_rigidly(y, dphi if wp >= 0.0 else -dphi, work)
+    rate = a_inv * max(e0, 0.0)
+    jerk = a_inv * (_excess(work, p) - e0) * abs(wp) / dphi
+    tau = 0.0
+    if jerk > 0.0:
+        tau = (math.sqrt(rate * rate + 2.0 * jerk * kick) - rate) / jerk
+    elif rate > 0.0:
+        tau = kick / rate
+    turn_rigidly(y, wp * tau, work)
+    for i in range(4):
+        y[i] = work[i]
+    gx, gy, gz = required_reaction(y, p, wp)
+    g = math.sqrt(gx * gx + gy * gy + gz * gz)
+    if g == 0.0:
+        return tau
+    ux, uy, uz = -kick * gx / g, -kick * gy / g, -kick * gz / g
+    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
+    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    # body rates += R^T u
+    y[4] += (1.0 - s * (q2 * q2 + q3 * q3)) * ux + s * (q1 * q2 + q0 * q3) * uy
+    y[4] += s * (q1 * q3 - q0 * q2) * uz
+    y[5] += s * (q1 * q2 - q0 * q3) * ux + (1.0 - s * (q1 * q1 + q3 * q3)) * uy
+    y[5] += s * (q2 * q3 + q0 * q1) * uz
+    y[6] += s * (q1 * q3 + q0 * q2) * ux + s * (q2 * q3 - q0 * q1) * uy
+    y[6] += (1.0 - s * (q1 * q1 + q2 * q2)) * uz
+    return tau
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _through_window(y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval):
+    """Hold the ball through the rest of an exit window of F (in place on `y`).
+
+    For a slip that cannot take off: G_req only grazes the boundary of F, |omega_r|
+    has fallen below the kick and Radau IIA's steps have collapsed. Its creep is below
+    the kick's scale, so the ball turns rigidly to the end of the window. Returns
+    (t_end, i_eval, n_out), t_end < 0 where this does not apply (the run failed).
+    """
+    wp = y[7]
+    window = -breakaway_angle(y, p, wp)
+    if not (_slip(y)[3] < r_kick and window > 0.0 and wp != 0.0):
+        return -1.0, i_eval, n_out
+    t_new = min(t + (window + 1e-12) / abs(wp), t_max)
+    while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
+        turn_rigidly(y, wp * (t_eval[i_eval] - t), ytry)
+        ts[n_out] = t_eval[i_eval]
+        for i in range(y.shape[0]):
+            ys[n_out, i] = ytry[i]
+        n_out += 1
+        i_eval += 1
+    turn_rigidly(y, wp * (t_new - t), ytry)
+    for i in range(y.shape[0]):
+        y[i] = ytry[i]
+    return t_new, i_eval, n_out
+
+
+@njit(cache=True, inline="always", **NO_REFCOUNT)
+def _fresh_radau(h: float, h_max: float, t_left: float) -> tuple:
+    """Radau IIA state after a mode change or a DOP853 stretch: (h, h_lu, need_jac,
+    have_poly, first, h_lim), no collocation polynomial or Jacobian carried over."""
+    return min(h, h_max, t_left), math.nan, True, False, True, math.inf
+
+
+@njit(cache=True, nogil=True, fastmath={"contract"})
+def _integrate(problem, controls, p_jac, stick_slip, kick):
+    """The mode loop: closed-form stick phases, Radau IIA slip phases (see module)."""
+    p, scale = problem.p, problem.scale
+    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
+    n = N_STATE
+    theta_cr = p[P_THETA_CR]
+    t, y, ts, ys, n_out, y_event = start(problem, controls)
+    f0 = np.empty(n)
+    ynew = np.empty(n)
+    ytry = np.empty(n)
+    work = np.empty(n)
+    fwork = np.empty(n)
+    scal = np.empty(n)
+    err_v = np.empty(n)
+    z = np.zeros((3, n))
+    w = np.zeros((3, n))
+    f = np.empty((3, n))
+    zacc = np.zeros((3, n))
+    zev = np.zeros((3, n))
+    wev = np.zeros((3, n))
+    jac = np.empty((n, n))
+    lu_r = np.empty((n, n))
+    lu_cr = np.empty((n, n))
+    lu_ci = np.empty((n, n))
+    piv_r = np.empty(n, dtype=np.int64)
+    piv_c = np.empty(n, dtype=np.int64)
+    cbr = np.empty(n)
+    cbi = np.empty(n)
+    lu = (lu_r, piv_r, lu_cr, lu_ci, piv_c)
+    scratch = (work, cbr, cbi)
+    stage = (z, w, f)
+    stage_ev = (zev, wev, f)
+    n_eval = t_eval.shape[0]
+    use_eval = n_eval > 0
+    i_eval = 0
+    nfev = 0
+    njev = 0
+    n_steps = 0
+    n_rej = 0
+    status = Status.T_MAX
+    t_event = math.nan
+    rtol0, atol0 = rtol, atol  # DOP853 stretches take the tolerances as given
+    r_fast = p[P_FRIC + 1] / p[P_A] * h_max * FAST_SLIP
+    # Radau IIA at auto's fraction of the tolerances (near-stick t_cr amplifies its
+    # local errors), transformed as RADAU5 does (as in .radau)
+    rtol *= AUTO_RADAU_TOL_FACTOR
+    atol *= AUTO_RADAU_TOL_FACTOR
+    quot_tol = atol / rtol
+    rtol = 0.1 * rtol ** (2.0 / 3.0)
+    atol = rtol * quot_tol
+    fnewt = max(10.0 * _UROUND / rtol, min(0.03, math.sqrt(rtol)))
+    spin = abs(y[7]) if y[7] != 0.0 else 1.0
+    r_stick = stick_slip * spin
+    r_kick = kick * spin
+    r0 = _slip(y)[3]
+    sticking = r0 <= r_stick and _stick_admissible(y, p)
+    # slip-phase state of the Radau IIA steps
+    h = min(h0, h_max, t_max - t)
+    h_lu = math.nan
+    need_jac = True
+    jac_fresh = False
+    have_poly = False
+    h_acc = 0.0
+    first = True
+    rejected = False
+    faccon = 1.0
+    h_gus = 0.0
+    err_gus = 1.0
+    h_lim = math.inf
+    theta = 0.0
+    armed = True  # re-stick allowed (after a breakaway: once G_req has left F)
+    if not sticking:
+        if r0 < r_kick:  # released at (or near) zero slip with G_req outside F
+            t += _break_away(y, p, r_kick, ytry)
+        rhs(t, y, p, f0)
+        nfev += 1
+    g_old = nutation_angle_of_state(y, p) - theta_cr
+    while t < t_max:
+        if sticking:
+            wp = y[7]
+            hold_stick(y, wp)
+            angle = max(breakaway_angle(y, p, wp), 0.0)
+            t_b = min(t + angle / abs(wp), t_max) if wp != 0.0 else t_max
+            if use_eval:
+                while i_eval < n_eval and t_eval[i_eval] <= t_b:
+                    turn_rigidly(y, wp * (t_eval[i_eval] - t), ytry)
+                    ts[n_out] = t_eval[i_eval]
+                    ys[n_out, :] = ytry
+                    n_out += 1
+                    i_eval += 1
+            turn_rigidly(y, wp * (t_b - t), ytry)
+            y[:] = ytry
+            t = t_b
+            if record and not use_eval:
+                ts, ys, n_out = append_row(ts, ys, n_out, t, y)
+            if t >= t_max:
+                break
+            t += _break_away(y, p, r_kick, ytry)
+            sticking = False
+            armed = False
+            rhs(t, y, p, f0)
+            nfev += 1
+            h, h_lu, need_jac, have_poly, first, h_lim = _fresh_radau(h0, h_max, t_max - t)
+            rejected = False
+            faccon = 1.0
+            g_old = nutation_angle_of_state(y, p) - theta_cr
+            continue
+        if n_steps >= max_steps:
+            status = Status.STEP_LIMIT
+            break
+        if need_jac:
+            # forward differences far below the slip speed (the law's scale near stick)
+            p_jac[P_WIDTH] = max(JACOBIAN_WIDTH * _slip(y)[3], 1e-10 * spin)
+            rhs(t, y, p_jac, err_v)  # the differences must be of one law
+            jacobian(t, y, err_v, p_jac, scale, jac, work, fwork)
+            nfev += n + 1
+            njev += 1
+            need_jac = False
+            jac_fresh = True
+            h_lu = math.nan
+        if t + 1.01 * h >= t_max:
+            h = t_max - t
+        if h != h_lu:
+            if not _factor(h, jac, lu):
+                n_rej += 1
+                h *= 0.5
+                h_lu = math.nan
+                if underflow(h, t):
+                    status = Status.FAILED
+                    break
+                continue
+            h_lu = h
+        for i in range(n):
+            scal[i] = 1.0 / (atol * scale[i] + rtol * abs(y[i]))
+        if have_poly:
+            for k in range(3):
+                ck = C1 if k == 0 else (C2 if k == 1 else 1.0)
+                l1, l2, l3 = _colloc_weights(1.0 + ck * h / h_acc)
+                for i in range(n):
+                    z[k, i] = l1 * zacc[0, i] + l2 * zacc[1, i] + l3 * zacc[2, i] - zacc[2, i]
+        else:
+            z[:, :] = 0.0
+        ok, newt, theta, faccon, hfac = _newton(t, y, h, p, scal, stage, lu, scratch, faccon, fnewt)
+        nfev += 3 * newt
+        if not ok:
+            h_lim = min(h_lim, h * _LIM_SHRINK)
+            n_rej += 1
+            rejected = True
+            h *= hfac
+            if not jac_fresh:
+                need_jac = True
+            if underflow(h, t):
+                t_w, i_eval, n_out = _through_window(
+                    y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval
+                )
+                if t_w < 0.0:
+                    status = Status.FAILED
+                    break
+                t = t_w
+                sticking = True
+                continue
+            continue
+        for i in range(n):
+            ynew[i] = y[i] + z[2, i]
+            err_v[i] = f0[i] + (E1 * z[0, i] + E2 * z[1, i] + E3 * z[2, i]) / h
+        for i in range(n):
+            work[i] = err_v[i]
+        lu_solve(lu_r, piv_r, work)
+        err = rms_norm(work, y, ynew, rtol, atol, scale)
+        if err >= 1.0 and (first or rejected):
+            for i in range(n):
+                ytry[i] = y[i] + work[i]
+            rhs(t, ytry, p, fwork)
+            nfev += 1
+            for i in range(n):
+                work[i] = fwork[i] + err_v[i] - f0[i]
+            lu_solve(lu_r, piv_r, work)
+            err = rms_norm(work, y, ynew, rtol, atol, scale)
+        if not (err == err):
+            err = 1e10
+        quot, quot_std = step_quotient(err, newt, h, first, h_gus, err_gus)
+        if err >= 1.0:
+            n_rej += 1
+            rejected = True
+            h = h * 0.1 if first else h / quot_std
+            if not jac_fresh:
+                need_jac = True
+            if underflow(h, t):
+                t_w, i_eval, n_out = _through_window(
+                    y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval
+                )
+                if t_w < 0.0:
+                    status = Status.FAILED
+                    break
+                t = t_w
+                sticking = True
+                continue
+            continue
+        # ---- accepted ----
+        h_new = h / quot
+        h_gus = h
+        err_gus = max(1e-2, err)
+        t_new = t + h
+        t_stop = t_new
+        g_new = nutation_angle_of_state(ynew, p) - theta_cr
+        if g_old > 0.0 and t_event != t_event:
+            found, t_ev, nf = locate_opening(
+                t, y, h, z, ynew, g_old, g_new, p, scal, jac, zacc, stage_ev, lu, scratch,
+                fnewt, event_tol, ytry, y_event,
+            )  # fmt: skip
+            nfev += nf
+            if found:
+                h_lu = math.nan
+                t_event = t_ev
+                if terminal:
+                    status = Status.OPENED
+                    t_stop = t_event
+        if use_eval:
+            while i_eval < n_eval and t_eval[i_eval] <= t_stop:
+                _dense(y, z, (t_eval[i_eval] - t) / h, ytry)
+                ts[n_out] = t_eval[i_eval]
+                ys[n_out, :] = ytry
+                n_out += 1
+                i_eval += 1
+        if status == Status.OPENED:
+            ts, ys, n_out = record_row(ts, ys, n_out, t_event, y_event, record, use_eval)
+            y[:] = y_event
+            t = t_event
+            break
+        g_old = g_new
+        for k in range(3):
+            for i in range(n):
+                zacc[k, i] = z[k, i]
+        h_acc = h
+        have_poly = True
+        t = t_new
+        for i in range(n):
+            y[i] = ynew[i]
+        n_steps += 1
+        if not (y[0] == y[0]):
+            status = Status.FAILED
+            break
+        admissible = _stick_admissible(y, p)
+        armed = armed or not admissible
+        admissible = admissible and armed
+        rhs(t, y, p, f0)
+        nfev += 1
+        wx, wy, wz, r = _slip(y)
+        rate = _slip_rate(y, f0) if admissible else 0.0
+        if admissible and r <= r_stick and rate < 0.0:
+            # zero slip at t + tau, tau = r / |r'|; the attitude gets the slip's turn
+            # omega_r tau / 2 and the spin's omega_p tau (error O(r tau^2 |u'|))
+            tau = -r / rate
+            turn_by(y, 0.5 * tau * wx, 0.5 * tau * wy, 0.5 * tau * wz)
+            turn_rigidly(y, y[7] * tau, ytry)
+            y[:] = ytry
+            t += tau
+            sticking = True  # hold_stick zeroes omega_r at the top of the loop
+            if record and not use_eval:
+                ts, ys, n_out = append_row(ts, ys, n_out, t, y)
+            continue
+        if record and not use_eval:
+            ts, ys, n_out = append_row(ts, ys, n_out, t, y)
+        h, h_lim, slow = next_step(h, h_new, h_lim, h_max, rejected, theta)
+        need_jac = need_jac or slow
+        if rate < 0.0 and -HOME_IN * r / rate < h:  # home in: Newton on |omega_r|(t)
+            h = -HOME_IN * r / rate
+        first = False
+        rejected = False
+        jac_fresh = False
+        # fast slip: DOP853 stretches, each too short for |omega_r| to fall to r_fast / 2
+        # at twice its present rate of change, floored at |omega_r| omega_p / (4 pi) (a
+        # slip that turns with the ball changes at ~ omega_p |omega_r|); DOP853's own
+        # stiffness test stops one should the slip still approach zero
+        stretched = False
+        done = False
+        while r >= r_fast and t < t_max:
+            rate_floor = r * spin / (4.0 * math.pi)
+            t_chunk = t + _CHUNK * (r - 0.5 * r_fast) / max(abs(_slip_rate(y, f0)), rate_floor)
+            if t_chunk - t < 2.0 * h_max:
+                break
+            t_chunk = min(t_chunk, t_max)
+            j = i_eval
+            while j < n_eval and t_eval[j] <= t_chunk:
+                j += 1
+            stretch = Controls(
+                t_chunk, rtol0, atol0, min(h, h_max), h_max, max_steps - n_steps,
+                t_eval[i_eval:j], record and not use_eval, terminal, event_tol, False,
+            )  # fmt: skip
+            out = dop853_integrate(Problem(y.copy(), p, scale, t), stretch)
+            stretched = True
+            nfev += out.nfev
+            n_steps += out.n_steps
+            n_rej += out.n_rejected
+            k0 = 0 if use_eval else 1  # a recorded stretch starts with this state
+            for k in range(k0, out.t.shape[0]):
+                if use_eval:
+                    ts[n_out] = out.t[k]
+                    ys[n_out, :] = out.y[k]
+                    n_out += 1
+                    i_eval += 1
+                elif record:
+                    ts, ys, n_out = append_row(ts, ys, n_out, out.t[k], out.y[k])
+            if out.t_event == out.t_event and t_event != t_event:
+                t_event = out.t_event
+                y_event[:] = out.y_event
+            if out.status == Status.OPENED:
+                status = Status.OPENED
+                done = True
+            elif not (out.y_end[0] == out.y_end[0]) or out.status == Status.STEP_LIMIT:
+                status = out.status
+                done = True
+            t = out.t_end
+            y[:] = out.y_end
+            if done or out.status != Status.T_MAX:  # STIFF: back to Radau IIA
+                break
+            rhs(t, y, p, f0)
+            nfev += 1
+            r = _slip(y)[3]
+        if done:
+            break
+        if stretched:
+            rhs(t, y, p, f0)
+            nfev += 1
+            h, h_lu, need_jac, have_poly, first, h_lim = _fresh_radau(h, h_max, t_max - t)
+            g_old = nutation_angle_of_state(y, p) - theta_cr
+    return RawSolution(
+        status, t_event, y_event, ts[:n_out], ys[:n_out], nfev, njev, n_steps, n_rej, t, y
+    )

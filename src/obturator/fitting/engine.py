@@ -1,0 +1,141 @@
+"""The fit engine: every optimiser call of the calibration and the validation.
+
+* :func:`minimize_least_squares`: bounded nonlinear least squares in the
+  optimiser variables of a :class:`~.parameters.ParameterSet`
+  (:func:`scipy.optimize.least_squares`, trust-region reflective), settings in
+  :class:`LeastSquaresSettings` (the calibration's and the validation's differ
+  in their finite-difference steps, see there);
+* :func:`central_jacobian`: the Jacobian at the optimum by central differences,
+  steps kept inside the bounds (the covariance's input, :mod:`.intervals`);
+* :func:`minimize_bounded_scalar`: Brent's bounded scalar minimisation (the
+  bootstrap's one-parameter refits and the likelihood's sigma).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Literal, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import least_squares, minimize_scalar
+
+__all__ = [
+    "LeastSquaresSettings",
+    "Minimum",
+    "central_jacobian",
+    "minimize_bounded_scalar",
+    "minimize_least_squares",
+]
+
+Residuals = Callable[[NDArray[np.float64]], NDArray[np.float64]]
+
+
+@dataclass(frozen=True)
+class LeastSquaresSettings:
+    """How :func:`minimize_least_squares` steps and stops.
+
+    Attributes
+    ----------
+    jac : {"2-point", "3-point"}
+        Finite differences of the optimiser's Jacobian.
+    diff_step : float
+        Their relative step. t_cr ripples slightly in the parameters (see
+        :func:`obturator.calibration.fit_exact`, Notes): the step must be large
+        against that ripple's scale and small against the parameters'
+        uncertainties.
+    x_scale : float or "jac"
+        Variable scaling of the trust region.
+    xtol, ftol : float
+        Stopping tolerances (relative step of x, relative change of the cost).
+    covariance_step : float
+        Relative step of :func:`central_jacobian` at the optimum.
+    """
+
+    jac: Literal["2-point", "3-point"] = "3-point"
+    diff_step: float = 1e-4
+    x_scale: float | Literal["jac"] = "jac"
+    xtol: float = 1e-8
+    ftol: float = 1e-8
+    covariance_step: float = 1e-4
+
+
+class Minimum(NamedTuple):
+    """Where :func:`minimize_least_squares` stopped."""
+
+    x: NDArray[np.float64]
+    success: bool
+    message: str
+    nfev: int
+
+
+def minimize_least_squares(
+    residuals: Residuals,
+    x0: NDArray[np.float64],
+    bounds: tuple[NDArray[np.float64], NDArray[np.float64]],
+    settings: LeastSquaresSettings,
+    *,
+    xtol: float | None = None,
+) -> Minimum:
+    """Minimise sum(residuals(x)^2) over x within `bounds` (optimiser variables).
+
+    Parameters
+    ----------
+    residuals : callable
+        x -> residual vector (scaled: unit weights, or divided by their SDs).
+    x0 : ndarray
+        Start, inside `bounds`.
+    bounds : (ndarray, ndarray)
+        Lower and upper bounds of x.
+    settings : LeastSquaresSettings
+    xtol : float, optional
+        Overrides ``settings.xtol`` (later passes of an iterated fit).
+
+    Returns
+    -------
+    Minimum
+        x clipped into the bounds, the optimiser's verdict and its evaluations.
+    """
+    lo, hi = bounds
+    res = least_squares(
+        residuals,
+        x0,
+        bounds=(lo, hi),
+        method="trf",
+        jac=settings.jac,
+        diff_step=settings.diff_step,
+        x_scale=settings.x_scale,
+        xtol=settings.xtol if xtol is None else xtol,
+        ftol=settings.ftol,
+    )
+    return Minimum(np.clip(res.x, lo, hi), bool(res.success), str(res.message), int(res.nfev))
+
+
+def central_jacobian(
+    residuals: Residuals,
+    x: NDArray[np.float64],
+    bounds: tuple[NDArray[np.float64], NDArray[np.float64]],
+    step: float,
+) -> NDArray[np.float64]:
+    """d residuals / d x at x by central differences (step `step` max(|x_j|, 1)).
+
+    A step that would leave the bounds stops at the bound (one-sided there).
+    """
+    lo, hi = bounds
+    cols = []
+    for j in range(x.size):
+        h = step * max(abs(x[j]), 1.0)
+        xp, xm = x.copy(), x.copy()
+        xp[j] = min(x[j] + h, hi[j])
+        xm[j] = max(x[j] - h, lo[j])
+        cols.append((residuals(xp) - residuals(xm)) / (xp[j] - xm[j]))
+    return np.column_stack(cols) if cols else np.empty((0, 0))
+
+
+def minimize_bounded_scalar(
+    objective: Callable[[float], float], bounds: tuple[float, float], xatol: float
+) -> tuple[float, float]:
+    """Brent's bounded minimisation of a scalar function: (argmin, minimum)."""
+    res = minimize_scalar(objective, bounds=bounds, method="bounded", options={"xatol": xatol})
+    return float(res.x), float(res.fun)

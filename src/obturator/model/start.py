@@ -1,0 +1,233 @@
+"""When the tube starts: the Kantrowitz-Donaldson limit on the opening passage (thesis ch. I).
+
+Before the bore opens, the blocked inlet carries a detached bow shock (Fig. 2b).
+The flow starts -- the shock is swallowed and only attached oblique shocks
+stand at the lip (Fig. 2c) -- once the throat can pass the captured flow behind
+a normal shock at sonic speed (thesis Eq. 2, with M_2 from Eq. 3):
+
+    A_c / A_t <= (A_c / A_t)_start(M) = A/A*(M_2)       (``swallow_area_ratio``)
+
+The throat of the passage through the ball is the open area A(theta) of
+:mod:`.passage` (the straight stream tube through the tilted hole), so the
+tube starts at the nutation angle theta_start(M) where
+
+    A(theta_start) = A_c / (A_c/A_t)_start(M).
+
+A(theta) falls monotonically from the full bore at theta = 0 to nothing at
+beta_s, so theta_start < beta_s: the start comes after first light. Two flags:
+
+* **unstartable**: A_c / A(0) >= (A_c/A_t)_start(M); even the aligned ball
+  leaves too small a throat (the Mach number is below
+  ``start_mach(A_c / A(0))``, Eq. 2 inverted). Never for the Table 1
+  constant-area bore (A_c = A(0)), which starts at any supersonic Mach.
+* **choked**: the started tube of length L_p and diameter 2 r_p chokes by wall
+  friction (Fanno, chapter I.B.4.c) at or below the choking Mach, a normal
+  shock stands in the bore and the flow unstarts again (the drag rise of
+  the thesis's Refs. 7-8).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from ..errors import check_range
+from ..flow import (
+    choking_mach_freestream,
+    normal_shock_pressure_ratio,
+    normal_shock_stagnation_pressure_ratio,
+    start_mach,
+    swallow_area_ratio,
+)
+from ..reference import TABLE1
+from .geometry import BoredBall
+from .passage import open_angle, open_area
+
+__all__ = ["StartCondition", "start_condition", "full_bore_start_mach"]
+
+
+@dataclass(frozen=True)
+class StartCondition:
+    """The start of the internal flow at one flight Mach number.
+
+    Attributes
+    ----------
+    mach : float
+        Flight Mach number M_1 [-].
+    theta_start : float
+        Nutation angle at which the bow shock is swallowed [rad]; NaN when
+        unstartable.
+    swallow_ratio : float
+        (A_c/A_t)_start at this Mach (Eq. 2) [-].
+    throat_area : float
+        Throat area needed, A_c / (A_c/A_t)_start [m^2].
+    capture_area : float
+        A_c [m^2].
+    full_area : float
+        Open area of the aligned ball, A(0) [m^2].
+    beta_s : float
+        First-light angle asin(r_s/R_s) [rad].
+    startable : bool
+        The full bore swallows the shock at this Mach.
+    choke_mach : float
+        Fanno choking Mach of the started bore [-].
+    choked : bool
+        ``mach <= choke_mach``: the started tube chokes by friction and unstarts.
+    bore_radius : float
+        r_p [m].
+    gamma : float
+        Ratio of specific heats [-].
+    """
+
+    mach: float
+    theta_start: float
+    swallow_ratio: float
+    throat_area: float
+    capture_area: float
+    full_area: float
+    beta_s: float
+    startable: bool
+    choke_mach: float
+    choked: bool
+    bore_radius: float
+    gamma: float
+
+    @property
+    def verdict(self) -> str:
+        """``"starts"``, ``"unstartable"`` (Eq. 2) or ``"choked"`` (Fanno)."""
+        if not self.startable:
+            return "unstartable"
+        return "choked" if self.choked else "starts"
+
+    def spill_load_factors(self) -> tuple[float, float]:
+        """Bounds on the ball's load between first light and start, over the thesis's F_p [-].
+
+        Quasi-steady (the passage opens over milliseconds, the bore's acoustic
+        time L_p / a is about 0.1 ms): with the throat A(theta) choked, the bore
+        ahead of the ball holds subsonic flow at total pressure p_02 behind the
+        normal bow shock, its Mach number M_b set by pi r_p^2 / A(theta) =
+        A/A*(M_b); M_b rises from 0 at first light to M_2 at the start, where
+        Eq. 2 holds. So the pressure on the upstream face stays in [P_2, p_02],
+        the loaded area in [pi r_p^2 - A_t, pi r_p^2], and the downstream face,
+        behind the sonic throat, sees at most the throat pressure
+        p* = p_02 (2/(gamma+1))^(gamma/(gamma-1)) and at least P_1. Hence
+
+            F_high = pi r_p^2 (p_02 - P_1),
+            F_low  = (pi r_p^2 - A_t) (P_2 - p*),
+
+        against the thesis's F_p = pi r_p^2 (P_2 - P_1) (Eq. 43), which the
+        dynamics keep past first light.
+
+        Returns
+        -------
+        (float, float)
+            F_low / F_p and F_high / F_p.
+        """
+        g, m = self.gamma, self.mach
+        p2 = float(normal_shock_pressure_ratio(m, g))
+        p02 = float(normal_shock_stagnation_pressure_ratio(m, g)) * (
+            1.0 + 0.5 * (g - 1.0) * m * m
+        ) ** (g / (g - 1.0))
+        p_star = p02 * (2.0 / (g + 1.0)) ** (g / (g - 1.0))
+        bore = math.pi * self.bore_radius**2
+        low = (1.0 - min(self.throat_area, bore) / bore) * (p2 - p_star) / (p2 - 1.0)
+        return low, (p02 - 1.0) / (p2 - 1.0)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready fields (angles also in degrees; NaN as None)."""
+        out: dict[str, Any] = {}
+        for k, v in asdict(self).items():
+            out[k] = None if isinstance(v, float) and not math.isfinite(v) else v
+        deg = math.degrees(self.theta_start)
+        out["theta_start_deg"] = deg if math.isfinite(deg) else None
+        out["beta_s_deg"] = math.degrees(self.beta_s)
+        out["verdict"] = self.verdict
+        return out
+
+
+def _capture(bore_radius: float, capture_area: float | None) -> float:
+    if capture_area is None:
+        return math.pi * bore_radius * bore_radius
+    return check_range("capture_area", capture_area, 0.0, math.inf, lo_open=True, unit="m^2")
+
+
+def full_bore_start_mach(
+    ball: BoredBall,
+    bore_radius: float = TABLE1["bore_radius"],
+    *,
+    capture_area: float | None = None,
+    gamma: float = TABLE1["gamma"],
+) -> float:
+    """Lowest flight Mach at which the aligned ball (theta = 0) swallows the shock [-].
+
+    ``start_mach(A_c / A(0))`` (Eq. 2 inverted); 1 for A_c = A(0), the Table 1 bore.
+    Raises :class:`~obturator.errors.InputError` when A_c / A(0) is at or above
+    the Eq. 2 limit (1.6661 for gamma = 1.4): such a tube never starts.
+    """
+    full = open_area(0.0, ball.radius, ball.hole_radius, bore_radius)
+    return float(start_mach(max(1.0, _capture(bore_radius, capture_area) / full), gamma))
+
+
+def start_condition(
+    mach: float,
+    ball: BoredBall,
+    bore_radius: float = TABLE1["bore_radius"],
+    *,
+    capture_area: float | None = None,
+    gamma: float = TABLE1["gamma"],
+    tube_length: float = TABLE1["projectile_length"],
+    altitude_m: float = 0.0,
+) -> StartCondition:
+    """theta_start(M) and the unstartable / choked flags at flight Mach `mach`.
+
+    Parameters
+    ----------
+    mach : float
+        Flight Mach number M_1, in (1, 10].
+    ball : BoredBall
+        R_s, r_s.
+    bore_radius : float
+        Projectile bore r_p [m].
+    capture_area : float, optional
+        A_c [m^2]; default pi r_p^2 (the constant-area bore's inlet).
+    gamma : float
+        Ratio of specific heats [-].
+    tube_length : float
+        Bore length L_p [m] for the Fanno choking Mach (Table 1: 76.2 mm).
+    altitude_m : float
+        Altitude [m] of the free-stream Reynolds number of the friction factor
+        (:func:`obturator.flow.choking_mach_freestream`).
+
+    Returns
+    -------
+    StartCondition
+    """
+    m = check_range("mach", mach, 1.0, 10.0, lo_open=True)
+    a_c = _capture(bore_radius, capture_area)
+    full = open_area(0.0, ball.radius, ball.hole_radius, bore_radius)
+    ratio = float(swallow_area_ratio(m, gamma))
+    needed = a_c / ratio
+    startable = needed <= full * (1.0 + 1e-12)
+    theta = open_angle(min(needed, full), ball.radius, ball.hole_radius, bore_radius)
+    choke = choking_mach_freestream(
+        check_range("tube_length", tube_length, 0.0, 10.0, lo_open=True, unit="m")
+        / (2.0 * bore_radius),
+        2.0 * bore_radius,
+        altitude_m=altitude_m,
+        gamma=gamma,
+    )
+    return StartCondition(
+        mach=m,
+        theta_start=theta if startable else math.nan,
+        swallow_ratio=ratio,
+        throat_area=needed,
+        capture_area=a_c,
+        full_area=full,
+        beta_s=ball.opening_angle,
+        startable=startable,
+        choke_mach=choke,
+        choked=m <= choke,
+        bore_radius=bore_radius,
+        gamma=gamma,
+    )

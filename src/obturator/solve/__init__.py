@@ -1,0 +1,65 @@
+"""Solving the equations of motion: the only package above :mod:`obturator.core` that
+drives the integrators.
+
+One case, one trajectory (:mod:`~obturator.solve.one`): :func:`simulate` (time history,
+:class:`~obturator.result.NutationResult`) and :func:`opening_time` (t_cr alone).
+Many cases (:mod:`~obturator.solve.many`): :func:`opening_times`, the front door every
+study (sweeps, Monte Carlo, calibration, validation, the thesis figures, the envelope)
+takes; SIMD lanes where the options allow, else one by one, same answers.
+Settings (:mod:`~obturator.solve.options`): :class:`SolverOptions` and the measured
+accuracy table. Convergence (:mod:`~obturator.solve.convergence`):
+:func:`convergence_check` reruns with tighter tolerances, a narrower width and
+another regularisation family. Past first light (:mod:`~obturator.solve.start`):
+:func:`start_times` runs on to the start of the internal flow, theta_start.
+:mod:`~obturator.solve.setup` packs a case for the
+compiled integrators (shared by both paths).
+"""
+
+from .convergence import ConvergenceCheck, alternative_family, convergence_check
+from .many import (
+    POINT_STATUSES,
+    PackedPoints,
+    batchable,
+    integrate_packed,
+    opening_times,
+    pack_points,
+    point_status,
+)
+from .one import opening_time, simulate
+from .options import (
+    MAX_STEP_PERIODS,
+    MAX_STEP_PERIODS_SHARP,
+    OPENING_TIME_ACCURACY,
+    SolverOptions,
+    max_step_periods,
+    tolerances_for_opening_time,
+)
+from .setup import error_scale, integration_controls, integration_setup, pack_parameters
+from .start import StartTimes, start_times
+
+__all__ = [
+    "MAX_STEP_PERIODS",
+    "MAX_STEP_PERIODS_SHARP",
+    "OPENING_TIME_ACCURACY",
+    "POINT_STATUSES",
+    "ConvergenceCheck",
+    "PackedPoints",
+    "SolverOptions",
+    "StartTimes",
+    "alternative_family",
+    "batchable",
+    "convergence_check",
+    "error_scale",
+    "integrate_packed",
+    "integration_controls",
+    "integration_setup",
+    "max_step_periods",
+    "opening_time",
+    "opening_times",
+    "pack_parameters",
+    "pack_points",
+    "point_status",
+    "simulate",
+    "start_times",
+    "tolerances_for_opening_time",
+]

@@ -1,0 +1,145 @@
+"""Is a t_cr converged? Reruns with tighter tolerances, a narrower width, another family."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from ..model.case import Case
+from ..vocab import FRICTION_FAMILIES, check_choice
+from .one import opening_time
+from .options import SolverOptions
+
+__all__ = ["ConvergenceCheck", "alternative_family", "convergence_check"]
+
+
+def alternative_family(family: str) -> str:
+    """The family a convergence check compares with: "linear" for the smooth
+    families (the most different shape: it reaches full friction at a finite
+    slip), "algebraic" for "linear"."""
+    return "algebraic" if family == "linear" else "linear"
+
+
+@dataclass(frozen=True)
+class ConvergenceCheck:
+    """t_cr re-computed with tighter tolerances, a narrower width and another family.
+
+    A width study alone cannot reveal a regularisation that converges to the
+    wrong limit (each family looks converged as its own width shrinks); a
+    second family with a different shape can. t_cr counts as converged only
+    when all three reruns agree with it.
+
+    Attributes
+    ----------
+    opening_time : float
+        t_cr with the given options [s] (NaN if it did not open).
+    tighter_tolerance : float
+        t_cr with rtol and atol divided by `factor` [s].
+    narrower_width : float
+        t_cr with ``friction_width`` divided by `factor` [s] (tolerances
+        divided by `factor` too, so slip speeds of order delta stay resolved).
+    other_family : float
+        t_cr with ``friction_family`` replaced by `family` [s].
+    family : str
+        The family of that rerun.
+    factor : float
+        Refinement factor (10 by default).
+    threshold : float
+        Largest relative change accepted as converged.
+    """
+
+    opening_time: float
+    tighter_tolerance: float
+    narrower_width: float
+    other_family: float
+    family: str
+    factor: float
+    threshold: float
+
+    @staticmethod
+    def _rel(a: float, b: float) -> float:
+        if math.isnan(a) and math.isnan(b):
+            return 0.0  # both "did not open by t_max"
+        if math.isnan(a) or math.isnan(b):
+            return math.inf
+        return abs(b - a) / abs(a)
+
+    @property
+    def tolerance_change(self) -> float:
+        """|t_tight - t| / t [-] (0 when neither run opened, inf when only one did)."""
+        return self._rel(self.opening_time, self.tighter_tolerance)
+
+    @property
+    def width_change(self) -> float:
+        """|t_narrow - t| / t [-]."""
+        return self._rel(self.opening_time, self.narrower_width)
+
+    @property
+    def family_change(self) -> float:
+        """|t_family - t| / t [-]."""
+        return self._rel(self.opening_time, self.other_family)
+
+    @property
+    def converged(self) -> bool:
+        """All three changes below the threshold."""
+        return max(self.tolerance_change, self.width_change, self.family_change) < self.threshold
+
+    def to_dict(self) -> dict[str, object]:
+        """JSON-ready summary (None for NaN/inf)."""
+
+        def clean(x: float) -> float | None:
+            return x if math.isfinite(x) else None
+
+        return {
+            "converged": self.converged,
+            "tolerance_rel_change": clean(self.tolerance_change),
+            "width_rel_change": clean(self.width_change),
+            "family_rel_change": clean(self.family_change),
+            "t_cr_tighter_tolerance_s": clean(self.tighter_tolerance),
+            "t_cr_narrower_width_s": clean(self.narrower_width),
+            "t_cr_other_family_s": clean(self.other_family),
+            "other_family": self.family,
+            "factor": self.factor,
+            "threshold": self.threshold,
+        }
+
+
+def convergence_check(
+    case: Case,
+    options: SolverOptions | None = None,
+    *,
+    factor: float = 10.0,
+    threshold: float = 1e-3,
+    opening_time_s: float | None = None,
+    family: str | None = None,
+) -> ConvergenceCheck:
+    """Recompute t_cr with tighter tolerances, a narrower width and another family.
+
+    Parameters
+    ----------
+    case : Case
+    options : SolverOptions, optional
+        The options whose result is being checked.
+    factor : float
+        Refinement factor for (rtol, atol) and for ``friction_width``.
+    threshold : float
+        Relative change below which t_cr counts as converged.
+    opening_time_s : float, optional
+        t_cr already computed with `options` [s] (saves one run).
+    family : str, optional
+        Regularisation family of the third rerun; default
+        :func:`alternative_family` of ``options.friction_family``.
+    """
+    options = options or SolverOptions()
+    family = alternative_family(options.friction_family) if family is None else family
+    check_choice("family", family, FRICTION_FAMILIES)
+    t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
+    t1 = opening_time(case, options.tighter(factor))
+    narrow = replace(options.tighter(factor), friction_width=options.friction_width / factor)
+    other = replace(options, friction_family=family)
+    if options.method == "set-valued":  # no width: the regularised path is the check
+        narrow = replace(narrow, method="auto")
+        other = replace(narrow, friction_family=family)
+    t2 = opening_time(case, narrow)
+    t3 = opening_time(case, other)
+    return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)

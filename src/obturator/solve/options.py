@@ -1,0 +1,224 @@
+"""Solver options: tolerances, regularisation, method, and what they buy in t_cr accuracy.
+
+:class:`SolverOptions` is the one frozen set of integrator settings every path takes
+(one trajectory, the lanes, the convergence check); :data:`OPENING_TIME_ACCURACY` is the
+measured table from which :meth:`SolverOptions.for_opening_time_accuracy` picks
+tolerances; :meth:`SolverOptions.from_settings` maps the merged settings of a config
+file and flags (canonical field names) to options.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, fields, replace
+from typing import Any
+
+from ..errors import InputError, check_range
+from ..model.case import Case
+from ..vocab import (
+    FORMULATIONS,
+    FRICTION_FAMILIES,
+    METHODS,
+    Formulation,
+    FrictionFamily,
+    Method,
+    check_choice,
+)
+
+__all__ = [
+    "MAX_STEP_PERIODS",
+    "MAX_STEP_PERIODS_SHARP",
+    "OPENING_TIME_ACCURACY",
+    "SolverOptions",
+    "max_step_periods",
+    "tolerances_for_opening_time",
+]
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Integrator settings.
+
+    Parameters
+    ----------
+    rtol : float
+        Relative tolerance, in [1e-12, 0.1) (smaller values cannot be honoured
+        in double precision by the integrators' error norms).
+    atol : float
+        Absolute tolerance on the quaternion components and on rates measured
+        in units of the initial spin omega_p0 (so it is scale-free).
+    friction_width : float
+        Regularisation width of the Coulomb magnitude, relative to the initial
+        spin: delta = friction_width * omega_p0 [rad/s]. Default 1e-7: t_cr
+        converges about linearly in delta, and at low spin (long near-stick
+        phases, e.g. 40-100 rad/s on the rig) 1e-6 still leaves ~1e-3
+        relative; 1e-7 leaves <= 2e-4 there (tests/test_convergence.py). Keep
+        ``atol`` well below the width (both are in units of omega_p0): the
+        integrator must resolve slip speeds of order delta.
+    friction_family : {"algebraic", "tanh", "linear"}
+        Shape of the regularised magnitude s(|omega_r|/delta):
+        x/sqrt(1+x^2) (default), tanh(x) or min(x, 1). Only the magnitude is
+        regularised; the thesis's moment arm always uses the true slip
+        direction. :func:`convergence_check` reruns with another family.
+    formulation : {"quaternion", "euler"}
+        Singularity-free quaternion form (default) or the thesis's Euler angles.
+    max_steps : int
+        Step limit (status 2 when reached).
+    event_tol : float
+        Bracket width at which the opening time is accepted [s].
+    max_step : float or None
+        Largest step [s]; default :func:`max_step_periods` of a spin period (a
+        twentieth on the rig, a tenth in flight).
+    method : {"auto", "radau", "rosenbrock", "set-valued"}
+        Compiled integrator. ``"auto"`` (default): the explicit eighth-order
+        Dormand-Prince pair DOP853 (no Jacobian; the problem is not stiff
+        outside sticking), handing the run over to Radau IIA (at a third of the
+        tolerances) from its last accepted state when DOP853 detects stiffness
+        (Hairer's h*lambda test, or more than 200 steps per spin period plus 1000,
+        or a step size collapse), and back to DOP853 from Radau's last accepted
+        step once the slip speed has stayed above 1e4 regularisation widths for half
+        a revolution (the stick-slip phase is over; at most
+        :data:`~obturator.core.integrators.AUTO_HAND_BACKS` times); counters add up.
+        t_cr errors at rtol 1e-8: median
+        ~5e-9, worst 3.0e-7 relative at 100-1000 rad/s, up to 1.6e-3 in the long
+        near-stick runs below 100 rad/s (:data:`OPENING_TIME_ACCURACY`; rtol 3e-9 keeps
+        them below 5e-6, rtol 1e-10 below 1.5e-7). ``"radau"``:
+        the fifth-order Radau IIA collocation method (Newton iterations follow the nonlinear
+        stiffness of sticking, 8-15x faster than Rosenbrock on the thesis cases
+        and ~1e2-1e4x fewer steps in long sticking phases). ``"rosenbrock"``:
+        the L-stable Rosenbrock pair of Shampine (ode23s). Radau transforms rtol as RADAU5 does
+        (0.1 rtol^(2/3)); t_cr errors stay below ~3e-7 relative at rtol 1e-8.
+        ``"set-valued"``: the thesis law with no width (``friction_width`` and
+        ``friction_family`` unused): exact stick and event-driven transitions
+        (:mod:`obturator.core.integrators.stick_slip`, ``docs/stick_slip.md``); quaternion
+        form, thesis friction, constant or free spin. :func:`convergence_check` then
+        compares with the regularised path (``"auto"``) at the narrower width, both
+        families.
+    """
+
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    friction_width: float = 1e-7
+    friction_family: FrictionFamily = "algebraic"
+    formulation: Formulation = "quaternion"
+    max_steps: int = 20_000_000
+    event_tol: float = 1e-12
+    max_step: float | None = None
+    method: Method = "auto"
+
+    def __post_init__(self) -> None:
+        # DOP853 works at 0.01 rtol, floored at 1e-14: a smaller rtol would be clamped.
+        check_range("rtol", self.rtol, 1e-12, 0.1, hi_open=True)
+        check_range("atol", self.atol, 0.0, 1.0, lo_open=True)
+        check_range("friction_width", self.friction_width, 0.0, 1.0, lo_open=True)
+        check_choice("friction_family", self.friction_family, FRICTION_FAMILIES)
+        check_choice("formulation", self.formulation, FORMULATIONS)
+        if int(self.max_steps) < 1:
+            raise InputError("max_steps", f"{self.max_steps} is outside the allowed range >= 1")
+        check_range("event_tol", self.event_tol, 0.0, 1e-3, lo_open=True, unit="s")
+        check_choice("method", self.method, METHODS)
+        if self.max_step is not None:
+            check_range("max_step", self.max_step, 0.0, math.inf, lo_open=True, unit="s")
+
+    @classmethod
+    def for_opening_time_accuracy(cls, tcr_rtol: float, **kw: Any) -> SolverOptions:
+        """Options whose t_cr is accurate to `tcr_rtol` (relative) on the measured cases.
+
+        The tolerances come from :data:`OPENING_TIME_ACCURACY`, the loosest whose
+        measured worst t_cr error, times a safety factor of 3, is within
+        `tcr_rtol` over the rig at 40-1000 rad/s; the long near-stick runs below
+        100 rad/s set it (above 100 rad/s the default rtol 1e-8 is within 3.0e-7).
+        Looser requests get rtol 1e-8 too (the default): at rtol 3e-8 the
+        10,000-point rig sweep over 100-700 rad/s already has a worst error of 6.6e-5
+        (near stick, 11 points beyond 1e-6) for 4 % less time.
+
+        Parameters
+        ----------
+        tcr_rtol : float
+            Requested relative accuracy of t_cr, >= 4.5e-7 [-].
+        **kw
+            Other :class:`SolverOptions` fields (not ``rtol``/``atol``).
+        """
+        rtol = tolerances_for_opening_time(tcr_rtol)
+        return cls(rtol=rtol, atol=rtol * 1e-2, **kw)
+
+    def tighter(self, factor: float = 10.0) -> SolverOptions:
+        """Both tolerances divided by `factor` (for convergence studies)."""
+        return replace(self, rtol=self.rtol / factor, atol=self.atol / factor)
+
+    @classmethod
+    def from_settings(cls, settings: Mapping[str, Any]) -> SolverOptions:
+        """Options from merged settings (canonical field names; defaults for the rest).
+
+        Keys other than the option fields are ignored (the settings of a case ride
+        along). A relative tolerance without an absolute one sets atol = rtol / 100.
+        """
+        kw = {f.name: settings[f.name] for f in fields(cls) if f.name in settings}
+        if "rtol" in kw and "atol" not in kw:
+            kw["atol"] = kw["rtol"] * 1e-2
+        return cls(**kw)
+
+
+#: (t_cr accuracy, rtol): rtol (atol = rtol/100) whose worst relative t_cr error,
+#: times 3, is within that accuracy. Measured against Radau IIA at rtol 1e-12 (at
+#: 1e-11 it is itself up to 1e-7 off near stick) on the rig at mu_s 0.5473 (default
+#: width and family), every point of two sweeps through the sweep path and through the
+#: one-trajectory path (``python -m benchmarks.dense_accuracy``, which reports both):
+#: 10,000 points over 100-700 rad/s and 241 over 40-100 rad/s (the long near-stick
+#: runs, t_cr 0.6-43 s); plus 13 fixed spins and 100 random ones over 40-1000 rad/s and
+#: the flight case at Mach 1.5-4, mu_s 0.35 and 0.5473. Worst errors of either path
+#: (40-100 rad/s; 100-1000 rad/s): rtol 1e-8: 1.6e-3 (the one-trajectory path at 42.5
+#: rad/s, t_cr 31.6 s; the sweep path's worst 1.6e-4); 3.0e-7. 3e-9: 4.8e-6; 1.5e-7.
+#: 1e-9: 3.5e-6; 6.3e-8. 1e-10: 1.5e-7; 5.0e-8 (the reference's own floor is ~2e-8).
+#: Flight errors are <= 4e-10. The low band sets every entry. Each is the worst of
+#: several measurements that differ only in rounding (the right-hand side before and
+#: after its rewrite with one square root, the compiled code before and after ``auto``
+#: learned to go back to DOP853, the sweep's vectorised Radau IIA and the scalar one):
+#: near stick, stick-slip over hundreds of revolutions amplifies rounding, so at rtol
+#: 1e-8 single points scatter by 1e-4..1e-3 from one such variant to the next, at
+#: 1e-10 by less than 1e-7. (Until release 0.3 the table was taken from the sweep path
+#: alone, and its rtol 1e-8 entry, 4.8e-4, did not hold for the one-trajectory path.)
+OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
+    (4.9e-3, 1e-8),
+    (1.5e-5, 3e-9),
+    (1.1e-5, 1e-9),
+    (4.5e-7, 1e-10),
+)
+
+
+#: Largest default step, in spin periods: a tenth, and :data:`MAX_STEP_PERIODS_SHARP`
+#: where the friction torque's moment arm vanishes in some slip direction (the rig's
+#: single bottom contact; :func:`max_step_periods`).
+MAX_STEP_PERIODS = 0.1
+#: With a tenth on the rig, DOP853 now and then took a step of that length across the
+#: sharp minimum of the moment arm (Eq. 61: sqrt(1 - u_X^2), small while omega_r
+#: points near the gravity axis X, twice per revolution) with an error estimate that
+#: missed it: isolated t_cr outliers of up to 8e-7 at rtol 1e-8 (0.3 % of a
+#: 10,000-point rig sweep over 100-700 rad/s, the state error jumping 300x in one step)
+#: where neighbouring spins were within ~3e-9. A twentieth cut the worst to 3e-7
+#: (1.2e-7 -> 1.7e-8 at rtol 1e-9) for ~10 % more DOP853 work. In flight (no such
+#: minimum) it only doubled the steps.
+MAX_STEP_PERIODS_SHARP = 0.05
+
+
+def max_step_periods(case: Case) -> float:
+    """Largest default step of `case`, in spin periods (see :data:`MAX_STEP_PERIODS`)."""
+    friction = case.torque.friction
+    sharp = friction is not None and friction.arm_vanishes
+    return MAX_STEP_PERIODS_SHARP if sharp else MAX_STEP_PERIODS
+
+
+def tolerances_for_opening_time(tcr_rtol: float) -> float:
+    """rtol for a requested relative t_cr accuracy (see :data:`OPENING_TIME_ACCURACY`).
+
+    Raises
+    ------
+    InputError
+        `tcr_rtol` outside [4.5e-7, 0.1].
+    """
+    check_range("tcr_rtol", tcr_rtol, OPENING_TIME_ACCURACY[-1][0], 0.1)
+    for accuracy, rtol in OPENING_TIME_ACCURACY:
+        if tcr_rtol >= accuracy:
+            return rtol
+    raise AssertionError("unreachable")  # pragma: no cover

@@ -1,0 +1,279 @@
+"""Open area through the tilted ball and the start of the internal flow (thesis ch. I, Eq. 2).
+
+References: closed forms (A(0) = bore area, A(beta_s) = 0, the lens of two
+circles), an independent Monte Carlo ray trace through the solid ball, and the
+Kantrowitz-Donaldson limit of :mod:`obturator.flow.inlet` (Eq. 2, tested there
+against NACA 1135).
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from obturator.errors import InputError
+from obturator.flow import start_mach, swallow_area_ratio
+from obturator.model.cases import flight_case, table1_ball
+from obturator.model.geometry import BoredBall
+from obturator.model.passage import (
+    open_angle,
+    open_area,
+    open_area_ray_count,
+    ring_contact_fraction,
+)
+from obturator.model.start import full_bore_start_mach, start_condition
+from obturator.reference import TABLE1
+from obturator.solve import opening_time, simulate
+
+R_S, R_HOLE, R_BORE = TABLE1["ball_radius"], TABLE1["hole_radius"], TABLE1["bore_radius"]
+BETA_S = math.asin(R_HOLE / R_S)
+
+
+def test_open_area_aligned_is_the_bore_and_zero_at_first_light():
+    assert open_area(0.0, R_S, R_HOLE, R_BORE) == pytest.approx(math.pi * R_BORE**2, rel=1e-14)
+    # a narrower bore cuts the hole's circle: pi r_p^2; a wider one does not: pi r_s^2
+    assert open_area(0.0, R_S, R_HOLE, 3e-3) == pytest.approx(math.pi * 3e-3**2, rel=1e-9)
+    assert open_area(0.0, R_S, R_HOLE, 5.5e-3) == pytest.approx(math.pi * R_HOLE**2, rel=1e-14)
+    assert open_area(BETA_S, R_S, R_HOLE, R_BORE) == pytest.approx(0.0, abs=1e-20)
+    assert open_area(BETA_S + 0.1, R_S, R_HOLE, R_BORE) == 0.0
+    assert open_area(BETA_S - 1e-6, R_S, R_HOLE, R_BORE) > 0.0
+
+
+@given(
+    t1=st.floats(0.0, 1.2),
+    t2=st.floats(0.0, 1.2),
+    bore=st.floats(1e-3, 6e-3),
+)
+def test_open_area_falls_monotonically(t1, t2, bore):
+    lo, hi = sorted((t1, t2))
+    assert open_area(lo, R_S, R_HOLE, bore) >= open_area(hi, R_S, R_HOLE, bore) - 1e-18
+
+
+@pytest.mark.parametrize("deg", [3.0, 12.0, 25.0, 33.0])
+def test_quadrature_branch_meets_the_closed_form(deg):
+    # r_p just below r_s takes the clipped-lens quadrature; the lens lies inside the
+    # circle r_s, so the clip removes nothing and the closed form must come back
+    t = math.radians(deg)
+    exact = open_area(t, R_S, R_HOLE, R_BORE)
+    quad = open_area(t, R_S, R_HOLE, R_HOLE * (1.0 - 1e-12))
+    assert quad == pytest.approx(exact, rel=1e-9, abs=1e-18)
+
+
+@pytest.mark.parametrize(
+    ("deg", "bore"),
+    [(5.0, R_BORE), (15.0, R_BORE), (30.0, R_BORE), (35.0, R_BORE), (20.0, 3.5e-3), (8.0, 3e-3)],
+)
+def test_open_area_against_ray_count(deg, bore):
+    # independent reference: 400 000 rays traced through sphere and hole cylinder;
+    # tolerance 5 standard errors (the error is about 2.5e-4 of the bore area here)
+    t = math.radians(deg)
+    mc, se = open_area_ray_count(t, R_S, R_HOLE, bore, rays=400_000, seed=7)
+    assert open_area(t, R_S, R_HOLE, bore) == pytest.approx(mc, abs=5 * se)
+
+
+def test_open_angle_inverts_open_area():
+    full = math.pi * R_BORE**2
+    for frac in (0.0, 0.1, 0.5, 0.9, 1.0):
+        t = open_angle(frac * full, R_S, R_HOLE, R_BORE)
+        assert open_area(t, R_S, R_HOLE, R_BORE) == pytest.approx(frac * full, abs=1e-12 * full)
+    assert open_angle(0.0, R_S, R_HOLE, R_BORE) == pytest.approx(BETA_S)
+    with pytest.raises(InputError, match="area"):
+        open_angle(1.1 * full, R_S, R_HOLE, R_BORE)
+
+
+def test_ring_contact_fraction_closed_forms():
+    # r_p = r_s: q = cot(beta) tan(theta/2); whole ring backed from 2 beta_s on
+    assert ring_contact_fraction(2 * BETA_S + 1e-9, R_S, R_HOLE, R_BORE) == 1.0
+    c = math.cos(BETA_S)
+    at_light = 1.0 - math.acos(c / (1.0 + c)) / math.pi
+    assert ring_contact_fraction(BETA_S, R_S, R_HOLE, R_BORE) == pytest.approx(at_light)
+    assert ring_contact_fraction(1e-6, R_S, R_HOLE, R_BORE) == pytest.approx(0.5, abs=1e-6)
+
+
+def test_geometry_input_errors():
+    with pytest.raises(InputError, match="bore_radius"):
+        open_area(0.1, R_S, R_HOLE, 7e-3)  # beyond sqrt(R_s^2 - r_s^2) = 6.33 mm
+    with pytest.raises(InputError, match="theta"):
+        open_area(-0.1, R_S, R_HOLE, R_BORE)
+
+
+def test_theta_start_is_zero_where_the_full_bore_just_starts():
+    ball = table1_ball()
+    capture = 1.3 * math.pi * R_BORE**2  # a capture area wider than the bore
+    m_full = full_bore_start_mach(ball, R_BORE, capture_area=capture)
+    assert m_full == pytest.approx(float(start_mach(1.3)))
+    at = start_condition(m_full * (1 + 1e-12), ball, R_BORE, capture_area=capture)
+    assert at.startable
+    assert at.theta_start == pytest.approx(0.0, abs=1e-5)
+    below = start_condition(0.99 * m_full, ball, R_BORE, capture_area=capture)
+    assert not below.startable and math.isnan(below.theta_start)
+    assert below.verdict == "unstartable"
+    # the constant-area Table 1 bore starts at any supersonic Mach, at theta -> 0 as M -> 1
+    assert full_bore_start_mach(ball) == 1.0
+    assert start_condition(1.0 + 1e-9, ball).theta_start < 1e-3
+
+
+def test_theta_start_solves_the_kantrowitz_limit():
+    ball = table1_ball()
+    previous = 0.0
+    for mach in (1.5, 2.0, 2.5, 3.0, 3.5, 4.0):
+        s = start_condition(mach, ball)
+        a_t = open_area(s.theta_start, R_S, R_HOLE, R_BORE)
+        assert math.pi * R_BORE**2 / a_t == pytest.approx(float(swallow_area_ratio(mach)))
+        assert previous < s.theta_start < BETA_S  # later than first light, earlier at low M
+        previous = s.theta_start
+
+
+def test_fanno_choking_flag():
+    ball = table1_ball()
+    s = start_condition(1.3, ball)  # Table 1 bore chokes below M ~ 1.44 (thesis ch. I.B.4.c)
+    assert s.choked and s.verdict == "choked"
+    assert 1.40 < s.choke_mach < 1.50
+    assert start_condition(2.0, ball).verdict == "starts"
+    with pytest.raises(InputError, match="mach"):
+        start_condition(1.0, ball)
+
+
+def test_start_comes_after_first_light_in_flight():
+    case = flight_case()
+    s = start_condition(TABLE1["mach"], case.ball)
+    t_cr = opening_time(case)
+    started = simulate(case.with_(theta_cr=s.theta_start))
+    assert started.opened
+    assert started.opening_time > t_cr
+    assert float(started.theta[-1]) == pytest.approx(s.theta_start, abs=1e-6)
+
+
+def test_wider_bore_than_hole_is_limited_by_the_hole():
+    ball = BoredBall(R_S, 4.0e-3, TABLE1["density"])
+    s = start_condition(3.0, ball, 4.72e-3)
+    # A(0) = pi r_s^2 < A_c = pi r_p^2: ratio 1.3924 > Eq. 2's 1.3904 at Mach 3
+    assert not s.startable
+
+
+def test_start_times_restart_matches_the_continuous_run_and_brackets():
+    from obturator.solve import start_times
+
+    case = flight_case()
+    s = start_condition(TABLE1["mach"], case.ball)
+    st = start_times(case, s)
+    continuous = opening_time(case.with_(theta_cr=s.theta_start))
+    assert st.t_start == pytest.approx(continuous, rel=1e-8)  # restart at t_cr is exact
+    assert st.t_cr == pytest.approx(opening_time(case), rel=1e-12)
+    low, high = s.spill_load_factors()
+    assert 0.0 < low < 1.0 < high
+    # a larger load opens faster (more sliding friction): the bracket holds t_start
+    assert st.t_start_high_load < st.t_start < st.t_start_low_load
+
+
+def test_cli_simulate_flight_reports_t_start(capsys):
+    import json
+
+    from obturator.cli import main
+
+    assert main(["simulate", "--case", "flight", "--json", "--no-check", "--mach", "2.5"]) == 0
+    out = json.loads(capsys.readouterr().out)["start"]
+    assert out["theta_start_deg"] == pytest.approx(7.805, abs=1e-3)
+    assert out["t_start_s"] > out["t_cr_s"] > 0.0
+    assert out["verdict"] == "starts"
+
+
+def test_cli_trajectory_reports_t_start(capsys):
+    import json
+
+    from obturator.cli import main
+
+    assert main(["trajectory", "--mach", "2.5", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["t_start_coupled_s"] > out["t_cr_coupled_s"]
+    assert out["t_start_constant_s"] > out["t_cr_constant_s"]
+    assert out["theta_start_muzzle_deg"] == pytest.approx(7.805, abs=1e-3)
+    # the flight slows down, so theta_start(M) at the start is below the muzzle value
+    assert out["theta_start_at_start_deg"] < out["theta_start_muzzle_deg"]
+    assert out["inlet_at_muzzle"] == "starts"
+
+
+def test_coupled_start_with_constant_mach_stop_equals_the_fixed_stop():
+    # a stop angle that does not depend on M gives the run to that angle
+    from obturator.envelope.coupled import ObturatorDesign, cached_flight, coupled_opening
+    from obturator.envelope.trajectory import Launch, Projectile
+
+    design = ObturatorDesign()
+    flight = cached_flight(Projectile(), Launch(mach=3.0), 0.2)
+    first = coupled_opening(design, flight, stop_angle=lambda m: design.ball().opening_angle)
+    plain = coupled_opening(design, flight)
+    assert first.t_cr == pytest.approx(plain.t_cr, rel=1e-12)
+
+
+def test_envelope_maps_t_start_and_delay():
+    from obturator.envelope.envelope import EnvelopeSpec, envelope_summary, run_envelope
+    from obturator.envelope.model import FlightModel
+
+    spec = EnvelopeSpec(mach=(2.5,), altitude_m=(0.0,), model=FlightModel(check_convergence=False))
+    ds = run_envelope(spec).squeeze()
+
+    def val(name):
+        return float(ds[name].values)
+
+    assert val("t_start_coupled") > val("t_cr_coupled")
+    assert val("delay_constant") == pytest.approx(val("t_start_constant") - val("t_cr_constant"))
+    assert val("theta_start_muzzle") == pytest.approx(7.805, abs=1e-3)
+    assert val("unstartable") == 0
+    assert envelope_summary(ds)["delay_coupled_min_s"] > 0.0
+
+
+def test_split_objective():
+    from obturator.envelope.optimize import split_objective
+
+    assert split_objective("t_start") == ("t_start", "max")
+    assert split_objective("t_start:quantile:0.9") == ("t_start", "quantile:0.9")
+    assert split_objective("quantile:0.5") == ("t_cr", "quantile:0.5")
+    assert split_objective("t_cr") == ("t_cr", "max")
+
+
+def test_flight_model_event_start():
+    from obturator.envelope.model import FlightModel
+
+    point = {"mach": 3.0}
+    first = FlightModel(load="constant", check_convergence=False)(point)
+    both = FlightModel(load="constant", check_convergence=False, with_start=True)(point)
+    start = FlightModel(load="constant", check_convergence=False, event="start")(point)
+    assert start["t_cr"] == pytest.approx(both["t_start"], rel=1e-12)
+    assert start["t_cr"] > first["t_cr"] == both["t_cr"]
+    with pytest.raises(InputError, match="event"):
+        FlightModel(event="later")
+
+
+def test_cli_optimize_and_probability_for_t_start(capsys, tmp_path):
+    import json
+
+    from obturator.cli import main
+
+    common = ["--mach", "3", "--altitude-m", "0", "--no-convergence-check", "--workers", "1"]
+    args = ["optimize", *common, "--objective", "t_start", "--variables", "mu_s"]
+    args += ["--popsize", "2", "--maxiter", "1", "--no-polish", "--no-progress", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["objective"] == "max" and out["event"] == "start"
+    assert out["baseline_objective_s"] == pytest.approx(0.0332, rel=2e-3)  # coupled t_start
+    args = ["probability", *common, "--event", "t_start", "--method", "mc", "--samples", "8"]
+    args += ["--requirement", "0.02", "--vary", "mu_s=uniform:0.3,0.4", "--no-progress", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert "mc" in json.dumps(out)
+
+
+def test_cli_sensitivity_event_t_start(capsys):
+    from obturator.cli import main
+
+    args = ["sensitivity", "--event", "t_start", "--samples", "8", "--resamples", "10"]
+    args += ["--no-convergence-check", "--workers", "1", "--no-progress"]
+    args += ["--vary", "mu_s=uniform:0.3,0.4", "--vary", "density=uniform:7000,8000"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "Sobol indices of t_start" in out and "mean t_start 0.03" in out
+    assert main(["sensitivity", "--case", "spin-rig", "--event", "t_start"]) == 2
+    assert "--event" in capsys.readouterr().err
