@@ -20,7 +20,11 @@ import numpy as np
 
 from obturator.model.cases import flight_case, rig_case
 from obturator.solve import SolverOptions
-from obturator.sweeps.batch import pack_points
+
+try:  # solve/many.py
+    from obturator.solve import pack_points
+except ImportError:  # sweeps/batch.py before it
+    from obturator.sweeps.batch import pack_points
 
 try:  # the lanes sub-package
     from obturator.core.integrators.lanes import LANES, integrate_lanes, integrate_radau_lanes
