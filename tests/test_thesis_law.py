@@ -39,15 +39,14 @@ RIG_ARM = ("        return 0.0, 1.0\n", "        return 0.0, 0.8\n")
 def measure() -> dict[str, object]:
     """t_cr [s] of the rig points along every path (run in this or a fresh process)."""
     from obturator.model.cases import rig_case
-    from obturator.solve import SolverOptions, opening_time
-    from obturator.sweeps import batch
+    from obturator.solve import SolverOptions, many, opening_time
 
     def t_cr(spins, **options):
         return [opening_time(rig_case(w, MU_S), SolverOptions(**options)) for w in spins]
 
-    batch.RADAU_LANES_MIN = 1  # the Radau lanes for any number of stiff points
+    many.RADAU_LANES_MIN = 1  # the Radau lanes for any number of stiff points
     cases = [rig_case(w, MU_S) for w in SLIDING + STICKING]
-    lanes, _, stats = batch.opening_times(cases, SolverOptions())
+    lanes, _, stats = many.opening_times(cases, SolverOptions())
     return {
         "scalar_radau": t_cr(SLIDING + STICKING, method="radau"),
         # auto: DOP853 alone on the sliding points, handing over to Radau IIA on the others
