@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from obturator.model.cases import flight_case, rig_case
+from obturator.runs import Runner
 from obturator.solve import OPENING_TIME_ACCURACY, SolverOptions, opening_time
 from obturator.sweeps import SweepSpec, execute_sweep
 
@@ -59,7 +60,7 @@ def _sweep(spec: SweepSpec, workers: int, path: str) -> tuple[float, np.ndarray]
     old = {k: os.environ.get(k) for k in names}
     os.environ.update(dict(zip(names, _PATHS[path], strict=True)))
     try:
-        run = execute_sweep(spec, workers=workers, progress=False)
+        run = execute_sweep(spec, runner=Runner(workers=workers))
     finally:
         for k, v in old.items():
             if v is None:

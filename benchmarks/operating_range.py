@@ -22,6 +22,7 @@ import numpy as np
 
 from obturator.core.integrators import auto_radau_tolerances, method_module
 from obturator.model.cases import rig_case
+from obturator.runs import Runner
 from obturator.solve import SolverOptions, integration_setup, opening_time, simulate
 
 MU_S = 0.5473
@@ -119,8 +120,8 @@ def throughput(
     spins = np.linspace(*spin_range, n_points)
     spec = SweepSpec(case="spin-rig", axes={"spin_rate": spins}, fixed={"mu_s": MU_S}, options=opts)
     warm = SweepSpec(case="spin-rig", axes={"spin_rate": spins[:2]}, fixed={"mu_s": MU_S})
-    execute_sweep(warm, workers=1, progress=False)  # imports and caches outside the timing
-    run = execute_sweep(spec, workers=workers, progress=False)
+    execute_sweep(warm, runner=Runner(workers=1))  # imports and caches outside the timing
+    run = execute_sweep(spec, runner=Runner(workers=workers))
     t_cr = np.asarray(run.dataset["t_cr"].values, dtype=float)
     rng = np.random.default_rng(seed)
     sample = rng.choice(n_points, size=min(n_check, n_points), replace=False)

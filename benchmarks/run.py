@@ -198,6 +198,7 @@ import json, time
 t0 = time.perf_counter()
 from obturator.model.cases import rig_case
 from obturator.solve import opening_time
+from obturator.runs import Runner
 t1 = time.perf_counter()
 opening_time(rig_case(300.0, 0.5473))
 t2 = time.perf_counter()
@@ -252,14 +253,15 @@ def _pool_sweep(spins: np.ndarray, workers: int) -> tuple[float, np.ndarray]:
 
 def _studies_sweep(spins: np.ndarray, workers: int) -> tuple[float, np.ndarray] | None:
     try:
+        from obturator.runs import Runner
         from obturator.sweeps import SweepSpec, run_sweep
     except ImportError:  # pragma: no cover - depends on the installed package
         return None
     spec = SweepSpec(case="spin-rig", axes={"spin_rate": spins}, fixed={"mu_s": MU_S})
     warm = SweepSpec(case="spin-rig", axes={"spin_rate": spins[:2]}, fixed={"mu_s": MU_S})
-    run_sweep(warm, workers=1, progress=False)  # lazy imports (xarray) outside the timing
+    run_sweep(warm, runner=Runner(workers=1))  # lazy imports (xarray) outside the timing
     t0 = time.perf_counter()
-    ds = run_sweep(spec, workers=workers, progress=False)
+    ds = run_sweep(spec, runner=Runner(workers=workers))
     return time.perf_counter() - t0, np.asarray(ds["t_cr"].values, dtype=float)
 
 

@@ -87,8 +87,8 @@ def raw() -> object:
 @pytest.fixture(autouse=True)
 def _pools_even_for_small_studies(monkeypatch: pytest.MonkeyPatch) -> None:
     """Tests of the process pool use small studies, which would otherwise run in
-    process (see obturator.sweeps.executors.probe_cost; tests/test_sweep.py checks
+    process (see obturator.runs.runner.POOL_MIN_SERIAL_S; tests/test_sweep.py checks
     that choice with the real threshold)."""
-    from obturator.sweeps import executors
+    from obturator.runs import runner
 
-    monkeypatch.setattr(executors, "POOL_MIN_SERIAL_S", 0.0)
+    monkeypatch.setattr(runner, "POOL_MIN_SERIAL_S", 0.0)

@@ -14,6 +14,7 @@ import xarray as xr
 
 import obturator.sweeps.ahead as ahead
 import obturator.sweeps.points as points
+from obturator.runs import Runner
 from obturator.solve import SolverOptions
 from obturator.status import Status
 from obturator.sweeps import SweepSpec, execute_sweep
@@ -83,9 +84,9 @@ def test_sweep_with_helper_is_identical_to_sweep_without(monkeypatch):
     dataset is identical to the in-process sweep's."""
     import time
 
-    import obturator.sweeps.executors as executors
+    import obturator.sweeps.job as executors
 
-    one = execute_sweep(SPEC, workers=1, progress=False).dataset
+    one = execute_sweep(SPEC, runner=Runner(workers=1)).dataset
     assert np.all(one["status"].values == Status.OPENED)
     used = []
     real_pack, real_warm = ahead.pack_ahead, executors.warm
@@ -107,7 +108,7 @@ def test_sweep_with_helper_is_identical_to_sweep_without(monkeypatch):
     monkeypatch.setattr(executors, "warm", slow_warm)
     monkeypatch.setattr(executors, "default_workers", lambda: 2)
     monkeypatch.setattr(points, "pack_rows", no_packing)
-    run = execute_sweep(SPEC, workers=2, chunk_size=2, progress=False)
+    run = execute_sweep(SPEC, runner=Runner(workers=2, chunk_size=2))
     assert run.workers == 2 and used == [12]
     xr.testing.assert_identical(one, run.dataset)
 
@@ -116,8 +117,8 @@ def test_warm_process_does_not_pack_ahead(monkeypatch):
     """Integrators already loaded: nothing to overlap, no helper."""
     points.warm(SPEC.options, radau_lanes=False)
     called = []
-    monkeypatch.setattr("obturator.sweeps.executors.pack_ahead", lambda *a, **k: called.append(1))
-    run = execute_sweep(SPEC, workers=2, chunk_size=2, progress=False)
+    monkeypatch.setattr("obturator.sweeps.job.pack_ahead", lambda *a, **k: called.append(1))
+    run = execute_sweep(SPEC, runner=Runner(workers=2, chunk_size=2))
     assert run.workers == 2 and not called
 
 
@@ -126,7 +127,7 @@ def test_gc_frozen_unfreezes_even_on_error():
     before afterwards, also when the body raises."""
     import gc
 
-    from obturator.sweeps.executors import gc_frozen
+    from obturator.runs import gc_frozen
 
     before = gc.get_freeze_count()
     with gc_frozen():

@@ -66,7 +66,10 @@ def test_config_file(capsys, tmp_path):
 def test_errors_are_one_line(capsys, argv, field):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith(f"obturator: error: {field}")
+    flag = "--" + field.replace("_", "-")  # refused while parsing (its kind) or after
+    assert len(err) == 1 and err[0].startswith(
+        (f"obturator: error: {field}", f"obturator: error: {flag}")
+    )
 
 
 def test_probability_both_methods(capsys, tmp_path):

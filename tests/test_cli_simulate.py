@@ -73,15 +73,15 @@ def test_plot_and_csv_outputs(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("args", "fragment"),
     [
-        (["--theta0-deg", "95"], "theta0_deg: 95 deg is outside the allowed range (0, 90] deg"),
-        (["--theta0-deg", "0"], "theta0_deg"),
-        (["--mu-s", "-0.1"], "mu_s: -0.1 is outside the allowed range [0, 2]"),
-        (["--spin-rate", "-5"], "spin_rate"),
-        (["--spin-rate", "12 kg"], "spin_rate: '12 kg' cannot be converted to rad/s"),
-        (["--spin-rate", "fast"], "spin_rate:"),
+        (["--theta0-deg", "95"], "--theta0-deg: 95 deg is outside the allowed range (0, 90] deg"),
+        (["--theta0-deg", "0"], "--theta0-deg"),
+        (["--mu-s", "-0.1"], "--mu-s: -0.1 is outside the allowed range [0, 2]"),
+        (["--spin-rate", "-5"], "--spin-rate"),
+        (["--spin-rate", "12 kg"], "--spin-rate: '12 kg' cannot be converted to rad/s"),
+        (["--spin-rate", "fast"], "--spin-rate:"),
         (["--mach", "0.5", "--case", "flight"], "mach"),
         (["--mach", "3"], "mach: applies to --case flight only"),
-        (["--rtol", "2"], "rtol"),
+        (["--rtol", "2"], "--rtol"),
     ],
 )
 def test_bad_input_is_one_readable_line(args, fragment, capsys):

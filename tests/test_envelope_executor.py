@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from obturator.envelope.envelope import EnvelopeSpec, envelope_summary, run_envelope
-from obturator.envelope.executor import ResultStore, Runner, store_path, task_key
 from obturator.envelope.model import FlightModel
 from obturator.errors import InputError
 from obturator.flow import choking_mach_freestream
+from obturator.runs import Runner, sidecar_path, study_digest, task_key
 from obturator.solve import SolverOptions
 
 FAST = SolverOptions(rtol=1e-6, atol=1e-8)
@@ -53,22 +53,24 @@ def test_local_pool_and_duplicates():
 
 
 def test_interrupted_run_resumes_without_loss_or_duplicates(tmp_path):
-    path = store_path(tmp_path / "out.nc")
-    ident = {"study": "toy"}
-    store = ResultStore(path, ident, restart=False)
+    out = tmp_path / "out.nc"
+    path = sidecar_path(out)
+    digest = study_digest({"study": "toy"})
+    runner = Runner(workers=1, store=out, chunk_size=1)
+    runner.open(digest)
     fn = Interrupting(stop=5)
     with pytest.raises(KeyboardInterrupt):
-        Runner(workers=1, store=store, chunk_size=1).map(fn, tasks())
-    store.close()
+        runner.map(fn, tasks())
     lines = path.read_text().splitlines()
     assert len(lines) == 1 + 4  # header + four finished chunks
+    assert not out.with_name("out.nc.lock").exists()  # released on the interruption
     path.write_text(path.read_text() + '{"keys": ["cut sh')  # a line cut by the interruption
-    store = ResultStore(path, ident, restart=False)
-    assert len(store) == 4
     counter = Interrupting(stop=-1)
-    runner = Runner(workers=1, store=store)
-    out = runner.map(counter, tasks())
-    assert [r["y"] for r in out] == [float(i * i) for i in range(10)]
+    runner = Runner(workers=1, store=out)
+    runner.open(digest)
+    assert len(runner.sidecar.records) == 4 and runner.sidecar.n_discarded == 1
+    out_values = runner.map(counter, tasks())
+    assert [r["y"] for r in out_values] == [float(i * i) for i in range(10)]
     assert counter.calls == 6 and runner.n_resumed == 4 and runner.n_computed == 6
     keys = [
         k
@@ -77,12 +79,14 @@ def test_interrupted_run_resumes_without_loss_or_duplicates(tmp_path):
         for k in json.loads(line)["keys"]
     ]
     assert len(keys) == len(set(keys)) == 10
-    store.close()
-    with pytest.raises(InputError, match="^out:.*different study"):
-        ResultStore(path, {"study": "other"}, restart=False)
-    fresh = ResultStore(path, {"study": "other"}, restart=True)
-    assert len(fresh) == 0
-    fresh.remove()
+    runner.close()
+    other = study_digest({"study": "other"})
+    with pytest.raises(InputError, match="^store:.*different study"):
+        Runner(store=out).open(other)
+    fresh = Runner(store=out, restart=True)
+    fresh.open(other)
+    assert len(fresh.sidecar.records) == 0
+    fresh.write_outputs([])
     assert not path.exists()
 
 
@@ -123,23 +127,25 @@ def test_envelope_resumes(tmp_path, monkeypatch):
     spec = EnvelopeSpec(
         [2.0, 3.0, 4.0], [0.0], model=FlightModel(options=FAST, check_convergence=False)
     )
-    path = store_path(tmp_path / "env.nc")
-    calls = {"n": 0}
+    out = tmp_path / "env.nc"
+    seen: list[float] = []
     original = FlightModel.__call__
 
-    def flaky(self, values):
-        calls["n"] += 1
-        if calls["n"] == 3:
+    def flaky(self, values):  # interrupted when the third point starts
+        if values["mach"] not in seen:  # (a point may call the model more than once)
+            seen.append(values["mach"])
+        if len(seen) == 3:
             raise KeyboardInterrupt
         return original(self, values)
 
     monkeypatch.setattr(FlightModel, "__call__", flaky)
-    store = ResultStore(path, spec.identity(), restart=False)
+    runner = Runner(workers=1, store=out, chunk_size=1)
+    runner.open(study_digest(spec.identity()))
     with pytest.raises(KeyboardInterrupt):
-        run_envelope(spec, Runner(workers=1, store=store, chunk_size=1))
-    store.close()
+        run_envelope(spec, runner)
     monkeypatch.setattr(FlightModel, "__call__", original)
-    runner = Runner(workers=1, store=ResultStore(path, spec.identity(), restart=False))
+    runner = Runner(workers=1, store=out)
+    runner.open(study_digest(spec.identity()))
     ds = run_envelope(spec, runner)
     assert runner.n_resumed == 2 and runner.n_computed == 1
     ref = run_envelope(spec)

@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from obturator.envelope.executor import Runner
 from obturator.envelope.model import FlightModel
 from obturator.envelope.optimize import DesignProblem, optimise
 from obturator.envelope.pareto import lightest_design, pareto_front
 from obturator.errors import InputError
+from obturator.runs import Runner
 from obturator.solve import SolverOptions
 
 FAST = SolverOptions(rtol=1e-6, atol=1e-8)

@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from obturator.envelope.executor import Runner
 from obturator.envelope.model import FlightModel
 from obturator.envelope.reliability import brute_force, clopper_pearson, importance_sampling
 from obturator.envelope.sensitivity import sobol_indices
@@ -21,6 +20,7 @@ from obturator.envelope.uncertain import (
     ppf,
 )
 from obturator.errors import InputError
+from obturator.runs import Runner
 from obturator.solve import SolverOptions
 from obturator.sweeps import Distribution
 

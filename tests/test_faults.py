@@ -83,6 +83,7 @@ def test_dask_scheduler_dying_mid_sweep_keeps_work_and_resumes(tmp_path: Path) -
     from distributed import LocalCluster
 
     from obturator.errors import ClusterError
+    from obturator.runs import Runner
     from obturator.sweeps import SweepSpec, execute_sweep, run_sweep, sidecar_path
 
     spec = SweepSpec("spin-rig", {"spin_rate": np.linspace(60.0, 120.0, 12)}, {"mu_s": 0.5473})
@@ -105,19 +106,17 @@ def test_dask_scheduler_dying_mid_sweep_keeps_work_and_resumes(tmp_path: Path) -
     t0 = time.time()
     try:
         with pytest.raises(ClusterError):
-            execute_sweep(
-                spec, scheduler=cluster.scheduler_address, store=store, chunk_size=1,
-                progress=False,
-            )  # fmt: skip
+            runner = Runner(scheduler=cluster.scheduler_address, chunk_size=1, store=store)
+            execute_sweep(spec, runner)
     finally:
         closer.join(timeout=70)
         cluster.close()
     assert time.time() - t0 < 90
     assert side.exists()
     finished = len(side.read_text().splitlines()) - 1
-    resumed = execute_sweep(spec, workers=1, store=store, progress=False)
+    resumed = execute_sweep(spec, runner=Runner(workers=1, store=store))
     assert resumed.n_resumed == finished
-    full = run_sweep(spec, workers=1, progress=False)
+    full = run_sweep(spec, runner=Runner(workers=1))
     np.testing.assert_array_equal(resumed.dataset["t_cr"].values, full["t_cr"].values)
 
 

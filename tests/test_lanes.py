@@ -19,6 +19,7 @@ from obturator.core.dynamics import rhs
 from obturator.core.layout import KERNEL_GENERIC, KERNEL_THESIS, P_KERNEL
 from obturator.errors import InputError, SolverError
 from obturator.model.cases import flight_case, rig_case
+from obturator.runs import Runner
 from obturator.solve import (
     SolverOptions,
     integrate_packed,
@@ -251,9 +252,9 @@ def test_sweep_results_identical_with_and_without_lanes(monkeypatch):
         case="spin-rig",
         axes={"spin_rate": np.linspace(120.0, 680.0, 12), "mu_s": [0.45, MU_S]},
     )
-    lanes = run_sweep(spec, workers=1, progress=False)
+    lanes = run_sweep(spec, runner=Runner(workers=1))
     monkeypatch.setenv("OBTURATOR_LANES", "0")
-    scalar = run_sweep(spec, workers=1, progress=False)
+    scalar = run_sweep(spec, runner=Runner(workers=1))
     np.testing.assert_array_equal(lanes["status"].values, scalar["status"].values)
     np.testing.assert_allclose(lanes["t_cr"].values, scalar["t_cr"].values, rtol=1e-12)
 
@@ -291,13 +292,13 @@ def test_lanes_sweep_resumes_after_interruption(monkeypatch, tmp_path):
 
     monkeypatch.setattr(points, "rows_to_cases", exploding)
     with pytest.raises(KeyboardInterrupt):
-        execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
+        execute_sweep(spec, runner=Runner(workers=1, chunk_size=2, store=store))
     chunks.clear()
     monkeypatch.setattr(points, "rows_to_cases", lambda *a: (chunks.append(1), original(*a))[1])
-    run = execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
+    run = execute_sweep(spec, runner=Runner(workers=1, chunk_size=2, store=store))
     assert run.n_resumed == 4 and run.n_computed == 4 and len(chunks) == 2
     monkeypatch.setattr(points, "rows_to_cases", original)
-    xr.testing.assert_identical(run.dataset, run_sweep(spec, workers=1, progress=False))
+    xr.testing.assert_identical(run.dataset, run_sweep(spec, runner=Runner(workers=1)))
 
 
 def test_generated_lane_sums_are_current():

@@ -14,7 +14,9 @@ from pathlib import Path
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "src" / "obturator"
-EDGE = ("cli", "io", "sweeps", "thesis", "plotting", "validation", "envelope")
+EDGE = ("cli", "io", "files", "sweeps", "thesis", "plotting", "validation", "envelope", "runs")
+#: The studies: each may import ``runs`` (the runner of its tasks); ``runs`` imports none.
+STUDIES = ("sweeps", "thesis", "validation", "envelope", "calibration")
 
 # module prefix (relative to obturator) -> obturator subpackages/modules it must not import
 FORBIDDEN: dict[str, tuple[str, ...]] = {
@@ -52,6 +54,10 @@ FORBIDDEN: dict[str, tuple[str, ...]] = {
     "plotting": ("cli", "sweeps"),
     "warmup": (*EDGE, "calibration"),
     "io": ("cli", "core", "sweeps", "thesis", "plotting"),
+    # files at the edge (readers, output checks, writers): below every user of files
+    "files": ("cli", "io", "core", "model", "solve", "runs", *STUDIES, "plotting"),
+    # the runner of every study's tasks: execution and storage only (files for writing)
+    "runs": ("cli", "io", "plotting", *STUDIES, "core", "model", "solve", "result", "flow"),
 }
 
 

@@ -16,6 +16,7 @@ import obturator.sweeps.points as points
 from obturator.cli import main
 from obturator.errors import InputError
 from obturator.model.cases import rig_case
+from obturator.runs import Runner
 from obturator.solve import SolverOptions, opening_time
 from obturator.status import Status
 from obturator.sweeps import (
@@ -38,11 +39,11 @@ def run_mc(**kw: object) -> xr.Dataset:
         "seed": 7,
         "fixed": {"spin_rate": 450.0},
         "options": FAST,
-        "progress": False,
-        "workers": 1,
     }
+    execution = {k: kw.pop(k) for k in ("workers", "chunk_size", "store", "restart") if k in kw}
     args.update(kw)
-    return monte_carlo("spin-rig", VARY, **args)  # type: ignore[arg-type]
+    runner = Runner(**{"workers": 1, **execution})  # type: ignore[arg-type]
+    return monte_carlo("spin-rig", VARY, runner=runner, **args)  # type: ignore[arg-type]
 
 
 # --------------------------------------------------------------------------- distributions
@@ -164,12 +165,12 @@ def test_monte_carlo_store_resumes(monkeypatch: pytest.MonkeyPatch, tmp_path: Pa
 def test_out_of_range_samples_are_refused() -> None:
     with pytest.raises(InputError, match="truncnormal"):
         monte_carlo(
-            "spin-rig", ["mu_s=normal:0.01,0.05"], samples=50, seed=0, options=FAST, progress=False
+            "spin-rig", ["mu_s=normal:0.01,0.05"], samples=50, seed=0, options=FAST, runner=Runner()
         )
     with pytest.raises(InputError, match="both varied and fixed"):
         run_mc(fixed={"mu_s": 0.5})
     with pytest.raises(InputError, match="flight case only"):
-        monte_carlo("spin-rig", ["mach=uniform:2,3"], samples=2, seed=0, progress=False)
+        monte_carlo("spin-rig", ["mach=uniform:2,3"], samples=2, seed=0, runner=Runner())
     with pytest.raises(InputError, match="samples"):
         run_mc(samples=0)
     with pytest.raises(InputError, match="seed"):
@@ -262,7 +263,7 @@ def test_cli_montecarlo_table_and_json(tmp_path: Path, capsys: pytest.CaptureFix
         (["--vary", "mu_s:normal:0.5,0.1"], "vary"),
         (["--vary", "mu_s=normal:0.5,0.1", "--samples", "ten"], "samples"),
         (["--vary", "mu_s=normal:0.5,0.1", "--quantiles", "50,120"], "quantiles"),
-        (["--vary", "mu_s=normal:0.5,0.1", "--spin-rate", "fast"], "spin_rate"),
+        (["--vary", "mu_s=normal:0.5,0.1", "--spin-rate", "fast"], "--spin-rate"),
     ],
 )
 def test_cli_montecarlo_bad_input(
@@ -287,8 +288,7 @@ def test_unconverged_openings_are_flagged_and_excluded():
         seed=1,
         fixed={"spin_rate": 78.0},
         options=SolverOptions(friction_width=1e-5),
-        workers=1,
-        progress=False,
+        runner=Runner(workers=1),
     )
     assert ds["status"].values.tolist() == [Status.UNCONVERGED] * 3
     assert np.all(np.isfinite(ds["t_cr"].values))

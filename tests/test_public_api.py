@@ -21,6 +21,7 @@ PUBLIC = [
     "InputError",
     "NakabayashiViscous",
     "NutationResult",
+    "Runner",
     "SlipSpeedLaw",
     "SolverError",
     "SolverOptions",

@@ -13,13 +13,16 @@ import xarray as xr
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-import obturator.sweeps.executors as executors
+import obturator.runs.chunks as run_chunks
+import obturator.runs.pools as pools
+import obturator.runs.runner as runs_runner
+import obturator.runs.store as run_store
 import obturator.sweeps.export as export
 import obturator.sweeps.points as points
-import obturator.sweeps.store as sweep_store
 from obturator.cli import main
 from obturator.errors import InputError
 from obturator.model.cases import TABLE1, flight_case, rig_case, table1_ball
+from obturator.runs import Runner
 from obturator.solve import SolverOptions, opening_time
 from obturator.status import Status
 from obturator.sweeps import (
@@ -30,6 +33,7 @@ from obturator.sweeps import (
     sidecar_path,
     sweep_summary,
 )
+from obturator.sweeps.job import LANE_CHUNK
 
 FAST = SolverOptions(rtol=1e-6, atol=1e-8)
 
@@ -170,7 +174,7 @@ def reference(spec: SweepSpec) -> np.ndarray:
 
 def test_sweep_equals_plain_loop() -> None:
     spec = small_spec()
-    ds = run_sweep(spec, workers=1, progress=False)
+    ds = run_sweep(spec, runner=Runner(workers=1))
     assert ds["t_cr"].dims == ("spin_rate", "mu_s")
     np.testing.assert_array_equal(ds["t_cr"].values, reference(spec))
     assert np.all(ds["status"].values == Status.OPENED)
@@ -188,8 +192,8 @@ def test_sweep_equals_plain_loop() -> None:
 
 def test_process_pool_equals_in_process() -> None:
     spec = small_spec()
-    one = run_sweep(spec, workers=1, progress=False)
-    run = execute_sweep(spec, workers=2, chunk_size=1, progress=False)
+    one = run_sweep(spec, runner=Runner(workers=1))
+    run = execute_sweep(spec, runner=Runner(workers=2, chunk_size=1))
     assert run.workers == 2 and run.n_computed == 6
     xr.testing.assert_identical(one, run.dataset)
 
@@ -197,10 +201,10 @@ def test_process_pool_equals_in_process() -> None:
 def test_cheap_study_runs_in_process(monkeypatch: pytest.MonkeyPatch) -> None:
     """With the real threshold a 6-point study (~ms of work) starts no pool; its probe
     chunk and the rest give the same dataset as workers=1."""
-    monkeypatch.setattr(executors, "POOL_MIN_SERIAL_S", 0.1)  # the module's default
+    monkeypatch.setattr(runs_runner, "POOL_MIN_SERIAL_S", 0.1)  # the module's default
     spec = small_spec()
-    one = run_sweep(spec, workers=1, progress=False)
-    run = execute_sweep(spec, workers=2, chunk_size=1, progress=False)
+    one = run_sweep(spec, runner=Runner(workers=1))
+    run = execute_sweep(spec, runner=Runner(workers=2, chunk_size=1))
     assert run.workers == 1 and run.n_computed == 6
     xr.testing.assert_identical(one, run.dataset)
 
@@ -209,14 +213,14 @@ def test_spawned_pool_equals_in_process(monkeypatch: pytest.MonkeyPatch) -> None
     import multiprocessing
 
     spec = small_spec(axes={"spin_rate": [300.0, 500.0], "mu_s": [0.55]})
-    one = run_sweep(spec, workers=1, progress=False)
-    monkeypatch.setattr(executors, "mp_context", lambda: multiprocessing.get_context("spawn"))
-    xr.testing.assert_identical(one, run_sweep(spec, workers=2, chunk_size=1, progress=False))
+    one = run_sweep(spec, runner=Runner(workers=1))
+    monkeypatch.setattr(pools, "mp_context", lambda: multiprocessing.get_context("spawn"))
+    xr.testing.assert_identical(one, run_sweep(spec, runner=Runner(workers=2, chunk_size=1)))
 
 
 def test_not_opened_is_nan_with_status() -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 600.0]}, fixed={"mu_s": 0.55}, t_max=0.3)
-    ds = run_sweep(spec, workers=1, progress=False)
+    ds = run_sweep(spec, runner=Runner(workers=1))
     assert ds["status"].values.tolist() == [1, 0]
     assert np.isfinite(ds["t_cr"].values[0]) and np.isnan(ds["t_cr"].values[1])
     s = sweep_summary(ds)
@@ -232,7 +236,7 @@ def test_solver_failure_is_recorded(monkeypatch: pytest.MonkeyPatch) -> None:
     # checked against it in tests/test_lanes.py
     monkeypatch.setenv("OBTURATOR_LANES", "0")
     monkeypatch.setattr("obturator.solve.many.opening_time", fail)
-    ds = run_sweep(small_spec(axes={"spin_rate": [300.0, 400.0]}), workers=1, progress=False)
+    ds = run_sweep(small_spec(axes={"spin_rate": [300.0, 400.0]}), runner=Runner(workers=1))
     assert ds["status"].values.tolist() == [Status.FAILED] * 2
     assert np.all(np.isnan(ds["t_cr"].values))
 
@@ -258,13 +262,13 @@ def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path:
 
     monkeypatch.setattr(points, "rows_to_cases", exploding)
     with pytest.raises(Boom):
-        run_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
+        run_sweep(spec, runner=Runner(workers=1, chunk_size=2, store=store))
     side = sidecar_path(store)
     assert side.exists() and not store.exists()
     lines = side.read_text().splitlines()
-    assert json.loads(lines[0])["spec_hash"] == spec.digest()
+    assert json.loads(lines[0])["study"] == spec.digest()
     assert len(lines) == 1 + 2  # two finished chunks of two points; the third was cut
-    done = {(r[0], r[1]) for line in lines[1:] for r in spec.rows(json.loads(line)["index"])}
+    done = {(r[0], r[1]) for line in lines[1:] for r in spec.rows(json.loads(line)["keys"])}
     assert len(done) == 4
 
     recomputed: list[tuple[float, float]] = []
@@ -274,52 +278,53 @@ def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path:
         return original(sp, names, rows)
 
     monkeypatch.setattr(points, "rows_to_cases", counting)
-    run = execute_sweep(spec, workers=1, chunk_size=2, store=store, progress=False)
+    run = execute_sweep(spec, runner=Runner(workers=1, chunk_size=2, store=store))
     assert run.n_resumed == 4 and run.n_computed == 6
     assert len(recomputed) == 6 and not done & set(recomputed)
     assert store.exists() and not side.exists()
     monkeypatch.setattr(points, "rows_to_cases", original)
-    full = run_sweep(spec, workers=1, progress=False)
+    full = run_sweep(spec, runner=Runner(workers=1))
     xr.testing.assert_identical(full, run.dataset)
     with xr.open_dataset(store) as on_disk:
         xr.testing.assert_equal(on_disk.load(), full)
 
 
 def _record(spec: SweepSpec, index, t_cr, status) -> dict:
-    payload = {"index": list(index), "t_cr": list(t_cr), "status": list(status)}
-    return {**payload, "spec_hash": spec.digest(), "crc": sweep_store._record_crc(payload)}
+    keys, values = list(index), {"t_cr": list(t_cr), "status": list(status)}
+    crc = run_store.record_crc(keys, values)
+    return {"keys": keys, "values": values, "study": spec.digest(), "crc": crc}
 
 
 def test_resume_ignores_cut_line_and_refuses_other_spec(tmp_path: Path) -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 400.0]}, fixed={"mu_s": 0.55})
     store = tmp_path / "r.nc"
     side = sidecar_path(store)
-    header = {"format": sweep_store.SIDECAR_FORMAT, "spec_hash": spec.digest(), "n_points": 2}
+    header = {"format": run_store.STORE_FORMAT, "study": spec.digest()}
     t0 = opening_time(spec.build_case({"spin_rate": 300.0}), FAST)
     side.write_text(
         json.dumps(header)
         + "\n"
         + json.dumps(_record(spec, [0], [t0], [1]))
-        + '\n{"index": [1], "t_c'  # interrupted mid-write
+        + '\n{"keys": [1], "values": {"t_c'  # interrupted mid-write
     )
-    run = execute_sweep(spec, workers=1, store=store, progress=False)
+    run = execute_sweep(spec, runner=Runner(workers=1, store=store))
     assert run.n_resumed == 1 and run.n_computed == 1
     assert run.dataset["t_cr"].values[0] == t0
 
     other = small_spec(axes={"spin_rate": [300.0, 500.0]}, fixed={"mu_s": 0.55})
     side.write_text(json.dumps(header) + "\n")
     with pytest.raises(InputError, match="different study"):
-        run_sweep(other, workers=1, store=store, progress=False)
-    ds = run_sweep(other, workers=1, store=store, progress=False, restart=True)
+        run_sweep(other, runner=Runner(workers=1, store=store))
+    ds = run_sweep(other, runner=Runner(workers=1, store=store, restart=True))
     assert ds["spin_rate"].values.tolist() == [300.0, 500.0] and not side.exists()
 
 
 def test_bad_worker_count_and_directory(tmp_path: Path) -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 400.0]})
     with pytest.raises(InputError, match="workers"):
-        run_sweep(spec, workers=0, progress=False)
+        run_sweep(spec, runner=Runner(workers=0))
     with pytest.raises(InputError, match="does not exist"):
-        run_sweep(spec, workers=1, store=tmp_path / "no" / "x.nc", progress=False)
+        run_sweep(spec, runner=Runner(workers=1, store=tmp_path / "no" / "x.nc"))
 
 
 # --------------------------------------------------------------------------- dask
@@ -328,15 +333,15 @@ def test_bad_worker_count_and_directory(tmp_path: Path) -> None:
 def test_dask_distributed_equals_local() -> None:
     distributed = pytest.importorskip("distributed")
     spec = small_spec()
-    local = run_sweep(spec, workers=1, progress=False)
+    local = run_sweep(spec, runner=Runner(workers=1))
     with distributed.LocalCluster(
         n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None
     ) as cluster:
         with distributed.Client(cluster) as client:
-            run = execute_sweep(spec, scheduler=client, chunk_size=2, progress=False)
+            run = execute_sweep(spec, runner=Runner(scheduler=client, chunk_size=2))
             assert run.backend == "dask.distributed"
             xr.testing.assert_identical(local, run.dataset)
-        by_address = run_sweep(spec, scheduler=cluster.scheduler_address, progress=False)
+        by_address = run_sweep(spec, runner=Runner(scheduler=cluster.scheduler_address))
     xr.testing.assert_identical(local, by_address)
 
 
@@ -398,7 +403,7 @@ def test_cli_sweep_bad_input(
     assert code == 2
     err = capsys.readouterr().err
     assert err.startswith("obturator: error:") and err.count("\n") == 1
-    assert field in err
+    assert field in err or field.replace("_", "-") in err  # the flag, when its kind refuses it
     assert not list(tmp_path.iterdir())
 
 
@@ -441,7 +446,7 @@ def test_convergence_check_marks_unconverged_points():
         options=SolverOptions(friction_width=1e-5),
         check_convergence=True,
     )
-    ds = run_sweep(spec, workers=1, progress=False)
+    ds = run_sweep(spec, runner=Runner(workers=1))
     assert ds["status"].values.tolist() == [Status.UNCONVERGED, Status.OPENED]
     assert np.all(np.isfinite(ds["t_cr"].values))
     plain = SweepSpec(
@@ -462,12 +467,12 @@ def test_damaged_records_are_discarded_and_recomputed(
 ) -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 400.0]}, fixed={"mu_s": 0.55})
     store = tmp_path / "d.nc"
-    truth = run_sweep(spec, workers=1, progress=False)
+    truth = run_sweep(spec, runner=Runner(workers=1))
     t = truth["t_cr"].values
     good = _record(spec, [0], [t[0]], [1])
     bad = dict(_record(spec, [1], [t[1]], [1]))
     if damage == "t_cr changed 1 %":
-        bad["t_cr"] = [t[1] * 1.01]  # the CRC no longer matches
+        bad["values"] = {"t_cr": [t[1] * 1.01], "status": [1]}  # the CRC no longer matches
     elif damage == "index -1":
         bad = _record(spec, [-1], [t[1]], [1])
     elif damage == "index n":
@@ -475,14 +480,14 @@ def test_damaged_records_are_discarded_and_recomputed(
     elif damage == "status 300":
         bad = _record(spec, [1], [t[1]], [300])
     elif damage == "foreign hash":
-        bad["spec_hash"] = "0" * 64
-    header = {"format": sweep_store.SIDECAR_FORMAT, "spec_hash": spec.digest(), "n_points": 2}
+        bad["study"] = "0" * 64
+    header = {"format": run_store.STORE_FORMAT, "study": spec.digest()}
     body = (json.dumps(header) + "\n" + json.dumps(good) + "\n").encode()
     body += (
         b"\xff\xfe garbage\n" if damage == "invalid utf-8" else (json.dumps(bad) + "\n").encode()
     )
     sidecar_path(store).write_bytes(body)
-    run = execute_sweep(spec, workers=1, store=store, progress=False)
+    run = execute_sweep(spec, runner=Runner(workers=1, store=store))
     assert run.n_resumed == 1 and run.n_computed == 1
     np.testing.assert_array_equal(run.dataset["t_cr"].values, t)  # bit-identical
     assert "1 damaged or foreign records" in capsys.readouterr().err
@@ -496,10 +501,10 @@ def test_second_writer_is_refused_and_stale_lock_taken_over(tmp_path: Path) -> N
     lock = store.with_name(store.name + ".lock")
     lock.write_text(json.dumps({"pid": os.getppid(), "spec_hash": "x"}))  # a live process
     with pytest.raises(InputError, match="being written by another run"):
-        run_sweep(spec, workers=1, store=store, progress=False)
+        run_sweep(spec, runner=Runner(workers=1, store=store))
     assert not sidecar_path(store).exists()
     lock.write_text(json.dumps({"pid": 2**22 + 12345, "spec_hash": "x"}))  # no such pid
-    ds = run_sweep(spec, workers=1, store=store, progress=False)
+    ds = run_sweep(spec, runner=Runner(workers=1, store=store))
     assert np.all(np.isfinite(ds["t_cr"].values)) and not lock.exists()
 
 
@@ -507,7 +512,7 @@ def test_csv_that_collides_with_netcdf_is_refused(tmp_path: Path) -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 400.0]}, fixed={"mu_s": 0.55})
     out = tmp_path / "data.csv"
     with pytest.raises(InputError, match="also the NetCDF output"):
-        execute_sweep(spec, workers=1, store=out, csv=out, progress=False)
+        execute_sweep(spec, csv=out, runner=Runner(workers=1, store=out))
 
 
 @pytest.mark.parametrize("victim", ["write_netcdf", "write_csv"])
@@ -528,13 +533,13 @@ def test_full_disk_is_one_line_and_loses_nothing(
 
     monkeypatch.setattr(export, victim, full)
     with pytest.raises(InputError, match="No space left on device.*finished points are kept"):
-        execute_sweep(spec, workers=1, store=store, csv=csv, progress=False)
+        execute_sweep(spec, csv=csv, runner=Runner(workers=1, store=store))
     assert sidecar_path(store).exists()
     monkeypatch.setattr(export, victim, original)
-    run = execute_sweep(spec, workers=1, store=store, csv=csv, progress=False)
+    run = execute_sweep(spec, csv=csv, runner=Runner(workers=1, store=store))
     assert run.n_resumed == 3 and run.n_computed == 0
     assert store.exists() and csv.exists() and not sidecar_path(store).exists()
-    full_run = run_sweep(spec, workers=1, progress=False)
+    full_run = run_sweep(spec, runner=Runner(workers=1))
     np.testing.assert_array_equal(run.dataset["t_cr"].values, full_run["t_cr"].values)
 
 
@@ -553,7 +558,7 @@ def test_validation_mechanisms_are_sweep_axes() -> None:
         fixed={"spin_rate": 200.0, "mu_s": 0.75, "slip_speed": 0.12, "release_phase": 1.0},
         speed_law="strengthening",
     )
-    ds = run_sweep(spec, workers=1, progress=False)
+    ds = run_sweep(spec, runner=Runner(workers=1))
     for r in (0.3, 0.9):
         for td in (-1.0, 1.0):
             case = rig_case(
@@ -573,12 +578,12 @@ def test_default_chunks_lanes_and_tasks() -> None:
     """About 8 chunks per worker, every point once; lane chunks up to LANE_CHUNK points
     (enough stiff points per chunk for the Radau IIA lanes), others up to TASK_CHUNK."""
     todo = np.arange(100_000)
-    lanes = executors.make_chunks(todo, 2, None, executors.LANE_CHUNK)
-    tasks = executors.make_chunks(todo, 2, None)
-    assert executors.LANE_CHUNK == 1024 and executors.TASK_CHUNK == 256
+    lanes = run_chunks.make_chunks(todo, 2, None, LANE_CHUNK)
+    tasks = run_chunks.make_chunks(todo, 2, None)
+    assert LANE_CHUNK == 1024 and run_chunks.TASK_CHUNK == 256
     assert 1000 < max(c.size for c in lanes) <= 1024 and len(lanes) == 98
     assert 250 < max(c.size for c in tasks) <= 256 and len(tasks) == 391
-    small = executors.make_chunks(np.arange(10_000), 2, None, executors.LANE_CHUNK)
+    small = run_chunks.make_chunks(np.arange(10_000), 2, None, LANE_CHUNK)
     assert len(small) == 16 and {c.size for c in small} == {625}
     for chunks in (lanes, tasks, small):
         np.testing.assert_array_equal(

@@ -80,7 +80,7 @@ def test_cli_spin_rate_in_hz_is_2pi_rad_per_cycle(capsys):
 def test_cli_mu_in_degrees_is_rejected(capsys):
     assert main(["simulate", "--mu-s", "30 deg", "--no-check"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("obturator: error: mu_s:") and err.count("\n") == 1
+    assert err.startswith("obturator: error: --mu-s:") and err.count("\n") == 1
 
 
 def test_case_factories_accept_pint_quantities():

@@ -64,7 +64,8 @@ _LAZY = {
     "fit_exact": "calibration",
     "ExactFit": "calibration",
     "FitParameter": "fitting",
-    # studies and the thesis report
+    # studies and the thesis report (their many tasks run on a Runner)
+    "Runner": "runs",
     "SweepSpec": "sweeps",
     "run_sweep": "sweeps",
     "monte_carlo": "sweeps",

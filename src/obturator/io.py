@@ -5,9 +5,15 @@ in TOML config files; they are converted once (:func:`obturator.units.parse_quan
 and rejected with a message that names the field when the unit is wrong or the
 text is not a quantity.
 
-One schema serves ``simulate``, ``sweep``, ``montecarlo`` and ``calibrate``
-(``--config FILE.toml``; command-line flags win over the file). Every key is
-optional; bare numbers are in the SI unit shown. A spin-rig run, as it runs
+One schema serves every command that takes ``--config FILE.toml``
+(command-line flags win over the file). Each command names the fields it uses
+(:func:`load_config`); a key it would ignore is refused with the key's name
+(``trajectory`` refuses ``case``, ``spin_mode`` and ``[friction]``; ``envelope``
+refuses ``[flight] mach``, which its ``--mach`` grid sets). Every key is
+optional; bare numbers are in the SI unit shown; values outside a parameter's
+range (:data:`obturator.params.PARAMS`) are refused as on the command line.
+The file is read by :func:`obturator.files.read_text_file` (regular UTF-8
+file, at most 1 MiB; too deep nesting refused). A spin-rig run, as it runs
 verbatim (``obturator simulate --config rig.toml``)::
 
     case = "spin-rig"
@@ -53,6 +59,11 @@ the Coulomb contact model a ``[contact]`` section::
     [contact]
     patch_radius = "0.1 mm"      # m (default: the Hertz radius)
 
+The flight-trajectory commands (``trajectory``, ``envelope``, ``probability``,
+``sensitivity``, ``optimize``) also read ``[projectile]`` (``mass``,
+``roll_damping``, ``drag``) and ``[launch]`` (``elevation``, ``spin_rate``,
+``twist``, ``segment``).
+
 Spin-rig mechanisms beyond the thesis (see ``obturator validate``) go in
 ``[release]`` (``theta_dot = "0.5 rad/s"``, ``phase = "1 rad"``) and
 ``[friction]`` (``speed_law = "strengthening"``, ``speed_ratio = 0.3``,
@@ -62,11 +73,14 @@ Spin-rig mechanisms beyond the thesis (see ``obturator validate``) go in
 from __future__ import annotations
 
 import tomllib
+from collections.abc import Collection
 from pathlib import Path
 from typing import Any
 
+from . import vocab
 from .errors import InputError
-from .params import config_schema
+from .files import MAX_FILE_BYTES, check_output_path, read_text_file
+from .params import CONFIG_SECTIONS, PARAMS, config_schema
 from .units import parse_quantity
 
 __all__ = [
@@ -81,81 +95,33 @@ __all__ = [
 ]
 
 #: section -> key -> (canonical field name, SI unit or None for words and whole
-#: numbers), derived from :data:`obturator.params.PARAMS`.
-CONFIG_SCHEMA: dict[str, dict[str, tuple[str, str | None]]] = config_schema()
+#: numbers), derived from :data:`obturator.params.PARAMS`, plus the projectile and
+#: launch sections of the flight-trajectory commands.
+CONFIG_SCHEMA: dict[str, dict[str, tuple[str, str | None]]] = {
+    **config_schema(),
+    "projectile": {
+        "mass": ("projectile_mass", "kg"),
+        "roll_damping": ("roll_damping", ""),
+        "drag": ("drag", None),
+    },
+    "launch": {
+        "elevation": ("elevation_deg", "deg"),
+        "spin_rate": ("launch_spin_rate", "rad/s"),
+        "twist": ("twist", "m"),
+        "segment": ("segment", "s"),
+    },
+}
 
-
-#: Largest config or data file read [bytes].
-MAX_FILE_BYTES = 1 << 20
-
-
-def read_text_file(path: str | Path, field: str, max_bytes: int = MAX_FILE_BYTES) -> str:
-    """The UTF-8 text of a regular file of at most `max_bytes`, or one clear InputError.
-
-    Devices (``/dev/zero``), FIFOs and directories are refused before they are
-    opened (reading them would block or never end); symlink loops, missing
-    files, unreadable bytes and binary or Latin-1 content are reported with
-    the path.
-    """
-    import stat
-
-    p = Path(path)
-    try:
-        st = p.stat()
-    except OSError as exc:
-        raise InputError(field, f"cannot read {str(p)!r}: {exc.strerror or exc}") from None
-    if not stat.S_ISREG(st.st_mode):
-        raise InputError(field, f"{str(p)!r} is not a regular file")
-    if st.st_size > max_bytes:
-        raise InputError(field, f"{str(p)!r} is larger than {max_bytes} bytes")
-    try:
-        data = p.read_bytes()[: max_bytes + 1]
-    except OSError as exc:
-        raise InputError(field, f"cannot read {str(p)!r}: {exc.strerror or exc}") from None
-    if b"\x00" in data:
-        raise InputError(field, f"{str(p)!r} is binary, not text")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputError(
-            field, f"{str(p)!r} is not UTF-8 text (byte {exc.start}); save it as UTF-8"
-        ) from None
-
-
-def check_output_path(
-    field: str, path: str | None, suffixes: tuple[str, ...] | None = None
-) -> Path | None:
-    """Check, before any work, that `path` can be written; return it as a Path.
-
-    Parameters
-    ----------
-    field : str
-        Option name for messages (e.g. ``"--csv"``).
-    path : str or None
-        None passes through.
-    suffixes : tuple of str, optional
-        Allowed file suffixes without the dot (case-insensitive).
-    """
-    import os
-
-    if path is None:
-        return None
-    if not isinstance(path, str) or not path.strip():
-        raise InputError(field, "empty file name")
-    p = Path(path)
-    if suffixes is not None and p.suffix.lower().lstrip(".") not in suffixes:
-        raise InputError(
-            field, f"{path!r}: unsupported file type; allowed: .{', .'.join(sorted(suffixes))}"
-        )
-    parent = p.resolve().parent
-    if not parent.is_dir():
-        raise InputError(field, f"directory of {path!r} does not exist")
-    if p.is_dir():
-        raise InputError(field, f"{path!r} is a directory")
-    if not os.access(parent, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
-        raise InputError(field, f"{path!r} is not writable")
-    return p
-
+#: The allowed words of the word-valued fields.
+_WORDS: dict[str, tuple[str, ...]] = {
+    "case": vocab.CASE_NAMES,
+    "torque_model": vocab.TORQUE_MODELS,
+    "spin_mode": vocab.SPIN_MODES,
+    "speed_law": vocab.SPEED_LAWS,
+    "friction_family": vocab.FRICTION_FAMILIES,
+    "method": vocab.METHODS,
+    "formulation": vocab.FORMULATIONS,
+}
 
 #: Fields of the ``[solver]`` section (options of :class:`obturator.solve.SolverOptions`).
 SOLVER_KEYS: tuple[str, ...] = tuple(field for field, _ in CONFIG_SCHEMA["solver"].values())
@@ -182,15 +148,12 @@ def study_settings(
     """
     if path is None:
         return {}
-    raw = load_config(path)
+    raw = load_config(path, command, (*allowed, *SOLVER_KEYS))
     out: dict[str, Any] = {"solver": {}}
     for key, value in raw.items():
-        if key in SOLVER_KEYS:
-            out["solver"][key] = value
-        elif key in allowed:
-            out[key] = value
-        else:
-            raise InputError(key, f"is not used by 'obturator {command}' (see obturator.io)")
+        out["solver" if key in SOLVER_KEYS else key] = value
+    if not out["solver"]:
+        del out["solver"]
     return out
 
 
@@ -203,13 +166,25 @@ def _parse_toml(text: str, p: Path) -> dict[str, Any]:
         raise InputError(f"config {p}", "nested too deeply") from None
 
 
-def load_config(path: str | Path) -> dict[str, Any]:
+def load_config(
+    path: str | Path, command: str | None = None, used: Collection[str] | None = None
+) -> dict[str, Any]:
     """Read a TOML run configuration into a flat dict of SI values.
+
+    One schema (:data:`CONFIG_SCHEMA`) serves every command that takes
+    ``--config``; each command names the fields it uses, and a key of the
+    schema that the command would ignore is refused with its name.
 
     Parameters
     ----------
     path : str or Path
-        TOML file (layout in the module docstring).
+        TOML file (layout in the module docstring), read by
+        :func:`obturator.files.read_text_file` (size, encoding, FIFO limits).
+    command : str, optional
+        Command name for messages.
+    used : collection of str, optional
+        Canonical field names the command uses (None: every field of the
+        base sections, as ``simulate``).
 
     Returns
     -------
@@ -220,12 +195,12 @@ def load_config(path: str | Path) -> dict[str, Any]:
     Raises
     ------
     InputError
-        Unknown sections or keys, malformed TOML, wrong units.
-    FileNotFoundError
-        If the file does not exist.
+        Unreadable file, malformed or too deeply nested TOML, unknown
+        sections or keys, keys the command does not use, wrong units.
     """
     p = Path(path)
     raw = _parse_toml(read_text_file(p, "config"), p)
+    base = set(CONFIG_SECTIONS)
     out: dict[str, Any] = {}
     for key, value in raw.items():
         if isinstance(value, dict):
@@ -243,13 +218,26 @@ def load_config(path: str | Path) -> dict[str, Any]:
             if k not in CONFIG_SCHEMA[section]:
                 raise InputError(name, "unknown key; allowed: " + ", ".join(CONFIG_SCHEMA[section]))
             field, unit = CONFIG_SCHEMA[section][k]
+            if (used is None and section not in base) or (used is not None and field not in used):
+                raise InputError(name, f"is not used by 'obturator {command or 'simulate'}'")
             if unit is None:
                 if field == "n_contacts":
                     if not isinstance(v, int) or isinstance(v, bool):
                         raise InputError(name, f"expected an integer, got {v!r}")
-                elif not isinstance(v, str):
-                    raise InputError(name, f"expected a string, got {v!r}")
+                elif not isinstance(v, str) or len(v) > 256:
+                    raise InputError(name, f"expected a word, got {str(v)[:40]!r}")
+                elif field in _WORDS and v not in _WORDS[field]:
+                    raise InputError(name, f"{v[:40]!r}; allowed: {', '.join(_WORDS[field])}")
                 out[field] = v
             else:
-                out[field] = parse_quantity(name, v, unit)
+                out[field] = _in_range(name, field, parse_quantity(name, v, unit))
     return out
+
+
+def _in_range(name: str, field: str, x: float) -> float:
+    """`x` if it lies in the range of parameter `field` (the flags' own ranges)."""
+    par = PARAMS.get(field)
+    if par is not None and par.range is not None and not par.range.contains(x):
+        u = f" {par.unit}" if par.unit != "1" else ""
+        raise InputError(name, f"{x:g}{u} is outside the allowed range {par.range}{u}")
+    return x

@@ -18,6 +18,8 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from .files import figure_format
+
 if TYPE_CHECKING:  # pragma: no cover
     import xarray as xr
     from matplotlib.axes import Axes
@@ -67,7 +69,7 @@ def figure_suffixes() -> tuple[str, ...]:
 def save(fig: Figure, path: str | Path, dpi: int = 110) -> Path:
     """Write `fig` as PNG (or any format matplotlib infers from the suffix); return the path."""
     p = Path(path)
-    fig.savefig(p, dpi=dpi)
+    fig.savefig(p, dpi=dpi, format=figure_format(p))  # a device: written in place
     return p
 
 

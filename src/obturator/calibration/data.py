@@ -29,7 +29,27 @@ from ..reference import APPENDIX_B_CSV, RIG_TEETH, data_text
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
 
-__all__ = ["SpinRigData", "load_spin_rig_csv", "load_thesis_data", "readout_to_spin_rate"]
+__all__ = [
+    "SpinRigData",
+    "load_spin_rig_csv",
+    "load_thesis_data",
+    "readout_to_spin_rate",
+    "MAX_RUNS",
+    "MAX_LINE_CHARS",
+]
+
+#: Most runs in one data file. Every least-squares iteration integrates every run:
+#: the 54 runs of Appendix B fit in ~2 s (AMD EPYC Zen 4, loaded), so 2,000 runs
+#: take about a minute and 100,000 would take about an hour with no progress to
+#: show; a rig campaign has tens to hundreds of runs.
+MAX_RUNS = 2_000
+#: Longest line of a data file [characters]: a row is a few numbers (the csv
+#: module's own field limit, 128 KiB, would otherwise end the read with its error).
+MAX_LINE_CHARS = 1_000
+#: Allowed values (lo, hi] per column and unit: positive, and far enough from 0 and
+#: infinity that reciprocals and squares stay finite (1 us to 11.6 days for a time).
+_LIMITS = {"s": (0.0, 1e6), "Hz": (0.0, 1e7), "rad/s": (0.0, 1e6)}
+_MIN_TIME = 1e-6
 
 _TIME = "t_cr_s"
 _READOUT = "readout_hz"
@@ -192,12 +212,15 @@ def _fail(column: str, source: str, line: int, what: str) -> InputError:
 
 
 def _positive(cell: str, column: str, unit: str, source: str, line: int) -> float:
-    allowed = f"allowed range (0, inf) {unit}"
+    lo, hi = _LIMITS[unit]
+    if unit == "s":
+        lo = _MIN_TIME
+    allowed = f"allowed range ({lo:g}, {hi:g}] {unit}"
     try:
         x = float(cell)
     except ValueError:
         raise _fail(column, source, line, f"{cell!r} is not a number ({allowed})") from None
-    if not (math.isfinite(x) and x > 0.0):
+    if not (math.isfinite(x) and lo < x <= hi):
         raise _fail(column, source, line, f"{x:g} {unit} is outside the {allowed}")
     return x
 
@@ -212,6 +235,10 @@ def _parse(text: str, source: str, teeth: int) -> SpinRigData:
     header_line = 0
     rows: list[tuple[int, list[str]]] = []
     for lineno, raw in enumerate(text.splitlines(), start=1):
+        if len(raw) > MAX_LINE_CHARS:
+            raise InputError(
+                "file", f"{source}, line {lineno}: longer than {MAX_LINE_CHARS} characters"
+            )
         stripped = raw.strip()
         if not stripped or stripped.startswith("#"):
             continue
@@ -236,6 +263,12 @@ def _parse(text: str, source: str, teeth: int) -> SpinRigData:
                 f"{len(cells)} fields, expected {len(header)} ({', '.join(header)})",
             )
         rows.append((lineno, cells))
+        if len(rows) > MAX_RUNS:
+            raise InputError(
+                "file",
+                f"{source}: more than {MAX_RUNS} runs (obturator.calibration.data.MAX_RUNS: "
+                "each fit iteration integrates every run)",
+            )
     if header is None:
         raise InputError(
             "file",
@@ -306,14 +339,10 @@ def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigDat
         readout or spin rate outside (0, inf); the message names the file,
         line number, column and allowed range.
     """
+    from ..files import read_text_file
+
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError("path", f"{p}: no such file") from None
-    except (IsADirectoryError, PermissionError, UnicodeDecodeError) as exc:
-        raise InputError("path", f"{p}: cannot be read as a UTF-8 CSV file ({exc})") from None
-    return _parse(text, str(p), teeth)
+    return _parse(read_text_file(p, "path"), str(p), teeth)
 
 
 def load_thesis_data() -> SpinRigData:

@@ -133,16 +133,27 @@ def main(argv: list[str] | None = None) -> int:
 
     argv = sys.argv[1:] if argv is None else list(argv)
     set_command(argv)
+    from ._environment import check_environment
+
+    try:  # before numba is imported: its variables break the import itself
+        check_environment()
+    except InputError as exc:
+        print(f"obturator: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
     command = _command_of(argv)
     parser = build_parser(command, full=command is not None or "--print-completion" in argv)
-    args = parser.parse_args(argv)
+    try:  # every value is checked here, by its kind (cli._kinds), before any work
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # a usage error (one line, printed), --help, --version
+        return exc.code if isinstance(exc.code, int) else EXIT_INPUT
     if args.print_completion:
         import shtab
 
         print(shtab.complete(parser, shell=args.print_completion))
         return 0
     if args.command is None:
-        parser.error("a COMMAND is required (see obturator --help)")
+        print("obturator: error: a COMMAND is required (see obturator --help)", file=sys.stderr)
+        return EXIT_INPUT
     try:
         return int(args.func(args) or 0)
     except InputError as exc:
@@ -158,6 +169,8 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return EXIT_CLUSTER
+    except BrokenPipeError:
+        raise  # output piped into `head`: run() ends quietly
     except OSError as exc:  # files named on the command line or in a config
         where = f"{exc.filename}: " if getattr(exc, "filename", None) else ""
         print(f"obturator: error: {where}{exc.strerror or exc}", file=sys.stderr)
@@ -166,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
         print("obturator: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:
-        if os.environ.get("OBTURATOR_DEBUG"):
+        if os.environ.get("OBTURATOR_DEBUG", "").strip() == "1":
             raise
         text = " ".join(str(exc).split())[:300]
         print(
@@ -204,7 +217,9 @@ def run() -> None:  # pragma: no cover - the console-script entry point
     except BrokenPipeError:  # output piped into `head` and the like: not an error
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         code = 0
-    if os.environ.get("OBTURATOR_FULL_EXIT"):  # e.g. coverage tools that save at exit
+    if (
+        os.environ.get("OBTURATOR_FULL_EXIT", "").strip() == "1"
+    ):  # e.g. coverage tools that save at exit
         sys.exit(code)
     atexit._run_exitfuncs()
     sys.stderr.flush()

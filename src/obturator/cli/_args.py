@@ -9,15 +9,15 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from collections.abc import Mapping
 from typing import Any
 
 from ..errors import InputError, check_range
 from ..io import study_settings
-from ..params import SWEEP_PARAMS
+from ..params import PARAMS, SWEEP_PARAMS, Range
 from ..solve import SolverOptions, tolerances_for_opening_time
 from ..vocab import CASE_NAMES, FRICTION_FAMILIES, METHODS, SPIN_MODES, TORQUE_MODELS
+from ._kinds import Axis, Count, InputFile, Quantity, Text
 
 __all__ = [
     "flag",
@@ -28,9 +28,96 @@ __all__ = [
     "study_config",
     "study_options",
     "study_t_max",
-    "show_progress",
     "fmt_seconds",
+    "quantity_of",
+    "axis_of",
+    "add_execution_flags",
+    "SEED",
+    "MAX_WORKERS",
 ]
+
+_POSITIVE = Range(0.0, math.inf, True, True)
+#: Bounds of the flags of parameters that have no finite range in obturator.params:
+#: physical sizes of an obturator, with room to spare, so that the arithmetic stays
+#: finite (found by the generated fuzz suite: --ball-radius 1e308 overflowed).
+_FLAG_RANGES: dict[str, Range] = {
+    "ball_radius": Range(0.0, 1.0, True, False),
+    "bore_radius": Range(0.0, 1.0, True, False),
+    "density": Range(0.0, 1e5, True, False),  # osmium: 22,590 kg/m^3
+    "viscosity": Range(0.0, 1e3, True, False),
+    "weight": Range(0.0, 1e6, True, False),
+    "p1": Range(0.0, 1e9, True, False),
+    "patch_radius": Range(0.0, 1.0),
+    "rtol": Range(0.0, 1.0, True, True),
+    "atol": Range(0.0, 1.0, True, True),
+    "friction_width": Range(0.0, 1.0, True, True),
+}
+#: A valid, cheap value of each parameter flag (for the generated tests).
+_EXAMPLES: dict[str, str] = {
+    "spin_rate": "300 rad/s",
+    "mu_s": "0.55",
+    "theta0_deg": "87.25 deg",
+    "density": "7669.6 kg/m^3",
+    "hole_radius": "4.72 mm",
+    "gap": "0.0508 mm",
+    "mach": "3",
+    "altitude_m": "1 km",
+    "t_max": "0.005 s",
+    "rtol": "1e-6",
+    "atol": "1e-8",
+    "friction_width": "1e-6",
+    "patch_radius": "0.1 mm",
+    "theta_dot0": "0.5 rad/s",
+    "release_phase": "1 rad",
+    "speed_ratio": "0.5",
+    "slip_speed": "0.1 m/s",
+}
+#: Largest number of local worker processes: beyond a few hundred each process's
+#: compiled code (~100 MB) and the pool's start-up dominate any machine we know.
+MAX_WORKERS = 1024
+#: A random seed: numpy takes any non-negative integer; 63 bits keep it an int64.
+SEED = Count(0, 2**63 - 1, example="0")
+
+
+def quantity_of(name: str) -> Quantity:
+    """The kind of the flag of parameter `name`: its unit and range (positive if none)."""
+    par = PARAMS[name]
+    rng = _FLAG_RANGES.get(name) or par.range or _POSITIVE
+    return Quantity(par.pint_unit, rng, _EXAMPLES.get(name, "1"))
+
+
+def axis_of(name: str) -> Axis:
+    """The kind of a sweep axis of parameter `name` (every value in its range)."""
+    q = quantity_of(name)
+    return Axis(q.unit, q.range, q.example)
+
+
+def add_execution_flags(p: argparse.ArgumentParser) -> None:
+    """Workers, Dask scheduler, chunk size, restart, progress (sweep, montecarlo)."""
+    from ..sweeps.grid import MAX_POINTS
+
+    p.add_argument(
+        "--workers",
+        metavar="N",
+        type=Count(1, MAX_WORKERS),
+        help="local worker processes (default: all CPUs; 1: in-process)",
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        type=Text(example="tcp://127.0.0.1:1"),
+        help="dask.distributed scheduler, e.g. tcp://host:8786",
+    )
+    p.add_argument(
+        "--chunk-size",
+        metavar="N",
+        type=Count(1, MAX_POINTS),
+        help="points per task (default: automatic)",
+    )
+    p.add_argument(
+        "--restart", action="store_true", help="discard partial results of a different study"
+    )
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def flag(name: str) -> str:
@@ -78,13 +165,24 @@ def add_study_flags(p: argparse.ArgumentParser) -> None:
     p.add_argument("--torque-model", choices=TORQUE_MODELS, default=None)
     p.add_argument("--spin-mode", choices=SPIN_MODES, default=None)
     p.add_argument(
-        "--config", metavar="FILE.toml", help="settings (schema in obturator.io; flags win)"
+        "--config",
+        metavar="FILE.toml",
+        type=InputFile(),
+        help="settings (schema in obturator.io; flags win)",
     )
-    p.add_argument("--rtol", metavar="X", help="relative tolerance (default 1e-8)")
-    p.add_argument("--atol", metavar="X", help="absolute tolerance (default rtol/100, or 1e-10)")
+    p.add_argument(
+        "--rtol", metavar="X", type=quantity_of("rtol"), help="relative tolerance (default 1e-8)"
+    )
+    p.add_argument(
+        "--atol",
+        metavar="X",
+        type=quantity_of("atol"),
+        help="absolute tolerance (default rtol/100, or 1e-10)",
+    )
     p.add_argument(
         "--tcr-rtol",
         metavar="X",
+        type=Quantity("", Range(0.0, 1.0, True, True), "1e-4"),
         help="set the tolerances for this relative t_cr accuracy (>= 4.5e-7; measured table "
         "in obturator.solve.OPENING_TIME_ACCURACY, set by the rig's long near-stick runs "
         "below 100 rad/s; the default rtol 1e-8 gives <= 3e-7 above 100 rad/s, <= 1.6e-4 "
@@ -92,7 +190,10 @@ def add_study_flags(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--method", choices=METHODS, default=None, help="integrator")
     p.add_argument(
-        "--friction-width", metavar="X", help="regularisation width / omega_p (default 1e-7)"
+        "--friction-width",
+        metavar="X",
+        type=quantity_of("friction_width"),
+        help="regularisation width / omega_p (default 1e-7)",
     )
     p.add_argument(
         "--friction-family",
@@ -100,18 +201,10 @@ def add_study_flags(p: argparse.ArgumentParser) -> None:
         default=None,
         help="regularisation family (default algebraic)",
     )
-    p.add_argument("--t-max", metavar="S", help="give up after this time [s]")
     p.add_argument(
-        "--workers", metavar="N", help="local worker processes (default: all CPUs; 1: in-process)"
+        "--t-max", metavar="S", type=quantity_of("t_max"), help="give up after this time [s]"
     )
-    p.add_argument(
-        "--scheduler", metavar="ADDRESS", help="dask.distributed scheduler, e.g. tcp://host:8786"
-    )
-    p.add_argument("--chunk-size", metavar="N", help="points per task (default: automatic)")
-    p.add_argument(
-        "--restart", action="store_true", help="discard partial results of a different study"
-    )
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_execution_flags(p)
     p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
@@ -157,11 +250,6 @@ def study_t_max(args: argparse.Namespace) -> float | None:
     if args.t_max is None:
         return None
     return check_range("t_max", parse_number("t_max", args.t_max), 0.0, lo_open=True, unit="s")
-
-
-def show_progress(args: argparse.Namespace) -> bool:
-    """A progress bar unless ``--no-progress`` or stderr is not a terminal."""
-    return not args.no_progress and sys.stderr.isatty()
 
 
 def fmt_seconds(x: float, infinite: str = "-") -> str:

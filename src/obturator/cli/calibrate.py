@@ -6,8 +6,10 @@ import argparse
 import math
 import sys
 
-from ..errors import check_range
+from ..params import Range
 from ..reference import TABLE1
+from ._args import SEED, quantity_of, solver_options
+from ._kinds import Count, InputFile, OutputFile, Quantity, Text
 
 __all__ = ["register"]
 
@@ -22,47 +24,62 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "readout_hz (18-tooth wheel) or spin_rate_rad_s, optionally starred (1/0). Runs "
         "fitted: spin >= --min-spin if given, else the starred runs, else all runs.",
     )
-    c.add_argument("data", metavar="DATA.csv", help="spin-rig opening times")
+    c.add_argument(
+        "data",
+        metavar="DATA.csv",
+        type=InputFile(example="runs.csv"),
+        help="spin-rig opening times",
+    )
     c.add_argument(
         "--theta0-deg",
         metavar="X",
-        type=float,
+        type=quantity_of("theta0_deg"),
         default=None,
         help=f"theta_0 [deg] ({TABLE1['theta0_deg']})",
     )
     c.add_argument(
         "--config",
         metavar="FILE.toml",
+        type=InputFile(),
         help="theta0, t_max, torque_model, [rig] weight and [solver] settings (flags win)",
     )
-    c.add_argument("--min-spin", metavar="X", type=float, help="fit runs with omega_p >= X rad/s")
+    c.add_argument(
+        "--min-spin",
+        metavar="X",
+        type=Quantity("rad/s", Range(0.0, math.inf, False, True), "1e5 rad/s"),
+        help="fit runs with omega_p >= X rad/s",
+    )
     c.add_argument(
         "--fit",
         metavar="NAMES",
         default="mu_s",
+        type=Text(example="mu_s"),
         help="comma list of fitted parameters, mu_s among them: theta0_deg, shear_constant, "
         "theta_dot0, release_phase, speed_ratio, slip_speed, patch_radius (bounds and their "
         "reasons: obturator.params.FIT_SPECS)",
     )
+    # 1e5 resamples give percentile intervals to ~1e-3 of their width; more is wasted time
     c.add_argument(
-        "--bootstrap", metavar="N", type=int, default=200, help="bootstrap resamples (0: none)"
+        "--bootstrap",
+        metavar="N",
+        type=Count(0, 100_000, example="0"),
+        default=200,
+        help="bootstrap resamples (0: none; at most 100000)",
     )
-    c.add_argument("--seed", metavar="N", type=int, default=0, help="bootstrap seed")
+    c.add_argument("--seed", metavar="N", type=SEED, default=0, help="bootstrap seed")
     c.add_argument("--json", action="store_true", help="print one JSON object")
-    c.add_argument("--plot", metavar="FILE.png", help="write data, model and residuals")
+    c.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        type=OutputFile(figure=True, example="fit.png"),
+        help="write data, model and residuals",
+    )
     c.set_defaults(func=_calibrate)
 
 
 def _calibrate(args: argparse.Namespace) -> int:
     from ..calibration import calibrate_csv
-
-    if args.min_spin is not None:
-        check_range("min_spin", args.min_spin, 0.0, math.inf, hi_open=True, unit="rad/s")
-    # 1e5 resamples give percentile intervals to ~1e-3 of their width; more is wasted time
-    check_range("bootstrap", args.bootstrap, 0, 100_000)
-    check_range("seed", args.seed, 0, 2**63 - 1)
     from ..io import study_settings
-    from ..solve import SolverOptions
 
     conf = study_settings(
         args.config, "calibrate", ("theta0_deg", "t_max", "torque_model", "weight")
@@ -83,7 +100,7 @@ def _calibrate(args: argparse.Namespace) -> int:
         fit=names,
         bootstrap=args.bootstrap,
         bootstrap_seed=args.seed,
-        options=SolverOptions(**conf.get("solver", {})),
+        options=solver_options(conf.get("solver", {})),
         **kwargs,
     )
     if args.plot:

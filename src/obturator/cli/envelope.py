@@ -37,258 +37,40 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 import time
-import tomllib
 from dataclasses import replace
-from pathlib import Path
 from typing import Any
 
-from ..errors import InputError, check_range
-from ..io import CONFIG_SCHEMA
-from ..solve import SolverOptions
-from ..units import parse_quantity
+from ..params import Range
 from . import _json
+from ._args import axis_of
+from ._flight_args import (
+    FIGURE,
+    LAUNCH_MACH,
+    MACH_AXIS,
+    MIN_SEGMENT,
+    REQUIREMENT,
+    TEMPERATURE_OFFSET,
+    add_execution_arguments,
+    add_model_arguments,
+    model_from_args,
+    quantity,
+)
+from ._kinds import Axis, OutputFile, Quantity
+from ._runner import study_runner, write_dataset
 
 __all__ = [
     "register",
     "add_model_arguments",
     "add_execution_arguments",
     "model_from_args",
-    "runner_from_args",
     "quantity",
+    "MACH_AXIS",
+    "REQUIREMENT",
+    "FIGURE",
+    "MIN_SEGMENT",
+    "LAUNCH_MACH",
 ]
-
-_OWN_SCHEMA: dict[str, dict[str, tuple[str, str | None]]] = {
-    "projectile": {
-        "mass": ("projectile_mass", "kg"),
-        "roll_damping": ("roll_damping", ""),
-        "drag": ("drag", None),
-    },
-    "launch": {
-        "elevation": ("elevation_deg", "deg"),
-        "spin_rate": ("spin_rate", "rad/s"),
-        "twist": ("twist", "m"),
-        "segment": ("segment", "s"),
-    },
-}
-
-# design / launch flags: dest -> (unit, help)
-_DESIGN_FLAGS = {
-    "mu_s": ("", "sliding friction coefficient mu_s (Table 1: 0.35)"),
-    "theta0_deg": ("deg", "initial nutation theta_0 [deg] (87.25)"),
-    "gap": ("m", "ball-socket gap h [m] (5.08e-5)"),
-    "hole_radius": ("m", "ball hole radius r_s [m] (4.72e-3)"),
-    "ball_radius": ("m", "ball radius R_s [m] (7.899e-3)"),
-    "density": ("kg/m^3", "ball density [kg/m^3] (7669.6)"),
-    "bore_radius": ("m", "bore radius r_p [m] (4.72e-3)"),
-    "viscosity": ("Pa*s", "gap fluid viscosity [Pa s] (1.917e-5)"),
-}
-
-
-def quantity(field: str, value: Any, unit: str) -> float:
-    """A CLI value (number or quantity string) in `unit`."""
-    return parse_quantity(field, value, unit)
-
-
-def _load_config(path: str) -> dict[str, Any]:
-    p = Path(path)
-    if not p.is_file():
-        raise FileNotFoundError(f"config file {path!r} not found")
-    try:
-        raw = tomllib.loads(p.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"config {p}", f"malformed TOML: {exc}") from None
-    schema = {**CONFIG_SCHEMA, **_OWN_SCHEMA}
-    out: dict[str, Any] = {}
-    for key, value in raw.items():
-        section, items = (key, value) if isinstance(value, dict) else ("", {key: value})
-        if section not in schema:
-            raise InputError(f"config {p}", f"unknown section [{section}]")
-        for k, v in items.items():
-            name = f"{section}.{k}" if section else k
-            if k not in schema[section]:
-                raise InputError(name, "unknown key; allowed: " + ", ".join(schema[section]))
-            field, unit = schema[section][k]
-            if field in ("case", "weight", "p1", "altitude_m", "mach", "n_contacts", "spin_mode"):
-                continue  # set per point by the envelope, or rig-only
-            if unit is None:
-                if not isinstance(v, str):
-                    raise InputError(name, f"expected a string, got {v!r}")
-                out[field] = v
-            else:
-                out[field] = parse_quantity(name, v, unit)
-    return out
-
-
-def add_model_arguments(p: argparse.ArgumentParser, *, launch_point: bool) -> None:
-    """Design, projectile, launch and solver flags shared by the envelope commands."""
-    g = p.add_argument_group("design (Table 1 defaults)")
-    for dest, (_, text) in _DESIGN_FLAGS.items():
-        g.add_argument("--" + dest.replace("_", "-"), dest=dest, metavar="X", help=text)
-    g.add_argument("--torque-model", choices=("thesis", "coulomb"), default=None)
-    f = p.add_argument_group("flight")
-    if launch_point:
-        f.add_argument("--mach", metavar="X", help="muzzle Mach number (default 3)")
-        f.add_argument("--altitude-m", metavar="X", help="launch altitude [m] (default 0)")
-        f.add_argument(
-            "--temperature-offset-k", metavar="X", help="off-standard temperature [K] (default 0)"
-        )
-    f.add_argument("--elevation-deg", metavar="X", help="elevation angle [deg] (default 0)")
-    f.add_argument(
-        "--spin-rate",
-        metavar="X",
-        help="muzzle spin [rad/s]; default: rifling twist, 2 pi V_0 / twist "
-        "(12042 rad/s at Table 1's Mach 3, sea level)",
-    )
-    f.add_argument("--twist", metavar="X", help="rifling twist [m per turn] (default 0.5327)")
-    f.add_argument(
-        "--drag",
-        "--cd-table",
-        dest="drag",
-        metavar="NAME|FILE.csv",
-        help="drag curve: tubular-closed (default), tubular-open, or a CSV with columns mach,cd",
-    )
-    f.add_argument("--roll-damping", metavar="X", help="roll-damping coefficient C_lp (-0.012)")
-    f.add_argument("--projectile-mass", metavar="X", help="projectile mass [kg] (0.141)")
-    s = p.add_argument_group("solver")
-    s.add_argument(
-        "--load",
-        choices=("coupled", "constant"),
-        default=None,
-        help="trajectory-coupled load (default) or the thesis's constant muzzle load "
-        "(the envelope always computes both)",
-    )
-    s.add_argument("--rtol", metavar="X", help="relative tolerance (default 1e-8)")
-    s.add_argument("--atol", metavar="X", help="absolute tolerance (default 1e-10)")
-    s.add_argument("--segment", metavar="S", help="segment of the coupled load [s] (2e-3)")
-    s.add_argument("--t-max", metavar="S", help="give up after this time [s] (default 1)")
-    s.add_argument(
-        "--no-convergence-check",
-        action="store_true",
-        help="skip the refined reruns (t_cr then carries no convergence status)",
-    )
-    p.add_argument("--config", metavar="FILE.toml", help="TOML settings (flags override)")
-
-
-def add_execution_arguments(p: argparse.ArgumentParser) -> None:
-    """Workers, Dask scheduler, resume and output flags."""
-    e = p.add_argument_group("execution")
-    e.add_argument("--workers", metavar="N", help="local processes (default: all CPUs)")
-    e.add_argument("--scheduler", metavar="ADDRESS", help="dask.distributed, tcp://host:8786")
-    e.add_argument("--chunk-size", metavar="N", help="points per task (default automatic)")
-    e.add_argument("--restart", action="store_true", help="discard a different study's partials")
-    e.add_argument("--no-progress", action="store_true", help="no progress bar")
-    e.add_argument("--json", action="store_true", help="print one JSON object")
-
-
-def _settings(args: argparse.Namespace) -> dict[str, Any]:
-    s: dict[str, Any] = _load_config(args.config) if getattr(args, "config", None) else {}
-    units = {k: u for k, (u, _) in _DESIGN_FLAGS.items()}
-    units.update(
-        elevation_deg="deg",
-        spin_rate="rad/s",
-        twist="m",
-        roll_damping="",
-        projectile_mass="kg",
-        rtol="",
-        atol="",
-        segment="s",
-        t_max="s",
-        mach="",
-        altitude_m="m",
-        temperature_offset_k="K",
-    )
-    for dest, unit in units.items():
-        v = getattr(args, dest, None)
-        if v is not None:
-            s[dest] = quantity("--" + dest.replace("_", "-"), v, unit)
-    for dest in ("drag", "torque_model"):
-        if getattr(args, dest, None) is not None:
-            s[dest] = getattr(args, dest)
-    return s
-
-
-def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
-    """The :class:`~obturator.envelope.model.FlightModel` described by the flags."""
-    from ..envelope.coupled import ObturatorDesign
-    from ..envelope.drag import drag_model
-    from ..envelope.model import FlightModel
-    from ..envelope.trajectory import Launch, Projectile
-
-    s = _settings(args)
-    dkw = {k: s[k] for k in _DESIGN_FLAGS if k in s}
-    if "torque_model" in s:
-        dkw["torque_model"] = s["torque_model"]
-    design = ObturatorDesign(**dkw)
-    pkw: dict[str, Any] = {}
-    if "projectile_mass" in s:
-        pkw["mass"] = s["projectile_mass"]
-    if "roll_damping" in s:
-        pkw["roll_damping"] = s["roll_damping"]
-    pkw["drag"] = drag_model(s.get("drag", "tubular-closed"), bore_radius=design.bore_radius)
-    projectile = Projectile(**pkw)
-    lkw = {
-        k: s[k]
-        for k in (
-            "mach",
-            "altitude_m",
-            "temperature_offset_k",
-            "elevation_deg",
-            "spin_rate",
-            "twist",
-        )
-        if k in s
-    }
-    launch = Launch(**lkw)
-    okw = {k: s[k] for k in ("rtol", "atol") if k in s}
-    options = SolverOptions(**okw)
-    mkw: dict[str, Any] = {}
-    if "segment" in s:
-        mkw["segment"] = s["segment"]
-    if "t_max" in s:
-        mkw["t_max"] = s["t_max"]
-    return FlightModel(
-        design,
-        launch,
-        projectile,
-        load=getattr(args, "load", None) or load,
-        options=options,
-        check_convergence=not args.no_convergence_check,
-        **mkw,
-    )
-
-
-def runner_from_args(args: argparse.Namespace, store: Any = None) -> Any:
-    """The :class:`~obturator.envelope.executor.Runner` described by the flags."""
-    from ..envelope.executor import Runner
-
-    def integer(name: str, text: str | None) -> int | None:
-        if text is None:
-            return None
-        try:
-            n = int(text)
-        except ValueError:
-            raise InputError(name, f"{text!r} is not a whole number") from None
-        check_range(name, n, 1)
-        return n
-
-    return Runner(
-        workers=integer("--workers", args.workers),
-        scheduler=args.scheduler,
-        store=store,
-        progress=not args.no_progress and sys.stderr.isatty(),
-        chunk_size=integer("--chunk-size", args.chunk_size),
-    )
-
-
-def open_store(args: argparse.Namespace, identity: dict[str, Any]) -> Any:
-    """The resume store next to ``--out`` (None without ``--out``)."""
-    from ..envelope.executor import ResultStore, store_path
-
-    if not getattr(args, "out", None):
-        return None
-    return ResultStore(store_path(args.out), identity, args.restart)
 
 
 def _fmt(x: float) -> str:
@@ -424,10 +206,8 @@ def _print_start(start: dict[str, Any]) -> None:
 
 def _run_envelope(args: argparse.Namespace) -> int:
     from ..envelope.envelope import EnvelopeSpec, envelope_summary, run_envelope
-    from ..sweeps import parse_axis, write_netcdf
+    from ..sweeps import parse_axis
 
-    if args.out and not Path(args.out).resolve().parent.is_dir():
-        raise InputError("--out", f"directory of {args.out!r} does not exist")
     model = model_from_args(args, load="both")
     temps = (
         parse_axis(args.grid_temperature, "--temperature-offset-k")
@@ -442,18 +222,14 @@ def _run_envelope(args: argparse.Namespace) -> int:
         requirement=quantity("--requirement", args.requirement, "s"),
         area_ratio=quantity("--area-ratio", args.area_ratio, ""),
     )
-    store = open_store(args, spec.identity())
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, spec.identity())
     t0 = time.perf_counter()
     try:
         ds = run_envelope(spec, runner)
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
-    if args.out:
-        write_netcdf(ds, args.out)
-        store.remove()
+    write_dataset(args, runner, ds)
     if args.figure:
         from ..envelope.figures import plot_envelope
 
@@ -545,8 +321,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "of the flight; compare with the thesis's constant load.",
     )
     add_model_arguments(t, launch_point=True)
-    t.add_argument("--out", metavar="FILE.nc", help="write the trajectory as NetCDF")
-    t.add_argument("--figure", metavar="FILE.png", help="theta(t), F_p(t), M(t)")
+    t.add_argument(
+        "--out", metavar="FILE.nc", type=OutputFile(), help="write the trajectory as NetCDF"
+    )
+    t.add_argument("--figure", metavar="FILE.png", type=FIGURE, help="theta(t), F_p(t), M(t)")
     t.add_argument("--json", action="store_true", help="print one JSON object")
     t.set_defaults(func=_run_trajectory)
 
@@ -558,25 +336,42 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "SPEC is START:STOP:COUNT or a,b,c.",
     )
     e.add_argument(
-        "--mach", dest="grid_mach", metavar="SPEC", required=True, help="muzzle Mach numbers"
+        "--mach",
+        dest="grid_mach",
+        metavar="SPEC",
+        required=True,
+        type=MACH_AXIS,
+        help="muzzle Mach numbers",
     )
     e.add_argument(
         "--altitude-m",
         dest="grid_altitude",
         metavar="SPEC",
         required=True,
-        help="launch altitudes [m]",
+        type=axis_of("altitude_m"),
+        help="launch altitudes [m] (units allowed: '0,1 km')",
     )
     e.add_argument(
         "--temperature-offset-k",
         dest="grid_temperature",
         metavar="SPEC",
+        type=Axis("K", TEMPERATURE_OFFSET.range, "0 K"),
         help="temperature offsets [K]",
     )
-    e.add_argument("--requirement", metavar="S", default="0.1", help="t_cr requirement [s]")
-    e.add_argument("--area-ratio", metavar="X", default="1", help="inlet A_c/A_t (default 1)")
+    e.add_argument(
+        "--requirement", metavar="S", default="0.1", type=REQUIREMENT, help="t_cr requirement [s]"
+    )
+    e.add_argument(
+        "--area-ratio",
+        metavar="X",
+        default="1",
+        type=Quantity("", Range(1.0, math.inf, False, True), "1"),
+        help="inlet A_c/A_t (default 1)",
+    )
     add_model_arguments(e, launch_point=False)
     add_execution_arguments(e)
-    e.add_argument("--out", metavar="FILE.nc", default="envelope.nc", help="NetCDF output")
-    e.add_argument("--figure", metavar="FILE.png", help="contour map")
+    e.add_argument(
+        "--out", metavar="FILE.nc", default="envelope.nc", type=OutputFile(), help="NetCDF output"
+    )
+    e.add_argument("--figure", metavar="FILE.png", type=FIGURE, help="contour map")
     e.set_defaults(func=_run_envelope)

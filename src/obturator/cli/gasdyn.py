@@ -16,13 +16,22 @@ out-of-range one.
 from __future__ import annotations
 
 import argparse
+import math
 from typing import Any
 
 from .. import flow as gd
 from ..errors import InputError
 from ..flow import standard_atmosphere
+from ..params import Range
 from . import _json
-from ._args import parse_integer, parse_number
+from ._args import parse_integer, parse_number, quantity_of
+from ._kinds import Count, Quantity
+
+#: Ratio of specific heats: 1 < gamma <= 5/3 for ideal gases (5/3: monatomic).
+GAMMA = Quantity("", Range(1.0, 5.0 / 3.0, True, False), "1.4")
+SUPERSONIC = Quantity("", Range(1.0, math.inf, False, True), "2")
+POSITIVE = Quantity("", Range(0.0, math.inf, True, True), "2")
+NON_NEGATIVE = Quantity("", Range(0.0, math.inf, False, True), "0.5")
 
 __all__ = ["register"]
 
@@ -270,11 +279,16 @@ def register(subparsers: Any) -> None:
 
     def common(p: argparse.ArgumentParser, gamma: bool = True) -> None:
         if gamma:
-            p.add_argument("--gamma", default="1.4", help="ratio of specific heats (1.4)")
+            p.add_argument(
+                "--gamma",
+                default="1.4",
+                type=GAMMA,
+                help="ratio of specific heats (1.4; ideal gases: 1 < gamma <= 5/3)",
+            )
         p.add_argument("--json", action="store_true", help="print one JSON object")
 
     p = sub.add_parser("normal-shock", help="normal-shock ratios (Eqs. 1, 3)")
-    p.add_argument("--mach", required=True, help="upstream Mach number M1 >= 1")
+    p.add_argument("--mach", required=True, type=SUPERSONIC, help="upstream Mach number M1 >= 1")
     common(p)
     p.set_defaults(func=_cmd_normal_shock)
 
@@ -285,8 +299,12 @@ def register(subparsers: Any) -> None:
         "Mach -> swallow and regurgitate area ratios.",
     )
     g = p.add_mutually_exclusive_group(required=True)
-    g.add_argument("--area-ratio", help="capture-to-throat area ratio A_c/A_t >= 1")
-    g.add_argument("--mach", help="flight Mach number M1 >= 1")
+    g.add_argument(
+        "--area-ratio",
+        type=Quantity("", Range(1.0, math.inf, False, True), "1.2"),
+        help="capture-to-throat area ratio A_c/A_t >= 1",
+    )
+    g.add_argument("--mach", type=SUPERSONIC, help="flight Mach number M1 >= 1")
     common(p)
     p.set_defaults(func=_cmd_start)
 
@@ -298,24 +316,49 @@ def register(subparsers: Any) -> None:
         "conditions (--bore-diameter-m). f_D is the Darcy factor.",
     )
     g = p.add_mutually_exclusive_group(required=True)
-    g.add_argument("--fld", help="f_D L/D (Darcy friction factor)")
-    g.add_argument("--l-over-d", help="bore length over diameter")
+    g.add_argument("--fld", type=NON_NEGATIVE, help="f_D L/D (Darcy friction factor)")
+    g.add_argument("--l-over-d", type=POSITIVE, help="bore length over diameter")
     p.add_argument("--branch", choices=("supersonic", "subsonic"), default="supersonic")
-    p.add_argument("--reynolds", help="bore Reynolds number at --reynolds-mach")
+    p.add_argument("--reynolds", type=POSITIVE, help="bore Reynolds number at --reynolds-mach")
     p.add_argument(
         "--reynolds-mach",
         default=str(gd.THESIS_REYNOLDS_MACH),
+        type=POSITIVE,
         help="flight Mach at which --reynolds holds (2.5)",
     )
-    p.add_argument("--iterations", default="1", help="friction-factor revisions (1)")
-    p.add_argument("--bore-diameter-m", help="bore diameter [m]: iterate Re to convergence")
-    p.add_argument("--altitude-m", default="0", help="altitude for --bore-diameter-m [m] (0)")
-    p.add_argument("--roughness", default="0", help="relative roughness eps/D (0: smooth)")
+    p.add_argument(
+        "--iterations",
+        default="1",
+        type=Count(1, 100),
+        help="friction-factor revisions (1; the iteration converges in < 10)",
+    )
+    p.add_argument(
+        "--bore-diameter-m",
+        type=Quantity("m", Range(0.0, math.inf, True, True), "9.44 mm"),
+        help="bore diameter [m]: iterate Re to convergence",
+    )
+    p.add_argument(
+        "--altitude-m",
+        default="0",
+        type=quantity_of("altitude_m"),
+        help="altitude for --bore-diameter-m [m] (0)",
+    )
+    p.add_argument(
+        "--roughness",
+        default="0",
+        type=Quantity("", Range(0.0, 1.0, False, True), "0.001"),
+        help="relative roughness eps/D (0: smooth)",
+    )
     p.add_argument("--correlation", choices=("colebrook", "haaland"), default="colebrook")
     common(p)
     p.set_defaults(func=_cmd_choke)
 
     p = sub.add_parser("atmosphere", help="U.S. Standard Atmosphere 1976")
-    p.add_argument("--altitude-m", required=True, help="geometric altitude [m], 0..86000")
+    p.add_argument(
+        "--altitude-m",
+        required=True,
+        type=quantity_of("altitude_m"),
+        help="geometric altitude [m] (units allowed: '11 km', '36089 ft'), 0..86000",
+    )
     common(p, gamma=False)
     p.set_defaults(func=_cmd_atmosphere)

@@ -24,21 +24,24 @@ import numpy as np
 
 from ..errors import InputError, check_range
 from ..io import check_output_path
-from ..params import SWEEP_PARAMS
-from ..sweeps import MonteCarloSummary, monte_carlo, monte_carlo_summary
+from ..params import SWEEP_PARAMS, Range
+from ..sweeps import MAX_SAMPLES, MonteCarloSummary, monte_carlo, monte_carlo_summary
 from ..units import parse_quantity
 from . import _json
 from ._args import (
+    SEED,
     add_study_flags,
     flag,
     fmt_seconds,
     parse_integer,
     parse_number,
-    show_progress,
+    quantity_of,
     study_config,
     study_options,
     study_t_max,
 )
+from ._kinds import Count, OutputFile, Quantity, Text
+from ._runner import runner_from_args
 
 __all__ = ["register"]
 
@@ -52,33 +55,61 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "normal:MEAN,SD uniform:LO,HI lognormal:MEDIAN,SIGMA_LN truncnormal:MEAN,SD,LO,HI) "
         "and report t_cr quantiles with order-statistic confidence intervals.",
     )
-    m.add_argument("--samples", metavar="N", required=True, help="number of samples")
-    m.add_argument("--seed", metavar="S", default="0", help="root seed (default 0)")
+    m.add_argument(
+        "--samples",
+        metavar="N",
+        required=True,
+        type=Count(1, MAX_SAMPLES, example="2"),
+        help=f"number of samples (at most {MAX_SAMPLES}: see obturator.sweeps.MAX_SAMPLES)",
+    )
+    m.add_argument("--seed", metavar="S", default="0", type=SEED, help="root seed (default 0)")
     m.add_argument(
         "--vary",
         metavar="NAME=KIND:ARGS",
         action="append",
         required=True,
+        type=Text(example="mu_s=uniform:0.5,0.6"),
         help="uncertain input, e.g. mu_s=normal:0.5473,0.03 (repeatable)",
     )
     for name, par in SWEEP_PARAMS.items():
         extra = " (flight only)" if par.flight_only else ""
         m.add_argument(
-            flag(name), dest=name, metavar="X", help=f"fixed {par.long_name} [{par.unit}]{extra}"
+            flag(name),
+            dest=name,
+            metavar="X",
+            type=quantity_of(name),
+            help=f"fixed {par.long_name} [{par.unit}]{extra}",
         )
     m.add_argument(
-        "--quantiles", metavar="P,P,...", default="5,50,95", help="percentiles (default 5,50,95)"
+        "--quantiles",
+        metavar="P,P,...",
+        default="5,50,95",
+        type=Text(example="50"),
+        help="percentiles (default 5,50,95)",
     )
-    m.add_argument("--confidence", metavar="X", default="0.95", help="interval level (0.95)")
+    m.add_argument(
+        "--confidence",
+        metavar="X",
+        default="0.95",
+        type=Quantity("", Range(0.0, 1.0, True, True), "0.9"),
+        help="interval level (0.95)",
+    )
     add_study_flags(m)
-    m.add_argument("--out", metavar="FILE.nc", help="write samples and summary as NetCDF")
+    m.add_argument(
+        "--out", metavar="FILE.nc", type=OutputFile(), help="write samples and summary as NetCDF"
+    )
     m.add_argument(
         "--no-check-convergence",
         action="store_true",
         help="skip the per-sample convergence check (4x faster; non-converged openings, "
         "status 4, are then not detected)",
     )
-    m.add_argument("--csv", metavar="FILE.csv", help="write the samples as CSV")
+    m.add_argument(
+        "--csv",
+        metavar="FILE.csv",
+        type=OutputFile(example="out.csv"),
+        help="write the samples as CSV",
+    )
     m.set_defaults(func=_run_montecarlo)
 
 
@@ -128,8 +159,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
     confidence = parse_number("confidence", args.confidence)
     samples = parse_integer("samples", args.samples, 1)
     seed = parse_integer("seed", args.seed, 0)
-    workers = parse_integer("workers", args.workers, 1)
-    chunk = parse_integer("chunk_size", args.chunk_size, 1)
+    runner = runner_from_args(args)
     check_output_path("out", args.out)
     check_output_path("csv", args.csv)
     t0 = time.perf_counter()
@@ -145,12 +175,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
         t_max=study_t_max(args),
         quantiles=quantiles,
         confidence=confidence,
-        workers=workers,
-        scheduler=args.scheduler,
-        store=args.out,
-        restart=args.restart,
-        chunk_size=chunk,
-        progress=show_progress(args),
+        runner=runner,
         csv=args.csv,
         check_convergence=not args.no_check_convergence,
     )

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from ._kinds import OutputDir
+
 __all__ = ["register"]
 
 
@@ -16,7 +18,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "exact-model friction calibrations, and write PNG figures plus report.md and "
         "report.html comparing every checkable printed number with the computed one.",
     )
-    p.add_argument("--out", metavar="DIR", required=True, help="output directory (created)")
+    p.add_argument(
+        "--out",
+        metavar="DIR",
+        required=True,
+        type=OutputDir(),
+        help="output directory (created)",
+    )
     p.add_argument(
         "--quick", action="store_true", help="fewer points and a smaller bootstrap (seconds)"
     )
@@ -37,11 +45,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _reproduce(args: argparse.Namespace) -> int:
     from .._provenance import command_line
     from ..thesis.reproduce import reproduce
+    from ._runner import runner_from_args
 
     res = reproduce(
         args.out,
         quick=args.quick,
-        progress=not args.no_progress,
+        runner=runner_from_args(args, resume=False),
         command=command_line(),
         envelope=args.envelope,
         validation=not args.no_validation,

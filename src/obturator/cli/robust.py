@@ -33,47 +33,19 @@ import numpy as np
 
 from ..errors import InputError
 from . import _json
+from ._robust_args import (
+    DEFAULT_RANGES,
+    DEFAULT_RIG_RANGES,
+    DEFAULT_UNCERTAINTY,
+    add_robust_commands,
+)
+from ._runner import study_runner, write_dataset
 from .envelope import (
-    add_execution_arguments,
-    add_model_arguments,
     model_from_args,
-    open_store,
     quantity,
-    runner_from_args,
 )
 
 __all__ = ["register", "DEFAULT_UNCERTAINTY", "DEFAULT_RANGES", "DEFAULT_RIG_RANGES"]
-
-#: Default uncertain inputs of ``probability`` (manufacturing and knowledge
-#: uncertainty about Table 1): mu_s lognormal with 10 % spread; theta_0 within
-#: +-1 deg; gap, hole radius and density with 3-sigma tolerances of 7.5 um,
-#: 0.05 mm and 120 kg/m^3; muzzle spin +-1 % (muzzle-velocity dispersion).
-DEFAULT_UNCERTAINTY = (
-    "mu_s=lognormal:0.35,0.1",
-    "theta0_deg=uniform:86.25,88.25",
-    "gap=normal:5.08e-5,2.5e-6",
-    "hole_radius=normal:4.72e-3,1.7e-5",
-    "density=normal:7669.6,40",
-    "spin_factor=normal:1,0.01",
-)
-#: Default ranges of ``sensitivity`` in flight (uniform, around Table 1).
-DEFAULT_RANGES = (
-    "mu_s=uniform:0.25,0.45",
-    "theta0_deg=uniform:86.25,88.25",
-    "gap=uniform:4.08e-5,6.08e-5",
-    "hole_radius=uniform:4.62e-3,4.82e-3",
-    "density=uniform:7500,7850",
-    "spin_factor=uniform:0.97,1.03",
-)
-#: Default ranges of ``sensitivity`` on the spin rig (weight follows the ball).
-DEFAULT_RIG_RANGES = (
-    "spin_rate=uniform:300,500",
-    "mu_s=uniform:0.5,0.6",
-    "theta0_deg=uniform:86.25,88.25",
-    "gap=uniform:4.08e-5,6.08e-5",
-    "hole_radius=uniform:4.62e-3,4.82e-3",
-    "density=uniform:7500,7850",
-)
 
 
 def _int(name: str, text: Any, lo: int = 1) -> int:
@@ -96,15 +68,6 @@ def _dists(texts: list[str] | None, defaults: tuple[str, ...], allowed: tuple[st
             raise InputError("vary", f"{name} given twice")
         out[name] = dist
     return out
-
-
-def _finish(args: argparse.Namespace, store: Any, ds: Any) -> None:
-    from ..sweeps import write_netcdf
-
-    if args.out:
-        write_netcdf(ds, args.out)
-    if store is not None:
-        store.remove()
 
 
 def _check_out(args: argparse.Namespace) -> None:
@@ -145,8 +108,7 @@ def _run_probability(args: argparse.Namespace) -> int:
         "model": model.identity(),
         "vary": {k: str(v) for k, v in dists.items()},
     }
-    store = open_store(args, identity)
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, identity)
     t0 = time.perf_counter()
     rows: dict[str, dict[tuple[int, int], Any]] = {m: {} for m in methods}
     try:
@@ -161,8 +123,7 @@ def _run_probability(args: argparse.Namespace) -> int:
                         perf, dists, req, samples=n_mc, seed=seed, confidence=conf
                     )
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
     data = {}
     dims = ("mach", "altitude_m")
@@ -191,7 +152,7 @@ def _run_probability(args: argparse.Namespace) -> int:
             "seed": seed,
         },
     )
-    _finish(args, store, ds)
+    write_dataset(args, runner, ds)
     out = {
         "requirement_s": req,
         "load": model.load,
@@ -285,8 +246,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         "n": n,
         "seed": seed,
     }
-    store = open_store(args, identity)
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, identity)
     t0 = time.perf_counter()
     try:
         ds = sobol_indices(
@@ -298,13 +258,12 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
             resamples=_int("--resamples", args.resamples, 10),
         )
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
     ds.attrs["title"] = f"Sobol indices of {args.event}, {args.case}" + (
         "" if rig else f" (M {model.launch.mach:g}, {model.launch.altitude_m:g} m, {model.load})"
     )
-    _finish(args, store, ds)
+    write_dataset(args, runner, ds)
     if args.figure:
         plot_sobol(ds, args.figure)
     if args.json:
@@ -383,8 +342,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
     )
     seed = _int("--seed", args.seed, 0)
     identity = {"study": "optimize", "problem": problem.identity(), "seed": seed}
-    store = open_store(args, identity)
-    runner = runner_from_args(args, store)
+    runner = study_runner(args, identity)
     t0 = time.perf_counter()
     try:
         res = optimise(
@@ -401,8 +359,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
             else None
         )
     finally:
-        if store is not None:
-            store.close()
+        runner.close()
     elapsed = time.perf_counter() - t0
     summary = res.to_dict()
     cond = ("condition",)
@@ -434,7 +391,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
         for k in front.data_vars:
             ds[f"pareto_{k}"] = front[k].rename(point="pareto_point")
         ds.attrs["pareto_degenerate"] = int(front.attrs["degenerate"])
-    _finish(args, store, ds)
+    write_dataset(args, runner, ds)
     if args.figure and front is not None:
         from ..envelope.figures import plot_pareto
 
@@ -510,89 +467,4 @@ def _print_optimum(problem: Any, res: Any, s: dict[str, Any], elapsed: float, ru
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``probability``, ``sensitivity`` and ``optimize`` sub-commands."""
-    p = subparsers.add_parser(
-        "probability",
-        help="P(t_cr > requirement) under uncertain inputs (importance sampling)",
-        description="Probability that the bore opens later than the requirement, by "
-        "cross-entropy importance sampling (--method is), brute-force Monte Carlo "
-        "(mc) or both, with confidence intervals. Default inputs: " + " ".join(DEFAULT_UNCERTAINTY),
-    )
-    p.add_argument("--mach", dest="grid_mach", default="3", metavar="SPEC", help="muzzle Mach")
-    p.add_argument(
-        "--altitude-m", dest="grid_altitude", default="0", metavar="SPEC", help="altitude [m]"
-    )
-    p.add_argument("--vary", action="append", metavar="NAME=KIND:ARGS", help="uncertain input")
-    p.add_argument("--requirement", default="0.1", metavar="S", help="t_cr requirement [s]")
-    p.add_argument("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
-    p.add_argument("--method", choices=("is", "mc", "both"), default="is")
-    p.add_argument("--samples", default="2000", metavar="N", help="brute-force samples")
-    p.add_argument("--stage-samples", default="500", metavar="N", help="IS samples per stage")
-    p.add_argument("--final-samples", default="1000", metavar="N", help="IS final samples")
-    p.add_argument("--rho", default="0.1", metavar="X", help="IS elite fraction")
-    p.add_argument("--seed", default="0", metavar="S")
-    p.add_argument("--confidence", default="0.95", metavar="C")
-    add_model_arguments(p, launch_point=False)
-    add_execution_arguments(p)
-    p.add_argument("--out", metavar="FILE.nc", help="NetCDF output (and resume store)")
-    p.set_defaults(func=_run_probability)
-
-    s = subparsers.add_parser(
-        "sensitivity",
-        help="Sobol indices of t_cr (SALib) with bootstrap intervals",
-        description="First-order and total Sobol indices of t_cr. Defaults: flight "
-        + " ".join(DEFAULT_RANGES)
-        + "; spin-rig "
-        + " ".join(DEFAULT_RIG_RANGES),
-    )
-    s.add_argument("--case", choices=("flight", "spin-rig"), default="flight")
-    s.add_argument("--mach", dest="mach_point", metavar="X", help="muzzle Mach (flight, 3)")
-    s.add_argument("--altitude-m", dest="altitude_point", metavar="X", help="altitude [m] (0)")
-    s.add_argument("--vary", action="append", metavar="NAME=KIND:ARGS", help="uncertain input")
-    s.add_argument("--samples", default="256", metavar="N", help="SALib base N (power of 2)")
-    s.add_argument("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
-    s.add_argument("--resamples", default="1000", metavar="N", help="bootstrap resamples")
-    s.add_argument("--seed", default="0", metavar="S")
-    s.add_argument("--confidence", default="0.95", metavar="C")
-    s.add_argument("--figure", metavar="FILE.png", help="bar chart")
-    add_model_arguments(s, launch_point=False)
-    add_execution_arguments(s)
-    s.add_argument("--out", metavar="FILE.nc", help="NetCDF output (and resume store)")
-    s.set_defaults(func=_run_sensitivity)
-
-    o = subparsers.add_parser(
-        "optimize",
-        help="robust design: minimise the worst case / a quantile of t_cr over the envelope",
-        description="Differential evolution (SciPy) + SLSQP polish over the design "
-        "variables, subject to the bore-able hole, the ball blocking the bore at launch, "
-        "the socket wall and the mass budget; reports the optimum, its sensitivity and "
-        "(--pareto N) the t_cr-mass Pareto front.",
-    )
-    o.add_argument("--mach", dest="grid_mach", default="1.5,2.75,4", metavar="SPEC")
-    o.add_argument("--altitude-m", dest="grid_altitude", default="0,10000", metavar="SPEC")
-    o.add_argument(
-        "--objective",
-        default="max",
-        metavar="[t_cr:|t_start:]max|quantile:Q",
-        help="aggregate over the conditions of t_cr (default) or of t_start, e.g. t_start, "
-        "t_start:quantile:0.9",
-    )
-    o.add_argument(
-        "--variables",
-        default="hole_radius,ball_radius,density,gap,mu_s",
-        metavar="A,B,...",
-        help="design variables (default all five)",
-    )
-    o.add_argument("--bound", action="append", metavar="NAME=LO,HI", help="override bounds (SI)")
-    o.add_argument("--mass-budget", metavar="KG", help="largest ball mass (Table 1 ball's)")
-    o.add_argument("--wall", metavar="M", help="smallest socket wall R_p - R_s (2.061 mm)")
-    o.add_argument("--block-margin-deg", default="2", metavar="DEG", help="theta0-beta-beta_s")
-    o.add_argument("--popsize", default="10", metavar="N")
-    o.add_argument("--maxiter", default="30", metavar="N")
-    o.add_argument("--seed", default="0", metavar="S")
-    o.add_argument("--no-polish", action="store_true", help="skip the SLSQP polish")
-    o.add_argument("--pareto", metavar="N", help="trace the t_cr-mass Pareto front with N points")
-    o.add_argument("--figure", metavar="FILE.png", help="Pareto front figure (with --pareto)")
-    add_model_arguments(o, launch_point=False)
-    add_execution_arguments(o)
-    o.add_argument("--out", metavar="FILE.nc", help="NetCDF output (and resume store)")
-    o.set_defaults(func=_run_optimize)
+    add_robust_commands(subparsers, _run_probability, _run_sensitivity, _run_optimize)

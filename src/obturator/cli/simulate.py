@@ -30,7 +30,8 @@ from ..vocab import (
     TORQUE_MODELS,
 )
 from . import _json
-from ._args import solver_options
+from ._args import quantity_of, solver_options
+from ._kinds import InputFile, OutputFile
 
 __all__ = ["register", "case_from_settings", "options_from_settings"]
 
@@ -73,7 +74,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--spin-mode", choices=SPIN_MODES, default=None)
     p.add_argument("--mach", metavar="M", help="flight Mach number (normal bow shock, Eq. 1)")
     p.add_argument("--altitude-m", metavar="H", help="flight altitude [m] (US 1976 atmosphere)")
-    p.add_argument("--config", metavar="FILE.toml", help="run configuration (units allowed)")
+    p.add_argument(
+        "--config", metavar="FILE.toml", type=InputFile(), help="run configuration (units allowed)"
+    )
     p.add_argument("--rtol", metavar="X", help="relative tolerance (default 1e-8)")
     p.add_argument(
         "--friction-width",
@@ -114,8 +117,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="skip the convergence check (reruns with tolerances / 10, friction width / 10 "
         "and another regularisation family)",
     )
-    p.add_argument("--plot", metavar="FILE.png", help="write theta(t) as a figure")
-    p.add_argument("--csv", metavar="FILE.csv", help="write the time series as CSV")
+    p.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        type=OutputFile(figure=True, example="theta.png"),
+        help="write theta(t) as a figure",
+    )
+    p.add_argument(
+        "--csv",
+        metavar="FILE.csv",
+        type=OutputFile(("csv",), example="theta.csv"),
+        help="write the time series as CSV",
+    )
+    for action in p._actions:  # every quantity flag: the unit and range of obturator.params
+        if action.dest in _QUANTITY_FLAGS:
+            action.type = quantity_of(action.dest)
     p.set_defaults(func=_run)
 
 

@@ -38,13 +38,14 @@ from ..vocab import SPEED_LAWS
 from . import _json
 from ._args import (
     add_study_flags,
+    axis_of,
     flag,
-    parse_integer,
-    show_progress,
     study_config,
     study_options,
     study_t_max,
 )
+from ._kinds import OutputFile
+from ._runner import runner_from_args
 
 __all__ = ["register", "AUTO_CSV_MAX_POINTS"]
 
@@ -64,10 +65,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     for name, par in SWEEP_PARAMS.items():
         extra = " (flight only)" if par.flight_only else ""
         p.add_argument(
-            flag(name), dest=name, metavar="SPEC", help=f"{par.long_name} [{par.unit}]{extra}"
+            flag(name),
+            dest=name,
+            metavar="SPEC",
+            type=axis_of(name),
+            help=f"{par.long_name} [{par.unit}]{extra}",
         )
     add_study_flags(p)
-    p.add_argument("--out", metavar="FILE.nc", required=True, help="NetCDF output")
+    p.add_argument(
+        "--out", metavar="FILE.nc", required=True, type=OutputFile(), help="NetCDF output"
+    )
     p.add_argument(
         "--speed-law",
         choices=SPEED_LAWS,
@@ -81,7 +88,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "regularisation family and mark points whose t_cr moves by more than 1e-3 "
         "(status 4; 4x the cost)",
     )
-    p.add_argument("--csv", metavar="FILE.csv", help="also write a CSV table")
+    p.add_argument(
+        "--csv",
+        metavar="FILE.csv",
+        type=OutputFile(example="out.csv"),
+        help="also write a CSV table",
+    )
     p.add_argument(
         "--no-csv",
         action="store_true",
@@ -114,24 +126,15 @@ def _run_sweep(args: argparse.Namespace) -> int:
         check_convergence=args.check_convergence,
         speed_law=args.speed_law,
     )
-    workers = parse_integer("workers", args.workers, 1)
-    chunk = parse_integer("chunk_size", args.chunk_size, 1)
+    runner = runner_from_args(args)
     check_output_path("out", args.out)
     csv_path = args.csv
-    if csv_path is None and not args.no_csv and spec.n_points <= AUTO_CSV_MAX_POINTS:
+    to_device = not Path(args.out).is_file() and Path(args.out).exists()  # e.g. /dev/null
+    if csv_path is None and not (args.no_csv or to_device) and spec.n_points <= AUTO_CSV_MAX_POINTS:
         csv_path = str(Path(args.out).with_suffix(".csv"))
     check_output_path("csv", csv_path)
     t0 = time.perf_counter()
-    run = execute_sweep(
-        spec,
-        workers=workers,
-        scheduler=args.scheduler,
-        store=args.out,
-        restart=args.restart,
-        chunk_size=chunk,
-        progress=show_progress(args),
-        csv=csv_path,
-    )
+    run = execute_sweep(spec, runner, csv=csv_path)
     wall = time.perf_counter() - t0
     summ = sweep_summary(run.dataset)
     rate = run.n_computed / run.elapsed_s if run.elapsed_s > 0 else math.inf

@@ -10,11 +10,13 @@ writes everything into a folder.
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from ..errors import InputError, check_range
+from ..errors import InputError
+from ..params import Range
 from . import _json
+from ._kinds import Count, InputFile, OutputDir, OutputFile, Quantity, Text
+from ._runner import runner_from_args
 
 __all__ = ["register"]
 
@@ -31,29 +33,50 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--data",
         metavar="FILE.csv",
+        type=InputFile(example="runs.csv"),
         help="runs in the calibrate CSV format (default: thesis Appendix B, 54 runs)",
     )
     p.add_argument(
         "--models",
         metavar="NAME,...",
+        type=Text(example="thesis"),
         help="candidates, comma-separated (default: the standard set; --list-models)",
     )
     p.add_argument("--list-models", action="store_true", help="list the candidates and exit")
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument("--plot", metavar="FILE.png", help="draw data, model curves and the floor")
     p.add_argument(
-        "--out", metavar="DIR", help="write validation.json, validation.txt, validation.png"
+        "--plot",
+        metavar="FILE.png",
+        type=OutputFile(figure=True, example="validation.png"),
+        help="draw data, model curves and the floor",
     )
     p.add_argument(
-        "--workers", "--jobs", dest="jobs", metavar="N", default="2", help="worker processes (2)"
+        "--out",
+        metavar="DIR",
+        type=OutputDir(),
+        help="write validation.json, validation.txt, validation.png",
     )
     p.add_argument(
-        "--t-max", metavar="S", default="20", help="horizon [s]; later runs are censored (20)"
+        "--workers",
+        "--jobs",
+        dest="jobs",
+        metavar="N",
+        default="2",
+        type=Count(1, 64),
+        help="worker processes (2; at most 64: one per candidate fit and data subset)",
+    )
+    p.add_argument(
+        "--t-max",
+        metavar="S",
+        default="20",
+        type=Quantity("s", Range(0.0, 1e4, True, False), "20 s"),
+        help="horizon [s]; later runs are censored (20)",
     )
     p.add_argument(
         "--spin-sd",
         metavar="RAD_S",
         default=None,
+        type=Quantity("rad/s", Range(0.0, 100.0), "1 rad/s"),
         help="spin error SD of the errors-in-variables term [rad/s] "
         "(default 1.01: uniform on the rig's +-1.75 rad/s; 0: off)",
     )
@@ -61,6 +84,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--cluster-gap",
         metavar="RAD_S",
         default=None,
+        type=Quantity("rad/s", Range(0.0, 1e4), "3 rad/s"),
         help="single-linkage gap of the replicate clusters [rad/s] (default 3.49)",
     )
     p.add_argument(
@@ -73,22 +97,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)
-
-
-def _number(field: str, text: str, lo: float, hi: float, *, lo_open: bool = False) -> float:
-    try:
-        x = float(text)
-    except ValueError:
-        raise InputError(field, f"expected a number, got {text!r}") from None
-    return check_range(field, x, lo, hi, lo_open=lo_open)
-
-
-def _writable(field: str, path: str) -> Path:
-    p = Path(path)
-    parent = p.parent if str(p.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(field, f"{p}: folder {parent} does not exist")
-    return p
 
 
 def _list_models() -> int:
@@ -110,22 +118,13 @@ def _run(args: argparse.Namespace) -> int:
     from ..validation.floor import DEFAULT_CLUSTER_GAP
     from ..validation.likelihood import SPIN_SD
 
-    jobs = int(_number("workers", args.jobs, 1, 64))
-    if jobs != float(args.jobs):
-        raise InputError("workers", f"expected an integer, got {args.jobs!r}")
-    t_max = _number("t_max", args.t_max, 0.0, 1e4, lo_open=True)
-    spin_sd = SPIN_SD if args.spin_sd is None else _number("spin_sd", args.spin_sd, 0.0, 100.0)
-    gap = (
-        DEFAULT_CLUSTER_GAP
-        if args.cluster_gap is None
-        else _number("cluster_gap", args.cluster_gap, 0.0, 1e4)
-    )
+    jobs, t_max = args.jobs, args.t_max  # checked by their kinds
+    spin_sd = SPIN_SD if args.spin_sd is None else args.spin_sd
+    gap = DEFAULT_CLUSTER_GAP if args.cluster_gap is None else args.cluster_gap
     names = get_candidates(args.models)  # validates the names before any work
-    plot = _writable("plot", args.plot) if args.plot else None
+    plot = Path(args.plot) if args.plot else None
     out = Path(args.out) if args.out else None
     if out is not None:
-        if out.exists() and not out.is_dir():
-            raise InputError("out", f"{out} exists and is not a folder")
         try:
             out.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -139,13 +138,13 @@ def _run(args: argparse.Namespace) -> int:
     result = run_validation(
         data,
         models=[c.name for c in names],
-        jobs=jobs,
+        runner=runner_from_args(args, workers=jobs, resume=False),
         t_max=t_max,
         spin_sd=spin_sd,
         gap=gap,
         profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
-        progress=not args.no_progress and sys.stderr.isatty(),
     )
+    from ..runs.store import atomic_write_text
     from ..validation.textreport import format_report
 
     text = format_report(result)
@@ -156,9 +155,9 @@ def _run(args: argparse.Namespace) -> int:
             save_validation_figure(result, plot)
         if out is not None:
             save_validation_figure(result, out / "validation.png")
-            (out / "validation.txt").write_text(text + "\n", encoding="utf-8")
-            (out / "validation.json").write_text(
-                _json.dumps(result.to_dict(), indent=1) + "\n", encoding="utf-8"
+            atomic_write_text(out / "validation.txt", text + "\n")
+            atomic_write_text(
+                out / "validation.json", _json.dumps(result.to_dict(), indent=1) + "\n"
             )
     if args.json:
         print(_json.dumps(result.to_dict()))

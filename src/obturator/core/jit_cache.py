@@ -11,7 +11,8 @@ every core module's source (and of :mod:`obturator.status`) turns any change to
 any of them into a fresh cache.
 
 ``NUMBA_CACHE_DIR``, when set, wins (the benchmarks use it to time cold and
-warm starts).
+warm starts). Either way a damaged cache file is set aside and recompiled
+(:mod:`.cache_guard`).
 """
 
 from __future__ import annotations
@@ -59,6 +60,9 @@ def configure_cache() -> str | None:
     Must run before the jitted modules define their functions (``dynamics``
     calls it first). Returns the directory, or None if ``NUMBA_CACHE_DIR`` is set.
     """
+    from .cache_guard import install
+
+    install()
     if os.environ.get("NUMBA_CACHE_DIR"):
         return None
     import numba

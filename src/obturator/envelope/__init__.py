@@ -8,7 +8,7 @@ recommends coupling to a trajectory model and a numerical optimisation
 * :mod:`.drag`, :mod:`.trajectory`: point-mass flight after muzzle exit;
 * :mod:`.coupled`: the obturator integrated along the flight (trajectory-coupled
   load F_p(t) and spin omega_p(t));
-* :mod:`.executor`: resumable local / Dask evaluation of many points;
+* (the points run on a :class:`obturator.runs.Runner`: local processes or Dask, resumable);
 * :mod:`.envelope`: t_cr and t_start maps over muzzle Mach x altitude (x temperature),
   with the delay t_start - t_cr and the unstartable region;
 * :mod:`.start`: t_start (the bow shock swallowed, :mod:`obturator.model.start`)

@@ -118,9 +118,17 @@ class DragTable:
             CSV file; other columns are ignored; units: Mach [-], C_D [-]
             referred to the projectile's frontal area pi R_p^2.
         """
+        import io
+
+        from ..files import read_text_file
+
         p = Path(path)
-        with p.open(encoding="utf-8", newline="") as fh:
-            rows = list(csv.DictReader(fh))
+        try:
+            rows = list(csv.DictReader(io.StringIO(read_text_file(p, "cd_table"), newline="")))
+        except csv.Error as exc:  # e.g. a cell beyond the csv module's field limit
+            raise InputError("cd_table", f"{p}: not a CSV table ({exc})") from None
+        if len(rows) > MAX_DRAG_ROWS:
+            raise InputError("cd_table", f"{p}: more than {MAX_DRAG_ROWS} rows")
         if not rows:
             raise InputError("cd_table", f"{p}: no data rows")
         keys = {k.strip().lower(): k for k in rows[0] if k is not None}
@@ -204,6 +212,9 @@ DragModel = DragTable | ClosedInletDrag
 
 #: Names of the built-in drag curves.
 DRAG_MODELS = ("tubular-closed", "tubular-open")
+#: Most rows of a drag table: C_D(M) is interpolated linearly, and 10,000 points
+#: resolve any curve far beyond the accuracy of a measured one (tens of points).
+MAX_DRAG_ROWS = 10_000
 
 
 def drag_model(

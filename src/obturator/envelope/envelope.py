@@ -30,9 +30,9 @@ import numpy as np
 
 from ..errors import InputError, check_range
 from ..flow import choking_mach_freestream, start_mach
+from ..runs import Runner
 from .coupled import STATUS_FLAGS, STATUS_OPENED, STATUS_UNCONVERGED
-from .executor import Runner
-from .model import FlightModel
+from .model import FlightModel, warm_integrators
 
 __all__ = ["EnvelopeSpec", "run_envelope", "envelope_summary", "status_attrs"]
 
@@ -177,7 +177,7 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
     import xarray as xr
 
     runner = runner or Runner(workers=1)
-    results = runner.map(spec.model, spec.tasks(), label="envelope")
+    results = runner.map(spec.model, spec.tasks(), label="envelope", warm=warm_integrators)
     shape = spec.shape
 
     def grid(key: str, dtype: Any = float) -> np.ndarray:

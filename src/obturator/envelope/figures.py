@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from ..files import figure_format
 from ..status import Status
 
 __all__ = ["plot_envelope", "plot_sobol", "plot_pareto", "plot_coupled"]
@@ -30,7 +31,7 @@ def _figure(ncols: int = 1, width: float = 6.0, height: float = 4.5) -> tuple[An
 def _save(fig: Any, path: str | Path) -> str:
     import matplotlib.pyplot as plt
 
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=120, format=figure_format(path))
     plt.close(fig)
     return str(path)
 

@@ -69,6 +69,18 @@ EVENTS = ("first_light", "start")
 TIMES = {"t_cr": "first_light", "t_start": "start"}
 
 
+def warm_integrators() -> None:
+    """Load the compiled integrators once (forked workers inherit them): the runner's
+    warm-up of every envelope study."""
+    from ..model.cases import flight_case
+    from ..solve import opening_time
+
+    try:
+        opening_time(flight_case(t_max=1e-3))
+    except RuntimeError:  # pragma: no cover - warm-up only
+        pass
+
+
 def exceeds(t_cr: float, status: int, requirement: float) -> bool:
     """True when the bore did not open by `requirement` [s].
 

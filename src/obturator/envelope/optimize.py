@@ -49,8 +49,8 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, check_range
-from .executor import Runner
-from .model import FlightModel
+from ..runs import Runner
+from .model import FlightModel, warm_integrators
 
 __all__ = [
     "split_objective",
@@ -324,7 +324,10 @@ class _GenerationMap:
     def __call__(self, _func: Any, xs: Any) -> list[float]:
         tasks = [self.problem.values(x) for x in xs]
         self.n_eval += len(tasks)
-        return [r["objective"] for r in self.runner.map(self.point, tasks, label="designs")]
+        return [
+            r["objective"]
+            for r in self.runner.map(self.point, tasks, label="designs", warm=warm_integrators)
+        ]
 
 
 @dataclass(frozen=True)
@@ -449,7 +452,9 @@ def _sensitivity(
             xi[i] = min(max(x[i] + sign * h, lo), hi)
             tasks.append(problem.values(xi))
             where.append((i, xi[i]))
-    vals = [r["objective"] for r in runner.map(point, tasks, label="sensitivity")]
+    vals = [
+        r["objective"] for r in runner.map(point, tasks, label="sensitivity", warm=warm_integrators)
+    ]
     for i, name in enumerate(problem.names):
         (_, xm), (_, xp) = where[2 * i], where[2 * i + 1]
         fm, fp = vals[2 * i], vals[2 * i + 1]
@@ -523,7 +528,9 @@ def optimise(
             message += "; SLSQP polish improved it"
     checked = DesignPoint(problem, check_convergence=True)
     base_x = problem.baseline()
-    opt, base = runner.map(checked, [problem.values(x), problem.values(base_x)], label="check")
+    opt, base = runner.map(
+        checked, [problem.values(x), problem.values(base_x)], label="check", warm=warm_integrators
+    )
     return OptimisationResult(
         problem,
         x,

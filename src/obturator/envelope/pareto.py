@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, check_range
-from .executor import Runner
+from ..runs import Runner
 from .optimize import DESIGN_VARIABLES, DesignProblem, OptimisationResult, _polish
 
 __all__ = ["lightest_design", "pareto_front"]

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..runs import Runner
 from .envelope import EnvelopeSpec, envelope_summary, run_envelope
-from .executor import Runner
 from .figures import plot_envelope, plot_sobol
 from .model import INPUTS, FlightModel
 from .sensitivity import sobol_indices
@@ -42,14 +42,17 @@ class EnvelopeSection:
     figures: tuple[tuple[str, str], ...]
 
 
-def envelope_section(out_dir: str | Path, *, quick: bool = False) -> EnvelopeSection:
+def envelope_section(
+    out_dir: str | Path, *, quick: bool = False, runner: Runner | None = None
+) -> EnvelopeSection:
     """Run the envelope map and the flight Sobol study; write their figures to `out_dir`.
 
     Full: Mach 1.5-4 (11) x 0-10 km (6), Sobol N = 256 (2,048 runs); quick: 4 x 3 and
-    N = 16, constant load for the Sobol study.
+    N = 16, constant load for the Sobol study. `runner`: where the runs go (default
+    in this process).
     """
     out = Path(out_dir)
-    runner = Runner(workers=1, progress=False)
+    runner = runner or Runner(workers=1)
     mach = np.linspace(1.5, 4.0, 4 if quick else 11)
     alt = np.linspace(0.0, 10_000.0, 3 if quick else 6)
     spec = EnvelopeSpec(tuple(mach), tuple(alt), (0.0,), model=FlightModel(), requirement=0.1)

@@ -8,7 +8,7 @@ z_i to its input by the inverse-CDF (Rosenblatt) transform x_i = F_i^-1(Phi(z_i)
 so every input may have any of the four distributions.
 
 :func:`performance` turns a point function (a :class:`~obturator.envelope.model.FlightModel`
-or a :class:`RigModel`) and a :class:`~obturator.envelope.executor.Runner`
+or a :class:`RigModel`) and a :class:`~obturator.runs.Runner`
 into the vectorised function of input lists that the studies call.
 """
 
@@ -24,6 +24,7 @@ from scipy.special import ndtr, ndtri
 from scipy.stats import truncnorm
 
 from ..errors import InputError
+from ..runs import Runner
 from ..solve import SolverOptions, convergence_check, opening_time
 from ..sweeps import Distribution, SweepSpec
 from .coupled import (
@@ -33,8 +34,7 @@ from .coupled import (
     STATUS_OPENED,
     STATUS_UNCONVERGED,
 )
-from .executor import Runner
-from .model import INPUTS
+from .model import INPUTS, warm_integrators
 
 __all__ = [
     "RIG_INPUTS",
@@ -193,7 +193,7 @@ def performance(
     """Wrap a point function and a runner as a vectorised :data:`Performance`."""
 
     def f(points: list[dict[str, float]]) -> tuple[np.ndarray, np.ndarray]:
-        res = runner.map(model, points, label=label)
+        res = runner.map(model, points, label=label, warm=warm_integrators)
         t = np.array([r["t_cr"] for r in res], dtype=float)
         s = np.array([r["status"] for r in res], dtype=np.int8)
         return t, s

@@ -7,8 +7,8 @@ embarrassingly parallel. One concern per module:
 * :mod:`.grid`: parsing axes (``START:STOP:COUNT``, ``a,b,c``, with units);
 * :mod:`.spec`: :class:`SweepSpec`, the study and its identity (hash);
 * :mod:`.points`: one point's t_cr and :class:`~obturator.status.Status`;
-* :mod:`.executors`: where chunks run (this process, a pool, Dask), one interface;
-* :mod:`.store`: the resume sidecar, its lock, atomic files;
+* :mod:`.job`: a study's chunks as a job of :class:`obturator.runs.Runner` (which
+  runs them here, on a pool or Dask, resumably) and their results;
 * :mod:`.sweep`: running a study (:func:`run_sweep`, :func:`execute_sweep`);
 * :mod:`.export`: the Dataset, NetCDF and CSV;
 * :mod:`.distributions`, :mod:`.stats`, :mod:`.montecarlo`: Monte Carlo.
@@ -20,16 +20,16 @@ Status values stored in the ``status`` variable are those of
 """
 
 from ..params import SWEEP_PARAMS as PARAMETERS
+from ..runs.pools import default_workers
+from ..runs.store import sidecar_path
 from ..status import Status
 from .distributions import Distribution, parse_distribution, sample_inputs
-from .executors import default_workers
 from .export import write_csv, write_netcdf
 from .grid import parse_axis
-from .montecarlo import monte_carlo, monte_carlo_summary
+from .montecarlo import MAX_SAMPLES, monte_carlo, monte_carlo_summary
 from .points import POINT_STATUSES
 from .spec import SweepSpec
 from .stats import MonteCarloSummary, QuantileEstimate, summarize_monte_carlo
-from .store import sidecar_path
 from .sweep import SweepRun, execute_sweep, run_sweep, sweep_summary
 
 __all__ = [
@@ -47,6 +47,7 @@ __all__ = [
     "execute_sweep",
     "sweep_summary",
     "monte_carlo",
+    "MAX_SAMPLES",
     "summarize_monte_carlo",
     "monte_carlo_summary",
     "sample_inputs",

@@ -11,7 +11,7 @@ helper is stopped and the chunks it has packed go to the workers packed, so that
 only integrate them. The same Python builds the same arrays, so results are the same
 bit for bit with and without the helper.
 
-Only with ``fork`` (Linux, see :func:`~obturator.sweeps.executors.mp_context`), a spare
+Only with ``fork`` (Linux, see :func:`~obturator.runs.mp_context`), a spare
 core for the helper, and integrators not yet loaded in this process (a second sweep in
 one session has nothing to overlap).
 """
@@ -93,7 +93,7 @@ def _pack(
     index: np.ndarray,
 ) -> None:
     """The helper: pack `index` batch by batch into `shared` (counter first, then rows)."""
-    from .executors import die_with_parent
+    from ..runs.pools import die_with_parent
 
     die_with_parent(parent)
     buf = np.frombuffer(shared, dtype=np.float64)

@@ -26,12 +26,21 @@ from .spec import SweepSpec
 
 __all__ = [
     "Distribution",
+    "MAX_SIGMA_LN",
     "parse_distribution",
     "distributions",
     "sample_inputs",
     "check_samples",
     "check_sample_cases",
 ]
+
+#: Largest log-normal SIGMA_LN. 5 already spreads the 1st-99th percentiles over a
+#: factor exp(2 x 2.33 x 5) ~ 1e10, wider than any physical input's uncertainty;
+#: larger values overflow floats in the tails (exp(sigma z) > 1.8e308 for sigma z > 709).
+MAX_SIGMA_LN = 5.0
+#: Standard deviations out to which draws must stay finite (a normal draw beyond
+#: 10 sd has probability ~1e-23: no study reaches it).
+_TAIL_Z = 10.0
 
 _DIST_ARGS = dict(zip(DIST_KINDS, (2, 2, 2, 4), strict=True))
 _DIST_HELP = (
@@ -76,6 +85,16 @@ class Distribution:
             raise InputError("distribution", f"{self}: needs MEDIAN > 0 and SIGMA_LN >= 0")
         if k == "truncnormal" and (p[1] <= 0 or not p[2] < p[3]):
             raise InputError("distribution", f"{self}: needs SD > 0 and LO < HI")
+        if k == "lognormal" and p[1] > MAX_SIGMA_LN:
+            raise InputError(
+                "distribution", f"{self}: SIGMA_LN must be <= {MAX_SIGMA_LN:g} (overflow guard)"
+            )
+        spread = p[1] * _TAIL_Z if k != "uniform" else 0.0
+        reach = p[0] * math.exp(spread) if k == "lognormal" else max(abs(p[0]), abs(p[-1])) + spread
+        if not math.isfinite(reach) or reach > 1e300:
+            raise InputError(
+                "distribution", f"{self}: draws {_TAIL_Z:g} sd out overflow floating point"
+            )
 
     def __str__(self) -> str:
         return f"{self.kind}:{','.join(repr(x) for x in self.params)}"

@@ -1,6 +1,6 @@
 """Study results as files: the xarray Dataset, NetCDF (CF attributes) and a flat CSV.
 
-Both files are written atomically; the resume sidecar is removed only after
+Both files are written atomically; the resume store is removed only after
 both are in place (:func:`write_outputs`), so an interruption while writing
 loses nothing.
 """
@@ -11,6 +11,7 @@ import math
 import os
 from dataclasses import asdict
 from datetime import UTC, datetime
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -20,15 +21,15 @@ from .._provenance import command_line, package_version
 from ..errors import InputError
 from ..params import SWEEP_PARAMS
 from ..reference import TABLE1
+from ..runs.store import atomic_write_text
 from ..status import FLAGS
 from .points import POINT_STATUSES
 from .spec import SweepSpec
-from .store import atomic_write_text
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray
 
-    from .sweep import Outcome
+    from ..runs import Runner
 
 __all__ = [
     "T_CR_ATTRS",
@@ -128,11 +129,13 @@ def write_netcdf(ds: xarray.Dataset, path: str | os.PathLike[str]) -> str:
         engine = "netcdf4"
     except ImportError:  # pragma: no cover - optional engine
         engine = "scipy"
+    from ..files import publish, temporary_for
+
     out = Path(path)
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
+    tmp = temporary_for(out)
     try:
         ds.to_netcdf(tmp, engine=engine)
-        os.replace(tmp, out)
+        publish(tmp, out)  # never renamed over a device node
     finally:
         tmp.unlink(missing_ok=True)
     return engine
@@ -177,28 +180,14 @@ def write_csv(ds: xarray.Dataset, path: str | os.PathLike[str]) -> None:
     atomic_write_text(Path(path), "\n".join(lines) + "\n")
 
 
-def write_outputs(
-    ds: xarray.Dataset, out: Outcome, store: Any, csv: str | os.PathLike[str] | None
-) -> None:
-    """NetCDF, then CSV, each atomic; the sidecar goes only after both are in place.
+def write_outputs(ds: xarray.Dataset, runner: Runner, csv: str | os.PathLike[str] | None) -> None:
+    """NetCDF (the runner's store path), then CSV, each atomic; the resume store goes only
+    after both are in place (:meth:`~obturator.runs.Runner.write_outputs`: a full disk is
+    one error that keeps the finished points).
 
     The files get the CF ``date_created`` and ``history`` (the command line); the
     returned dataset does not, so two runs of one study compare identical.
     """
     now = datetime.now(UTC).isoformat(timespec="seconds")
     ds = ds.assign_attrs(date_created=now, history=f"{now}: {command_line()}")
-    for path, write in ((store, write_netcdf), (csv, write_csv)):
-        if path is None:
-            continue
-        try:
-            write(ds, path)
-        except (OSError, RuntimeError) as exc:  # full disk, quota, I/O error, HDF error
-            kept = f"; the finished points are kept in {out.sidecar.path}" if out.sidecar else ""
-            reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-            if out.sidecar is not None:
-                out.sidecar.close()
-            raise InputError(
-                "out", f"cannot write {str(path)!r}: {reason}{kept}; free space and rerun"
-            ) from None
-    if out.sidecar is not None:
-        out.sidecar.remove()
+    runner.write_outputs([(runner.store, partial(write_netcdf, ds)), (csv, partial(write_csv, ds))])

@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import numpy as np
@@ -108,7 +109,7 @@ def parse_axis(text: str, name: str = "axis", unit: str | None = None) -> np.nda
             return np.array([start])
         values = np.linspace(start, stop, count)
     else:
-        parts = s.split(",")
+        parts = _unit_after_list(name, s, unit)
         values = np.array([parse_value(name, p, "value", unit) for p in parts], dtype=float)
         if len(np.unique(values)) != len(values):
             raise InputError(name, f"list {s!r} repeats a value")
@@ -119,6 +120,36 @@ def parse_axis(text: str, name: str = "axis", unit: str | None = None) -> np.nda
             name, f"range {s!r}: the {count} values are not distinct in floating point"
         )
     return values
+
+
+def _unit_after_list(name: str, s: str, unit: str | None) -> list[str]:
+    """The values of a list, a unit after the last one applied to every value.
+
+    ``"1000,2000 rpm"`` is 1000 rpm and 2000 rpm; values that each carry a unit
+    (``"1 km,500 m"``) stand as written; a list that mixes bare numbers and units
+    any other way (``"1000 rpm,2000"``) is refused: it has no single reading.
+    """
+    parts = [p.strip() for p in s.split(",")]
+    has_unit = [bool(p) and not _is_number(p) for p in parts]
+    if unit is None or not any(has_unit) or all(has_unit):
+        return parts
+    if has_unit[-1] and not any(has_unit[:-1]):
+        m = re.match(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S.*)$", parts[-1])
+        if m is not None:
+            return [*(f"{p} {m.group(2)}" for p in parts[:-1]), parts[-1]]
+    raise InputError(
+        name,
+        f"list {s!r} mixes values with and without a unit; write the unit once after "
+        "the last value (applies to all) or after every value",
+    )
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def canonical_name(text: str) -> str:

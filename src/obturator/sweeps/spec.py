@@ -8,9 +8,7 @@ the resume store refuses partial results of a different study by it.
 
 from __future__ import annotations
 
-import hashlib
 import itertools
-import json
 import math
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
@@ -24,6 +22,7 @@ from ..model.case import Case
 from ..model.cases import case_from_settings
 from ..params import SWEEP_PARAMS
 from ..reference import TABLE1
+from ..runs.digest import study_digest
 from ..solve import SolverOptions
 from ..vocab import CASE_NAMES, SPEED_LAWS, SPIN_MODES, TORQUE_MODELS, check_choice
 from .grid import MAX_POINTS, as_axis
@@ -247,8 +246,7 @@ class SweepSpec:
 
     def digest(self) -> str:
         """SHA-256 (hex) of :meth:`identity`; equal specs give equal digests."""
-        text = json.dumps(self.identity(), sort_keys=True, separators=(",", ":"))
-        return hashlib.sha256(text.encode()).hexdigest()
+        return study_digest(self.identity())
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, SweepSpec):

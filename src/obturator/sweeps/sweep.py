@@ -1,44 +1,31 @@
-"""Running a study: :func:`run_points` (store, executor, progress) and the sweep API.
+"""The sweep study: :func:`run_points` (the points of a study on a runner) and the sweep API.
 
 :func:`run_sweep` evaluates the full Cartesian grid of a
 :class:`~obturator.sweeps.spec.SweepSpec` and returns an :class:`xarray.Dataset`
 with ``t_cr`` [s] (NaN where the bore did not open) and an integer ``status``
 (:class:`~obturator.status.Status`); :func:`execute_sweep` also reports how it
-ran (:class:`SweepRun`). Points are grouped into chunks that run where
-:func:`~obturator.sweeps.executors.choose_executor` says; with ``store=PATH``
-finished chunks survive an interruption (:mod:`obturator.sweeps.store`).
+ran (:class:`SweepRun`). The points run on a :class:`~obturator.runs.Runner` (local
+processes or Dask, chunks, progress); with ``store=PATH`` finished chunks survive an
+interruption or a full disk (:mod:`obturator.runs.store`).
 """
 
 from __future__ import annotations
 
 import os
-import sys
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import InputError
+from ..runs import Runner
+from ..runs.chunks import TASK_CHUNK, chunk_length
 from ..solve import batchable
 from ..status import Status
-from .executors import (
-    LANE_CHUNK,
-    TASK_CHUNK,
-    ProcessPool,
-    choose_executor,
-    make_chunks,
-    probe_cost,
-    progress_bar,
-    resolve_workers,
-    sweep_job,
-)
 from .export import check_distinct_outputs, grid_dataset, write_outputs
+from .job import LANE_CHUNK, PointResults, sweep_job
 from .spec import SweepSpec
-from .store import Sidecar, StoreLock, remove_stale_temporaries, sidecar_path
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray
@@ -57,7 +44,6 @@ class Outcome:
     workers: int
     backend: str
     elapsed_s: float
-    sidecar: Sidecar | None
 
 
 def run_points(
@@ -66,83 +52,32 @@ def run_points(
     rows_of: Callable[[np.ndarray], np.ndarray],
     n_points: int,
     digest: str,
+    runner: Runner,
     *,
-    workers: int | None,
-    scheduler: Any,
-    store: str | os.PathLike[str] | None,
-    restart: bool,
-    chunk_size: int | None,
-    progress: bool,
     label: str,
+    unit: str = "points",
     extra_outputs: tuple[str, ...] = (),
 ) -> Outcome:
-    """Compute t_cr and the status of `n_points` points, resuming from and writing to
-    the sidecar of `store` when given (see :mod:`.store`)."""
-    t0 = time.perf_counter()
-    n_workers = 0 if scheduler is not None else resolve_workers(workers)
-    t_cr = np.full(n_points, np.nan)
-    status = np.full(n_points, -128, dtype=np.int8)  # -128: not computed yet
-    sidecar = None
-    if store is not None:
-        out = Path(store)
-        if not out.parent.is_dir():
-            raise InputError("out", f"directory {str(out.parent)!r} does not exist")
-        lock = StoreLock(out, digest)
-        try:
-            for p in (out, sidecar_path(out), *extra_outputs):
-                remove_stale_temporaries(Path(p))
-            sidecar = Sidecar(sidecar_path(out), digest, n_points, restart)
-        except BaseException:
-            lock.release()
-            raise
-        sidecar.lock = lock
-        if sidecar.n_discarded:
-            print(
-                f"obturator: notice: {sidecar.n_discarded} damaged or foreign records in "
-                f"{sidecar.path.name} discarded; their points are recomputed",
-                file=sys.stderr,
-            )
-        for idx, t, s in zip(sidecar.done_index, sidecar.done_t, sidecar.done_s, strict=True):
-            t_cr[idx], status[idx] = t, s
-    todo = np.flatnonzero(status == -128)
-    n_resumed = n_points - todo.size
-
-    def sink(idx: np.ndarray, result: tuple[np.ndarray, np.ndarray]) -> None:
-        t, s = result
-        t_cr[idx], status[idx] = t, s
-        if sidecar is not None:
-            sidecar.append(idx, t, s)
-
-    try:
-        lanes = batchable(spec.options, spec.check_convergence)
-        chunks = make_chunks(
-            todo, n_workers if scheduler is None else 8, chunk_size,
-            LANE_CHUNK if lanes else TASK_CHUNK,
-        )  # fmt: skip
-        executor = choose_executor(n_workers, scheduler, len(chunks))
-        job = sweep_job(spec, names, rows_of, max((c.size for c in chunks), default=0))
-        if isinstance(executor, ProcessPool):
-            if job.ahead is not None:
-                job = job.ahead(chunks)
-            executor = probe_cost(executor, job, chunks, sink)
-        bar = partial(progress_bar, progress, n_points, n_resumed, label)
-        if chunks:
-            executor.run(job, chunks, sink, bar)
-    except BaseException:
-        if sidecar is not None:
-            sidecar.close()
-        raise
-    if np.any(status == -128):  # pragma: no cover - a chunk went missing
-        raise RuntimeError("some points were not computed")
+    """Compute t_cr and the status of `n_points` points with `runner`, resuming from and
+    writing to its resume store when it has one (:mod:`obturator.runs.store`)."""
+    runner.open(digest, extra_outputs)
+    results = PointResults(n_points)
+    todo = results.todo()
+    lanes = batchable(spec.options, spec.check_convergence)
+    max_chunk = LANE_CHUNK if lanes else TASK_CHUNK
+    workers = runner.n_workers if runner.scheduler is None else 8
+    largest = min(chunk_length(todo.size, workers, runner.chunk_size, max_chunk), todo.size)
+    job = sweep_job(spec, names, rows_of, largest)
+    info = runner.run(job, results, n_points, label=label, unit=unit, max_chunk=max_chunk)
+    results.check_complete()
     return Outcome(
-        t_cr,
-        status,
-        n_resumed,
-        int(todo.size),
-        executor.workers,
-        executor.backend,
-        time.perf_counter() - t0,
-        sidecar,
+        results.t_cr,
+        results.status,
+        info.n_resumed,
+        info.n_computed,
+        info.workers,
+        info.backend,
+        info.elapsed_s,
     )
 
 
@@ -155,7 +90,7 @@ class SweepRun:
     dataset : xarray.Dataset
         The results (see :func:`run_sweep`).
     n_computed, n_resumed : int
-        Points integrated in this call and points taken from the sidecar.
+        Points integrated in this call and points taken from the resume store.
     workers : int
         Local processes used (1: in this process; 0: a dask cluster).
     backend : str
@@ -174,74 +109,48 @@ class SweepRun:
 
 def execute_sweep(
     spec: SweepSpec,
+    runner: Runner | None = None,
     *,
-    workers: int | None = None,
-    scheduler: Any = None,
-    store: str | os.PathLike[str] | None = None,
-    restart: bool = False,
-    chunk_size: int | None = None,
-    progress: bool = True,
     csv: str | os.PathLike[str] | None = None,
 ) -> SweepRun:
     """Run a sweep and return the dataset with run statistics; see :func:`run_sweep`.
 
-    `csv`, if given, is written (atomically) before the partial-results file is
-    removed, so an interruption while writing outputs loses nothing.
+    `csv`, if given, is written (atomically) before the resume store is removed, so an
+    interruption while writing outputs loses nothing.
     """
     if not isinstance(spec, SweepSpec):
         raise InputError("spec", "expected a SweepSpec")
-    check_distinct_outputs(store, csv)
+    runner = runner or Runner()
+    check_distinct_outputs(runner.store, csv)
     out = run_points(
         spec,
         spec.dims,
         spec.rows,
         spec.n_points,
         spec.digest(),
-        workers=workers,
-        scheduler=scheduler,
-        store=store,
-        restart=restart,
-        chunk_size=chunk_size,
-        progress=progress,
+        runner,
         label="sweep",
         extra_outputs=() if csv is None else (str(csv),),
     )
     ds = grid_dataset(spec, out.t_cr, out.status)
-    write_outputs(ds, out, store, csv)
+    write_outputs(ds, runner, csv)
     return SweepRun(ds, out.n_computed, out.n_resumed, out.workers, out.backend, out.elapsed_s)
 
 
-def run_sweep(
-    spec: SweepSpec,
-    *,
-    workers: int | None = None,
-    scheduler: Any = None,
-    store: str | os.PathLike[str] | None = None,
-    progress: bool = True,
-    restart: bool = False,
-    chunk_size: int | None = None,
-) -> xarray.Dataset:
+def run_sweep(spec: SweepSpec, runner: Runner | None = None) -> xarray.Dataset:
     """Evaluate t_cr on the full Cartesian grid of a :class:`SweepSpec`.
 
     Parameters
     ----------
     spec : SweepSpec
-    workers : int, optional
-        Local worker processes (default: the CPUs available). 1 runs in this
-        process. Ignored when `scheduler` is given.
-    scheduler : str or distributed.Client, optional
-        Address of a dask.distributed scheduler (``"tcp://host:8786"``) or a
-        client; the chunks are computed on that cluster instead.
-    store : path, optional
-        NetCDF file to write at the end; while running, finished chunks go to
-        ``<store>.partial.jsonl`` so that an interrupted run resumes.
-    progress : bool
-        Show a rich progress bar on stderr.
-    restart : bool
-        Discard a sidecar left by a *different* study instead of failing.
-    chunk_size : int, optional
-        Points per task (default: about 8 tasks per worker, at most 1,024 points in
-        lanes, else 256).
+    runner : Runner, optional
+        Where and how the points run (:class:`obturator.runs.Runner`: local worker
+        processes, default all CPUs, or a dask.distributed scheduler; chunk size,
+        default about 8 chunks per worker, at most 1,024 points in lanes, else 256;
+        progress). With ``store=PATH`` the dataset is written to that NetCDF file at
+        the end, and finished chunks go to ``<PATH>.partial.jsonl`` while running so
+        that an interrupted run resumes (``restart=True`` discards a sidecar of a
+        different study).
 
     Returns
     -------
@@ -258,17 +167,10 @@ def run_sweep(
     ------
     InputError
         On a bad worker count or chunk size, a missing output directory, an
-        unreachable scheduler, or a sidecar of a different study.
+        unreachable scheduler, a sidecar of a different study, or a failed write
+        (full disk: the finished points are kept, a rerun resumes).
     """
-    return execute_sweep(
-        spec,
-        workers=workers,
-        scheduler=scheduler,
-        store=store,
-        restart=restart,
-        chunk_size=chunk_size,
-        progress=progress,
-    ).dataset
+    return execute_sweep(spec, runner).dataset
 
 
 def sweep_summary(ds: xarray.Dataset) -> dict[str, Any]:

@@ -12,8 +12,7 @@ from __future__ import annotations
 
 import base64
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -23,6 +22,8 @@ import numpy as np
 from .. import calibration as cal
 from ..model.cases import rig_case
 from ..reference import TABLE1, THESIS_MU_S
+from ..runs import Progress, Runner
+from ..runs.store import atomic_write_text
 from ..solve import SolverOptions, opening_times
 from .explorer import explorer_data
 from .histories import (
@@ -255,38 +256,11 @@ def _figures(res: dict[str, Any]) -> list[tuple[str, str, Callable[[], Any]]]:
 # driver
 
 
-@contextmanager
-def _progress(enabled: bool, total: int) -> Iterator[Callable[[str, Callable[[], Any]], Any]]:
-    """Yield ``run(label, fn)``: calls fn() under a rich progress bar on stderr."""
-    if not enabled:
-        yield lambda label, fn: fn()
-        return
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
-
-    with Progress(
-        TextColumn("{task.description:<36}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        console=Console(stderr=True),
-    ) as bar:
-        task = bar.add_task("reproduce", total=total)
-
-        def run(label: str, fn: Callable[[], Any]) -> Any:
-            bar.update(task, description=label)
-            value = fn()
-            bar.advance(task)
-            return value
-
-        yield run
-
-
 def reproduce(
     out_dir: str | Path,
     *,
     quick: bool = False,
-    progress: bool = True,
+    runner: Runner | None = None,
     options: SolverOptions | None = None,
     command: str | None = None,
     envelope: bool = False,
@@ -300,8 +274,9 @@ def reproduce(
         Created if missing.
     quick : bool
         Fewer points, a smaller bootstrap (for tests and a first look).
-    progress : bool
-        Show a rich progress bar on stderr.
+    runner : Runner, optional
+        Progress display and the workers of the validation and envelope sections
+        (:class:`obturator.runs.Runner`; default two workers, no progress display).
     options : SolverOptions, optional
         Solver settings for every exact run (default :class:`SolverOptions`).
     command : str, optional
@@ -329,13 +304,33 @@ def reproduce(
     paths: list[Path] = []
     from ..plotting import save
 
-    with _progress(progress, len(tasks) + 1 + int(validation)) as run:
+    runner = runner or Runner(workers=2)
+    quiet = replace(runner, progress=Progress("off"))  # one display at a time: the report's
+    total = len(tasks) + 1 + int(validation)
+    runner.reporter.plan(
+        "reproduce",
+        f"{len(tasks)} thesis studies"
+        + (", the validation study" if validation else "")
+        + (", the envelope section" if envelope else "")
+        + f" and the figures on {runner.n_workers} worker(s)"
+        + ("; about a minute" if quick else "; several minutes"),
+    )
+    with runner.reporter.track("reproduce", total, unit="steps") as step:
+
+        def run(label: str, fn: Callable[[], Any]) -> Any:
+            step.describe(label)
+            value = fn()
+            step(1)
+            return value
+
         for key, label, fn in tasks:
             res[key] = run(label, fn)
         if validation:
             from ..validation.report import run_for_report
 
-            res["validation"] = run("validation (all 54 runs)", lambda: run_for_report(quick))
+            res["validation"] = run(
+                "validation (all 54 runs)", lambda: run_for_report(quick, quiet)
+            )
         figs = _figures(res)
         run("figures", lambda: paths.extend(save(make(), out / name) for name, _, make in figs))
     from .explorer import explorer_html
@@ -352,12 +347,12 @@ def reproduce(
     if envelope:
         from ..envelope.report import envelope_section
 
-        section = envelope_section(out, quick=quick)
+        section = envelope_section(out, quick=quick, runner=quiet)
         ctx["sections"].append(section)
         paths.extend(out / name for name, _ in section.figures)
     ctx["images"] = {p.name: base64.b64encode(p.read_bytes()).decode("ascii") for p in paths}
     ctx["explorer"] = explorer_html(res["explorer"])
     md, hp = out / "report.md", out / "report.html"
-    md.write_text(to_markdown(ctx), encoding="utf-8")
-    hp.write_text(to_html(ctx), encoding="utf-8")
+    atomic_write_text(md, to_markdown(ctx))  # whole or absent, also on a full disk
+    atomic_write_text(hp, to_html(ctx))
     return ReproduceResult(out, paths, md, hp, rows, res["fit"], elapsed, res)

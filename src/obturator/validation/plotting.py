@@ -12,6 +12,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from ..files import figure_format
 from .floor import BANDS
 from .results import ValidationResult
 
@@ -106,5 +107,5 @@ def validation_figure(result: ValidationResult, *, max_models: int = 8) -> Figur
 def save_validation_figure(result: ValidationResult, path: str | Path, dpi: int = 110) -> Path:
     """Draw :func:`validation_figure` and write it to `path` (format from the suffix)."""
     p = Path(path)
-    validation_figure(result).savefig(p, dpi=dpi)
+    validation_figure(result).savefig(p, dpi=dpi, format=figure_format(p))
     return p

@@ -10,6 +10,8 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..runs import Runner
+from ..runs.store import atomic_write_text
 from .plotting import save_validation_figure
 from .results import ValidationResult
 from .study import run_validation
@@ -31,9 +33,10 @@ class ValidationSection:
     pre: tuple[str, ...] = ()
 
 
-def run_for_report(quick: bool) -> ValidationResult:
+def run_for_report(quick: bool, runner: Runner | None = None) -> ValidationResult:
     """The study behind the section (quick: three candidates, Wald intervals only)."""
-    return run_validation(models=QUICK_MODELS if quick else None, profile=not quick, jobs=2)
+    models = QUICK_MODELS if quick else None
+    return run_validation(models=models, profile=not quick, runner=runner)
 
 
 def validation_section(
@@ -42,9 +45,7 @@ def validation_section(
     """Write ``validation.png`` and ``validation.json`` to `out_dir`; return the section."""
     out = Path(out_dir)
     save_validation_figure(result, out / "validation.png")
-    (out / "validation.json").write_text(
-        json.dumps(result.to_dict(), indent=1) + "\n", encoding="utf-8"
-    )
+    atomic_write_text(out / "validation.json", json.dumps(result.to_dict(), indent=1) + "\n")
     scope = (
         f"quick mode: only {', '.join(QUICK_MODELS)}, Wald intervals; the full report "
         "fits every default candidate with profile-likelihood intervals"

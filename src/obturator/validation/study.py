@@ -15,7 +15,7 @@
 then profile-likelihood intervals for the recommended model's parameters and
 the spread of its t_cr over the release phase psi_0.
 
-Work is spread over ``jobs`` processes (a process pool; each task is one fit,
+Work is spread over the runner's processes (:class:`obturator.runs.Runner`; each task is one fit,
 one curve or one profile side), each with its own t_cr cache; subset fits start
 from the all-run fit.
 
@@ -31,11 +31,9 @@ lowest AIC overall, and the recommendation says so.
 from __future__ import annotations
 
 import math
-import os
 import time
-from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from contextlib import contextmanager
+from collections.abc import Sequence
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -43,8 +41,8 @@ from numpy.typing import NDArray
 
 from ..calibration.data import SpinRigData, load_thesis_data
 from ..errors import InputError, check_range
+from ..runs import Runner
 from ..solve import SolverOptions, convergence_check, opening_times
-from ..sweeps.executors import die_with_parent, mp_context
 from .candidates import CANDIDATES, PARAMETERS, get_candidates
 from .evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS, ModelEvaluator
 from .fit import fit_candidate, profile_interval
@@ -179,64 +177,21 @@ def _phase_task(
     }
 
 
-# --------------------------------------------------------------------------- executor
+# --------------------------------------------------------------------------- tasks
 
 
-class _Serial:
-    """Stand-in for a pool with one worker: runs each task at submit time."""
+def _warm(options: SolverOptions) -> None:
+    """Load the compiled integrators once in this process, so that the forked workers of
+    both phases inherit them (instead of each loading them)."""
+    from ..model.cases import rig_case
 
-    def submit(self, fn: Callable[..., Any], *args: Any) -> Future[Any]:
-        fut: Future[Any] = Future()
-        try:
-            fut.set_result(fn(*args))
-        except BaseException as exc:  # noqa: BLE001 - handed to the caller
-            fut.set_exception(exc)
-        return fut
-
-    def shutdown(self, wait: bool = True, cancel_futures: bool = False) -> None:
-        """Nothing to release."""
+    opening_times([rig_case(spin_rate=300.0, mu_s=0.55)], options)
 
 
-@contextmanager
-def _progress(enabled: bool, total: int) -> Iterator[Callable[[int, int | None], None]]:
-    if not enabled:
-        yield lambda n, new_total=None: None
-        return
-    from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TextColumn,
-        TimeElapsedColumn,
-    )
-
-    with Progress(
-        TextColumn("validate"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        console=Console(stderr=True),
-        transient=True,
-    ) as bar:
-        task = bar.add_task("validate", total=total)
-
-        def advance(n: int, new_total: int | None = None) -> None:
-            if new_total is not None:
-                bar.update(task, total=new_total)
-            bar.advance(task, n)
-
-        yield advance
-
-
-def _drain(pending: dict[Future[Any], Any], advance: Callable[..., None]) -> list[tuple[Any, Any]]:
-    done: list[tuple[Any, Any]] = []
-    while pending:
-        finished, _ = wait(list(pending), return_when=FIRST_COMPLETED)
-        for fut in finished:
-            done.append((pending.pop(fut), fut.result()))
-            advance(1)
-    return done
+def _call(task: tuple[Any, ...]) -> Any:
+    """Run one study task ``(function, *args)`` (module level: pools pickle it)."""
+    fn, *args = task
+    return fn(*args)
 
 
 # --------------------------------------------------------------------------- ranking
@@ -319,14 +274,13 @@ def run_validation(
     data: SpinRigData | None = None,
     *,
     models: Sequence[str] | str | None = None,
-    jobs: int = 2,
+    runner: Runner | None = None,
     t_max: float = DEFAULT_T_MAX,
     spin_sd: float = SPIN_SD,
     gap: float = DEFAULT_CLUSTER_GAP,
     options: SolverOptions | None = None,
     profile: bool | str = True,
     curve_points: int = _CURVE_POINTS,
-    progress: bool = False,
 ) -> ValidationResult:
     """Run the validation study (see the module notes).
 
@@ -336,8 +290,10 @@ def run_validation(
         Runs (default: the 54 runs of thesis Appendix B).
     models : sequence of str or str, optional
         Candidate names (default :data:`~.candidates.DEFAULT_MODELS`).
-    jobs : int
-        Worker processes (1: in this process).
+    runner : Runner, optional
+        Where the fits, profiles and curves run (:class:`obturator.runs.Runner`; default
+        two worker processes, no progress display). Each task (one fit, one curve or
+        one profile side) is one chunk.
     t_max : float
         Horizon [s]; runs not opened by then are censored.
     spin_sd : float
@@ -352,8 +308,6 @@ def run_validation(
         about 2-3 times the study's time), or none (False: Wald intervals).
     curve_points : int
         Points of each model's t_cr(omega_p) curve.
-    progress : bool
-        Show a progress bar on stderr.
 
     Returns
     -------
@@ -363,7 +317,8 @@ def run_validation(
     options = options or VALIDATION_OPTIONS
     data = load_thesis_data() if data is None else data
     cands = get_candidates(models)
-    jobs = int(check_range("jobs", jobs, 1, 64))
+    runner = runner or Runner(workers=2)
+    jobs = runner.n_workers
     if isinstance(profile, str):
         if profile not in ("recommended", "all", "none"):
             raise InputError("profile", f"{profile!r}; allowed: recommended, all, none")
@@ -381,124 +336,112 @@ def run_validation(
     common = (spin_sd, t_max, options)
     grid = np.geomspace(0.9 * float(w.min()), 1.05 * float(w.max()), int(curve_points))
 
-    pool: Any
-    if jobs > 1:
-        # the sweeps' start method (fork where safe) and worker initializer (workers
-        # end with this process, Ctrl-C is the main process's)
-        pool = ProcessPoolExecutor(
-            max_workers=jobs,
-            mp_context=mp_context(),
-            initializer=die_with_parent,
-            initargs=(os.getpid(),),
-        )
-    else:
-        pool = _Serial()
     # on the thesis data the starred runs are exactly the high half: fit once
     same_split = bool(np.array_equal(data.starred, high))
-    try:
-        # phase 1: every all-run fit (submitting them starts every worker)
-        pending = {
-            pool.submit(_fit_task, c.name, "all", w, y, band, run, None, None, *common): c.name
-            for c in cands
-        }
-        timings: dict[str, float] = {}
-        with _progress(progress, len(cands)) as advance:
-            fits = {name: res[0] for name, res in _drain(pending, advance)}
-            timings["all_run_fits"] = time.perf_counter() - t_start
-            # the ranking needs the all-run fits only: the recommended model is
-            # known now, and its profile intervals run alongside phase 2
-            prelim = sorted((ModelResult(c.name, fits[c.name]) for c in cands), key=_aic)
-            rec_name, why = recommend(prelim)
-            rec_fit = fits[rec_name]
-            # phase 2: profile sides (longest first), subset fits, curves, checks
-            pending = {}
-            profiled = [c.name for c in cands] if profile_all else [rec_name] if profile else []
-            for pname in profiled:
-                for k in fits[pname].params:
-                    for side in (-1, 1):
-                        fut = pool.submit(
-                            _profile_task, fits[pname], pname, k, side, spin_sd, options
-                        )
-                        pending[fut] = ("profile", (pname, k), side)
-            centres = np.array(sorted({round(float(x), 6) for x in mean_w}))
-            fut = pool.submit(_phase_task, rec_name, dict(rec_fit.values), centres, t_max, options)
-            pending[fut] = ("phase", "", None)
-            for c in sorted(cands, key=lambda c: -c.n_params):
-                f = fits[c.name]
-                start = dict(f.values)
-                subsets = []
-                if data.starred.any() and not same_split:
-                    subsets.append(("starred", data.starred, np.ones_like(high)))
-                if high.any() and (~high).any():
-                    subsets.append((f"omega_p >= {OUT_OF_BAND_SPLIT:g}", high, ~high))
-                    subsets.append((f"omega_p < {OUT_OF_BAND_SPLIT:g}", ~high, high))
-                for label, m_fit, m_pred in subsets:
-                    if int(m_fit.sum()) < c.n_params + 2:
-                        continue
-                    ws, ys, bs, rs = _subset(m_fit, w, y, band, run)
-                    fut = pool.submit(
-                        _fit_task, c.name, label, ws, ys, bs, rs, start, w[m_pred], *common
-                    )
-                    pending[fut] = (c.name, label, m_pred)
-                model_t = np.where(np.isfinite(f.model), f.model, np.nan)
-                ok = np.isfinite(model_t)
-                fut = pool.submit(
-                    _curve_task, c.name, start, grid, w[ok], model_t[ok], t_max, options
-                )
-                pending[fut] = (c.name, "curve", None)
-            advance(0, len(cands) + len(pending))
-            sub: dict[str, dict[str, Any]] = {c.name: {} for c in cands}
-            prof: dict[str, dict[str, dict[int, float]]] = {}
-            phase: dict[str, Any] = {}
-            for (name, label, m_pred), res in _drain(pending, advance):
-                if name == "profile":
-                    pname, k = label
-                    prof.setdefault(pname, {}).setdefault(k, {})[int(m_pred)] = res[2]
-                elif name == "phase":
-                    phase = res
-                else:
-                    sub[name][label] = (res, m_pred)
-            timings["subset_fits_curves_checks_profiles"] = (
-                time.perf_counter() - t_start - timings["all_run_fits"]
+    # phase 1: every all-run fit
+    timings: dict[str, float] = {}
+    fitted = runner.map(
+        _call,
+        [(_fit_task, c.name, "all", w, y, band, run, None, None, *common) for c in cands],
+        label="validate: all-run fits",
+        unit="fits",
+        chunk_size=1,
+        probe_first=False,
+        warm=partial(_warm, options),
+    )
+    fits = {c.name: res[0] for c, res in zip(cands, fitted, strict=True)}
+    timings["all_run_fits"] = time.perf_counter() - t_start
+    # the ranking needs the all-run fits only: the recommended model is known now, and
+    # its profile intervals run alongside phase 2
+    prelim = sorted((ModelResult(c.name, fits[c.name]) for c in cands), key=_aic)
+    rec_name, why = recommend(prelim)
+    rec_fit = fits[rec_name]
+    # phase 2: profile sides (longest first), subset fits, curves, checks
+    tasks: list[tuple[Any, ...]] = []
+    tags: list[tuple[Any, Any, Any]] = []
+    profiled = [c.name for c in cands] if profile_all else [rec_name] if profile else []
+    for pname in profiled:
+        for k in fits[pname].params:
+            for side in (-1, 1):
+                tasks.append((_profile_task, fits[pname], pname, k, side, spin_sd, options))
+                tags.append(("profile", (pname, k), side))
+    centres = np.array(sorted({round(float(x), 6) for x in mean_w}))
+    tasks.append((_phase_task, rec_name, dict(rec_fit.values), centres, t_max, options))
+    tags.append(("phase", "", None))
+    for c in sorted(cands, key=lambda c: -c.n_params):
+        f = fits[c.name]
+        start = dict(f.values)
+        subsets = []
+        if data.starred.any() and not same_split:
+            subsets.append(("starred", data.starred, np.ones_like(high)))
+        if high.any() and (~high).any():
+            subsets.append((f"omega_p >= {OUT_OF_BAND_SPLIT:g}", high, ~high))
+            subsets.append((f"omega_p < {OUT_OF_BAND_SPLIT:g}", ~high, high))
+        for label, m_fit, m_pred in subsets:
+            if int(m_fit.sum()) < c.n_params + 2:
+                continue
+            ws, ys, bs, rs = _subset(m_fit, w, y, band, run)
+            tasks.append((_fit_task, c.name, label, ws, ys, bs, rs, start, w[m_pred], *common))
+            tags.append((c.name, label, m_pred))
+        model_t = np.where(np.isfinite(f.model), f.model, np.nan)
+        ok = np.isfinite(model_t)
+        tasks.append((_curve_task, c.name, start, grid, w[ok], model_t[ok], t_max, options))
+        tags.append((c.name, "curve", None))
+    done = runner.map(
+        _call,
+        tasks,
+        label="validate: profiles, subset fits, curves",
+        unit="tasks",
+        chunk_size=1,
+        probe_first=False,
+        warm=partial(_warm, options),
+    )
+    sub: dict[str, dict[str, Any]] = {c.name: {} for c in cands}
+    prof: dict[str, dict[str, dict[int, float]]] = {}
+    phase: dict[str, Any] = {}
+    for (name, label, m_pred), res in zip(tags, done, strict=True):
+        if name == "profile":
+            pname, k = label
+            prof.setdefault(pname, {}).setdefault(k, {})[int(m_pred)] = res[2]
+        elif name == "phase":
+            phase = res
+        else:
+            sub[name][label] = (res, m_pred)
+    timings["subset_fits_curves_checks_profiles"] = (
+        time.perf_counter() - t_start - timings["all_run_fits"]
+    )
+    results = []
+    for c in cands:
+        s = sub[c.name]
+        curve, conv = s.pop("curve")[0]
+        kw: dict[str, Any] = {"out_of_band_rms": {}}
+        for label, ((fit, pred), m_pred) in s.items():
+            if label == "starred":
+                kw["starred"] = fit
+                kw["out_of_band_rms"]["starred->all"] = _oob_rms(pred, y[m_pred], t_max)
+            elif label.startswith("omega_p >="):
+                kw["high"] = fit
+                kw["out_of_band_rms"]["high->low"] = _oob_rms(pred, y[m_pred], t_max)
+                if same_split:  # the starred fit; its rms on all runs
+                    kw["starred"] = fit
+                    r_all = np.concatenate([fit.residuals, _resid(pred, y[m_pred], t_max)])
+                    kw["out_of_band_rms"]["starred->all"] = float(np.sqrt(np.mean(r_all**2)))
+            else:
+                kw["low"] = fit
+                kw["out_of_band_rms"]["low->high"] = _oob_rms(pred, y[m_pred], t_max)
+        results.append(
+            ModelResult(
+                c.name,
+                fits[c.name],
+                curve_spin=grid,
+                curve_t=curve,
+                convergence=conv,
+                lack_of_fit=lack_of_fit(floor, fits[c.name].residuals, c.n_params),
+                **kw,
             )
-            results = []
-            for c in cands:
-                s = sub[c.name]
-                curve, conv = s.pop("curve")[0]
-                kw: dict[str, Any] = {"out_of_band_rms": {}}
-                for label, ((fit, pred), m_pred) in s.items():
-                    if label == "starred":
-                        kw["starred"] = fit
-                        kw["out_of_band_rms"]["starred->all"] = _oob_rms(pred, y[m_pred], t_max)
-                    elif label.startswith("omega_p >="):
-                        kw["high"] = fit
-                        kw["out_of_band_rms"]["high->low"] = _oob_rms(pred, y[m_pred], t_max)
-                        if same_split:  # the starred fit; its rms on all runs
-                            kw["starred"] = fit
-                            r_all = np.concatenate([fit.residuals, _resid(pred, y[m_pred], t_max)])
-                            kw["out_of_band_rms"]["starred->all"] = float(
-                                np.sqrt(np.mean(r_all**2))
-                            )
-                    else:
-                        kw["low"] = fit
-                        kw["out_of_band_rms"]["low->high"] = _oob_rms(pred, y[m_pred], t_max)
-                results.append(
-                    ModelResult(
-                        c.name,
-                        fits[c.name],
-                        curve_spin=grid,
-                        curve_t=curve,
-                        convergence=conv,
-                        lack_of_fit=lack_of_fit(floor, fits[c.name].residuals, c.n_params),
-                        **kw,
-                    )
-                )
-            results.sort(key=_aic)
-            rec_name, why = recommend(results)  # same choice, now with out-of-band numbers
-    except BaseException:
-        pool.shutdown(wait=False, cancel_futures=True)
-        raise
-    pool.shutdown(wait=True)
+        )
+    results.sort(key=_aic)
+    rec_name, why = recommend(results)  # same choice, now with out-of-band numbers
     for pname, pk in prof.items():
         f = fits[pname]
         ci = {**f.ci95, **{k: (v[-1], v[1]) for k, v in pk.items()}}

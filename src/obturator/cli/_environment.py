@@ -1,0 +1,73 @@
+"""Environment variables, checked at start-up before numba is imported.
+
+Our own switches and the numba variables that would otherwise end the run in
+a traceback at import (``NUMBA_NUM_THREADS=0``) or a raw warning
+(``NUMBA_OPT=abc``) are checked here: a bad value is one line
+``obturator: error: <VARIABLE>: ...`` and exit code 2.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+
+from ..errors import InputError
+
+__all__ = ["check_environment", "SWITCHES", "NUMBA_WORDS", "NUMBA_INTEGERS"]
+
+#: Our on/off variables and what they do.
+SWITCHES: dict[str, str] = {
+    "OBTURATOR_DEBUG": "1: an internal error re-raises with its traceback",
+    "OBTURATOR_FULL_EXIT": "1: end through the interpreter's full teardown (coverage tools)",
+    "OBTURATOR_LANES": "0: every study point on the scalar path (no lanes)",
+    "OBTURATOR_RADAU_LANES": "0: stiff lanes continued one by one",
+}
+_ON_OFF = ("", "0", "1")
+#: numba variables that take one of a few words.
+NUMBA_WORDS: dict[str, tuple[str, ...]] = {
+    "NUMBA_OPT": ("0", "1", "2", "3", "max"),
+    "NUMBA_THREADING_LAYER": (
+        "default",
+        "safe",
+        "forksafe",
+        "threadsafe",
+        "tbb",
+        "omp",
+        "workqueue",
+    ),
+}
+#: numba variables that take a whole number, with the smallest allowed.
+NUMBA_INTEGERS: dict[str, int] = {
+    "NUMBA_NUM_THREADS": 1,
+    "NUMBA_DISABLE_JIT": 0,
+    "NUMBA_BOUNDSCHECK": 0,
+    "NUMBA_DEBUG": 0,
+    "NUMBA_DEBUGINFO": 0,
+    "NUMBA_DEVELOPER_MODE": 0,
+}
+
+
+def check_environment(env: Mapping[str, str] | None = None) -> None:
+    """Raise InputError naming the first variable with a value that would break a run."""
+    env = os.environ if env is None else env
+    for name, what in SWITCHES.items():
+        value = env.get(name)
+        if value is not None and value.strip() not in _ON_OFF:
+            raise InputError(name, f"{value[:40]!r}; allowed: 0 or 1 ({what})")
+    for name, words in NUMBA_WORDS.items():
+        value = env.get(name)
+        if value is not None and value.strip() and value.strip().lower() not in words:
+            raise InputError(name, f"{value[:40]!r}; allowed: {', '.join(words)}")
+    for name, lo in NUMBA_INTEGERS.items():
+        value = env.get(name)
+        if value is None or not value.strip():
+            continue
+        try:
+            n = int(value)
+        except ValueError:
+            raise InputError(name, f"{value[:40]!r} is not a whole number") from None
+        if n < lo:
+            raise InputError(name, f"{n} is outside the allowed range >= {lo}")
+    cache = env.get("NUMBA_CACHE_DIR")
+    if cache and os.path.exists(cache) and not os.path.isdir(cache):
+        raise InputError("NUMBA_CACHE_DIR", f"{cache!r} exists and is not a folder")

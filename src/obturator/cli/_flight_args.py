@@ -1,0 +1,290 @@
+"""Flags of the flight commands (trajectory, envelope, probability, sensitivity,
+optimize): design, projectile, launch, solver and execution, with their kinds,
+and the flight model, runner and resume store they describe.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from typing import Any
+
+from ..errors import check_range
+from ..io import SOLVER_KEYS, load_config
+from ..params import Range
+from ..units import parse_quantity
+from ._args import add_execution_flags, quantity_of, solver_options
+from ._kinds import Axis, InputFile, NameOrFile, OutputFile, Quantity
+
+__all__ = [
+    "add_model_arguments",
+    "add_execution_arguments",
+    "model_from_args",
+    "quantity",
+    "LAUNCH_MACH",
+    "TEMPERATURE_OFFSET",
+    "MACH_AXIS",
+    "REQUIREMENT",
+    "FIGURE",
+    "MIN_SEGMENT",
+]
+
+#: Config fields of the flight-trajectory commands (obturator.io.CONFIG_SCHEMA):
+#: the design, the projectile, the launch and the solver; a launch point (mach,
+#: altitude) only where the command has one (trajectory, sensitivity).
+_FLIGHT_CONFIG = (
+    "mu_s",
+    "theta0_deg",
+    "torque_model",
+    "t_max",
+    "ball_radius",
+    "hole_radius",
+    "density",
+    "gap",
+    "viscosity",
+    "bore_radius",
+    "spin_rate",
+    "projectile_mass",
+    "roll_damping",
+    "drag",
+    "elevation_deg",
+    "launch_spin_rate",
+    "twist",
+    "segment",
+    *SOLVER_KEYS,
+)
+_POINT_CONFIG = ("mach", "altitude_m")
+#: Built-in drag curves (obturator.envelope.drag.DRAG_MODELS; not imported here:
+#: start-up time).
+_DRAG_CURVES = ("tubular-closed", "tubular-open")
+
+# design flags: dest -> help (unit and range from obturator.params)
+_DESIGN_FLAGS = {
+    "mu_s": "sliding friction coefficient mu_s (Table 1: 0.35)",
+    "theta0_deg": "initial nutation theta_0 [deg] (87.25)",
+    "gap": "ball-socket gap h [m] (5.08e-5)",
+    "hole_radius": "ball hole radius r_s [m] (4.72e-3)",
+    "ball_radius": "ball radius R_s [m] (7.899e-3)",
+    "density": "ball density [kg/m^3] (7669.6)",
+    "bore_radius": "bore radius r_p [m] (4.72e-3)",
+    "viscosity": "gap fluid viscosity [Pa s] (1.917e-5)",
+}
+_POSITIVE = Range(0.0, math.inf, True, True)
+#: Launch Mach: supersonic (the bow shock of Eq. 1) up to 10 (the drag curves' end).
+LAUNCH_MACH = Quantity("", Range(1.0, 10.0, True, False), "3")
+#: Off-standard temperature [K]: +-100 K covers every climate the 1976 atmosphere models.
+TEMPERATURE_OFFSET = Quantity("K", Range(-100.0, 100.0), "0 K")
+#: Shortest coupled-load segment [s]: t_max / segment segments are integrated and
+#: recorded, so 10 us keeps the default 1 s flight at 1e5 segments (the load changes
+#: on the trajectory's time scale, milliseconds, far above it).
+MIN_SEGMENT = 1e-5
+
+
+#: A grid of launch Mach numbers (supersonic, up to 10).
+MACH_AXIS = Axis("", LAUNCH_MACH.range, "3")
+#: A t_cr requirement [s].
+REQUIREMENT = Quantity("s", _POSITIVE, "0.1 s")
+#: A figure file (formats matplotlib writes).
+FIGURE = OutputFile(figure=True, example="figure.png")
+
+
+def quantity(field: str, value: Any, unit: str) -> float:
+    """A CLI value (number or quantity string) in `unit`."""
+    return parse_quantity(field, value, unit)
+
+
+def add_model_arguments(p: argparse.ArgumentParser, *, launch_point: bool) -> None:
+    """Design, projectile, launch and solver flags shared by the envelope commands."""
+    g = p.add_argument_group("design (Table 1 defaults)")
+    for dest, text in _DESIGN_FLAGS.items():
+        g.add_argument(
+            "--" + dest.replace("_", "-"),
+            dest=dest,
+            metavar="X",
+            type=_design_kind(dest),
+            help=text,
+        )
+    g.add_argument("--torque-model", choices=("thesis", "coulomb"), default=None)
+    f = p.add_argument_group("flight")
+    if launch_point:
+        f.add_argument(
+            "--mach", metavar="X", type=LAUNCH_MACH, help="muzzle Mach number (default 3)"
+        )
+        f.add_argument(
+            "--altitude-m",
+            metavar="X",
+            type=quantity_of("altitude_m"),
+            help="launch altitude [m] (default 0)",
+        )
+        f.add_argument(
+            "--temperature-offset-k",
+            metavar="X",
+            type=TEMPERATURE_OFFSET,
+            help="off-standard temperature [K] (default 0)",
+        )
+    f.add_argument(
+        "--elevation-deg",
+        metavar="X",
+        type=Quantity("deg", Range(-90.0, 90.0), "0 deg"),
+        help="elevation angle [deg] (default 0)",
+    )
+    f.add_argument(
+        "--spin-rate",
+        metavar="X",
+        type=quantity_of("spin_rate"),
+        help="muzzle spin [rad/s]; default: rifling twist, 2 pi V_0 / twist "
+        "(12042 rad/s at Table 1's Mach 3, sea level)",
+    )
+    f.add_argument(
+        "--twist",
+        metavar="X",
+        type=Quantity("m", Range(1e-3, 100.0), "0.5 m"),  # found by the fuzz suite: 1e308 m
+        # divided by zero; 1 mm to 100 m per turn spans every rifling
+        help="rifling twist [m per turn] (default 0.5327)",
+    )
+    f.add_argument(
+        "--drag",
+        "--cd-table",
+        dest="drag",
+        metavar="NAME|FILE.csv",
+        type=NameOrFile(_DRAG_CURVES, "tubular-open"),
+        help="drag curve: tubular-closed (default), tubular-open, or a CSV with columns mach,cd",
+    )
+    f.add_argument(
+        "--roll-damping",
+        metavar="X",
+        type=Quantity("", Range(-10.0, 10.0), "-0.012"),
+        help="roll-damping coefficient C_lp (-0.012)",
+    )
+    f.add_argument(
+        "--projectile-mass",
+        metavar="X",
+        type=Quantity("kg", Range(1e-3, 1e3), "0.141 kg"),  # 1 g to 1 t (fuzz: 1e-300 kg
+        # stalled the trajectory integration)
+        help="projectile mass [kg] (0.141)",
+    )
+    s = p.add_argument_group("solver")
+    s.add_argument(
+        "--load",
+        choices=("coupled", "constant"),
+        default=None,
+        help="trajectory-coupled load (default) or the thesis's constant muzzle load "
+        "(the envelope always computes both)",
+    )
+    s.add_argument(
+        "--rtol", metavar="X", type=quantity_of("rtol"), help="relative tolerance (default 1e-8)"
+    )
+    s.add_argument(
+        "--atol", metavar="X", type=quantity_of("atol"), help="absolute tolerance (default 1e-10)"
+    )
+    s.add_argument(
+        "--segment",
+        metavar="S",
+        type=Quantity("s", Range(MIN_SEGMENT, 0.1), "2 ms"),
+        help=f"segment of the coupled load [s] (2e-3; {MIN_SEGMENT:g} to 0.1)",
+    )
+    s.add_argument(
+        "--t-max",
+        metavar="S",
+        type=quantity_of("t_max"),
+        help="give up after this time [s] (default 1)",
+    )
+    s.add_argument(
+        "--no-convergence-check",
+        action="store_true",
+        help="skip the refined reruns (t_cr then carries no convergence status)",
+    )
+    p.add_argument(
+        "--config", metavar="FILE.toml", type=InputFile(), help="TOML settings (flags override)"
+    )
+
+
+def add_execution_arguments(p: argparse.ArgumentParser) -> None:
+    """Workers, Dask scheduler, resume and output flags."""
+    add_execution_flags(p.add_argument_group("execution"))  # type: ignore[arg-type]
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def _design_kind(dest: str) -> Quantity:
+    return quantity_of(dest)
+
+
+def _settings(args: argparse.Namespace) -> dict[str, Any]:
+    """Config settings (the fields this command uses) under the flags' values."""
+    has_point = hasattr(args, "altitude_m") or hasattr(args, "mach_point")  # not a grid
+    used = _FLIGHT_CONFIG + (_POINT_CONFIG if has_point else ())
+    s: dict[str, Any] = {}
+    if getattr(args, "config", None):
+        s = load_config(args.config, args.command, used)
+        if "launch_spin_rate" in s:
+            s["spin_rate"] = s.pop("launch_spin_rate")
+    flags = (
+        *_DESIGN_FLAGS,
+        "elevation_deg",
+        "spin_rate",
+        "twist",
+        "roll_damping",
+        "projectile_mass",
+        "rtol",
+        "atol",
+        "segment",
+        "t_max",
+        "mach",
+        "altitude_m",
+        "temperature_offset_k",
+        "drag",
+        "torque_model",
+    )
+    for dest in flags:  # values checked and converted by their kinds
+        if getattr(args, dest, None) is not None:
+            s[dest] = getattr(args, dest)
+    return s
+
+
+def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
+    """The :class:`~obturator.envelope.model.FlightModel` described by the flags."""
+    from ..envelope.coupled import ObturatorDesign
+    from ..envelope.drag import drag_model
+    from ..envelope.model import FlightModel
+    from ..envelope.trajectory import Launch, Projectile
+
+    s = _settings(args)
+    dkw: dict[str, Any] = {k: s[k] for k in _DESIGN_FLAGS if k in s}
+    if "torque_model" in s:
+        dkw["torque_model"] = s["torque_model"]
+    design = ObturatorDesign(**dkw)
+    pkw: dict[str, Any] = {}
+    if "projectile_mass" in s:
+        pkw["mass"] = s["projectile_mass"]
+    if "roll_damping" in s:
+        pkw["roll_damping"] = s["roll_damping"]
+    pkw["drag"] = drag_model(s.get("drag", "tubular-closed"), bore_radius=design.bore_radius)
+    projectile = Projectile(**pkw)
+    lkw = {
+        k: s[k]
+        for k in (
+            "mach",
+            "altitude_m",
+            "temperature_offset_k",
+            "elevation_deg",
+            "spin_rate",
+            "twist",
+        )
+        if k in s
+    }
+    launch = Launch(**lkw)
+    options = solver_options(s)
+    mkw: dict[str, Any] = {}
+    if "segment" in s:  # the config's too: t_max / segment segments are allocated
+        mkw["segment"] = check_range("segment", s["segment"], MIN_SEGMENT, 0.1, unit="s")
+    if "t_max" in s:
+        mkw["t_max"] = s["t_max"]
+    return FlightModel(
+        design,
+        launch,
+        projectile,
+        load=getattr(args, "load", None) or load,
+        options=options,
+        check_convergence=not args.no_convergence_check,
+        **mkw,
+    )

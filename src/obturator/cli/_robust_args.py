@@ -1,0 +1,279 @@
+"""Flags of ``probability``, ``sensitivity`` and ``optimize`` with their kinds and defaults."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+
+from ..params import Range
+from ..sweeps.montecarlo import MAX_SAMPLES
+from ._args import SEED, axis_of, quantity_of
+from ._flight_args import (
+    FIGURE,
+    LAUNCH_MACH,
+    MACH_AXIS,
+    REQUIREMENT,
+    add_execution_arguments,
+    add_model_arguments,
+)
+from ._kinds import Count, OutputFile, Quantity, Text
+
+__all__ = [
+    "add_robust_commands",
+    "DEFAULT_UNCERTAINTY",
+    "DEFAULT_RANGES",
+    "DEFAULT_RIG_RANGES",
+    "MAX_SOBOL_BASE",
+]
+
+#: Default uncertain inputs of ``probability`` (manufacturing and knowledge
+#: uncertainty about Table 1): mu_s lognormal with 10 % spread; theta_0 within
+#: +-1 deg; gap, hole radius and density with 3-sigma tolerances of 7.5 um,
+#: 0.05 mm and 120 kg/m^3; muzzle spin +-1 % (muzzle-velocity dispersion).
+DEFAULT_UNCERTAINTY = (
+    "mu_s=lognormal:0.35,0.1",
+    "theta0_deg=uniform:86.25,88.25",
+    "gap=normal:5.08e-5,2.5e-6",
+    "hole_radius=normal:4.72e-3,1.7e-5",
+    "density=normal:7669.6,40",
+    "spin_factor=normal:1,0.01",
+)
+#: Default ranges of ``sensitivity`` in flight (uniform, around Table 1).
+DEFAULT_RANGES = (
+    "mu_s=uniform:0.25,0.45",
+    "theta0_deg=uniform:86.25,88.25",
+    "gap=uniform:4.08e-5,6.08e-5",
+    "hole_radius=uniform:4.62e-3,4.82e-3",
+    "density=uniform:7500,7850",
+    "spin_factor=uniform:0.97,1.03",
+)
+#: Default ranges of ``sensitivity`` on the spin rig (weight follows the ball).
+DEFAULT_RIG_RANGES = (
+    "spin_rate=uniform:300,500",
+    "mu_s=uniform:0.5,0.6",
+    "theta0_deg=uniform:86.25,88.25",
+    "gap=uniform:4.08e-5,6.08e-5",
+    "hole_radius=uniform:4.62e-3,4.82e-3",
+    "density=uniform:7500,7850",
+)
+
+
+_POSITIVE = Range(0.0, math.inf, True, True)
+CONFIDENCE = Quantity("", Range(0.0, 1.0, True, True), "0.9")
+VARY = Text(example="mu_s=uniform:0.3,0.4")
+#: Largest SALib base sample N: N (2 D + 2) model runs, ~0.9 million for D = 6 at
+#: 65536; Sobol-index intervals shrink as 1 / sqrt(N), already below 0.01 there.
+MAX_SOBOL_BASE = 65_536
+
+
+def add_robust_commands(
+    subparsers: argparse._SubParsersAction,
+    run_probability: Callable[[argparse.Namespace], int],
+    run_sensitivity: Callable[[argparse.Namespace], int],
+    run_optimize: Callable[[argparse.Namespace], int],
+) -> None:
+    """Add the ``probability``, ``sensitivity`` and ``optimize`` sub-commands."""
+    p = subparsers.add_parser(
+        "probability",
+        help="P(t_cr > requirement) under uncertain inputs (importance sampling)",
+        description="Probability that the bore opens later than the requirement, by "
+        "cross-entropy importance sampling (--method is), brute-force Monte Carlo "
+        "(mc) or both, with confidence intervals. Default inputs: " + " ".join(DEFAULT_UNCERTAINTY),
+    )
+    p.add_argument(
+        "--mach",
+        dest="grid_mach",
+        default="3",
+        metavar="SPEC",
+        type=MACH_AXIS,
+        help="muzzle Mach",
+    )
+    p.add_argument(
+        "--altitude-m",
+        dest="grid_altitude",
+        default="0",
+        metavar="SPEC",
+        type=axis_of("altitude_m"),
+        help="altitude [m]",
+    )
+    p.add_argument(
+        "--vary", action="append", metavar="NAME=KIND:ARGS", type=VARY, help="uncertain input"
+    )
+    p.add_argument(
+        "--requirement", default="0.1", metavar="S", type=REQUIREMENT, help="t_cr requirement [s]"
+    )
+    p.add_argument("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
+    p.add_argument("--method", choices=("is", "mc", "both"), default="is")
+    p.add_argument(
+        "--samples",
+        default="2000",
+        metavar="N",
+        type=Count(1, MAX_SAMPLES, example="20"),
+        help=f"brute-force samples (at most {MAX_SAMPLES}, as montecarlo)",
+    )
+    p.add_argument(
+        "--stage-samples",
+        default="500",
+        metavar="N",
+        type=Count(20, MAX_SAMPLES, example="20"),
+        help="IS samples per stage",
+    )
+    p.add_argument(
+        "--final-samples",
+        default="1000",
+        metavar="N",
+        type=Count(20, MAX_SAMPLES, example="20"),
+        help="IS final samples",
+    )
+    p.add_argument(
+        "--rho",
+        default="0.1",
+        metavar="X",
+        type=Quantity("", Range(0.0, 1.0, True, True), "0.1"),
+        help="IS elite fraction",
+    )
+    p.add_argument("--seed", default="0", metavar="S", type=SEED)
+    p.add_argument("--confidence", default="0.95", metavar="C", type=CONFIDENCE)
+    add_model_arguments(p, launch_point=False)
+    add_execution_arguments(p)
+    p.add_argument(
+        "--out", metavar="FILE.nc", type=OutputFile(), help="NetCDF output (and resume store)"
+    )
+    p.set_defaults(func=run_probability)
+
+    s = subparsers.add_parser(
+        "sensitivity",
+        help="Sobol indices of t_cr (SALib) with bootstrap intervals",
+        description="First-order and total Sobol indices of t_cr. Defaults: flight "
+        + " ".join(DEFAULT_RANGES)
+        + "; spin-rig "
+        + " ".join(DEFAULT_RIG_RANGES),
+    )
+    s.add_argument("--case", choices=("flight", "spin-rig"), default="flight")
+    s.add_argument(
+        "--mach", dest="mach_point", metavar="X", type=LAUNCH_MACH, help="muzzle Mach (flight, 3)"
+    )
+    s.add_argument(
+        "--altitude-m",
+        dest="altitude_point",
+        metavar="X",
+        type=quantity_of("altitude_m"),
+        help="altitude [m] (0)",
+    )
+    s.add_argument(
+        "--vary", action="append", metavar="NAME=KIND:ARGS", type=VARY, help="uncertain input"
+    )
+    s.add_argument(
+        "--samples",
+        default="256",
+        metavar="N",
+        type=Count(8, MAX_SOBOL_BASE, example="8"),
+        help=f"SALib base N (power of 2; at most {MAX_SOBOL_BASE}: N (2 D + 2) runs)",
+    )
+    s.add_argument("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
+    s.add_argument(
+        "--resamples",
+        default="1000",
+        metavar="N",
+        type=Count(10, 100_000, example="10"),
+        help="bootstrap resamples (at most 100000)",
+    )
+    s.add_argument("--seed", default="0", metavar="S", type=SEED)
+    s.add_argument("--confidence", default="0.95", metavar="C", type=CONFIDENCE)
+    s.add_argument("--figure", metavar="FILE.png", type=FIGURE, help="bar chart")
+    add_model_arguments(s, launch_point=False)
+    add_execution_arguments(s)
+    s.add_argument(
+        "--out", metavar="FILE.nc", type=OutputFile(), help="NetCDF output (and resume store)"
+    )
+    s.set_defaults(func=run_sensitivity)
+
+    o = subparsers.add_parser(
+        "optimize",
+        help="robust design: minimise the worst case / a quantile of t_cr over the envelope",
+        description="Differential evolution (SciPy) + SLSQP polish over the design "
+        "variables, subject to the bore-able hole, the ball blocking the bore at launch, "
+        "the socket wall and the mass budget; reports the optimum, its sensitivity and "
+        "(--pareto N) the t_cr-mass Pareto front.",
+    )
+    o.add_argument("--mach", dest="grid_mach", default="1.5,2.75,4", metavar="SPEC", type=MACH_AXIS)
+    o.add_argument(
+        "--altitude-m",
+        dest="grid_altitude",
+        default="0,10000",
+        metavar="SPEC",
+        type=axis_of("altitude_m"),
+    )
+    o.add_argument(
+        "--objective",
+        default="max",
+        metavar="[t_cr:|t_start:]max|quantile:Q",
+        type=Text(example="max"),
+        help="aggregate over the conditions of t_cr (default) or of t_start, e.g. t_start, "
+        "t_start:quantile:0.9",
+    )
+    o.add_argument(
+        "--variables",
+        default="hole_radius,ball_radius,density,gap,mu_s",
+        metavar="A,B,...",
+        type=Text(example="mu_s"),
+        help="design variables (default all five)",
+    )
+    o.add_argument(
+        "--bound",
+        action="append",
+        metavar="NAME=LO,HI",
+        type=Text(example="mu_s=0.3,0.4"),
+        help="override bounds (SI)",
+    )
+    o.add_argument(
+        "--mass-budget",
+        metavar="KG",
+        type=Quantity("kg", _POSITIVE, "10 g"),
+        help="largest ball mass (Table 1 ball's)",
+    )
+    o.add_argument(
+        "--wall",
+        metavar="M",
+        type=Quantity("m", _POSITIVE, "2 mm"),
+        help="smallest socket wall R_p - R_s (2.061 mm)",
+    )
+    o.add_argument(
+        "--block-margin-deg",
+        default="2",
+        metavar="DEG",
+        type=Quantity("deg", Range(0.0, 90.0, False, True), "2 deg"),
+        help="theta0-beta-beta_s",
+    )
+    o.add_argument(
+        "--popsize",
+        default="10",
+        metavar="N",
+        type=Count(2, 1000, example="2"),
+        help="differential-evolution population per variable (at most 1000)",
+    )
+    o.add_argument(
+        "--maxiter",
+        default="30",
+        metavar="N",
+        type=Count(1, 10_000, example="1"),
+        help="differential-evolution generations (at most 10000)",
+    )
+    o.add_argument("--seed", default="0", metavar="S", type=SEED)
+    o.add_argument("--no-polish", action="store_true", help="skip the SLSQP polish")
+    o.add_argument(
+        "--pareto",
+        metavar="N",
+        type=Count(2, 100, example="2"),
+        help="trace the t_cr-mass Pareto front with N points (at most 100)",
+    )
+    o.add_argument(
+        "--figure", metavar="FILE.png", type=FIGURE, help="Pareto front figure (with --pareto)"
+    )
+    add_model_arguments(o, launch_point=False)
+    add_execution_arguments(o)
+    o.add_argument(
+        "--out", metavar="FILE.nc", type=OutputFile(), help="NetCDF output (and resume store)"
+    )
+    o.set_defaults(func=run_optimize)

@@ -1,0 +1,162 @@
+"""The one progress reporter of every long run: a bar on a terminal, plain lines elsewhere.
+
+:class:`Progress` has three modes:
+
+* ``"bar"``: a rich progress bar on stderr (a terminal), with the tasks done,
+  elapsed time and time left;
+* ``"lines"``: output piped or redirected: one plain line on stderr at most every
+  :data:`LINE_INTERVAL_S` seconds, ``obturator: sweep: 1234/10000 points (12 %),
+  45 s elapsed, about 5.5 min left``; no thread, so process pools still fork;
+* ``"off"``: nothing (``--no-progress`` and the Python API's default).
+
+:meth:`Progress.plan` prints a long run's planned work and its estimated time before
+the work starts (the runner estimates it from a timed probe).
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Literal
+
+__all__ = ["LINE_INTERVAL_S", "PLAN_MIN_S", "Progress", "Tracker", "fmt_duration"]
+
+#: Seconds between two plain progress lines.
+LINE_INTERVAL_S = 15.0
+#: A run expected to take at least this long [s] announces its plan and estimate.
+PLAN_MIN_S = 5.0
+
+Mode = Literal["off", "bar", "lines"]
+
+
+def fmt_duration(seconds: float) -> str:
+    """``"42 s"``, ``"5.5 min"`` or ``"1.2 h"``."""
+    if seconds < 90:
+        return f"{seconds:.2g} s" if seconds < 10 else f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+class Tracker:
+    """``tracker(n)``: n more tasks done; :meth:`describe`: what runs now."""
+
+    def __init__(self, advance: Callable[[int], None], describe: Callable[[str], None]):
+        self._advance = advance
+        self.describe = describe
+
+    def __call__(self, n: int) -> None:
+        self._advance(n)
+
+
+@dataclass(frozen=True)
+class Progress:
+    """How a run reports: ``mode`` "bar", "lines" or "off" (see the module notes).
+
+    Parameters
+    ----------
+    mode : {"off", "bar", "lines"}
+    interval_s : float
+        Seconds between two plain lines (mode "lines").
+    """
+
+    mode: Mode = "off"
+    interval_s: float = LINE_INTERVAL_S
+
+    @classmethod
+    def auto(cls, enabled: bool = True) -> Progress:
+        """A bar when stderr is a terminal, else plain lines; "off" unless `enabled`."""
+        if not enabled:
+            return cls("off")
+        return cls("bar" if sys.stderr.isatty() else "lines")
+
+    @property
+    def enabled(self) -> bool:
+        """Whether anything is reported."""
+        return self.mode != "off"
+
+    def note(self, text: str) -> None:
+        """One line ``obturator: <text>`` on stderr (unless off)."""
+        if self.enabled:
+            print(f"obturator: {text}", file=sys.stderr, flush=True)
+
+    def plan(self, label: str, work: str, estimate_s: float | None = None) -> None:
+        """Announce a run's work and estimated time (only if it is long, or unknown)."""
+        if estimate_s is None:
+            self.note(f"{label}: {work}")
+        elif estimate_s >= PLAN_MIN_S:
+            self.note(f"{label}: {work}; estimated {fmt_duration(estimate_s)} on idle cores")
+
+    @contextmanager
+    def track(
+        self, label: str, total: int, done: int = 0, unit: str = "points"
+    ) -> Iterator[Tracker]:
+        """Yield a :class:`Tracker` that advances the display of `total` tasks."""
+        if self.mode == "bar":
+            with _bar(label, total, done) as tracker:
+                yield tracker
+        elif self.mode == "lines":
+            yield _lines(label, total, done, unit, self.interval_s)
+        else:
+            yield Tracker(lambda n: None, lambda text: None)
+
+
+@contextmanager
+def _bar(label: str, total: int, done: int) -> Iterator[Tracker]:
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+    from rich.progress import Progress as RichProgress
+
+    with RichProgress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        TextColumn("eta"),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    ) as bar:
+        task = bar.add_task(label, total=total, completed=done)
+        yield Tracker(
+            lambda n: bar.advance(task, n),
+            lambda text: bar.update(task, description=f"{label}: {text}"),
+        )
+
+
+def _lines(label: str, total: int, done: int, unit: str, interval_s: float) -> Tracker:
+    t0 = time.monotonic()
+    state = {"done": done, "last": t0, "what": ""}
+
+    def advance(n: int) -> None:
+        state["done"] += n
+        now = time.monotonic()
+        if now - state["last"] < interval_s or state["done"] >= total:
+            return
+        state["last"] = now
+        new = state["done"] - done
+        elapsed = now - t0
+        left = elapsed / new * (total - state["done"]) if new else float("nan")
+        what = f" ({state['what']})" if state["what"] else ""
+        eta = f", about {fmt_duration(left)} left" if left == left else ""
+        print(
+            f"obturator: {label}: {state['done']}/{total} {unit} "
+            f"({100 * state['done'] / max(total, 1):.0f} %){what}, "
+            f"{fmt_duration(elapsed)} elapsed{eta}",
+            file=sys.stderr,
+            flush=True,
+        )
+
+    def describe(text: str) -> None:
+        state["what"] = text
+
+    return Tracker(advance, describe)

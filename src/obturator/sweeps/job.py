@@ -1,0 +1,148 @@
+"""A sweep or Monte Carlo study as a :class:`~obturator.runs.Job` of the runner.
+
+:func:`sweep_job` computes t_cr and the status of chunks of points (rows of parameter
+values) with :func:`~.points.run_chunk`; :class:`PointResults` holds them in flat
+arrays and stores each chunk as ``keys`` = flat point indices, ``values`` =
+``{"t_cr": [...], "status": [...]}`` in the runner's resume store.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import replace
+from functools import partial
+from typing import Any
+
+import numpy as np
+
+from ..runs.chunks import Job
+from ..runs.pools import default_workers, gc_frozen, mp_context
+from ..solve import batchable
+from ..solve.many import RADAU_LANES_MIN
+from .ahead import pack_ahead
+from .points import POINT_STATUSES, is_warm, run_chunk, warm
+from .spec import SweepSpec
+
+__all__ = ["LANE_CHUNK", "PointResults", "sweep_job"]
+
+#: Largest default chunk of points integrated in lanes (:func:`obturator.solve.opening_times`):
+#: a chunk's stiff points go through Radau IIA lanes together, which pay off from a few
+#: dozen per chunk and keep improving with more (measured, 10,000 rig points over
+#: 100-700 rad/s in one process, AMD EPYC Zen 5: 1.84-1.96 s in 256-point chunks,
+#: 1.71-1.78 s in 500-625, 1.70-1.71 s in 1,250-5,000; on the Intel machine of the
+#: previous release 7.0 s with 64-point chunks, 5.1 s with 256).
+LANE_CHUNK = 1024
+
+_NOT_DONE = -128
+_KNOWN = frozenset(int(s) for s in POINT_STATUSES)
+
+
+class PointResults:
+    """t_cr [s] and status of `n` points (status -128: not computed yet)."""
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.t_cr = np.full(n, np.nan)
+        self.status = np.full(n, _NOT_DONE, dtype=np.int8)
+
+    def todo(self) -> np.ndarray:
+        """Flat indices of the points not computed yet."""
+        return np.flatnonzero(self.status == _NOT_DONE)
+
+    def put(self, idx: np.ndarray, result: tuple[np.ndarray, np.ndarray]) -> tuple[list[Any], Any]:
+        """Keep a chunk's ``(t_cr, status)``; its store record."""
+        t, s = result
+        self.t_cr[idx], self.status[idx] = t, s
+        return idx.tolist(), {"t_cr": t.tolist(), "status": s.tolist()}
+
+    def restore(self, keys: list[Any], values: Any) -> bool:
+        """Take a stored chunk; False if its indices, shapes or statuses do not fit."""
+        try:
+            idx = np.asarray(keys, dtype=np.int64)
+            t = np.asarray(values["t_cr"], dtype=float)
+            s = np.asarray(values["status"], dtype=np.int64)
+        except (KeyError, TypeError, ValueError):
+            return False
+        ok = idx.ndim == 1 and idx.shape == t.shape == s.shape
+        ok = ok and bool(np.all((idx >= 0) & (idx < self.n)))
+        if not (ok and all(int(x) in _KNOWN for x in s)):
+            return False
+        self.t_cr[idx], self.status[idx] = t, s.astype(np.int8)
+        return True
+
+    def check_complete(self) -> None:
+        """Fail loudly if a chunk went missing."""
+        if np.any(self.status == _NOT_DONE):  # pragma: no cover
+            raise RuntimeError("some points were not computed")
+
+
+def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: int = 0) -> Job:
+    """The :class:`Job` of a sweep or Monte Carlo study: :func:`run_chunk` on rows of
+    values of `names` (``rows_of(idx)``), returning ``(t_cr, status)`` per chunk.
+
+    The warm-up loads the Radau IIA lanes only when a chunk (`largest_chunk` points)
+    can hold enough stiff points to use them: a small sweep does not pay their load.
+    Where the points run in lanes, the job can pack points ahead (:mod:`.ahead`).
+    """
+    radau_lanes = largest_chunk >= RADAU_LANES_MIN
+    lanes = batchable(spec.options, spec.check_convergence)
+    job = Job(
+        run_chunk,
+        lambda idx: (spec, names, rows_of(idx)),
+        partial(warm, spec.options, radau_lanes=radau_lanes),
+        meanwhile=prefetch_output,
+        separable=not lanes,
+    )
+    if lanes:
+        job = replace(
+            job, ahead=partial(_pack_while_loading, job, spec, names, rows_of, radau_lanes)
+        )
+    return job
+
+
+def _pack_while_loading(
+    job: Job,
+    spec: SweepSpec,
+    names: tuple[str, ...],
+    rows_of: Callable[[np.ndarray], np.ndarray],
+    radau_lanes: bool,
+    chunks: list[np.ndarray],
+) -> Job:
+    """`job` with the points a helper packed while this process loaded the integrators
+    (:func:`.ahead.pack_ahead`): where fork is safe, a core is spare and the integrators
+    are not loaded yet; else `job` as it is, warm."""
+    assert job.warm is not None
+    with gc_frozen():
+        if (
+            mp_context().get_start_method() != "fork"
+            or default_workers() < 2
+            or is_warm(spec.options, radau_lanes)
+            or not chunks
+        ):
+            job.warm()
+            return job
+        done = pack_ahead(spec, names, rows_of, np.concatenate(chunks), job.warm)
+    if not len(done):
+        return job
+    return replace(job, args_of=lambda idx: (spec, names, rows_of(idx), done.take(idx)))
+
+
+def prefetch_output() -> None:
+    """Import xarray and its NetCDF writer while pool workers compute (~0.7-1 s).
+
+    A first write to a file imports the engine, the encoders and the scheduler
+    probes behind xarray's write locks (with dask installed: dask.distributed).
+    Only where a core is left over for it: with as many workers as cores it took
+    that time from them (a 10,000-point rig sweep on 2 workers and 2 cores: the
+    chunks running beside it took up to twice as long).
+    Not done in a thread for in-process studies: that work holds the GIL and
+    made a 20-point sweep slower (measured 1.6-1.7 s without, 1.8-2.1 s with).
+    """
+    import tempfile
+
+    import xarray as xr
+
+    tiny = xr.Dataset({"t_cr": ("x", np.zeros(1))})
+    with tempfile.TemporaryDirectory(prefix="obturator-") as tmp:
+        tiny.to_netcdf(os.path.join(tmp, "warm.nc"))

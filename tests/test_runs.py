@@ -1,0 +1,117 @@
+"""The runner: chunk order, the progress reporter, the plan line, the store's header."""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+from obturator.errors import InputError
+from obturator.runs import Progress, Runner, sidecar_path, study_digest
+from obturator.runs.progress import PLAN_MIN_S, fmt_duration
+
+
+@dataclass(frozen=True)
+class Slow:
+    """Picklable toy task: its value, after burning `cpu_s` of CPU."""
+
+    cpu_s: float = 0.0
+
+    def __call__(self, task):
+        import time
+
+        t0 = time.thread_time()
+        while time.thread_time() - t0 < self.cpu_s:
+            pass
+        return {"y": task["x"] * 2}
+
+
+def tasks(n: int) -> list[dict[str, float]]:
+    return [{"x": float(i)} for i in range(n)]
+
+
+def test_chunk_size_one_keeps_the_task_order_and_values() -> None:
+    order: list[float] = []
+
+    def record(task):
+        order.append(task["x"])
+        return task["x"] + 1
+
+    runner = Runner(workers=1, chunk_size=7)
+    out = runner.map(record, tasks(10), chunk_size=1, probe_first=False)
+    assert out == [float(i + 1) for i in range(10)] and order == [float(i) for i in range(10)]
+    assert runner.n_computed == 10 and runner.n_resumed == 0
+
+
+def test_plain_lines_count_percent_and_eta(capsys: pytest.CaptureFixture[str]) -> None:
+    out = Runner(workers=1, chunk_size=2, progress=Progress("lines", interval_s=0.0)).map(
+        Slow(0.002), tasks(10), label="toy", unit="cases"
+    )
+    assert [r["y"] for r in out] == [2.0 * i for i in range(10)]
+    lines = capsys.readouterr().err.splitlines()
+    progress = [line for line in lines if re.match(r"obturator: toy: \d+/10 cases", line)]
+    assert progress, lines
+    # every line: count, percent, elapsed and time left; the count grows
+    counts = [int(re.search(r"(\d+)/10", line).group(1)) for line in progress]
+    assert counts == sorted(counts) and counts[-1] < 10
+    assert all(re.search(r"\(\d+ %\), .* elapsed, about .* left$", line) for line in progress)
+
+
+def test_off_is_silent_and_plan_only_for_long_runs(capsys: pytest.CaptureFixture[str]) -> None:
+    Runner(workers=1, chunk_size=2, progress=Progress("off")).map(Slow(), tasks(6))
+    assert capsys.readouterr().err == ""
+    p = Progress("lines")
+    p.plan("sweep", "10 points on 2 workers", 0.5 * PLAN_MIN_S)
+    assert capsys.readouterr().err == ""  # short: nothing announced
+    p.plan("sweep", "10000 points on 2 workers", 2 * PLAN_MIN_S)
+    assert capsys.readouterr().err == (
+        f"obturator: sweep: 10000 points on 2 workers; estimated "
+        f"{fmt_duration(2 * PLAN_MIN_S)} on idle cores\n"
+    )
+    p.plan("validate", "9 fits on 2 workers")  # no probe: the work, always
+    assert capsys.readouterr().err == "obturator: validate: 9 fits on 2 workers\n"
+
+
+def test_the_probe_estimates_the_run(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """10 ms of CPU per task, 200 tasks in this process: about 2 s (announced above 1 s)."""
+    import obturator.runs.progress as progress
+
+    monkeypatch.setattr(progress, "PLAN_MIN_S", 1.0)
+    Runner(workers=1, progress=Progress("lines")).map(Slow(0.01), tasks(200), label="toy")
+    err = capsys.readouterr().err
+    est = re.search(r"obturator: toy: 200 points on 1 worker; estimated ([\d.]+) s", err)
+    assert est is not None, err
+    assert 1.0 <= float(est.group(1)) <= 2.5  # 168 tasks left after the probe: 1.68 s
+
+
+def test_fmt_duration() -> None:
+    assert fmt_duration(4.25) == "4.2 s" and fmt_duration(42.4) == "42 s"
+    assert fmt_duration(330) == "5.5 min" and fmt_duration(7200) == "2.0 h"
+
+
+def test_empty_sidecar_from_an_unwritten_header_is_taken_as_absent(tmp_path: Path) -> None:
+    """A store whose header never reached the disk (an older release on a full disk)
+    resumes as new instead of refusing a "different study (hash ?)"."""
+    out = tmp_path / "env.nc"
+    sidecar_path(out).write_bytes(b"")
+    runner = Runner(workers=1, store=out)
+    runner.open(study_digest({"study": "toy"}))
+    assert runner.map(Slow(), tasks(3)) == [{"y": 0.0}, {"y": 2.0}, {"y": 4.0}]
+    header = json.loads(sidecar_path(out).read_text().splitlines()[0])
+    assert header["study"] == study_digest({"study": "toy"})
+    runner.close()
+    with pytest.raises(InputError, match="different study"):
+        Runner(store=out).open(study_digest({"study": "other"}))
+
+
+def test_non_mapping_tasks_are_not_stored(tmp_path: Path) -> None:
+    runner = Runner(workers=1, store=tmp_path / "o.nc")
+    runner.open(study_digest({"study": "toy"}))
+    with pytest.raises(InputError, match="^store:"):
+        runner.map(len, [(1, 2), (3,)])
+    runner.close()
