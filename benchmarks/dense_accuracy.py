@@ -31,8 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from obturator.core.integrators.lanes import LANES
-from obturator.core.integrators.radau_lanes import integrate_radau_lanes
+from obturator.core.integrators.lanes import LANES, integrate_radau_lanes
 from obturator.model.cases import rig_case
 from obturator.solve import SolverOptions, integration_setup, opening_time, opening_times
 

@@ -150,7 +150,8 @@ def test_lane_kernel_matches_scalar_kernel_with_turbulent_lanes(n_turbulent):
     """The lanes evaluate the laminar branch and redo the batch when a lane reached the
     transition: every lane equals the one-state kernel, with none, one or several lanes
     above it."""
-    from obturator.core.integrators.lanes import LANES, _rhs_thesis_lanes
+    from obturator.core.integrators.lanes import LANES
+    from obturator.core.integrators.lanes.rates import rhs_thesis_lanes
     from obturator.core.layout import N_STATE, P_VISC
 
     p = pack_parameters(rig_case(300.0, MU_S), SolverOptions())
@@ -164,7 +165,7 @@ def test_lane_kernel_matches_scalar_kernel_with_turbulent_lanes(n_turbulent):
     y_lanes = np.array(states).T.ravel().copy()  # component-major: y[i * LANES + lane]
     p_lanes = np.repeat(p, LANES)
     dy = np.empty(N_STATE * LANES)
-    _rhs_thesis_lanes(y_lanes, p_lanes, dy, 0)
+    rhs_thesis_lanes(y_lanes, p_lanes, dy, 0)
     for j, y in enumerate(states):
         want = np.empty(8)
         rhs(0.0, y, p, want)
@@ -301,7 +302,7 @@ def test_lanes_sweep_resumes_after_interruption(monkeypatch, tmp_path):
 
 
 def test_generated_lane_sums_are_current():
-    """src/obturator/core/integrators/lane_sums.py is what tools/gen_lane_sums.py writes
+    """src/obturator/core/integrators/lanes/dop853_sums.py is what tools/gen_lane_sums.py writes
     from the published DOP853 coefficients."""
     import subprocess
     import sys

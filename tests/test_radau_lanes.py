@@ -21,8 +21,7 @@ import math
 import numpy as np
 import pytest
 
-from obturator.core.integrators.lanes_layout import LANES
-from obturator.core.integrators.radau_lanes import integrate_radau_lanes
+from obturator.core.integrators.lanes import LANES, integrate_radau_lanes
 from obturator.errors import InputError
 from obturator.model.cases import rig_case
 from obturator.solve import (
@@ -189,12 +188,8 @@ def test_lane_lu_solves_match_numpy():
     """The lane LU (per-lane pivoting, generated solves) solves random real and complex systems
     as numpy.linalg.solve does, with row interchanges in some lanes and a singular lane
     reported as such."""
-    from obturator.core.integrators.lane_linalg import (
-        lu_factor_complex_lanes,
-        lu_factor_lanes,
-        lu_solve_lanes,
-        lu_solve_pair_lanes,
-    )
+    from obturator.core.integrators.lanes.lu import lu_factor_complex_lanes, lu_factor_lanes
+    from obturator.core.integrators.lanes.solves import lu_solve_lanes, lu_solve_pair_lanes
 
     rng = np.random.default_rng(5)
     n = 8
@@ -234,7 +229,7 @@ def test_lane_lu_solves_match_numpy():
 
 
 def test_generated_lane_lu_is_current():
-    """lane_solves.py is what tools/gen_lane_linalg.py writes."""
+    """lanes/solves.py is what tools/gen_lane_linalg.py writes."""
     import subprocess
     import sys
     from pathlib import Path

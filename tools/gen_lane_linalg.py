@@ -1,4 +1,4 @@
-"""Write ``core/integrators/lane_solves.py``: the LU solves over lanes, unrolled.
+"""Write ``core/integrators/lanes/solves.py``: the LU solves over lanes, unrolled.
 
 ``python tools/gen_lane_linalg.py`` (``--check`` exits 1 if the file is stale;
 ``tests/test_radau_lanes.py`` runs the check). The forward and backward
@@ -6,7 +6,7 @@ substitutions of the real and of the complex system are each one loop over lanes
 whose body is written out with constant offsets and the right-hand side in
 registers: measured 55 ns per lane for a Newton iteration's pair of solves against
 70 ns with loops over rows and columns. (The factorisations gained little or lost
-this way and compiled for 30 s, so :mod:`obturator.core.integrators.lane_lu` keeps
+this way and compiled for 30 s, so :mod:`obturator.core.integrators.lanes.lu` keeps
 them as loops.)
 Per lane the operations are those of :mod:`obturator.core.integrators.linalg` in
 the same order.
@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 from obturator.core.layout import N_STATE  # noqa: E402
 
-DIR = ROOT / "src" / "obturator" / "core" / "integrators"
+DIR = ROOT / "src" / "obturator" / "core" / "integrators" / "lanes"
 N = N_STATE
 Q3 = '"' * 3
 
@@ -33,16 +33,16 @@ forward and backward substitutions is one loop
 over lanes with the row and column offsets written out as constants and the right
 sides in registers, so that LLVM vectorises it (with loops over rows and columns the
 pair of solves took 70 ns per lane, this way 55). Pivoting stays per lane
-(:mod:`.lane_pivot`). Per lane the operations are those of
-:mod:`.linalg` in the same order, FMA contraction allowed as there. ``vw`` is the
-number of lanes, passed at run time (always ``LANES``; with a constant trip count
-LLVM unrolled the loop into scalar code instead).
+(:mod:`.pivot`). Per lane the operations are those of
+:mod:`obturator.core.integrators.linalg` in the same order, FMA contraction allowed as
+there. ``vw`` is the number of lanes, passed at run time (always ``LANES``; with a
+constant trip count LLVM unrolled the loop into scalar code instead).
 Q3
 
 from numba import njit, uint64
 
-from .lane_pivot import IMPORTS
-from .lanes_layout import LANE_KERNEL, LANES
+from .pivot import IMPORTS
+from .simd import LANE_KERNEL, LANES
 
 if LANES != 16:  # pragma: no cover - the offsets below are literals for 16 lanes
     raise ImportError("written for 16 lanes: run tools/gen_lane_linalg.py")
@@ -51,9 +51,8 @@ __all__ = [NAMES]"""
 
 #: generated module -> (first docstring line, pivot helpers it uses, functions)
 FILES = {
-    "lane_solves.py": (
-        "The solves of the 8x8 LU over lanes (:func:`.linalg.lu_solve`, "
-        ":func:`.linalg.lu_solve_pair`).",
+    "solves.py": (
+        "The solves of the 8x8 LU over lanes (``linalg.lu_solve``, ``lu_solve_pair``).",
         "permute",
         ["lu_solve_lanes", "lu_solve_pair_lanes"],
     ),
@@ -109,9 +108,9 @@ def _solve(pair: bool) -> list[str]:
         args = "lu, piv, swapped, b, vw"
     doc = (
         '    """Solve lu x = b and (ar + i ai) x = br + i bi in place in every lane (the real\n'
-        '    and complex systems of a Newton iteration, as :func:`.linalg.lu_solve_pair`)."""'
+        '    and complex systems of a Newton iteration, as ``linalg.lu_solve_pair``)."""'
         if pair
-        else '    """Solve lu x = b in place in every lane (factors of :func:`lu_factor_lanes`)."""'
+        else '    """Solve lu x = b in place in every lane (factors of :mod:`.lu`)."""'
     )
     sig = [f"def {name}({args}):  # pragma: no cover"]
     if len(sig[0]) > 100:  # as ruff format writes it
@@ -139,7 +138,7 @@ def source(name: str) -> str:
 
 
 def main(argv: list[str]) -> int:
-    from obturator.core.integrators.lanes_layout import LANES
+    from obturator.core.integrators.lanes.simd import LANES
 
     if LANES != 16:  # the literals are written for 16 lanes
         raise SystemExit(f"the offsets are written for 16 lanes, not {LANES}")

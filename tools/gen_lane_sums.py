@@ -1,4 +1,4 @@
-"""Write ``src/obturator/core/integrators/lane_sums.py``: DOP853's stage sums, unrolled.
+"""Write ``src/obturator/core/integrators/lanes/dop853_sums.py``: DOP853's stage sums, unrolled.
 
 ``python tools/gen_lane_sums.py`` (``--check`` exits 1 if the file is stale;
 ``tests/test_lanes.py`` runs the check). One compiled function per sum, with the
@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "src"))
 from obturator.core.integrators.dop853_coefficients import E3, E5, A, B  # noqa: E402
 
-TARGET = ROOT / "src" / "obturator" / "core" / "integrators" / "lane_sums.py"
+TARGET = ROOT / "src" / "obturator" / "core" / "integrators" / "lanes" / "dop853_sums.py"
 
 HEADER = '''"""DOP853's stage and error sums over lanes, unrolled (by ``tools/gen_lane_sums.py``).
 
@@ -33,9 +33,9 @@ to the bit.
 
 from numba import njit, uint64
 
-from ..layout import N_STATE
-from .dop853 import error_weight
-from .lanes_layout import LANES
+from ...layout import N_STATE
+from ..dop853 import error_weight
+from .simd import LANES
 
 _KS = N_STATE * LANES
 

@@ -90,8 +90,7 @@ def load_radau_lanes() -> None:
     """Load (or compile) the Radau IIA lanes: one short near-stick rig point (1 ms)."""
     import numpy as np
 
-    from .core.integrators.lanes_layout import LANES
-    from .core.integrators.radau_lanes import integrate_radau_lanes
+    from .core.integrators.lanes import LANES, integrate_radau_lanes
     from .model.cases import rig_case
     from .solve import SolverOptions, integration_setup
 

@@ -61,6 +61,7 @@ from .layout import (
     SPIN_THESIS_ENERGY,
 )
 from .specialised import rhs_thesis
+from .thesis_law import algebraic_spread_sq, arm_slip_sq, arm_weights, viscous_coefficient
 
 configure_cache()  # before any @njit(cache=True) below or in the integrators
 
@@ -98,7 +99,7 @@ def slip_saturation(x: float, family: float) -> float:
         return x if x < 1.0 else 1.0
     if x > 1e150:  # zero width (x = inf): the unregularised law
         return 1.0
-    return x / math.sqrt(1.0 + x * x)
+    return x / math.sqrt(algebraic_spread_sq(x * x, 1.0))
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -136,6 +137,9 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
 
     Notes
     -----
+    The thesis's viscous coefficient and moment arm come from
+    :mod:`obturator.core.thesis_law`, as in the specialised kernel.
+
     Thesis friction laws (rig Eq. 61, flight Appendix A): the moment arm is a
     function of the *true* slip direction u = omega_r/|omega_r|, as Appendix A
     computes it (``ARM = SQRT(1.-C(1)*(OMXR/OMR)**2-...)``); only the magnitude
@@ -162,12 +166,11 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
     tx = 0.0
     ty = 0.0
     tz = 0.0
-    wn2 = wx * wx + wy * wy + wz * wz
+    wx2, wy2, wz2 = wx * wx, wy * wy, wz * wz
+    wn2 = wx2 + wy2 + wz2
     wn = math.sqrt(wn2)
-    if p[P_VISC] != 0.0:
-        k = p[P_VISC + 1]
-        if wn >= p[P_VISC + 3]:  # turbulent branch, Eq. (39): M ~ |w|^1.75
-            k = p[P_VISC + 2] * wn**0.75
+    if p[P_VISC] != 0.0:  # Eqs. (39), (41), (42) (obturator.core.thesis_law)
+        k, _ = viscous_coefficient(wn2, p[P_VISC + 1], p[P_VISC + 2], p[P_VISC + 3], True)
         tx -= k * wx
         ty -= k * wy
         tz -= k * wz
@@ -185,20 +188,14 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
             m = m * friction_speed_factor(
                 wn * p[P_FRIC + 2], speed_code, p[P_SPEED + 1], p[P_SPEED + 2]
             )
-        ux = wx / wn
-        uy = wy / wn
-        uz = wz / wn
-        if code == FRIC_THESIS_RIG:  # rig, Eq. (61): arm sqrt(1 - (w_X/w_r)^2)
-            arm2 = 1.0 - ux * ux
-        else:  # flight, Appendix A arm
-            sb = math.sin(p[P_FRIC + 3])
-            cb = math.cos(p[P_FRIC + 3])
-            arm2 = 1.0 - sb * sb * ux * ux - cb * cb * uz * uz
+        # rig Eq. (61), flight Appendix A (obturator.core.thesis_law)
+        b_x, b_z = arm_weights(code, p[P_FRIC + 3])
+        arm2 = arm_slip_sq(wx2, wy2, wz2, b_x, b_z) / wn2
         arm = math.sqrt(arm2) if arm2 > 0.0 else 0.0
-        f = m * arm * slip_saturation(wn / delta if delta > 0.0 else math.inf, family)
-        tx -= f * ux
-        ty -= f * uy
-        tz -= f * uz
+        f = m * arm * slip_saturation(wn / delta if delta > 0.0 else math.inf, family) / wn
+        tx -= f * wx
+        ty -= f * wy
+        tz -= f * wz
         return tx, ty, tz
     # Coulomb contacts: F_k = -mu N_k s v_k/g, pivot -mu N_k s eps^2 w_n/g n_k;
     # G = sum P_k x F_k + pivot.

@@ -30,7 +30,10 @@ the scalar integrators (through ``rhs``) and by the batched lanes alike:
 * FMA contraction allowed (``fastmath={"contract"}``) and the NumPy error
   model (a division never raises), so that loops over lanes vectorise.
 
-The kernel agrees with the generic right-hand side to rounding
+The law itself (viscous coefficient, arm weights, regularisation) is not written
+here: the kernel and the generic code take it from :mod:`obturator.core.thesis_law`
+(``tests/test_thesis_law.py`` edits it there and sees every path move). The kernel
+agrees with the generic right-hand side to rounding
 (``tests/test_lanes.py`` checks 1e-12 relative on random states) and is
 chosen by :func:`specialise` only where it applies; everything else keeps the
 generic code (``P_KERNEL = KERNEL_GENERIC``).
@@ -70,6 +73,7 @@ from .layout import (
     SPIN_FREE,
     VISC_NONE,
 )
+from .thesis_law import algebraic_spread_sq, arm_slip_sq, arm_weights, viscous_coefficient
 
 configure_cache()
 
@@ -115,16 +119,11 @@ def specialise(p: np.ndarray) -> np.ndarray:
     p[d + _C_MINUS_A] = p[P_C] - p[P_A]
     p[d + _FREE_INV_IP] = 1.0 / p[P_IP] if p[P_SPIN_MODE] == SPIN_FREE else 0.0
     p[d + _DELTA_SQ] = p[P_WIDTH] * p[P_WIDTH]
-    p[d + _ARM_BX] = 1.0  # b_X, b_Z: arm^2 |omega_r|^2 = b_X w_X^2 + w_Y^2 + b_Z w_Z^2
-    p[d + _ARM_BZ] = 1.0
+    # b_X, b_Z: arm^2 |omega_r|^2 = b_X w_X^2 + w_Y^2 + b_Z w_Z^2 (rig Eq. 61, flight
+    # Appendix A), the law's own function run as Python (same floats as compiled)
+    p[d + _ARM_BX], p[d + _ARM_BZ] = arm_weights.py_func(fric, p[P_FRIC + 3])
     if fric != FRIC_NONE:
         p[d + _MOMENT] = p[P_FRIC + 1]
-        if fric == FRIC_THESIS_RIG:  # Eq. (61): arm^2 = 1 - u_X^2
-            p[d + _ARM_BX] = 0.0
-        else:  # Appendix A: arm^2 = 1 - sin^2(beta) u_X^2 - cos^2(beta) u_Z^2
-            sb, cb = math.sin(p[P_FRIC + 3]), math.cos(p[P_FRIC + 3])
-            p[d + _ARM_BX] = cb * cb
-            p[d + _ARM_BZ] = sb * sb
     if p[P_VISC] == VISC_NONE:
         p[P_VISC + 1 : P_VISC + 4] = (0.0, 0.0, math.inf)
     return p
@@ -175,14 +174,11 @@ def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent):
     wz = r20 * w1 + r21 * w2 + r22 * w3 - wp
     wx2, wy2, wz2 = wx * wx, wy * wy, wz * wz
     wn2 = wx2 + wy2 + wz2
-    above = wn2 >= visc_w * visc_w  # Eq. (41): turbulent at and above the transition
-    k = visc_s
-    if turbulent and above:  # Eq. (39): S (|omega_r| / omega_t)^0.75 as K |omega_r|^0.75
-        rw = math.sqrt(math.sqrt(wn2))
-        k = visc_k * (rw * math.sqrt(rw))
+    k, above = viscous_coefficient(wn2, visc_s, visc_k, visc_w, turbulent)  # Eqs. 39, 41
+    # friction M ARM s(x) / |omega_r| = M sqrt(ARM^2 |w|^2 / (|w|^2 (delta^2 + |w|^2)))
     slipping = wn2 > _SLIP_SQ_MIN
-    num = b_x * wx2 + wy2 + b_z * wz2 if slipping else 1.0
-    den = wn2 * (delta_sq + wn2) if slipping else delta_sq
+    num = arm_slip_sq(wx2, wy2, wz2, b_x, b_z) if slipping else 1.0
+    den = wn2 * algebraic_spread_sq(wn2, delta_sq) if slipping else delta_sq
     c = k + moment * math.sqrt(num / den)
     # G = -c omega_r; in body axes -c (w - omega_p R^T Z)
     g1 = -c * (w1 - wp * r20)

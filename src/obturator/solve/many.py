@@ -16,7 +16,7 @@ t_cr and status per case:
 3. a lane that DOP853 finds stiff continues with Radau IIA from its last
    accepted state, as :func:`obturator.core.integrators.integrate` does for one
    trajectory: in Radau IIA lanes
-   (:func:`obturator.core.integrators.radau_lanes.integrate_radau_lanes`) when
+   (:func:`obturator.core.integrators.lanes.integrate_radau_lanes`) when
    the batch has at least :data:`RADAU_LANES_MIN` such points and the thesis
    kernel, else one by one;
 4. a Radau IIA lane whose ball slides again (status ``NONSTIFF``, the end of the
@@ -48,8 +48,7 @@ from ..core.integrators import (
     auto_radau_tolerances,
     continue_auto,
 )
-from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes
-from ..core.integrators.radau_lanes import integrate_radau_lanes
+from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes, integrate_radau_lanes
 from ..core.layout import KERNEL_THESIS, N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError, SolverError
 from ..status import MESSAGES, Status

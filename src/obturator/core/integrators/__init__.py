@@ -147,3 +147,10 @@ def _continue(prev: RawSolution, run, problem: Problem, controls: Controls) -> R
         n_steps=nxt.n_steps + prev.n_steps,
         n_rejected=nxt.n_rejected + prev.n_rejected,
     )
+
+
+def __getattr__(name: str):
+    """The batched integrators (:mod:`.lanes`), loaded on first use like the methods."""
+    if name in ("integrate_lanes", "integrate_radau_lanes"):
+        return getattr(importlib.import_module(".lanes", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

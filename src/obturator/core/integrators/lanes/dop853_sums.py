@@ -12,9 +12,9 @@ to the bit.
 
 from numba import njit, uint64
 
-from ..layout import N_STATE
-from .dop853 import error_weight
-from .lanes_layout import LANES
+from ...layout import N_STATE
+from ..dop853 import error_weight
+from .simd import LANES
 
 _KS = N_STATE * LANES
 

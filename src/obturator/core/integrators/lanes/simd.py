@@ -7,9 +7,9 @@ arrays of runtime stride they did not vectorise at all). 16 lanes measured
 fastest on the 2-core AVX2 development machine (8: slower; 32: within noise).
 """
 
-from ..jit_flags import NO_REFCOUNT
+from ...jit_flags import NO_REFCOUNT
 
-__all__ = ["LANES", "LANE_KERNEL", "NO_REFCOUNT"]
+__all__ = ["LANES", "LANE_KERNEL", "DRIVER_PHASE", "NO_REFCOUNT"]
 
 LANES = 16
 
@@ -23,3 +23,8 @@ LANE_KERNEL: dict[str, object] = {
     "error_model": "numpy",
     **NO_REFCOUNT,
 }
+
+#: numba's flags for the phases of the lane drivers' loops: compiled into the loop
+#: (numba inlines them), as it is compiled (FMA contraction, the NumPy error model, no
+#: reference counting), so each driver's loop is one function with no reference counts.
+DRIVER_PHASE: dict[str, object] = {**LANE_KERNEL, "inline": "always"}

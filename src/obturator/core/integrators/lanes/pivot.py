@@ -1,4 +1,4 @@
-"""Partial pivoting of the lane LU (:mod:`.lane_linalg`), lane by lane.
+"""Partial pivoting of the lane LU (:mod:`.lu`, :mod:`.solves`), lane by lane.
 
 The pivot search is a vectorised running maximum over the lanes; the row
 interchange differs between lanes and is rare in Radau's iteration matrices
@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from numba import njit, uint64
 
-from ..layout import N_STATE
-from .lanes_layout import LANE_KERNEL, LANES
+from ...layout import N_STATE
+from .simd import LANE_KERNEL, LANES
 
 __all__ = ["pivot_search", "interchange", "permute"]
 

@@ -1,11 +1,12 @@
-"""The vector phases of the batched Radau IIA (:mod:`.radau_lanes`), one loop over lanes each.
+"""The vector phases of the batched Radau IIA (:mod:`.radau`), one lane loop each.
 
-Per lane each phase does what the named part of :func:`.radau.integrate` does
-(forward-difference Jacobian, the two iteration matrices, the stage guess, the
-transformed Newton residual and update, the Newton and error norms), on the
-structure-of-arrays layout of :mod:`.lanes` (``x[i * LANES + lane]``, stage k of
+Per lane each phase does what the named part of
+:func:`obturator.core.integrators.radau.integrate` does (forward-difference Jacobian, the
+two iteration matrices, the stage guess, the transformed Newton residual and update, the
+Newton and error norms), on the
+structure-of-arrays layout of the lanes (``x[i * LANES + lane]``, stage k of
 a three-stage quantity at offset ``k * N_STATE * LANES``). Every function takes
-``vw``, the lane count passed at run time (see :mod:`.lane_linalg`).
+``vw``, the lane count passed at run time (see :mod:`.lu`).
 """
 
 from __future__ import annotations
@@ -14,10 +15,8 @@ import math
 
 from numba import njit, uint64
 
-from ..layout import N_STATE
-from .lanes import _rhs_thesis_lanes
-from .lanes_layout import LANE_KERNEL, LANES, NO_REFCOUNT
-from .radau_coefficients import (
+from ...layout import N_STATE
+from ..radau_coefficients import (
     ALPHA,
     BETA,
     C1,
@@ -48,6 +47,8 @@ from .radau_coefficients import (
     TI21,
     TI22,
 )
+from .rates import rhs_thesis_lanes
+from .simd import LANE_KERNEL, LANES, NO_REFCOUNT
 
 __all__ = [
     "jacobian_lanes",
@@ -61,7 +62,6 @@ __all__ = [
     "error_rhs_lanes",
     "stages_rhs",
     "f0_masked",
-    "lane_vector",
     "NW_F",
     "NW_W",
     "NW_Z",
@@ -75,7 +75,7 @@ __all__ = [
 
 _N = N_STATE
 _V = N_STATE * LANES
-# The Newton workspace of the driver, one array (see radau_lanes): stage derivatives F,
+# The Newton workspace of the driver, one array (see .radau): stage derivatives F,
 # transformed increments W, increments Z (three vectors each), the residual / correction
 # R1 (real), R2 + i R3 (complex) and the reciprocal error weights. One array with
 # constant offsets: LLVM then needs no runtime alias checks between them (with separate
@@ -92,8 +92,8 @@ def _u(x):
 
 @njit(**LANE_KERNEL)
 def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, vw) -> None:
-    """Forward-difference Jacobian of every lane (as :func:`.common.jacobian`),
-    stored for the lanes with NJ set.
+    """Forward-difference Jacobian of every lane (as
+    :func:`obturator.core.integrators.common.jacobian`), stored for the lanes with NJ set.
 
     dj_cap[i * LANES + lane] holds the increment cap of component i (1e-4 delta
     for rates, 1e-4 delta / omega_ref for quaternion components).
@@ -109,7 +109,7 @@ def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, vw) -> None
             dj = min(dj, dj_cap[u])
             WORK[u] = y + dj
             dj_row[j] = WORK[u] - y  # the increment actually taken
-        _rhs_thesis_lanes(WORK, PL, FW, 0)
+        rhs_thesis_lanes(WORK, PL, FW, 0)
         for i in range(_N):
             for j in range(vw):
                 a = _u((i * _N + c) * LANES + j)
@@ -119,7 +119,7 @@ def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, vw) -> None
 
 @njit(**LANE_KERNEL)
 def build_lanes(JAC, H, LUR, LUCR, LUCI, vw) -> None:
-    """gamma/h I - J and (alpha + i beta)/h I - J of every lane (as :func:`.radau._factor`)."""
+    """gamma/h I - J and (alpha + i beta)/h I - J of every lane (as ``radau._factor``)."""
     for i in range(_N):
         for c in range(_N):
             for j in range(vw):
@@ -233,7 +233,7 @@ def wnorm_lanes(NW, out, vw) -> None:
 
 @njit(**LANE_KERNEL)
 def error_lanes(Y, YN, WORK, rtol, atol, SC, out, vw) -> None:
-    """:func:`.common.rms_norm` of WORK, every lane."""
+    """:func:`obturator.core.integrators.common.rms_norm` of WORK, every lane."""
     for j in range(vw):
         out[j] = 0.0
     for i in range(_N):
@@ -252,14 +252,7 @@ def stages_rhs(Y, Z, PL, F, WORK, vw) -> None:
     for k in range(3):
         for u in range(_N * vw):
             WORK[u] = Y[u] + Z[_u(k * _V + u)]
-        _rhs_thesis_lanes(WORK, PL, F, k * _V)
-
-
-@njit(cache=True, **NO_REFCOUNT)
-def lane_vector(X, j, k, out) -> None:
-    """Copy lane j of the k-th vector of X into out."""
-    for i in range(_N):
-        out[i] = X[k * _V + i * LANES + j]
+        rhs_thesis_lanes(WORK, PL, F, k * _V)
 
 
 @njit(**LANE_KERNEL)
@@ -270,7 +263,7 @@ def f0_masked(Y, PL, F0, FW, ACC, CNT, vw) -> None:
         any_acc = any_acc or ACC[j]
     if not any_acc:
         return
-    _rhs_thesis_lanes(Y, PL, FW, 0)
+    rhs_thesis_lanes(Y, PL, FW, 0)
     for i in range(_N):
         for j in range(vw):
             u = _u(i * LANES + j)

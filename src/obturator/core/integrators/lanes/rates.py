@@ -1,0 +1,113 @@
+"""Right-hand sides of every lane at once, and the nutation pre-test of both lane drivers.
+
+The thesis's kernel (:func:`obturator.core.specialised.thesis_rates`, the same
+compiled function as the scalar path's) in one vector loop over lanes, and the
+generic right-hand side (:func:`obturator.core.dynamics.rhs`) lane by lane.
+Vectors are flat and component-major (``x[i * LANES + lane]``, :mod:`.simd`).
+
+The vector loops always run over all :data:`~.simd.LANES` lanes, live or not: with a
+trip count below the vector width part of the lanes would run through LLVM's scalar
+remainder loop, whose FMA contraction may differ, and a point's t_cr would depend on
+how many points shared its batch (observed at the last digit).
+"""
+
+from __future__ import annotations
+
+from numba import njit, uint64
+
+from ...dynamics import rhs
+from ...layout import N_STATE, P_DERIVED, P_VISC
+from ...specialised import thesis_rates
+from .simd import LANE_KERNEL, LANES, NO_REFCOUNT
+
+__all__ = ["rhs_thesis_lanes", "rhs_generic_lanes", "cos_nutation_lanes"]
+
+
+@njit(**LANE_KERNEL)
+def rhs_thesis_lanes(y, p, dy, do) -> None:
+    """:func:`~obturator.core.specialised.thesis_rates` of every lane into ``dy[do:]``.
+
+    A lane kernel (:data:`.simd.LANE_KERNEL`: no reference counting), kept apart from
+    the generic right-hand side. The loop evaluates the laminar viscous branch; if any
+    lane's slip reached the turbulent transition it is run again with the turbulent
+    branch (same results as the scalar kernel).
+    """
+    if _thesis_lanes(y, p, dy, do, False):
+        _thesis_lanes(y, p, dy, do, True)
+
+
+@njit(inline="always", **LANE_KERNEL)
+def _thesis_lanes(y, p, dy, do, turbulent) -> int:
+    """The loop of :func:`rhs_thesis_lanes`; returns the lanes at or above the turbulent
+    transition.
+
+    Indices are cast to unsigned (see :mod:`.dop853_sums`): with signed offsets numba's
+    negative-index wrap-around kept this loop scalar (measured ~32 ns per lane and
+    call against ~10 ns vectorised).
+    """
+    d = P_DERIVED
+    n_above = 0
+    for j in range(LANES):
+        c = (
+            p[uint64((P_VISC + 1) * LANES + j)],
+            p[uint64((P_VISC + 2) * LANES + j)],
+            p[uint64((P_VISC + 3) * LANES + j)],
+            p[uint64(d * LANES + j)],
+            p[uint64((d + 1) * LANES + j)],
+            p[uint64((d + 2) * LANES + j)],
+            p[uint64((d + 3) * LANES + j)],
+            p[uint64((d + 4) * LANES + j)],
+            p[uint64((d + 5) * LANES + j)],
+            p[uint64((d + 6) * LANES + j)],
+            p[uint64((d + 7) * LANES + j)],
+        )
+        r0, r1, r2, r3, r4, r5, r6, r7, above = thesis_rates(
+            y[j],
+            y[uint64(j + LANES)],
+            y[uint64(j + 2 * LANES)],
+            y[uint64(j + 3 * LANES)],
+            y[uint64(j + 4 * LANES)],
+            y[uint64(j + 5 * LANES)],
+            y[uint64(j + 6 * LANES)],
+            y[uint64(j + 7 * LANES)],
+            c,
+            turbulent,
+        )
+        n_above += above
+        o = do + j
+        dy[uint64(o)] = r0
+        dy[uint64(o + LANES)] = r1
+        dy[uint64(o + 2 * LANES)] = r2
+        dy[uint64(o + 3 * LANES)] = r3
+        dy[uint64(o + 4 * LANES)] = r4
+        dy[uint64(o + 5 * LANES)] = r5
+        dy[uint64(o + 6 * LANES)] = r6
+        dy[uint64(o + 7 * LANES)] = r7
+    return n_above
+
+
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT)
+def rhs_generic_lanes(y, p, dy, do, nl, one) -> None:
+    """The generic right-hand side (:func:`~obturator.core.dynamics.rhs`) in lanes
+    0..nl-1, through `one` = (state, derivative, parameters) of one lane (scratch)."""
+    ys, ds, ps = one
+    n_par = p.shape[0] // LANES
+    for j in range(nl):
+        for i in range(N_STATE):
+            ys[i] = y[i * LANES + j]
+        for i in range(n_par):
+            ps[i] = p[i * LANES + j]
+        rhs(0.0, ys, ps, ds)
+        for i in range(N_STATE):
+            dy[do + i * LANES + j] = ds[i]
+
+
+@njit(**LANE_KERNEL)
+def cos_nutation_lanes(y, out) -> None:
+    """cos(theta) = 1 - 2 (q1^2 + q2^2) / |q|^2 of quaternion-form lanes (vectorised)."""
+    for j in range(LANES):
+        q0 = y[j]
+        q1 = y[uint64(LANES + j)]
+        q2 = y[uint64(2 * LANES + j)]
+        q3 = y[uint64(3 * LANES + j)]
+        out[j] = 1.0 - 2.0 * (q1 * q1 + q2 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
