@@ -124,6 +124,13 @@ BLOCKS: dict[str, Block] = {
         slow=True,
         cost="50 s",
     ),
+    "start": Block(
+        ("obturator trajectory --mach 2.5",),
+        keep=(r"^(M0|t_cr|t_start|inlet)",),
+        rtol=1e-4,
+        slow=True,
+        cost="20 s",
+    ),
     "probability": Block(
         (
             "obturator probability --mach 1.75 --altitude-m 6000 --method both --samples 2000",
