@@ -89,7 +89,7 @@ def raw() -> object:
 @pytest.fixture(autouse=True)
 def _pools_even_for_small_studies(monkeypatch: pytest.MonkeyPatch) -> None:
     """Tests of the process pool use small studies, which would otherwise run in
-    process (see obturator.runs.runner.POOL_MIN_SERIAL_S; tests/test_sweep.py checks
+    process (see obturator.runs.runner.POOL_MIN_SERIAL_S; tests/sweeps/test_sweep.py checks
     that choice with the real threshold)."""
     from obturator.runs import runner
 

@@ -1,7 +1,7 @@
 """Write ``core/integrators/lanes/solves.py``: the LU solves over lanes, unrolled.
 
 ``python tools/gen_lane_linalg.py`` (``--check`` exits 1 if the file is stale;
-``tests/test_radau_lanes.py`` runs the check). The forward and backward
+``tests/core/test_radau_lanes.py`` runs the check). The forward and backward
 substitutions of the real and of the complex system are each one loop over lanes
 whose body is written out with constant offsets and the right-hand side in
 registers: measured 55 ns per lane for a Newton iteration's pair of solves against

@@ -1,7 +1,7 @@
 """Write ``src/obturator/core/integrators/lanes/dop853_sums.py``: DOP853's stage sums, unrolled.
 
 ``python tools/gen_lane_sums.py`` (``--check`` exits 1 if the file is stale;
-``tests/test_lanes.py`` runs the check). One compiled function per sum, with the
+``tests/core/test_lanes.py`` runs the check). One compiled function per sum, with the
 nonzero coefficients as literals, so that the only loop left in each is the one
 over lanes, which LLVM vectorises. Per lane the terms are added in the order of
 :func:`obturator.core.integrators.dop853._stages` (zero terms dropped: adding

@@ -7,7 +7,7 @@ the starred runs (omega_p >= 235.97 rad/s) are fitted in chapter IV to the
 large-spin form t = T2 omega_p (Eq. 96), and T2 gives the friction coefficient
 through Eq. (95), mu_bar = 3.03e-4 / T2, and mu_s = mu_bar / ((2/pi) E(theta0)).
 
-What the data reproduce (see ``tests/test_experiment.py``)
+What the data reproduce (see ``tests/calibration/test_experiment.py``)
 ----------------------------------------------------------
 * Every printed omega_p equals f pi / 9 rounded to its printed precision.
 * The 28 starred runs do *not* reproduce the printed sums (sum t^2 = 2.5030002

@@ -28,7 +28,7 @@ from ..errors import (
 # Sub-command -> (the module that adds it, its one-line help). Each module defines
 # register(subparsers) and sets ``func`` (callable taking the parsed namespace,
 # returning an exit code). A command line naming one command imports only that
-# module; ``obturator --help`` imports none (start-up time; tests/test_cli_startup.py
+# module; ``obturator --help`` imports none (start-up time; tests/cli/test_cli_startup.py
 # checks that each module registers the help given here).
 _COMMANDS: dict[str, tuple[str, str]] = {
     "simulate": ("obturator.cli.simulate", "integrate one case to the opening time t_cr"),

@@ -4,7 +4,7 @@ Non-finite floats (Python or NumPy) become ``null``; NumPy scalars and arrays
 become plain numbers and lists; anything else that json cannot encode is an error.
 Every top-level object carries ``obturator_version``, so that a saved result says
 which release made it. Keys of quantities with a unit end in the unit
-(``pressure_Pa``, ``wall_s``; ``tests/test_json_outputs.py`` checks the commands).
+(``pressure_Pa``, ``wall_s``; ``tests/cli/test_json_outputs.py`` checks the commands).
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ below (or with ``choices``), so argparse converts and checks it while parsing,
 before any work: quantities with units and a range, whole numbers with a
 bound, sweep axes, output files and folders, input files, bounded free text.
 A bad value ends the run with one line ``obturator: error: --flag: ...`` and
-exit code 2 (``cli._Parser.error``). ``tests/test_cli_contract.py`` fails when
+exit code 2 (``cli._Parser.error``). ``tests/cli/test_cli_contract.py`` fails when
 an option bypasses this layer, and fuzzes every option of every command from
 its kind, so a new command or flag is covered without writing its cases.
 """

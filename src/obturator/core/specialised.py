@@ -32,9 +32,9 @@ the scalar integrators (through ``rhs``) and by the batched lanes alike:
 
 The law itself (viscous coefficient, arm weights, regularisation) is not written
 here: the kernel and the generic code take it from :mod:`obturator.core.thesis_law`
-(``tests/test_thesis_law.py`` edits it there and sees every path move). The kernel
+(``tests/core/test_thesis_law.py`` edits it there and sees every path move). The kernel
 agrees with the generic right-hand side to rounding
-(``tests/test_lanes.py`` checks 1e-12 relative on random states) and is
+(``tests/core/test_lanes.py`` checks 1e-12 relative on random states) and is
 chosen by :func:`specialise` only where it applies; everything else keeps the
 generic code (``P_KERNEL = KERNEL_GENERIC``).
 """

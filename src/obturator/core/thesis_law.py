@@ -5,7 +5,7 @@ Two right-hand sides evaluate the thesis's torques: the generic
 the specialised kernel :func:`obturator.core.specialised.thesis_rates` (the default
 path of the scalar integrators and of the batched lanes). They differ in algebra, not
 in law: each takes the parts of the law from here, so an edit here changes every
-path (``tests/test_thesis_law.py`` perturbs this module and checks that the scalar
+path (``tests/core/test_thesis_law.py`` perturbs this module and checks that the scalar
 DOP853 and Radau IIA, both lanes and the generic right-hand side all move).
 
 * :func:`viscous_coefficient`: k in Q = -k omega_r, laminar S (Eq. 42) below the

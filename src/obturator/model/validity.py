@@ -2,7 +2,7 @@
 
 The rig model is checked against the 54 spin-rig runs of Appendix B (77.8-446.1 rad/s;
 ``obturator validate``) and its numerics for convergence down to 40 rad/s
-(``tests/test_convergence.py``). Far below, the ball sticks for a long time and the
+(``tests/solve/test_convergence.py``). Far below, the ball sticks for a long time and the
 regularised Coulomb friction, of width ``friction_width`` x omega_p, becomes very stiff:
 measured on the Zen 4 development machine with the defaults, the cost per simulated
 second rises from ~0.03 s at 40 rad/s to ~0.3 s at 5 rad/s and ~80 s at 2.6 rad/s
@@ -17,10 +17,10 @@ from .case import Case
 __all__ = ["RIG_RUN_SPINS", "CONVERGENCE_CHECKED_SPIN", "outside_validated_range"]
 
 #: Lowest and highest spin of the Appendix B rig runs [rad/s] (from their readouts;
-#: tests/test_validity.py checks them against the shipped data).
+#: tests/model/test_validity.py checks them against the shipped data).
 RIG_RUN_SPINS: tuple[float, float] = (77.84, 446.11)
 
-#: Lowest rig spin at which tests/test_convergence.py checks t_cr [rad/s].
+#: Lowest rig spin at which tests/solve/test_convergence.py checks t_cr [rad/s].
 CONVERGENCE_CHECKED_SPIN = 40.0
 
 

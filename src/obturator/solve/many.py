@@ -25,7 +25,7 @@ t_cr and status per case:
 
 Per lane the arithmetic is that of the one-trajectory DOP853, so t_cr agrees
 with the scalar path to the last bit on the cases checked
-(``tests/test_lanes.py``); points continued in Radau IIA lanes agree with the
+(``tests/core/test_lanes.py``); points continued in Radau IIA lanes agree with the
 scalar Radau IIA to rounding amplified by the near-stick dynamics (~1e-8
 relative measured; ``OBTURATOR_RADAU_LANES=0`` continues them one by one).
 This module is the only one above :mod:`obturator.core` besides

@@ -53,7 +53,7 @@ class SolverOptions:
         spin: delta = friction_width * omega_p0 [rad/s]. Default 1e-7: t_cr
         converges about linearly in delta, and at low spin (long near-stick
         phases, e.g. 40-100 rad/s on the rig) 1e-6 still leaves ~1e-3
-        relative; 1e-7 leaves <= 2e-4 there (tests/test_convergence.py). Keep
+        relative; 1e-7 leaves <= 2e-4 there (tests/solve/test_convergence.py). Keep
         ``atol`` well below the width (both are in units of omega_p0): the
         integrator must resolve slip speeds of order delta.
     friction_family : {"algebraic", "tanh", "linear"}

@@ -15,7 +15,7 @@ Same answers as the one-trajectory path: per lane the arithmetic is that of
 :func:`obturator.core.integrators.dop853.integrate` (same stages, error norm, step-size
 control, stiffness test, event location by re-stepping), and the right-hand side of
 the thesis's kernel (:mod:`obturator.core.specialised`) is the same compiled function
-in both; ``tests/test_lanes.py`` compares every point of sweeps with the scalar path.
+in both; ``tests/core/test_lanes.py`` compares every point of sweeps with the scalar path.
 Lanes that turn stiff end with status ``STIFF`` and their last accepted state, for the
 caller to hand to Radau IIA exactly as ``auto`` does
 (:func:`obturator.core.integrators.integrate`). Points with the generic kernel run here

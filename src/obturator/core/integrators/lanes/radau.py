@@ -34,7 +34,7 @@ inlined into it.
 
 Only the thesis kernel (quaternion form) runs here; other kernels keep the
 scalar hand-over. The results are those of the scalar Radau IIA to rounding
-(the vectorised LU may round differently); ``tests/test_radau_lanes.py`` checks the
+(the vectorised LU may round differently); ``tests/core/test_radau_lanes.py`` checks the
 opening times against it.
 """
 

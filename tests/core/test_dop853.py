@@ -60,7 +60,7 @@ def test_auto_agrees_with_tight_radau(name):
     """t_cr of "auto" at the default tolerances equals tight-tolerance Radau's to 1e-6.
 
     Both at width 1e-6 omega_p. (Radau at the default tolerances is ~4e-6 off at 200
-    rad/s, see tests/test_radau.py; the hand-over keeps DOP853's accuracy through the
+    rad/s, see tests/core/test_radau.py; the hand-over keeps DOP853's accuracy through the
     release layer.)
     """
     case = CASES[name]

@@ -234,7 +234,7 @@ def test_generated_lane_lu_is_current():
     import sys
     from pathlib import Path
 
-    tool = Path(__file__).resolve().parents[1] / "tools" / "gen_lane_linalg.py"
+    tool = Path(__file__).resolve().parents[2] / "tools" / "gen_lane_linalg.py"
     if not tool.exists():  # pragma: no cover - installed package without the repository
         pytest.skip("tools/ not present")
     assert subprocess.run([sys.executable, str(tool), "--check"]).returncode == 0

@@ -11,7 +11,7 @@ import pytest
 from obturator.cli import _COMMANDS, build_parser, main
 from obturator.warmup import WARMUP_TARGETS
 
-README = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+README = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
 
 
 def _help(command: str) -> str:

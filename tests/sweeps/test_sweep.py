@@ -233,7 +233,7 @@ def test_solver_failure_is_recorded(monkeypatch: pytest.MonkeyPatch) -> None:
         raise RuntimeError("step limit")
 
     # the failure is injected into the per-point path; the lanes' statuses are
-    # checked against it in tests/test_lanes.py
+    # checked against it in tests/core/test_lanes.py
     monkeypatch.setenv("OBTURATOR_LANES", "0")
     monkeypatch.setattr("obturator.solve.many.opening_time", fail)
     ds = run_sweep(small_spec(axes={"spin_rate": [300.0, 400.0]}), runner=Runner(workers=1))

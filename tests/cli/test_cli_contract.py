@@ -333,7 +333,7 @@ def _run_every_case(path, extra, files, tmp_path):
             continue
         for value in cases(kind_of(action), action, files):
             if "\x00" in value or value == "/dev/null":
-                continue  # the device case runs on a stand-in (tests/test_output_files.py)
+                continue  # the device case runs on a stand-in (tests/cli/test_output_files.py)
             if isinstance(kind_of(action), OutputFile | OutputDir) and value == files["new"]:
                 value = str(tmp_path / Path(value).name)
             if flag in extra or flag in ("--workers", "--scheduler"):

@@ -46,6 +46,10 @@ EXPECTED_FLAGGED = {
 }
 
 
+# the module's fixture runs a quick reproduce (~20 s)
+pytestmark = pytest.mark.slow
+
+
 @pytest.fixture(scope="module")
 def reproduced(tmp_path_factory):
     out = tmp_path_factory.mktemp("reproduce")

@@ -57,6 +57,7 @@ def test_unknown_command_is_one_line_with_the_choices():
     assert "invalid choice" in out.stderr and "simulate" in out.stderr
 
 
+@pytest.mark.slow  # compiles every integrator afresh: ~90 s
 def test_warmup_fills_an_empty_cache_and_later_runs_load_it(tmp_path):
     """``obturator warmup`` into an empty NUMBA_CACHE_DIR writes the integrators'
     machine code; a later process finds them there (index files for both methods)."""

@@ -35,6 +35,10 @@ def _chromium(browser: str, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run(cmd, capture_output=True, text=True, timeout=180, check=False)
 
 
+# the module's fixture runs a quick reproduce (~20 s)
+pytestmark = pytest.mark.slow
+
+
 @pytest.fixture(scope="module")
 def lone_report(tmp_path_factory):
     out = tmp_path_factory.mktemp("reproduce")

@@ -308,7 +308,7 @@ def test_generated_lane_sums_are_current():
     import sys
     from pathlib import Path
 
-    tool = Path(__file__).resolve().parents[1] / "tools" / "gen_lane_sums.py"
+    tool = Path(__file__).resolve().parents[2] / "tools" / "gen_lane_sums.py"
     if not tool.exists():  # pragma: no cover - installed package without the repository
         pytest.skip("tools/ not present")
     assert subprocess.run([sys.executable, str(tool), "--check"]).returncode == 0

@@ -41,6 +41,7 @@ def _processes_mentioning(text: str) -> list[int]:
     return pids
 
 
+@pytest.mark.slow  # ~10 s per signal
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="uses /proc and PDEATHSIG")
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
 def test_killed_sweep_resumes_bit_identical(tmp_path: Path, sig: signal.Signals) -> None:
@@ -120,6 +121,7 @@ def test_dask_scheduler_dying_mid_sweep_keeps_work_and_resumes(tmp_path: Path) -
     np.testing.assert_array_equal(resumed.dataset["t_cr"].values, full["t_cr"].values)
 
 
+@pytest.mark.slow  # waits out a 10 s timeout
 def test_dask_scheduler_that_never_answers_is_one_line_in_bounded_time(tmp_path: Path) -> None:
     import socket
 

@@ -210,7 +210,7 @@ def test_euler_formulation_is_refused():
 def test_benchmark_rows():
     """benchmarks/stick_slip.py: both paths per case, ratios, errors against the
     tight set-valued reference (200 rad/s and flight)."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks/ at the root
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # benchmarks/ at the root
     from benchmarks.stick_slip import PATHS, cost
 
     rows = cost((200.0,), repeat=1)

@@ -21,7 +21,7 @@ import pytest
 import xarray as xr
 
 DATA = str(
-    Path(__file__).resolve().parents[1] / "src/obturator/reference/bloomer1980_appendix_b.csv"
+    Path(__file__).resolve().parents[2] / "src/obturator/reference/bloomer1980_appendix_b.csv"
 )
 
 
@@ -94,6 +94,7 @@ def test_sigterm_is_one_line_exit_143(tmp_path):
     assert rc == 143 and err == "obturator: terminated\n" and dt < 1.5
 
 
+@pytest.mark.slow  # ~15-20 s
 def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
     args = _commands(tmp_path)["sweep-2"]
     rc, err, _ = _interrupt(args, 2.5, signal.SIGINT)

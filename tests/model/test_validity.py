@@ -26,7 +26,7 @@ def test_rig_run_spins_are_appendix_b():
     [
         (rig_case(150 * math.pi / 180), True),  # "150 deg/s", the unit slip
         (rig_case(30.0), True),
-        (rig_case(40.0), False),  # convergence-tested (tests/test_convergence.py)
+        (rig_case(40.0), False),  # convergence-tested (tests/solve/test_convergence.py)
         (rig_case(300.0), False),
         (rig_case(2000.0), False),  # high spin is cheap: not flagged
         (flight_case(), False),
