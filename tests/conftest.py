@@ -107,3 +107,12 @@ def chromium() -> str:
     if os.environ.get("CI"):
         pytest.fail("a headless Chromium is required in CI (apt-get install chromium)")
     pytest.skip("no Chromium on this machine")
+
+
+def pytest_collection_modifyitems(config, items):
+    """Run ``tests/sweeps/test_ahead.py`` first: packing ahead needs ``fork``, which the
+    pools use only while the process runs no other thread, and tests that start a Dask
+    client leave threads behind (:func:`obturator.runs.mp_context`)."""
+    first = [it for it in items if it.path.name == "test_ahead.py"]
+    if first:
+        items[:] = first + [it for it in items if it.path.name != "test_ahead.py"]

@@ -10,7 +10,7 @@ from obturator.core.jit_cache import CORE_MODULES, core_digest
 
 
 def test_digest_changes_when_any_core_module_changes(tmp_path):
-    src = Path(_jit_cache.__file__).parents[2]  # the obturator package
+    src = Path(_jit_cache.__file__).parents[1]  # the obturator package
     assert "core/dynamics.py" in CORE_MODULES and "core/integrators/radau.py" in CORE_MODULES
     for name in CORE_MODULES:
         (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
