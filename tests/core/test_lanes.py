@@ -35,7 +35,7 @@ MU_S = 0.5473  # thesis's rig value
 
 
 def _scalar(case, options):
-    """(t_cr, status) of one case through the scalar path, as evaluate_point maps it."""
+    """(t_cr, status) of one case through the scalar path, as the front door maps it."""
     try:
         t = opening_time(case, options)
     except SolverError as exc:

@@ -32,7 +32,6 @@ from .spec import SweepSpec
 
 __all__ = [
     "POINT_STATUSES",
-    "evaluate_point",
     "is_warm",
     "pack_rows",
     "point_status",
@@ -57,14 +56,6 @@ def rows_to_cases(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> 
 def pack_rows(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> PackedPoints:
     """:class:`~obturator.solve.PackedPoints` of the rows of one chunk."""
     return pack_points(rows_to_cases(spec, names, rows), spec.options)
-
-
-def evaluate_point(spec: SweepSpec, values: Mapping[str, float]) -> tuple[float, int]:
-    """t_cr [s] and status at one point (never raises for a bad point): one row of
-    :func:`run_chunk`."""
-    names = tuple(values)
-    t, s = run_chunk(spec, names, np.array([[float(values[k]) for k in names]]))
-    return float(t[0]), int(s[0])
 
 
 def run_chunk(
