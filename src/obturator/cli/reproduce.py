@@ -39,6 +39,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action="store_true",
         help="add the firing-envelope section (t_cr map over Mach x altitude, Sobol indices)",
     )
+    p.add_argument(
+        "--design",
+        action="store_true",
+        help="add the experiment-design section (which runs decide between the leading "
+        "mechanisms, simulated campaigns)",
+    )
     p.set_defaults(func=_reproduce)
 
 
@@ -54,6 +60,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         command=command_line(),
         envelope=args.envelope,
         validation=not args.no_validation,
+        design=args.design,
     )
     flagged = sum(1 for r in res.rows if r.difference is not None and abs(r.difference) > 2.0)
     print(

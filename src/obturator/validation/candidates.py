@@ -160,7 +160,11 @@ class Candidate:
         return np.array([PARAMETERS[k].start for k in self.params])
 
     def build(
-        self, spin_rate: float, fitted: Sequence[float] | Mapping[str, float], t_max: float
+        self,
+        spin_rate: float,
+        fitted: Sequence[float] | Mapping[str, float],
+        t_max: float,
+        **rig_options: Any,
     ) -> Case:
         """The rig :class:`~obturator.model.case.Case` at `spin_rate` [rad/s] for these values.
 
@@ -172,6 +176,9 @@ class Candidate:
             Values of :attr:`params` (a mapping may also override others).
         t_max : float
             Integration horizon [s].
+        **rig_options
+            Further :func:`~obturator.model.cases.rig_case` keywords of the rig itself
+            (``ball``, ``weight``: the geometry and load an experiment design varies).
         """
         v = self.values(fitted)
         kw: dict[str, Any] = {
@@ -185,7 +192,7 @@ class Candidate:
             kw["speed_law"] = SlipSpeedLaw(self.speed_law, v["speed_ratio"], v["slip_speed"])
         if self.torque_model == "coulomb":
             kw["patch_radius"] = v["patch_radius"]
-        return rig_case(float(spin_rate), v["mu_s"], **kw)
+        return rig_case(float(spin_rate), v["mu_s"], **kw, **rig_options)
 
     def plausibility(self, fitted: Mapping[str, float]) -> dict[str, bool]:
         """Whether each fitted value lies in its physically argued range."""
