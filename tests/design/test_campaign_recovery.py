@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from obturator.design import Setting
-from obturator.design.study import noise_sd_of
+from obturator.design.study import ReplicateNoise
 from obturator.design.surrogate import opening_time_table
 from obturator.validation import fit_candidate, get_candidates
 
@@ -25,7 +25,7 @@ def synthetic_campaign(seed: int) -> tuple[np.ndarray, np.ndarray]:
         {"model": "theta0", "values": [TRUTH], "settings": settings, "t_max": 20.0}
     )
     t = np.array(row, dtype=float)
-    sd = noise_sd_of(BANDS, 0.05, np.array(SPINS))
+    sd = ReplicateNoise(BANDS, {}, 0.05).at(np.array(SPINS), t)
     return np.array(SPINS), t + np.random.default_rng(seed).standard_normal(t.size) * sd
 
 

@@ -110,9 +110,12 @@ def test_surrogate_moments_are_exact_for_its_quadratic_form():
 
 
 def test_naive_plan_spreads_the_measured_spins():
-    spins = np.arange(1.0, 55.0)  # 54 runs
-    plan = naive_plan(6, spins)
-    assert [s.spin_rate for s in plan] == [5.0, 14.0, 23.0, 32.0, 41.0, 50.0]
+    spins = np.arange(1.0, 55.0)  # 54 runs: spin = rank + 1
+    # base: 20 runs at ranks floor((j + 1/2) 54 / 20) = 1, 4, 6, 9, 12, 14, ...
+    base = [float(int((j + 0.5) * 2.7) + 1) for j in range(20)]
+    assert [s.spin_rate for s in naive_plan(20, spins)] == base
+    plan = naive_plan(6, spins)  # base entries floor((i + 1/2) 20 / 6) = 1, 5, 8, 11, 15, 18
+    assert [s.spin_rate for s in plan] == [5.0, 15.0, 23.0, 32.0, 42.0, 50.0]
     assert all(s.is_nominal_rig for s in plan)
-    assert [s.spin_rate for s in naive_plan(56, spins)][-2:] == [1.0, 2.0]  # repeats
+    assert [s.spin_rate for s in naive_plan(22, spins)][-2:] == [2.0, 5.0]  # repeats
     assert Setting(200.0).to_dict()["theta0_set_deg"] == 87.25

@@ -69,15 +69,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--seed", metavar="S", default="1", type=Count(0, 2**32 - 1), help="random seed (1)"
     )
-    _pair(p, "spin", "rad/s", Range(20.0, 2000.0), "spin rate (75, 450)", "200 rad/s")
+    _pair(p, "spin", "rad/s", Range(20.0, 2000.0), "spin rate (90, 450)", "200 rad/s")
     _pair(p, "theta0", "deg", Range(45.0, 89.5), "release angle as set (70, 89)", "80 deg")
     _pair(p, "hole-radius", "m", Range(1e-3, _HOLE_MAX), "hole radius (3.75, 5.58 mm)", "4 mm")
     _pair(p, "density", "kg/m^3", Range(1000.0, 20000.0), "ball density (6000, 10000)", "8000")
     for name, default, what in (
-        ("spin", "10", "spin rates (geometric)"),
-        ("theta0", "4", "release angles"),
-        ("hole-radius", "3", "hole radii"),
-        ("density", "3", "densities"),
+        ("spin", "8", "spin rates (geometric)"),
+        ("theta0", "3", "release angles"),
+        ("hole-radius", "2", "hole radii"),
+        ("density", "2", "densities"),
     ):
         p.add_argument(
             f"--{name}-points",
@@ -109,7 +109,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--out",
         metavar="FILE.nc",
-        type=OutputFile(suffixes=(".nc",), example="design.nc"),
+        type=OutputFile(suffixes=("nc",), example="design.nc"),
         help="NetCDF output (and resume store)",
     )
     add_execution_flags(p)

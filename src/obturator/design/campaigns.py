@@ -5,9 +5,11 @@ For each generating model g and campaign c (seeded):
 1. draw the parameters x_c from g's Laplace posterior (:class:`.posterior.Posterior`);
 2. compute the **exact** t_cr of g at x_c at every setting any plan uses (front-door
    solves, :func:`.surrogate.opening_time_table`);
-3. for each plan, add replicate noise N(0, s(omega_p)^2), s the pooled replicate SD of
-   the run's spin band (:func:`obturator.validation.replicate_floor` of the measured
-   runs): the synthetic campaign y;
+3. for each plan, add replicate noise N(0, s^2), s the replicate SD of the run
+   (:class:`.study.ReplicateNoise`: its spin band's pooled SD from
+   :func:`obturator.validation.replicate_floor` of the measured runs, or the band's
+   coefficient of variation times the predicted t_cr where larger): the synthetic
+   campaign y;
 4. fit every candidate to y and compare them by the Bayes factor: each candidate's
    marginal likelihood of y with its parameters integrated over its posterior (the prior
    of the new campaign is what the measured runs taught), in the surrogate's Gaussian

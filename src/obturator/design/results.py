@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -21,6 +21,9 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = ["DesignResult", "PlanResult"]
 
+#: Smallest campaign recommended: replicates enough to check the replicate SD at a new
+#: setting (a 5-run cluster estimates its SD to about +-35 %).
+MIN_CAMPAIGN = 5
 #: Two-sided 95 % normal quantile (predictive intervals).
 _Z95 = 1.959963984540054
 
@@ -44,6 +47,8 @@ class PlanResult:
         D of the naive plan of the same size [nats].
     designed, naive : dict of str to Rates
         Decision rates per generating model.
+    naive_runs : list of int
+        Setting indices of the naive plan of the same size.
     """
 
     n_runs: int
@@ -52,6 +57,7 @@ class PlanResult:
     naive_criterion: float
     designed: dict[str, Rates]
     naive: dict[str, Rates]
+    naive_runs: list[int]
 
     @property
     def p_decisive(self) -> float:
@@ -81,6 +87,8 @@ class DesignResult:
         Replicate SD at each setting [s].
     band_sd : dict of str to float
         Pooled replicate SD per spin band [s].
+    band_cv : dict of str to float
+        The same over the band's mean measured t_cr.
     plans : list of PlanResult
         One per campaign size.
     naive_rates : dict of int to dict of str to Rates
@@ -101,6 +109,7 @@ class DesignResult:
     surrogates: dict[str, Surrogate]
     noise_sd: NDArray[np.float64]
     band_sd: dict[str, float]
+    band_cv: dict[str, float]
     plans: list[PlanResult]
     naive_rates: dict[int, dict[str, Rates]]
     surrogate_error: dict[str, dict[str, float]]
@@ -122,8 +131,9 @@ class DesignResult:
 
     @property
     def recommended(self) -> PlanResult:
-        """The smallest plan decisive in >= 90 % of campaigns, else the largest."""
-        good = [p for p in self.plans if p.p_decisive >= 0.9]
+        """The smallest plan of at least :data:`MIN_CAMPAIGN` runs decisive in >= 95 % of
+        campaigns, else the largest."""
+        good = [p for p in self.plans if p.p_decisive >= 0.95 and p.n_runs >= MIN_CAMPAIGN]
         return min(good, key=lambda p: p.n_runs) if good else self.plans[-1]
 
     def naive_runs_needed(self, target: float) -> int | None:
@@ -132,6 +142,33 @@ class DesignResult:
             if _mean_rate(self.naive_rates[n], "p_decisive") >= target:
                 return n
         return None
+
+    def designed_runs_needed(self, target: float) -> int | None:
+        """Smallest planned size whose mean P(decisive) reaches `target` (None: none)."""
+        for p in sorted(self.plans, key=lambda p: p.n_runs):
+            if p.p_decisive >= target:
+                return p.n_runs
+        return None
+
+    def separation(self, idx: Sequence[int]) -> NDArray[np.float64]:
+        """|difference of the first two models' mean t_cr| over the replicate SD, per run."""
+        i = np.asarray(idx, dtype=np.intp)
+        a, b = (self.surrogates[m].mean(i) for m in self.models[:2])
+        return np.abs(a - b) / self.noise_sd[i]
+
+    def axis_effects(self, i: int) -> dict[str, float]:
+        """Separation (replicate SDs) at setting `i` with each changed setting put back to
+        the Table 1 rig's (where that setting was solved): what each change buys."""
+        s = self.settings[i]
+        index = {x: k for k, x in enumerate(self.settings)}
+        nominal = Setting(s.spin_rate)
+        out = {}
+        for name in ("theta0_deg", "hole_radius", "density"):
+            if getattr(s, name) != getattr(nominal, name):
+                back = replace(s, **{name: getattr(nominal, name)})
+                if back in index:
+                    out[name] = float(self.separation([index[back]])[0])
+        return out
 
     def predictive(self, idx: Sequence[int]) -> dict[str, dict[str, NDArray[np.float64]]]:
         """Per model: predictive mean [s] and 95 % interval [s] (parameters and noise)."""
@@ -209,6 +246,8 @@ class DesignResult:
             "measured_quantity": "t_cr (opening time)",
             "posteriors": {m: p.to_dict() for m, p in self.posteriors.items()},
             "replicate_sd_by_band_s": self.band_sd,
+            "replicate_cv_by_band": self.band_cv,
+            "noise": "per run: max(band pooled SD, band CV x predicted t_cr)",
             "ranges": self.ranges.to_dict(),
             "n_candidate_settings": int(self.candidate_mask.sum()),
             "recommended_n_runs": rec.n_runs,
@@ -220,6 +259,10 @@ class DesignResult:
                     "p_decisive": p.p_decisive,
                     "naive_p_decisive": p.naive_p_decisive,
                     "naive_runs_for_same_p_decisive": self.naive_runs_needed(p.p_decisive),
+                    "separation_in_replicate_sd_mean": float(np.mean(self.separation(p.runs))),
+                    "naive_separation_in_replicate_sd_mean": float(
+                        np.mean(self.separation(p.naive_runs))
+                    ),
                     "designed": {m: r.to_dict() for m, r in p.designed.items()},
                     "naive": {m: r.to_dict() for m, r in p.naive.items()},
                     "runs": rows(p.n_runs),
@@ -234,6 +277,13 @@ class DesignResult:
                 }
                 for n, r in sorted(self.naive_rates.items())
             ],
+            "runs_needed": {
+                f"p_decisive_{t:g}": {
+                    "designed": self.designed_runs_needed(t),
+                    "naive": self.naive_runs_needed(t),
+                }
+                for t in (0.9, 0.95, 0.99)
+            },
             "surrogate_error": self.surrogate_error,
             "campaigns_per_model": self.campaigns,
             "seed": self.seed,

@@ -36,6 +36,7 @@ from ..model.cases import TABLE1, table1_ball
 from ..validation.candidates import Candidate
 
 __all__ = [
+    "NAIVE_SPINS",
     "NOMINAL_SETTING",
     "Setting",
     "SettingRanges",
@@ -93,6 +94,18 @@ class Setting:
         )
 
     @property
+    def n_changes(self) -> int:
+        """How many of the release angle, hole radius and density differ from Table 1's
+        rig (0-3; the spin is set in every campaign)."""
+        return sum(
+            (
+                not math.isclose(self.theta0_deg, _THETA0),
+                not math.isclose(self.hole_radius, _HOLE),
+                not math.isclose(self.density, _RHO),
+            )
+        )
+
+    @property
     def is_nominal_rig(self) -> bool:
         """Table 1 ball at the Table 1 release angle (only the spin varies)."""
         return (self.theta0_deg, self.hole_radius, self.density) == (_THETA0, _HOLE, _RHO)
@@ -120,7 +133,8 @@ class SettingRanges:
     Attributes
     ----------
     spin_rate : (float, float)
-        omega_p [rad/s]; default 75-450 (Appendix B: 78-446).
+        omega_p [rad/s]; default 90-450 (Appendix B: 78-446; below 90 rad/s the runs
+        scatter most and every solve is stiff, about 15 times the cost).
     theta0_deg : (float, float)
         Release angle as set [deg]; default 70-89 (Table 1: 87.25; 90 is the
         equilibrium the ball never leaves).
@@ -132,14 +146,14 @@ class SettingRanges:
         Grid points per axis (the Table 1 value is added inside the range).
     """
 
-    spin_rate: tuple[float, float] = (75.0, 450.0)
+    spin_rate: tuple[float, float] = (90.0, 450.0)
     theta0_deg: tuple[float, float] = (70.0, 89.0)
     hole_radius: tuple[float, float] = (3.75e-3, 5.58e-3)
     density: tuple[float, float] = (6000.0, 10000.0)
-    n_spin: int = 10
-    n_theta0: int = 4
-    n_hole: int = 3
-    n_density: int = 3
+    n_spin: int = 8
+    n_theta0: int = 3
+    n_hole: int = 2
+    n_density: int = 2
 
     def __post_init__(self) -> None:
         limits = {
@@ -198,22 +212,29 @@ def design_case(
     return candidate.build(setting.spin_rate, v, t_max, ball=ball, weight=weight)
 
 
+#: Distinct spins of the naive plan: larger naive campaigns repeat them (replicates).
+NAIVE_SPINS = 20
+
+
 def naive_plan(n_runs: int, spin_rate: Sequence[float]) -> list[Setting]:
     """The naive campaign of `n_runs`: spins spread as the measured runs (Appendix B), the
     Table 1 ball and release angle.
 
-    Run i takes the measured run at rank floor((i + 1/2) m / n) in spin order (m runs);
-    beyond m runs the spins repeat in the same order (replicates).
+    The base is :data:`NAIVE_SPINS` spins spread as the m measured runs (the run at rank
+    floor((j + 1/2) m / 20) in spin order, j = 0..19); a plan of n <= 20 runs takes the
+    base spins at ranks floor((i + 1/2) 20 / n), a larger one repeats the base in order.
     """
     check_range("n_runs", n_runs, 1, 100_000)
     w = np.sort(np.asarray(spin_rate, dtype=float))
     m = w.size
     if m == 0:
         raise InputError("spin_rate", "no measured runs to spread the naive plan over")
-    if n_runs <= m:
-        picks = [w[int((i + 0.5) * m / n_runs)] for i in range(n_runs)]
+    k = min(NAIVE_SPINS, m)
+    base = [w[int((j + 0.5) * m / k)] for j in range(k)]
+    if n_runs <= k:
+        picks = [base[int((i + 0.5) * k / n_runs)] for i in range(n_runs)]
     else:
-        picks = [w[i % m] for i in range(n_runs)]
+        picks = [base[i % k] for i in range(n_runs)]
     return [Setting(float(x)) for x in picks]
 
 

@@ -2,16 +2,18 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from .results import DesignResult
 from .settings import NOMINAL_SETTING, Setting
 
-__all__ = ["decision_table", "format_design", "mechanism_note", "plan_table"]
+__all__ = ["decision_table", "format_design", "mechanism_note", "plan_table", "setting_notes"]
 
 
 def _setting_text(s: Setting) -> str:
     return (
-        f"{s.spin_rate:6.1f} rad/s  theta0 {s.theta0_deg:5.2f} deg  r_s {1e3 * s.hole_radius:4.2f} mm"
-        f"  rho {s.density:6.0f} kg/m^3"
+        f"{s.spin_rate:6.1f} rad/s  theta0 {s.theta0_deg:5.2f} deg  "
+        f"r_s {1e3 * s.hole_radius:4.2f} mm  rho {s.density:6.0f} kg/m^3"
     )
 
 
@@ -76,31 +78,59 @@ def plan_table(result: DesignResult, n_runs: int) -> list[str]:
 
 
 def decision_table(result: DesignResult) -> list[str]:
-    """P(decisive) of the designed and naive plans per size, and the naive size needed."""
+    """P(decisive) of the designed and naive plans per size, and the sizes each needs."""
     m = result.models
     lines = [
         f"P(decisive: Bayes factor > 10 for the generating model), {result.campaigns} "
-        "simulated campaigns per generating model",
-        "   N  designed  naive  "
-        + "  ".join(f"{x[:13]:>13}(d/n)" for x in m)
-        + "  naive N for same",
+        "simulated campaigns per generating model (d: designed, n: naive)",
+        "   N  designed  naive  " + "  ".join(f"{x[:13]:>13} d/n" for x in m) + "  sep/SD d/n",
     ]
     for p in result.plans:
         per = "  ".join(
-            f"{p.designed[x].p_decisive:8.2f}/{p.naive[x].p_decisive:.2f}".rjust(18) for x in m
+            f"{p.designed[x].p_decisive:4.2f}/{p.naive[x].p_decisive:4.2f}".rjust(17) for x in m
         )
-        need = result.naive_runs_needed(p.p_decisive)
-        top = max(result.naive_rates)
-        need_txt = f"{need}" if need is not None else f"> {top}"
+        sep_d = float(np.mean(result.separation(p.runs)))
+        sep_n = float(np.mean(result.separation(p.naive_runs)))
         lines.append(
-            f"{p.n_runs:4d}  {p.p_decisive:8.2f}  {p.naive_p_decisive:5.2f}  {per}  {need_txt:>16}"
+            f"{p.n_runs:4d}  {p.p_decisive:8.2f}  {p.naive_p_decisive:5.2f}  {per}"
+            f"  {sep_d:5.1f}/{sep_n:.1f}"
         )
     curve = ", ".join(
-        f"{n}: {sum(r.p_decisive for r in v.values()) / len(v):.2f}"
+        f"{n}: {sum(r.p_decisive for r in v.values()) / len(v):.3f}"
         for n, v in sorted(result.naive_rates.items())
     )
     lines.append(f"  naive plan (spins spread as the measured runs, Table 1 rig) by N: {curve}")
+    top = max(result.naive_rates)
+    for target in (0.95, 0.99):
+        d, n = result.designed_runs_needed(target), result.naive_runs_needed(target)
+        d_txt = str(d) if d else f"> {result.plans[-1].n_runs}"
+        n_txt = str(n) if n else f"> {top}"
+        lines.append(f"  runs for P(decisive) >= {target:g}: designed {d_txt}, naive {n_txt}")
+    lines.append(
+        "  sep/SD: mean over the plan's runs of |difference of the two models' mean t_cr| "
+        "in replicate SDs"
+    )
     return lines
+
+
+def setting_notes(result: DesignResult, n_runs: int) -> list[str]:
+    """What each planned setting tests, with the separation each change from the Table 1
+    rig buys (the separation with that change undone)."""
+    names = {"theta0_deg": "release angle", "hole_radius": "hole radius", "density": "density"}
+    nominal = {"theta0_deg": "87.25 deg", "hole_radius": "4.72 mm", "density": "7670 kg/m^3"}
+    out = []
+    for k, r in enumerate(result.ranked_plan(n_runs), 1):
+        i = r["index"]
+        undo = ", ".join(
+            f"{names[a]} back at {nominal[a]}: {v:.1f}" for a, v in result.axis_effects(i).items()
+        )
+        sep = f"separation {r['separation_in_replicate_sd']:.1f} replicate SDs" + (
+            f" ({undo})" if undo else ""
+        )
+        out.append(
+            f"  {k}. {_setting_text(r['setting']).strip()}: {sep}. {mechanism_note(r['setting'])}"
+        )
+    return out
 
 
 def format_design(result: DesignResult) -> str:
@@ -110,21 +140,22 @@ def format_design(result: DesignResult) -> str:
         f"Experiment design: {' vs '.join(result.models)} "
         f"({int(result.candidate_mask.sum())} candidate settings; measured quantity t_cr)",
         "Criterion: Box-Hill (1967) expected symmetric KL divergence of the joint "
-        "predictive distributions (Laplace posterior of each fit; noise = replicate SD "
-        "per spin band: " + ", ".join(f"{k} {v:.4f} s" for k, v in result.band_sd.items()) + ")",
+        "predictive distributions (Laplace posterior of each fit); noise per run: the larger "
+        "of its spin band's replicate SD and the band's CV x predicted t_cr: "
+        + ", ".join(
+            f"{k} {v:.4f} s ({100 * result.band_cv[k]:.1f} %)" for k, v in result.band_sd.items()
+        ),
         "",
         f"Recommended campaign: {rec.n_runs} runs "
-        f"(P(decisive) {rec.p_decisive:.2f}; naive plan of the same size {rec.naive_p_decisive:.2f})",
+        f"(P(decisive) {rec.p_decisive:.2f}; "
+        f"naive plan of the same size {rec.naive_p_decisive:.2f})",
         *plan_table(result, rec.n_runs),
         "",
         *decision_table(result),
         "",
         "What each planned setting tests:",
     ]
-    for k, r in enumerate(result.ranked_plan(rec.n_runs), 1):
-        lines.append(
-            f"  {k}. {_setting_text(r['setting']).strip()}: {mechanism_note(r['setting'])}"
-        )
+    lines += setting_notes(result, rec.n_runs)
     lines.append("")
     lines.append(
         "Surrogate (second-order in the posterior, central differences one SD along each "
@@ -133,7 +164,8 @@ def format_design(result: DesignResult) -> str:
     for name, e in result.surrogate_error.items():
         lines.append(
             f"  {name}: rms {e['rms_s']:.2e} s, max {e['max_abs_s']:.2e} s, rms "
-            f"{e['rms_in_replicate_sd']:.2f} replicate SDs over {e['n_compared']} (draw, setting) pairs"
+            f"{e['rms_in_replicate_sd']:.2f} replicate SDs over {e['n_compared']} "
+            "(draw, setting) pairs"
             f"; {e['n_not_opened']} not opened by t_max"
         )
     lines.append(
