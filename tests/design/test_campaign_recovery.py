@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from obturator.design import Setting
-from obturator.design.study import ReplicateNoise
+from obturator.design.noise import ReplicateNoise
 from obturator.design.surrogate import opening_time_table
 from obturator.validation import fit_candidate, get_candidates
 

@@ -29,7 +29,9 @@ def data() -> SpinRigData:
     (t,) = opening_time_table({**task, "t_max": 20.0})
     y = np.array(t) + np.random.default_rng(5).standard_normal(len(SPINS)) * 0.012
     return SpinRigData(
-        spin_rate=np.array(SPINS), opening_time=y, starred=np.zeros(len(SPINS), bool),
+        spin_rate=np.array(SPINS),
+        opening_time=y,
+        starred=np.zeros(len(SPINS), bool),
         source="synthetic",
     )
 

@@ -55,9 +55,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--runs",
         metavar="N,...",
-        default="5,10,20",
+        default="1,2,3,5,10,20",
         type=Text(example="5,10"),
-        help="campaign sizes to plan and simulate (5,10,20; each 1-200)",
+        help="campaign sizes to plan and simulate (1,2,3,5,10,20; each 1-200)",
     )
     p.add_argument(
         "--campaigns",

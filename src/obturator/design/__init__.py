@@ -16,6 +16,7 @@ One concern per module:
 
 from .campaigns import DECISIVE_BAYES_FACTOR, Rates
 from .criterion import box_hill, gaussian_kl, greedy_exchange, jeffreys
+from .noise import ReplicateNoise
 from .posterior import Posterior
 from .results import DesignResult, PlanResult
 from .settings import Setting, SettingRanges, design_case, naive_plan
@@ -31,6 +32,7 @@ __all__ = [
     "PlanResult",
     "Posterior",
     "Rates",
+    "ReplicateNoise",
     "Setting",
     "SettingRanges",
     "Surrogate",

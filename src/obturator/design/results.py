@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 
 from .campaigns import DECISIVE_BAYES_FACTOR, Rates
 from .criterion import plan_value
+from .noise import ReplicateNoise
 from .posterior import Posterior
 from .settings import Setting, SettingRanges
 from .surrogate import Surrogate
@@ -85,10 +86,10 @@ class DesignResult:
     surrogates : dict of str to Surrogate
     noise_sd : ndarray
         Replicate SD at each setting [s].
-    band_sd : dict of str to float
-        Pooled replicate SD per spin band [s].
-    band_cv : dict of str to float
-        The same over the band's mean measured t_cr.
+    noise_model : ReplicateNoise
+        Band SDs and CVs, the release-jitter bound.
+    release_slope : ndarray
+        |dt_cr/dtheta_0| at each setting [s/deg] (mean over the models' best fits).
     plans : list of PlanResult
         One per campaign size.
     naive_rates : dict of int to dict of str to Rates
@@ -108,8 +109,8 @@ class DesignResult:
     candidate_mask: NDArray[np.bool_]
     surrogates: dict[str, Surrogate]
     noise_sd: NDArray[np.float64]
-    band_sd: dict[str, float]
-    band_cv: dict[str, float]
+    noise_model: ReplicateNoise
+    release_slope: NDArray[np.float64]
     plans: list[PlanResult]
     naive_rates: dict[int, dict[str, Rates]]
     surrogate_error: dict[str, dict[str, float]]
@@ -245,9 +246,7 @@ class DesignResult:
             "model over every other (evidence from the surrogate; prior odds 1)",
             "measured_quantity": "t_cr (opening time)",
             "posteriors": {m: p.to_dict() for m, p in self.posteriors.items()},
-            "replicate_sd_by_band_s": self.band_sd,
-            "replicate_cv_by_band": self.band_cv,
-            "noise": "per run: max(band pooled SD, band CV x predicted t_cr)",
+            "noise": self.noise_model.to_dict(),
             "ranges": self.ranges.to_dict(),
             "n_candidate_settings": int(self.candidate_mask.sum()),
             "recommended_n_runs": rec.n_runs,
@@ -307,6 +306,7 @@ class DesignResult:
             "hole_radius": ("setting", cols["hole_radius"], {"units": "m"}),
             "density": ("setting", cols["density"], {"units": "kg/m^3"}),
             "replicate_sd": ("setting", self.noise_sd, {"units": "s"}),
+            "release_slope": ("setting", self.release_slope, {"units": "s/deg"}),
             "candidate": ("setting", self.candidate_mask.astype(np.int8), {}),
             "t_cr_mean": (
                 ("model", "setting"),

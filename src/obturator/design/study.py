@@ -17,10 +17,9 @@ store keeps every finished task, so an interrupted study resumes):
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -31,20 +30,19 @@ from ..errors import InputError, check_range
 from ..runs import Runner
 from ..validation.candidates import get_candidates
 from ..validation.evaluate import DEFAULT_T_MAX
-from ..validation.floor import band_of, replicate_floor
 from ..validation.results import CandidateFit
 from .campaigns import campaign_draws, decision_rates, surrogate_error
 from .criterion import greedy_exchange, plan_value
+from .noise import RELEASE_STEP_DEG, ReplicateNoise
 from .posterior import Posterior, fit_task
 from .results import DesignResult, PlanResult
 from .settings import Setting, SettingRanges, naive_plan
-from .surrogate import assemble, opening_time_table, surrogate_tasks
+from .surrogate import Surrogate, assemble, opening_time_table, surrogate_tasks
 
 __all__ = [
     "DEFAULT_DESIGN_MODELS",
     "DEFAULT_NAIVE_RUNS",
     "DEFAULT_RUNS",
-    "ReplicateNoise",
     "design_experiment",
 ]
 
@@ -70,49 +68,6 @@ def _warm() -> None:
     from ..solve import opening_times
 
     opening_times([rig_case(spin_rate=300.0, mu_s=0.55)])
-
-
-@dataclass(frozen=True)
-class ReplicateNoise:
-    """The replicate scatter of the measured runs per spin band, as the design's noise.
-
-    Attributes
-    ----------
-    sd : dict of str to float
-        Pooled replicate SD per band [s] (:func:`obturator.validation.replicate_floor`).
-    cv : dict of str to float
-        The same over the band's mean measured t_cr (coefficient of variation).
-    overall_sd : float
-        Pooled SD of all runs [s] (for a band without replicates).
-    """
-
-    sd: dict[str, float]
-    cv: dict[str, float]
-    overall_sd: float
-
-    @classmethod
-    def of(cls, data: SpinRigData) -> ReplicateNoise:
-        """From the measured runs (bands by cluster-mean spin, as the floor's)."""
-        floor = replicate_floor(data.spin_rate, data.opening_time)
-        band = band_of(floor.cluster_mean_spin())
-        sd = {k: b.pooled_sd for k, b in floor.bands.items()}
-        cv = {
-            k: v / float(np.mean(data.opening_time[band == k])) if np.any(band == k) else math.nan
-            for k, v in sd.items()
-        }
-        return cls(sd, cv, floor.overall.pooled_sd)
-
-    def at(self, spin: NDArray[np.float64], t_cr: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Replicate SD [s] of a run at `spin` [rad/s] expected to open at `t_cr` [s]: its
-        band's pooled SD, or its band's coefficient of variation times t_cr where that is
-        larger (a setting that opens later than the measured runs is taken to scatter in
-        proportion). Bands without replicates take the overall pooled SD."""
-        labels = [str(b) for b in band_of(spin)]
-        sd = np.array([self.sd.get(b, math.nan) for b in labels], dtype=float)
-        cv = np.array([self.cv.get(b, math.nan) for b in labels], dtype=float)
-        sd = np.where(np.isfinite(sd), sd, self.overall_sd)
-        rel = np.where(np.isfinite(cv), cv, 0.0) * np.asarray(t_cr, dtype=float)
-        return np.maximum(sd, np.nan_to_num(rel, nan=0.0))
 
 
 def _posteriors(
@@ -159,6 +114,35 @@ def _exact_tables(
         probe_first=False,
         warm=_warm,
     )
+
+
+def _release_slopes(
+    posts: Mapping[str, Posterior],
+    surrogates: Mapping[str, Surrogate],
+    settings: Sequence[Setting],
+    runner: Runner,
+    t_max: float,
+) -> NDArray[np.float64]:
+    """|dt_cr/dtheta_0| [s/deg] at every setting, the models' mean at their best fits
+    (one-sided, :data:`.noise.RELEASE_STEP_DEG` towards lower angles)."""
+    lower = [replace(s, theta0_deg=s.theta0_deg - RELEASE_STEP_DEG) for s in settings]
+    rows = [s.to_dict() for s in lower]
+    tasks = [
+        {
+            "model": n,
+            "values": [p.to_values(p.mean)],
+            "settings": rows[i : i + 4 * _SETTINGS_PER_TASK],
+            "t_max": t_max,
+        }
+        for n, p in posts.items()
+        for i in range(0, len(rows), 4 * _SETTINGS_PER_TASK)
+    ]
+    done = _exact_tables(tasks, runner, "design: release-angle slopes")
+    per_model: dict[str, list[float]] = {n: [] for n in posts}
+    for task, res in zip(tasks, done, strict=True):
+        per_model[task["model"]] += [np.nan if v is None else v for v in res[0]]
+    slopes = [np.abs(surrogates[n].t0 - np.array(per_model[n])) / RELEASE_STEP_DEG for n in posts]
+    return np.nanmean(slopes, axis=0)
 
 
 def design_experiment(
@@ -243,7 +227,11 @@ def design_experiment(
     }
     valid = np.all([s.valid for s in surrogates.values()], axis=0)
     t_typical = np.nanmean([s.t0 for s in surrogates.values()], axis=0)
-    noise = noise_model.at(np.array([s.spin_rate for s in settings]), t_typical)
+    slope = _release_slopes(posts, surrogates, settings, runner, t_max)
+    noise_model = noise_model.with_release_bound(
+        data, slope[[index[Setting(float(w))] for w in data.spin_rate]]
+    )
+    noise = noise_model.at(np.array([s.spin_rate for s in settings]), t_typical, slope)
     on_grid = set(grid)
     candidates = [i for i in range(len(settings)) if valid[i] and settings[i] in on_grid]
     if not candidates:
@@ -309,8 +297,8 @@ def design_experiment(
         candidate_mask=np.isin(np.arange(len(settings)), candidates),
         surrogates=surrogates,
         noise_sd=noise,
-        band_sd=noise_model.sd,
-        band_cv=noise_model.cv,
+        noise_model=noise_model,
+        release_slope=slope,
         plans=plan_results,
         naive_rates=naive_rates,
         surrogate_error=errors,

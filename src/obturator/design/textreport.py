@@ -127,6 +127,13 @@ def setting_notes(result: DesignResult, n_runs: int) -> list[str]:
         sep = f"separation {r['separation_in_replicate_sd']:.1f} replicate SDs" + (
             f" ({undo})" if undo else ""
         )
+        slope = float(result.release_slope[i])
+        if slope > 0.0:
+            sep += (
+                f"; dt_cr/dtheta_0 {slope:.3f} s/deg: the planned SD "
+                f"{r['replicate_sd_s']:.3f} s needs a release repeatable to "
+                f"{r['replicate_sd_s'] / slope:.2f} deg (SD)"
+            )
         out.append(
             f"  {k}. {_setting_text(r['setting']).strip()}: {sep}. {mechanism_note(r['setting'])}"
         )
@@ -140,10 +147,13 @@ def format_design(result: DesignResult) -> str:
         f"Experiment design: {' vs '.join(result.models)} "
         f"({int(result.candidate_mask.sum())} candidate settings; measured quantity t_cr)",
         "Criterion: Box-Hill (1967) expected symmetric KL divergence of the joint "
-        "predictive distributions (Laplace posterior of each fit); noise per run: the larger "
-        "of its spin band's replicate SD and the band's CV x predicted t_cr: "
+        "predictive distributions (Laplace posterior of each fit).",
+        "Noise per run: the largest of its spin band's replicate SD, the band's CV x predicted "
+        f"t_cr and a release jitter of {result.noise_model.release_sd_deg:.3f} deg (the most "
+        "the replicates allow) x |dt_cr/dtheta_0|; bands: "
         + ", ".join(
-            f"{k} {v:.4f} s ({100 * result.band_cv[k]:.1f} %)" for k, v in result.band_sd.items()
+            f"{k} {v:.4f} s ({100 * result.noise_model.cv[k]:.1f} %)"
+            for k, v in result.noise_model.sd.items()
         ),
         "",
         f"Recommended campaign: {rec.n_runs} runs "
