@@ -87,6 +87,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             help=f"grid points of the {what} ({default}; the Table 1 value is added)",
         )
     p.add_argument(
+        "--release-sd",
+        metavar="DEG",
+        type=Quantity("deg", Range(0.0, 10.0), "0.1 deg"),
+        help="repeatability (SD) of the release angle, if measured [deg] (default: the "
+        "largest the replicate scatter allows, about 0.9 deg on Appendix B)",
+    )
+    p.add_argument(
         "--data",
         metavar="FILE.csv",
         type=InputFile(example="runs.csv"),
@@ -168,6 +175,7 @@ def _run(args: argparse.Namespace) -> int:
         "t_max_s": args.t_max,
         "data": data.source,
         "n_data": int(data.spin_rate.size),
+        "release_sd_deg": args.release_sd,
     }
     runner = study_runner(args, identity)
     t0 = time.perf_counter()
@@ -181,6 +189,7 @@ def _run(args: argparse.Namespace) -> int:
             data=data,
             runner=runner,
             t_max=args.t_max,
+            release_sd_deg=args.release_sd,
         )
     finally:
         runner.close()

@@ -50,7 +50,7 @@ class ReplicateNoise:
     overall_sd : float
         Pooled SD of all runs [s] (for a band without replicates).
     release_sd_deg : float
-        Release-angle jitter SD [deg] (0 until :meth:`with_release_bound`).
+        Release-angle jitter SD [deg] (0 until :meth:`with_release_bound`, or as measured).
     """
 
     sd: dict[str, float]

@@ -157,6 +157,7 @@ def design_experiment(
     runner: Runner | None = None,
     t_max: float = DEFAULT_T_MAX,
     naive_runs: Sequence[int] = DEFAULT_NAIVE_RUNS,
+    release_sd_deg: float | None = None,
 ) -> DesignResult:
     """Plan the rig runs that best discriminate between candidate mechanisms.
 
@@ -184,6 +185,9 @@ def design_experiment(
         Horizon [s].
     naive_runs : sequence of int
         Sizes of the naive plan simulated (with every N of `n_runs`).
+    release_sd_deg : float, optional
+        Repeatability (SD) of the release angle [deg], if measured; default: the largest
+        the replicate floor allows (:class:`.noise.ReplicateNoise`).
 
     Returns
     -------
@@ -203,6 +207,8 @@ def design_experiment(
     check_range("campaigns", campaigns, 10, 100_000)
     check_range("seed", seed, 0, 2**32 - 1)
     check_range("t_max", t_max, 0.0, 1e4, lo_open=True, unit="s")
+    if release_sd_deg is not None:
+        check_range("release_sd_deg", release_sd_deg, 0.0, 10.0, unit="deg")
     ranges = ranges or SettingRanges()
     data = load_thesis_data() if data is None else data
     runner = runner or Runner(workers=2)
@@ -231,6 +237,8 @@ def design_experiment(
     noise_model = noise_model.with_release_bound(
         data, slope[[index[Setting(float(w))] for w in data.spin_rate]]
     )
+    if release_sd_deg is not None:
+        noise_model = replace(noise_model, release_sd_deg=float(release_sd_deg))
     noise = noise_model.at(np.array([s.spin_rate for s in settings]), t_typical, slope)
     on_grid = set(grid)
     candidates = [i for i in range(len(settings)) if valid[i] and settings[i] in on_grid]
