@@ -11,7 +11,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from obturator.design import Setting, box_hill, gaussian_kl, greedy_exchange, jeffreys, naive_plan
-from obturator.design.campaigns import log_evidence
+from obturator.design.campaigns import decision_rates, log_evidence
 from obturator.design.surrogate import Surrogate
 
 
@@ -119,3 +119,38 @@ def test_naive_plan_spreads_the_measured_spins():
     assert all(s.is_nominal_rig for s in plan)
     assert [s.spin_rate for s in naive_plan(22, spins)][-2:] == [2.0, 5.0]  # repeats
     assert Setting(200.0).to_dict()["theta0_set_deg"] == 87.25
+
+
+def _toy_surrogates(shift: float) -> dict[str, Surrogate]:
+    g = np.array([[0.005], [0.004], [0.006]])
+    c = np.zeros((3, 1))
+    t0 = np.array([0.2, 0.25, 0.3])
+    return {"a": Surrogate("a", t0, g, c), "b": Surrogate("b", t0 + shift, g, c)}
+
+
+def test_campaigns_of_indistinguishable_models_are_never_decisive():
+    """Two models with the same predictive distribution: Bayes factors are exactly 1."""
+    sur = _toy_surrogates(0.0)
+    rng = np.random.default_rng(0)
+    exact = {m: s.at([0, 1, 2], rng.standard_normal((300, 1))) for m, s in sur.items()}
+    rates = decision_rates(exact, [0, 1, 2], sur, np.full(3, 0.01), rng)
+    assert all(r.p_decisive == 0.0 and r.p_misleading == 0.0 for r in rates.values())
+
+
+def test_campaigns_of_separated_models_are_decisive_as_predicted():
+    """Means 0.05 s apart, noise 0.01 s, parameter SD ~0.005 s: one run's log Bayes factor
+    has mean KL ~ 10 nats > ln 10, so nearly every campaign is decisive; the rates
+    follow the closed-form Gaussian (linear model: exact)."""
+    sur = _toy_surrogates(0.05)
+    rng = np.random.default_rng(1)
+    exact = {m: s.at([0], rng.standard_normal((2000, 1))) for m, s in sur.items()}
+    rates = decision_rates(exact, [0], sur, np.full(3, 0.01), rng)
+    # closed form: y ~ N(m_a, v), log BF = (m_b - m_a)(2 y - m_a - m_b) / (2 v) with equal
+    # variances v; decisive when log BF > ln 10, i.e. y on the far side of a threshold
+    v = 0.005**2 + 0.01**2
+    from scipy.stats import norm
+
+    z = (math.log(10.0) * v / 0.05 - 0.025) / math.sqrt(v)
+    expected = float(norm.cdf(-z))  # P(log BF_a > ln 10) under a
+    assert rates["a"].p_decisive == pytest.approx(expected, abs=0.02)
+    assert rates["b"].p_decisive == pytest.approx(expected, abs=0.02)

@@ -51,12 +51,15 @@ class ReplicateNoise:
         Pooled SD of all runs [s] (for a band without replicates).
     release_sd_deg : float
         Release-angle jitter SD [deg] (0 until :meth:`with_release_bound`, or as measured).
+    release_source : str
+        Where `release_sd_deg` comes from ("bound from the replicates" or "given").
     """
 
     sd: dict[str, float]
     cv: dict[str, float]
     overall_sd: float
     release_sd_deg: float = 0.0
+    release_source: str = "none"
 
     @classmethod
     def of(cls, data: SpinRigData) -> ReplicateNoise:
@@ -89,7 +92,11 @@ class ReplicateNoise:
             for k, sd in self.sd.items()
             if math.isfinite(sd) and np.any(band == k) and np.mean(np.abs(slope_deg[band == k]))
         ]
-        return replace(self, release_sd_deg=min(bounds) if bounds else 0.0)
+        return replace(
+            self,
+            release_sd_deg=min(bounds) if bounds else 0.0,
+            release_source="the most the replicates allow",
+        )
 
     def at(
         self,
@@ -119,4 +126,5 @@ class ReplicateNoise:
             "cv_by_band": self.cv,
             "overall_sd_s": self.overall_sd,
             "release_sd_deg": self.release_sd_deg,
+            "release_sd_source": self.release_source,
         }

@@ -94,9 +94,9 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8, loc="best")
     fig.suptitle(
-        f"Candidates' t_cr with 95 % predictive bands (parameters and replicate noise); "
-        f"circles: the {plan.n_runs}-run plan (xN replicates) on each line through its leading "
-        f"setting; ticks: planned runs off the line",
+        "Candidates' $t_{cr}$ with 95 % predictive bands (parameters and replicate noise)\n"
+        f"circles: the {plan.n_runs}-run plan (xN: replicates) on each line through its "
+        "leading setting; ticks: planned runs off the line",
         fontsize=9,
     )
     return fig

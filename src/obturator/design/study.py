@@ -238,7 +238,9 @@ def design_experiment(
         data, slope[[index[Setting(float(w))] for w in data.spin_rate]]
     )
     if release_sd_deg is not None:
-        noise_model = replace(noise_model, release_sd_deg=float(release_sd_deg))
+        noise_model = replace(
+            noise_model, release_sd_deg=float(release_sd_deg), release_source="given"
+        )
     noise = noise_model.at(np.array([s.spin_rate for s in settings]), t_typical, slope)
     on_grid = set(grid)
     candidates = [i for i in range(len(settings)) if valid[i] and settings[i] in on_grid]

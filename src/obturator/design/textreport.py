@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from ..model.cases import table1_ball
 from .results import DesignResult
 from .settings import NOMINAL_SETTING, Setting
 
@@ -41,10 +44,20 @@ def mechanism_note(s: Setting) -> str:
             "set angle as true"
         )
     if abs(s.hole_radius - NOMINAL_SETTING.hole_radius) > 1e-5:
+        ball = table1_ball(hole_radius=s.hole_radius, density=s.density)
+        slower = s.hole_radius < NOMINAL_SETTING.hole_radius
         parts.append(
-            f"hole radius {1e3 * s.hole_radius:.2f} mm: moves the opening angle "
-            "beta_s = asin(r_s/R_s) and the inertia ratio C/A, i.e. how far and how fast the "
-            "ball must turn under the same friction law"
+            f"hole radius {1e3 * s.hole_radius:.2f} mm (a new ball): opening angle "
+            f"beta_s = asin(r_s/R_s) {math.degrees(ball.opening_angle):.1f} deg (Table 1: "
+            f"36.7) and inertia ratio lambda = C/A - 1 {ball.inertia_ratio:.2f} (0.41), the "
+            "gyroscopic drive that turns the hole axis onto the spin axis; "
+            + (
+                "the ball turns further and more slowly, which stretches every t_cr and with "
+                "it the difference a release offset or a slip-speed law makes"
+                if slower
+                else "the ball opens sooner, after a shorter turn, so the start of the "
+                "motion (where the release angle acts) weighs more in t_cr"
+            )
         )
     if abs(s.density - NOMINAL_SETTING.density) > 1.0:
         parts.append(
@@ -149,8 +162,8 @@ def format_design(result: DesignResult) -> str:
         "Criterion: Box-Hill (1967) expected symmetric KL divergence of the joint "
         "predictive distributions (Laplace posterior of each fit).",
         "Noise per run: the largest of its spin band's replicate SD, the band's CV x predicted "
-        f"t_cr and a release jitter of {result.noise_model.release_sd_deg:.3f} deg (the most "
-        "the replicates allow) x |dt_cr/dtheta_0|; bands: "
+        f"t_cr and a release jitter of {result.noise_model.release_sd_deg:.3f} deg "
+        f"({result.noise_model.release_source}) x |dt_cr/dtheta_0|; bands: "
         + ", ".join(
             f"{k} {v:.4f} s ({100 * result.noise_model.cv[k]:.1f} %)"
             for k, v in result.noise_model.sd.items()
