@@ -85,7 +85,8 @@ def plan_table(result: DesignResult, n_runs: int) -> list[str]:
         )
     lines.append(
         "  x: replicates; predicted t_cr [s]: mean [95 % predictive interval: parameters "
-        "and replicate noise]; sep/SD: difference of the means in replicate SDs"
+        "and replicate noise]; sep/SD: difference of the first two models' means in "
+        "replicate SDs"
     )
     return lines
 
@@ -120,8 +121,8 @@ def decision_table(result: DesignResult) -> list[str]:
         n_txt = str(n) if n else f"> {top}"
         lines.append(f"  runs for P(decisive) >= {target:g}: designed {d_txt}, naive {n_txt}")
     lines.append(
-        "  sep/SD: mean over the plan's runs of |difference of the two models' mean t_cr| "
-        "in replicate SDs"
+        "  sep/SD: mean over the plan's runs of |difference of the first two models' mean "
+        "t_cr| in replicate SDs"
     )
     return lines
 
@@ -166,6 +167,8 @@ def format_design(result: DesignResult) -> str:
         f"({result.noise_model.release_source}) x |dt_cr/dtheta_0|; bands: "
         + ", ".join(
             f"{k} {v:.4f} s ({100 * result.noise_model.cv[k]:.1f} %)"
+            if math.isfinite(v)
+            else f"{k} no replicates"
             for k, v in result.noise_model.sd.items()
         ),
         "",
