@@ -57,7 +57,7 @@ import numpy as np
 from numba import njit
 
 from ..dynamics import nutation_angle_of_state, rhs, slip_and_spin
-from ..jit_flags import NO_REFCOUNT
+from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import FORM_EULER, N_STATE, P_FORM, P_THETA_CR, P_WIDTH
 from .common import (
     append_row,
@@ -118,7 +118,7 @@ class RadauWork(NamedTuple):
     event: EventWork  #: its zacc: the last accepted step's z; its stage keeps z and w
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _cos_nutation(y, p) -> float:
     """cos(theta) of a state, without the atan2 of nutation_angle_of_state."""
     if p[P_FORM] == FORM_EULER:
@@ -127,7 +127,7 @@ def _cos_nutation(y, p) -> float:
     return 1.0 - 2.0 * (y[1] * y[1] + y[2] * y[2]) / q2
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _restep(t, y, h, s, p, scal, jac, fnewt, ev) -> int:
     """Re-solve the step from (t, y) with length s h (event location); result in ev.ytry.
 
@@ -157,7 +157,7 @@ def _restep(t, y, h, s, p, scal, jac, fnewt, ev) -> int:
     return nfev
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev):
     """Look for the opening inside an accepted step and locate it.
 
@@ -220,7 +220,7 @@ def locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev):
     return True, t + s_hi * h, nfev
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def locate_opening(
     t, y, h, z, ynew, g_old, g_new, p, scal, jac, zacc, stage, lu, scratch, fnewt, event_tol,
     ytry, y_event,
@@ -232,7 +232,7 @@ def locate_opening(
     return locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def _new_work() -> RadauWork:
     """The arrays of one run (allocated once per :func:`integrate` call)."""
     n = N_STATE
@@ -252,7 +252,7 @@ def _new_work() -> RadauWork:
     )  # fmt: skip
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _guess_stages(z, zacc, h, h_acc, have_poly) -> None:
     """The Newton start: the last step's collocation polynomial extrapolated to this
     step's nodes, or zero before the first accepted step."""
@@ -268,7 +268,7 @@ def _guess_stages(z, zacc, h, h_acc, have_poly) -> None:
                 z[k, i] = 0.0
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def error_estimate(t, y, h, p, scale, rtol, atol, once_more, ws) -> tuple[float, int]:
     """The embedded error estimate of a converged step (H&W IV.8).
 
@@ -304,7 +304,7 @@ def error_estimate(t, y, h, p, scale, rtol, atol, once_more, ws) -> tuple[float,
     return err, nfev
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _dense_rows(t, y, h, z, t_stop, t_eval, i_eval, ts, ys, n_out, ytry) -> tuple[int, int]:
     """Dense output (the step's collocation polynomial) at the output times inside
     (t, t_stop]; returns the next output time's index and the row count."""
@@ -318,7 +318,7 @@ def _dense_rows(t, y, h, z, t_stop, t_eval, i_eval, ts, ys, n_out, ytry) -> tupl
     return i_eval, n_out
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"})
+@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
     p, scale = problem.p, problem.scale

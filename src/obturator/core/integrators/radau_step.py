@@ -48,7 +48,7 @@ from .radau_control import _NIT, _THET, _UROUND, newton_contraction
 __all__ = ["_colloc_weights", "_factor", "_newton", "_dense"]
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _colloc_weights(s: float) -> tuple[float, float, float]:
     """Weights of Z1, Z2, Z3 in the collocation polynomial at t0 + s h (s may exceed 1)."""
     l1 = s * (s - C2) * (s - 1.0) * RD1
@@ -57,7 +57,7 @@ def _colloc_weights(s: float) -> tuple[float, float, float]:
     return l1, l2, l3
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _factor(h, jac, lu) -> bool:
     """LU of gamma/h I - J (real) and (alpha + i beta)/h I - J (complex, split storage).
 
@@ -81,7 +81,7 @@ def _factor(h, jac, lu) -> bool:
     return lu_factor_complex(lu_cr, lu_ci, piv_c)
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _newton(t, y, h, p, scal, stage, lu, scratch, faccon0, fnewt):
     """Simplified Newton iterations for the stage increments Z (initial guess in z).
 
@@ -162,7 +162,7 @@ def _newton(t, y, h, p, scal, stage, lu, scratch, faccon0, fnewt):
             return True, newt, theta, faccon, 1.0
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _dense(y, z, s, out) -> None:
     """Collocation polynomial of the step (y, z) at t0 + s h, written into out."""
     l1, l2, l3 = _colloc_weights(s)
