@@ -17,7 +17,7 @@ import time
 from ..errors import InputError
 from ..params import Range
 from . import _json
-from ._args import add_execution_flags
+from ._flags import JSON, OUT_NETCDF, SEED_FLAG, T_MAX, Flag, add_command, execution_flags, option
 from ._kinds import Count, InputFile, OutputFile, Quantity, Text
 from ._runner import study_runner, write_dataset
 
@@ -26,101 +26,95 @@ __all__ = ["register"]
 _HOLE_MAX = 7.899e-3 / math.sqrt(2.0)  # r_s <= R_s / sqrt(2) [m]
 
 
-def _pair(p: argparse.ArgumentParser, name: str, unit: str, rng: Range, what: str, ex: str) -> None:
-    for end in ("min", "max"):
-        p.add_argument(
+def _pair(name: str, unit: str, rng: Range, what: str, ex: str) -> tuple[Flag, ...]:
+    return tuple(
+        option(
             f"--{name}-{end}",
             metavar=unit.upper().replace("/", "_").replace("^", ""),
             type=Quantity(unit, rng, ex),
             help=f"{'lowest' if end == 'min' else 'highest'} {what} [{unit}]",
         )
+        for end in ("min", "max")
+    )
+
+
+def _points(name: str, default: str, what: str) -> Flag:
+    return option(
+        f"--{name}-points",
+        metavar="N",
+        default=default,
+        type=Count(1, 50, example="2"),
+        help=f"grid points of the {what} ({default}; the Table 1 value is added)",
+    )
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``design-experiment`` sub-command."""
-    p = subparsers.add_parser(
+    add_command(
+        subparsers,
         "design-experiment",
-        help="plan the rig runs that decide between candidate mechanisms",
-        description="Optimal experiment design for model discrimination on the spin rig: "
+        _run,
+        "Optimal experiment design for model discrimination on the spin rig: "
         "Box-Hill criterion over spin, release angle, hole radius and ball density, checked "
         "by simulated campaigns against a naive plan (spins spread as Appendix B).",
-    )
-    p.add_argument(
-        "--models",
-        metavar="NAME,...",
-        type=Text(example="strengthening,theta0"),
-        help="candidates, comma-separated (default strengthening,theta0; "
-        "obturator validate --list-models)",
-    )
-    p.add_argument(
-        "--runs",
-        metavar="N,...",
-        default="1,2,3,5,10,20",
-        type=Text(example="5,10"),
-        help="campaign sizes to plan and simulate (1,2,3,5,10,20; each 1-200)",
-    )
-    p.add_argument(
-        "--campaigns",
-        metavar="N",
-        default="200",
-        type=Count(10, 100_000, example="10"),
-        help="simulated campaigns per generating model and plan (200; at least 10)",
-    )
-    p.add_argument(
-        "--seed", metavar="S", default="1", type=Count(0, 2**32 - 1), help="random seed (1)"
-    )
-    _pair(p, "spin", "rad/s", Range(20.0, 2000.0), "spin rate (90, 450)", "200 rad/s")
-    _pair(p, "theta0", "deg", Range(45.0, 89.5), "release angle as set (70, 89)", "80 deg")
-    _pair(p, "hole-radius", "m", Range(1e-3, _HOLE_MAX), "hole radius (3.75, 5.58 mm)", "4 mm")
-    _pair(p, "density", "kg/m^3", Range(1000.0, 20000.0), "ball density (6000, 10000)", "8000")
-    for name, default, what in (
-        ("spin", "8", "spin rates (geometric)"),
-        ("theta0", "3", "release angles"),
-        ("hole-radius", "2", "hole radii"),
-        ("density", "2", "densities"),
-    ):
-        p.add_argument(
-            f"--{name}-points",
+        option(
+            "--models",
+            metavar="NAME,...",
+            type=Text(example="strengthening,theta0"),
+            help="candidates, comma-separated (default strengthening,theta0; "
+            "obturator validate --list-models)",
+        ),
+        option(
+            "--runs",
+            metavar="N,...",
+            default="1,2,3,5,10,20",
+            type=Text(example="5,10"),
+            help="campaign sizes to plan and simulate (1,2,3,5,10,20; each 1-200)",
+        ),
+        option(
+            "--campaigns",
             metavar="N",
-            default=default,
-            type=Count(1, 50, example="2"),
-            help=f"grid points of the {what} ({default}; the Table 1 value is added)",
-        )
-    p.add_argument(
-        "--release-sd",
-        metavar="DEG",
-        type=Quantity("deg", Range(0.0, 10.0), "0.1 deg"),
-        help="repeatability (SD) of the release angle, if measured [deg] (default: the "
-        "largest the replicate scatter allows, about 0.9 deg on Appendix B)",
+            default="200",
+            type=Count(10, 100_000, example="10"),
+            help="simulated campaigns per generating model and plan (200; at least 10)",
+        ),
+        SEED_FLAG.but(default="1", type=Count(0, 2**32 - 1), help="random seed (1)"),
+        *_pair("spin", "rad/s", Range(20.0, 2000.0), "spin rate (90, 450)", "200 rad/s"),
+        *_pair("theta0", "deg", Range(45.0, 89.5), "release angle as set (70, 89)", "80 deg"),
+        *_pair("hole-radius", "m", Range(1e-3, _HOLE_MAX), "hole radius (3.75, 5.58 mm)", "4 mm"),
+        *_pair("density", "kg/m^3", Range(1000.0, 20000.0), "ball density (6000, 10000)", "8000"),
+        _points("spin", "8", "spin rates (geometric)"),
+        _points("theta0", "3", "release angles"),
+        _points("hole-radius", "2", "hole radii"),
+        _points("density", "2", "densities"),
+        option(
+            "--release-sd",
+            metavar="DEG",
+            type=Quantity("deg", Range(0.0, 10.0), "0.1 deg"),
+            help="repeatability (SD) of the release angle, if measured [deg] (default: the "
+            "largest the replicate scatter allows, about 0.9 deg on Appendix B)",
+        ),
+        option(
+            "--data",
+            metavar="FILE.csv",
+            type=InputFile(example="runs.csv"),
+            help="measured runs in the calibrate CSV format (default: thesis Appendix B)",
+        ),
+        T_MAX.but(
+            default="20",
+            type=Quantity("s", Range(0.0, 1e4, True, False), "20 s"),
+            help="horizon [s] (20)",
+        ),
+        option(
+            "--figure",
+            metavar="FILE.png",
+            type=OutputFile(figure=True, example="design.png"),
+            help="predictions over each setting with bands and the planned runs",
+        ),
+        JSON,
+        OUT_NETCDF.but(type=OutputFile(suffixes=("nc",), example="design.nc")),
+        *execution_flags(),
     )
-    p.add_argument(
-        "--data",
-        metavar="FILE.csv",
-        type=InputFile(example="runs.csv"),
-        help="measured runs in the calibrate CSV format (default: thesis Appendix B)",
-    )
-    p.add_argument(
-        "--t-max",
-        metavar="S",
-        default="20",
-        type=Quantity("s", Range(0.0, 1e4, True, False), "20 s"),
-        help="horizon [s] (20)",
-    )
-    p.add_argument(
-        "--figure",
-        metavar="FILE.png",
-        type=OutputFile(figure=True, example="design.png"),
-        help="predictions over each setting with bands and the planned runs",
-    )
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument(
-        "--out",
-        metavar="FILE.nc",
-        type=OutputFile(suffixes=("nc",), example="design.nc"),
-        help="NetCDF output (and resume store)",
-    )
-    add_execution_flags(p)
-    p.set_defaults(func=_run)
 
 
 def _sizes(text: str) -> list[int]:

@@ -17,7 +17,13 @@ another regularisation family. Past first light (:mod:`~obturator.solve.start`):
 compiled integrators (shared by both paths).
 """
 
-from .convergence import ConvergenceCheck, alternative_family, convergence_check
+from .convergence import (
+    ConvergenceCheck,
+    alternative_family,
+    convergence_check,
+    convergence_checks,
+    refined_options,
+)
 from .many import (
     POINT_STATUSES,
     Advanced,
@@ -55,6 +61,7 @@ __all__ = [
     "alternative_family",
     "batchable",
     "convergence_check",
+    "convergence_checks",
     "error_scale",
     "integrate_packed",
     "integration_controls",
@@ -64,6 +71,7 @@ __all__ = [
     "opening_times",
     "pack_parameters",
     "pack_points",
+    "refined_options",
     "point_status",
     "simulate",
     "start_times",

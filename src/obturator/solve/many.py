@@ -200,6 +200,7 @@ class Advanced(NamedTuple):
     t_cr: np.ndarray  #: (n,) opening time [s] from the case's t = 0 (NaN if not opened)
     status: np.ndarray  #: (n,) int8 :class:`~obturator.status.Status`, as :func:`opening_times`
     state: np.ndarray  #: (n, 8) state at t_max (the event state if opened; NaN if invalid)
+    nfev: np.ndarray  #: (n,) right-hand-side evaluations of each case
     stats: dict[str, int]  #: as :func:`opening_times`
 
 
@@ -237,10 +238,13 @@ def advance(
     if states.shape != (n, N_STATE):
         raise InputError("states", f"expected shape ({n}, {N_STATE}), got {states.shape}")
     end = np.full((n, N_STATE), math.nan)
+    nfev = np.zeros(n, dtype=np.int64)
     if batchable(options):
         packed = pack_points(cases, options, states)
-        t_cr, status, stats = integrate_packed(packed, options, n_lanes=n_lanes, end_states=end)
-        return Advanced(t_cr, status, end, stats)
+        t_cr, status, stats = integrate_packed(
+            packed, options, n_lanes=n_lanes, end_states=end, point_nfev=nfev
+        )
+        return Advanced(t_cr, status, end, nfev, stats)
 
     t_cr = np.full(n, math.nan)
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
@@ -249,9 +253,11 @@ def advance(
             continue
         res = simulate(case, options, y0=states[k], t_eval=np.array([case.t_max]))
         t_cr[k], status[k] = point_status(res.status, res.opening_time)
+        nfev[k] = res.nfev
         if res.state.shape[0]:
             end[k] = res.state[-1]
-    return Advanced(t_cr, status, end, {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0})
+    stats = {"n_points": n, "nfev": int(nfev.sum()), "n_stiff": 0, "n_hand_backs": 0}
+    return Advanced(t_cr, status, end, nfev, stats)
 
 
 def _raise_failed(cases: Sequence[object], status: np.ndarray) -> None:
@@ -343,9 +349,11 @@ def integrate_packed(
     *,
     n_lanes: int = DEFAULT_LANES,
     end_states: np.ndarray | None = None,
+    point_nfev: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     """:func:`opening_times` of points already packed (:func:`pack_points`); where
-    given, row i of `end_states` (n, 8) receives point i's last state."""
+    given, row i of `end_states` (n, 8) receives point i's last state and entry i of
+    `point_nfev` its right-hand-side evaluations."""
     if options.method not in BATCH_METHODS:
         raise InputError("method", f"{options.method!r}: the lanes integrate {BATCH_METHODS}")
     n = packed.valid.size
@@ -356,13 +364,15 @@ def integrate_packed(
     kernels = packed.p[valid, P_KERNEL]
     for kernel in np.unique(kernels):
         idx = valid[kernels == kernel]
-        y_end = _run_group(idx, packed.take(idx), options, n_lanes, t_cr, status, stats)
+        y_end, nfev = _run_group(idx, packed.take(idx), options, n_lanes, t_cr, status, stats)
         if end_states is not None:
             end_states[idx] = y_end
+        if point_nfev is not None:
+            point_nfev[idx] = nfev
     return t_cr, status, stats
 
 
-def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> np.ndarray:
+def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.ndarray, np.ndarray]:
     """Points of one kernel: DOP853 lanes, stiff points on in Radau IIA lanes, the points
     where sliding resumed back in DOP853 lanes, and so on, as :func:`continue_auto` does
     for one point; stiff points too few for Radau IIA lanes (or of another kernel)
@@ -423,7 +433,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> np.ndarray
     stats["n_hand_backs"] += int(hand_backs.sum())
     for g, k in enumerate(idx):
         t_cr[k], status[k] = point_status(Status(int(end_status[g])), float(t_event[g]))
-    return y
+    return y, cnt[0]
 
 
 def _advance(lanes, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps, *rest):
