@@ -113,7 +113,11 @@ __all__ = [
 #: becomes stick.
 STICK_SLIP = 1e-6
 #: Slip speed, in units of |omega_p|, given at breakaway (along -G_req / |G_req|).
-KICK = 1e-9
+#: 1e-9 let Radau IIA hover at the kick's level for ~100 steps in the wide windows
+#: near theta = 49 deg (40 rad/s), and rounding alone then decided whether a window
+#: slipped in full (t_cr moved by a whole cycle, 1.9e-3, between two equivalent
+#: starts); at 1e-8 and 1e-7 it took off in every window tried.
+KICK = 1e-8
 #: Fraction of the predicted time to zero slip taken as the step when homing in.
 HOME_IN = 0.98
 #: Width, in units of the slip speed, of the parameter copy used for Radau IIA's

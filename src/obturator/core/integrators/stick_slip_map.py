@@ -45,18 +45,19 @@ from .contract import Controls, Problem, RawSolution, Status
 
 __all__ = ["MAP_TOL", "MAX_NODES", "NODE_TOL_FACTOR", "applies", "integrate"]
 
-#: Largest estimated interpolation error accepted: of log(-D) (relative error of the
-#: change of theta per cycle) and of T in units of half a spin period.
-MAP_TOL = 1e-6
+#: Largest estimated interpolation error accepted (the last two Chebyshev coefficients):
+#: of log(-D) (relative error of the change of theta per cycle) and of T in units of
+#: half a spin period.
+MAP_TOL = 1e-7
 #: Most nodes (Chebyshev-Lobatto levels 9, 17, 33).
 MAX_NODES = 33
 #: The nodes' cycles run at this fraction of the requested tolerances: an error of the
 #: map is made in every cycle alike, where the cycles integrated one by one vary.
-NODE_TOL_FACTOR = 0.01
+NODE_TOL_FACTOR = 0.1
 #: Cycles left to the opening that are integrated one by one again.
 LAST_CYCLES = 3
-#: Lowest nutation angle [rad] of the map's interval (50 deg: above pi/4, where
-#: sin 2 theta turns; the cycles below it are integrated one by one).
+#: Lowest nutation angle [rad] of the map's interval (the cycles below it, a handful
+#: with the largest changes of theta, are integrated one by one).
 THETA_LOW = math.radians(50.0)
 #: Turn [rad] back into stick from which a node's cycle starts (the breakaway then
 #: goes through the mode loop's own stick exit).
@@ -151,14 +152,16 @@ def _clenshaw(c: np.ndarray, x: float) -> float:
 
 @njit(cache=True, **NO_REFCOUNT)
 def abscissa(theta: float) -> float:
-    """The map's variable log(sin 2 theta) (theta in [pi/4, pi/2]): the exit windows'
-    half-width kappa is proportional to sin 2 theta, and D ~ kappa^3 there."""
-    return math.log(math.sin(2.0 * theta))
+    """The map's variable log(cot theta) (theta in (0, pi/2)): the exit windows'
+    half-width kappa is proportional to sin theta cos theta, and D ~ kappa^3 near
+    theta = pi/2; in this variable log(-D) has Chebyshev coefficients falling ~100x
+    every 4 degrees (40 rad/s), against ~10x in theta itself."""
+    return math.log(math.cos(theta) / math.sin(theta))
 
 
 def nutation_at(x: np.ndarray) -> np.ndarray:
-    """theta [rad] in [pi/4, pi/2] of the abscissa `x` (inverse of :func:`abscissa`)."""
-    return 0.5 * (np.pi - np.arcsin(np.exp(x)))
+    """theta [rad] of the abscissa `x` (inverse of :func:`abscissa`)."""
+    return np.arctan(np.exp(-x))
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -250,37 +253,27 @@ class _Nodes:
 
 def _build_map(nodes: _Nodes, lo: float, hi: float, start: tuple[float, float, int, float]):
     """Chebyshev coefficients (log(-D), T, Phi) and k' of the map on [lo, hi] (of
-    :func:`abscissa`), or None
-    where the nested estimate does not reach :data:`MAP_TOL` by :data:`MAX_NODES`, or
-    where the 9-node map leaves fewer cycles to the opening than the next level's nodes."""
+    :func:`abscissa`); None where the estimate does not reach :data:`MAP_TOL` by
+    :data:`MAX_NODES` nodes, where the nodes' cycles differ in kind (k', or whole half
+    periods), or where the 9-node map leaves fewer cycles than the next level's nodes."""
+    theta_lo = float(nutation_at(np.array(lo)))
     n = 9
-    rows = nodes.at(nutation_at(lo + 0.5 * (hi - lo) * (1.0 + _lobatto(n))))
-    while rows is not None and n < MAX_NODES:
-        if np.ptp(rows[:, 3]) != 0.0 or np.ptp(np.round(rows[:, 1])) != 0.0:
+    while n <= MAX_NODES:
+        rows = nodes.at(nutation_at(lo + 0.5 * (hi - lo) * (1.0 + _lobatto(n))))
+        if rows is None or np.ptp(rows[:, 3]) != 0.0 or np.ptp(np.round(rows[:, 1])) != 0.0:
             return None
         c = [_coefficients(rows[:, i]) for i in range(3)]
-        m = 2 * n - 1
-        if n == 9:
-            theta_lo = float(nutation_at(np.array(lo)))
-            cycles = iterate(*start, lo, hi, c[0], c[1] * nodes.half, c[2], 0, theta_lo, math.inf)[
-                4
-            ]
-            if cycles < 2 * (m - n):
-                return None
-        x = _lobatto(m)
-        fine = nodes.at(nutation_at(lo + 0.5 * (hi - lo) * (1.0 + x)))
-        if fine is None:
-            return None
-        new = x[1::2]
-        err = max(
-            np.max(np.abs(np.polynomial.chebyshev.chebval(new, c[i]) - fine[1::2, i]))
-            for i in range(2)
-        )
+        c[1] *= nodes.half
+        # error estimate: the last two Chebyshev coefficients (log(-D), T / half period)
+        err = max(np.max(np.abs(c[0][-2:])), np.max(np.abs(c[1][-2:])) / nodes.half)
         nodes.errors.append(float(err))
-        rows, n = fine, m
         if err <= MAP_TOL:
-            c = [_coefficients(rows[:, i]) for i in range(3)]
-            return c[0], c[1] * nodes.half, c[2], int(rows[0, 3])
+            return c[0], c[1], c[2], int(rows[0, 3])
+        if n == 9:
+            cycles = iterate(*start, lo, hi, c[0], c[1], c[2], 0, theta_lo, math.inf)[4]
+            if cycles < 2 * (n - 1):
+                return None
+        n = 2 * n - 1
     return None
 
 
@@ -292,34 +285,33 @@ def integrate(problem: Problem, controls: Controls, run: RunCycles) -> RawSoluti
     """
     wp = float(problem.y0[7])
     nodes = _Nodes(problem, controls, run)
-    out = problem._replace(y0=problem.y0), problem.t0
-    theta_cr = float(problem.p[P_THETA_CR])
+    y, t = problem.y0, problem.t0  # where the next run starts
     thetas = []
     for _ in range(2):  # to the first breakaway, and one cycle: theta's first change
-        res = run(problem._replace(y0=out[0].y0, t0=out[1]), controls, out[1] + 0.5 * nodes.half)
+        res = run(problem._replace(y0=y, t0=t), controls, t + 0.5 * nodes.half)
         nodes.count(res)
         if res.status != Status.T_MAX or not res.t_end < controls.t_max:
             return _with_counts(res, nodes, res)
         ok, theta, k, phi = decompose(res.y_end, problem.p, wp)
-        thetas.append(theta)
-        out = problem._replace(y0=_rewound(res.y_end, wp)), res.t_end - _BACK / abs(wp)
-    y0, t0 = out[0].y0, out[1]
+        thetas.append(theta if ok else math.nan)
+        y, t = _rewound(res.y_end, wp), res.t_end - _BACK / abs(wp)
+    t_break = res.t_end
     d = thetas[1] - thetas[0]
-    # the map's interval: down to theta_cr, but not below THETA_LOW (sin 2 theta monotone)
-    theta_lo = max(theta_cr, THETA_LOW)
+    theta_lo = max(float(problem.p[P_THETA_CR]), THETA_LOW)
     built = None
-    if ok and d < 0.0 and theta > theta_lo and (theta - theta_lo) > -2.0 * MAX_NODES * d:
+    if d < 0.0 and theta > theta_lo and (theta - theta_lo) > -2.0 * MAX_NODES * d:
         lo, hi = abscissa(theta_lo), abscissa(theta)
-        built = _build_map(nodes, lo, hi, (theta, t0, k, phi))
+        built = _build_map(nodes, lo, hi, (theta, t_break, k, phi))
     if built is not None:
         c_logd, c_time, c_phi, k_step = built
-        theta, t, k, phi, cycles = iterate(
-            theta, t0, k, phi, lo, hi, c_logd, c_time, c_phi, k_step, theta_lo, controls.t_max
-        )
-        y_map = np.empty_like(y0)
+        theta, t_map, k, phi, cycles = iterate(
+            theta, t_break, k, phi, lo, hi, c_logd, c_time, c_phi, k_step, theta_lo,
+            controls.t_max,
+        )  # fmt: skip
+        y_map = np.empty_like(y)
         if cycles > 0 and compose(theta, k, phi, problem.p, wp, y_map):
-            y0, t0 = _rewound(y_map, wp), t - _BACK / abs(wp)
-    last = run(problem._replace(y0=y0, t0=t0), controls, math.inf)
+            y, t = _rewound(y_map, wp), t_map - _BACK / abs(wp)
+    last = run(problem._replace(y0=y, t0=t), controls, math.inf)
     return _with_counts(last, nodes, None)
 
 
