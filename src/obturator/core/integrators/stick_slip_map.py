@@ -18,16 +18,21 @@ cycles before it opens, each integrated through its stiff slip window by
 So the state at the next breakaway (a Poincare section at the exits of the stick set)
 is Z((k + k') pi) B(theta + D(theta)) z(phi + Phi(theta)), reached after T(theta):
 three smooth functions of theta alone and an integer k'. They are computed by
-integrating one cycle from B(theta_j) at Chebyshev-Lobatto nodes theta_j in
-[theta_cr, theta_1] (theta_1 that of the first breakaway), interpolated (log(-D), T,
-Phi), and the map is iterated over the cycles; the last few cycles before the opening
-are integrated again, with the opening event, from the state the map gives. The
-interpolation error is estimated by nesting: the 9-node interpolant at the 8 new nodes
-of the 17-node one, and so on; a map whose estimate does not reach :data:`MAP_TOL`
-with :data:`MAX_NODES` nodes, whose nodes do not all stick again within two
-revolutions, or where a cycle does not decrease theta, is not used (the cycles are
-integrated one by one, as without the map). Only runs that need the opening time
-alone use it (no recorded steps, no output times, a terminal event).
+integrating one cycle from B(theta_j) (at :data:`NODE_TOL_FACTOR` of the tolerances) at
+Chebyshev-Lobatto nodes in the variable :func:`abscissa` between theta_1 (the second
+breakaway) and max(theta_cr, :data:`THETA_LOW`), interpolated (log(-D), T, Phi), and
+the map is iterated over the cycles; the last :data:`LAST_CYCLES` cycles of the
+interval, and those below it, are integrated again, with the opening event, from the
+state the map gives. The interpolation error is estimated by the last two Chebyshev
+coefficients of 9, 17 or 33 nodes (nested); a map whose estimate does not reach
+:data:`MAP_TOL` times rtol by :data:`MAX_NODES` nodes, whose nodes' cycles differ in
+kind (k', or the number of half periods), or where a cycle does not decrease theta, is
+not used: the cycles are then integrated one by one, as without the map. So is a map
+that would leave fewer cycles than its next nodes. Only runs that need the opening time
+alone use it (no recorded steps, no output times, a terminal event, constant spin).
+The map is a Poincare (first-return) map; its use to skip nearly periodic cycles is
+the idea of envelope following (Petzold, SIAM J. Sci. Stat. Comput. 2, 1981), here
+exact up to interpolation because the cycles depend on theta alone.
 """
 
 from __future__ import annotations
@@ -43,17 +48,28 @@ from ..jit_flags import NO_REFCOUNT
 from ..layout import P_SPIN_MODE, P_THETA_CR, SPIN_CONSTANT
 from .contract import Controls, Problem, RawSolution, Status
 
-__all__ = ["MAP_TOL", "MAX_NODES", "NODE_TOL_FACTOR", "applies", "integrate"]
+__all__ = [
+    "MAP_TOL",
+    "MAX_NODES",
+    "MIN_CYCLES",
+    "NODE_TOL_FACTOR",
+    "applies",
+    "cycles_ahead",
+    "integrate",
+]
 
-#: Largest estimated interpolation error accepted (the last two Chebyshev coefficients):
-#: of log(-D) (relative error of the change of theta per cycle) and of T in units of
-#: half a spin period.
-MAP_TOL = 1e-7
+#: Largest estimated interpolation error accepted (the last two Chebyshev coefficients),
+#: in units of the requested rtol: of log(-D) (relative error of the change of theta per
+#: cycle) and of T in units of half a spin period (at rtol 1e-8: 5e-7).
+MAP_TOL = 50.0
 #: Most nodes (Chebyshev-Lobatto levels 9, 17, 33).
 MAX_NODES = 33
 #: The nodes' cycles run at this fraction of the requested tolerances: an error of the
 #: map is made in every cycle alike, where the cycles integrated one by one vary.
 NODE_TOL_FACTOR = 0.1
+#: Fewest cycles (:func:`cycles_ahead`) for which the map is built: a node costs about
+#: two cycles integrated one by one, and 17 nodes are the usual need.
+MIN_CYCLES = 60.0
 #: Cycles left to the opening that are integrated one by one again.
 LAST_CYCLES = 3
 #: Lowest nutation angle [rad] of the map's interval (the cycles below it, a handful
@@ -210,6 +226,7 @@ class _Nodes:
         p = problem.p.copy()
         p[P_THETA_CR] = -1.0  # no opening inside a node's cycle
         self.problem = problem._replace(p=p, t0=0.0)
+        self.rtol = controls.rtol
         rtol, atol = controls.rtol * NODE_TOL_FACTOR, controls.atol * NODE_TOL_FACTOR
         self.controls = controls._replace(t_max=4.0 * self.half, rtol=rtol, atol=atol)
         self.run = run
@@ -267,7 +284,7 @@ def _build_map(nodes: _Nodes, lo: float, hi: float, start: tuple[float, float, i
         # error estimate: the last two Chebyshev coefficients (log(-D), T / half period)
         err = max(np.max(np.abs(c[0][-2:])), np.max(np.abs(c[1][-2:])) / nodes.half)
         nodes.errors.append(float(err))
-        if err <= MAP_TOL:
+        if err <= MAP_TOL * nodes.rtol:
             return c[0], c[1], c[2], int(rows[0, 3])
         if n == 9:
             cycles = iterate(*start, lo, hi, c[0], c[1], c[2], 0, theta_lo, math.inf)[4]
@@ -299,7 +316,7 @@ def integrate(problem: Problem, controls: Controls, run: RunCycles) -> RawSoluti
     d = thetas[1] - thetas[0]
     theta_lo = max(float(problem.p[P_THETA_CR]), THETA_LOW)
     built = None
-    if d < 0.0 and theta > theta_lo and (theta - theta_lo) > -2.0 * MAX_NODES * d:
+    if d < 0.0 and theta > theta_lo and cycles_ahead(theta_lo, theta, -d) > MIN_CYCLES:
         lo, hi = abscissa(theta_lo), abscissa(theta)
         built = _build_map(nodes, lo, hi, (theta, t_break, k, phi))
     if built is not None:
@@ -313,6 +330,16 @@ def integrate(problem: Problem, controls: Controls, run: RunCycles) -> RawSoluti
             y, t = _rewound(y_map, wp), t_map - _BACK / abs(wp)
     last = run(problem._replace(y0=y, t0=t), controls, math.inf)
     return _with_counts(last, nodes, None)
+
+
+def cycles_ahead(theta_lo: float, theta: float, drop: float) -> float:
+    """Estimated cycles from `theta` down to `theta_lo` [rad] when the first cycle lowers
+    theta by `drop` [rad], with D ~ kappa^3 ~ (sin theta cos theta)^3 (the exit
+    windows' width, excess and duration each ~ kappa): sum dtheta / |D|."""
+    th = np.linspace(theta_lo, theta, 201)
+    ratio = (np.sin(th) * np.cos(th) / (math.sin(theta) * math.cos(theta))) ** 3
+    inv = 1.0 / (drop * ratio)
+    return float(np.sum(0.5 * (inv[1:] + inv[:-1]) * np.diff(th)))
 
 
 def _rewound(y: np.ndarray, wp: float) -> np.ndarray:
