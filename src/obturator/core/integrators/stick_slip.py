@@ -103,6 +103,7 @@ __all__ = [
     "JACOBIAN_WIDTH",
     "FAST_SLIP",
     "TAKE_OFF",
+    "RELEASE_KICK",
     "REKICK",
     "HOLD_THROUGH",
     "integrate",
@@ -118,6 +119,10 @@ STICK_SLIP = 1e-6
 #: slipped in full (t_cr moved by a whole cycle, 1.9e-3, between two equivalent
 #: starts); at 1e-8 and 1e-7 it took off in every window tried.
 KICK = 1e-8
+#: The kick at release (zero slip, G_req outside F: flight, the rig at some azimuths),
+#: where G_req is well outside F and the slip takes off at once: 1e-9 as before (at 1e-8
+#: the flight t_cr moved by up to 4e-8 at rtol 1e-9, by 3e-7 at rtol 1e-8, Mach 3).
+RELEASE_KICK = 1e-9
 #: Fraction of the predicted time to zero slip taken as the step when homing in.
 HOME_IN = 0.98
 #: Width, in units of the slip speed, of the parameter copy used for Radau IIA's
@@ -385,8 +390,9 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
     theta = 0.0
     armed = True  # re-stick allowed (after a breakaway: once G_req has left F)
     if not sticking:
-        if r0 < r_kick:  # released at (or near) zero slip with G_req outside F
-            tau = _break_away(y, p, r_kick, ytry)
+        r_release = RELEASE_KICK * spin
+        if r0 < r_release:  # released at (or near) zero slip with G_req outside F
+            tau = _break_away(y, p, r_release, ytry)
             t += tau
             if tau > 0.0:
                 h = min(h, TAKE_OFF * tau)
