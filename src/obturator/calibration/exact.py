@@ -164,7 +164,9 @@ def _objective(
         weight=1.0 if sigma is None else 1.0 / sigma,
         params=ParameterSet.of(names, {k: v for k, v in (bounds or {}).items() if k in names}),
         held=start,
-        model_kw={k: v for k, v in given.items() if k not in start},
+        # each run's own settings (data-file columns) ride with the model's inputs
+        model_kw={k: v for k, v in given.items() if k not in start}
+        | {"run_settings": runs.run_settings()},
     )
     return objective, given
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..params import Range
+from ..vocab import NOISE_MODELS
 from . import _json
 from ._kinds import Count, InputFile, OutputDir, OutputFile, Quantity, Text
 from ._runner import runner_from_args
@@ -79,6 +80,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         type=Quantity("rad/s", Range(0.0, 100.0), "1 rad/s"),
         help="spin error SD of the errors-in-variables term [rad/s] "
         "(default 1.01: uniform on the rig's +-1.75 rad/s; 0: off)",
+    )
+    p.add_argument(
+        "--noise",
+        choices=NOISE_MODELS,
+        default="band",
+        help="run-to-run noise of the likelihood: one sigma per spin band fitted with the "
+        "model (band, the default: the replicate scatter differs tenfold between bands) "
+        "or one pooled sigma (pooled)",
     )
     p.add_argument(
         "--cluster-gap",
@@ -155,6 +164,7 @@ def _run(args: argparse.Namespace) -> int:
         spin_sd=spin_sd,
         gap=gap,
         profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
+        noise=args.noise,
     )
     from ..runs.store import atomic_write_text
     from ..validation.textreport import format_report
