@@ -349,7 +349,8 @@ FIT_SPECS: dict[str, FitSpec] = {
         (0.0, 0.5),
         (0.0, 0.1),
         "b of the contact ageing law mu_static = mu_s + b ln(1 + t_d/tau) "
-        "(obturator.model.ageing): static friction of a dry contact grows with the "
+        "(obturator.model.ageing) of the steel ball on the rig's lucite seat (chapter "
+        "III.A): static friction of a dry contact grows with the "
         "logarithm of its age as the asperity contacts creep (Dieterich 1972, J. Geophys. "
         "Res. 77; for PMMA, the rig's lucite: Dieterich and Kilgore 1994, Pure Appl. "
         "Geophys. 143; Berthoud et al. 1999, Phys. Rev. B 59), with b of order 1e-2. "
@@ -362,7 +363,8 @@ FIT_SPECS: dict[str, FitSpec] = {
         (1e-7, 10.0),
         (1e-6, 1e-1),
         "tau of the contact ageing law, the cut-off time below which a contact has not "
-        "aged. The seat's contact time per pass of the patch, t_d = 2 a / (R_s omega_p), "
+        "aged. The seat's contact time per pass of the patch, t_d = 2 a / (R_s omega_p) "
+        "with a the Hertz radius of the bottom contact (chapter III, Fig. 22), "
         "is 0.16-0.9 ms over the rig's 78-446 rad/s, so a tau far above it leaves only "
         "b t_d/tau (b and tau then not separately identified) and one far below it a "
         "spin-independent offset of mu. Published cut-off times of polymer ageing are "

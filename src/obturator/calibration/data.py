@@ -479,7 +479,12 @@ def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigDat
         skipped. Columns: ``t_cr_s`` (opening time [s]), exactly one of
         ``readout_hz`` (counter readout [Hz], converted with 2 pi f / teeth) or
         ``spin_rate_rad_s`` ([rad/s]); optional ``starred`` (1/0, true/false,
-        ``*``) and ``omega_p_printed_rad_s``. Other columns are ignored.
+        ``*``) and ``omega_p_printed_rad_s``; optional per-run settings
+        (:data:`RUN_COLUMNS`; an empty cell keeps Table 1's value): ``theta0``
+        [deg], ``hole_radius`` [mm], ``density`` [kg/m^3], ``ball_mass`` [g], and
+        ``theta_measured`` [deg] with ``t_measured`` [s], each with its unit in the
+        header (``hole_radius_m``, ``density [g/cm^3]``) or else in the unit in
+        brackets here. Other columns are ignored.
     teeth : int
         Teeth on the bucket wheel (18 on Bloomer's rig).
 
@@ -488,8 +493,9 @@ def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigDat
     InputError
         For a missing or empty file, a missing or duplicated column, a repeated
         header line, a wrong number of fields, a non-numeric cell, or a time,
-        readout or spin rate outside (0, inf); the message names the file,
-        line number, column and allowed range.
+        readout or spin rate outside (0, inf), a setting's unit that does not convert
+        or a value outside its range (:data:`obturator.params.PARAMS`); the message
+        names the file, line number, column and allowed range.
     """
     from ..files import read_text_file
 

@@ -198,6 +198,10 @@ def _describe(
         "solver": f"{opts.method} rtol={opts.rtol:g} atol={opts.atol:g} "
         f"friction_width={opts.friction_width:g} formulation={opts.formulation}",
         "jacobian": f"central differences, relative step {_DIFF_STEP:g}",
+        # the data file's per-run columns the model used (theta_0, ball, load)
+        "run_settings": sorted(
+            k for k in runs.settings if k not in ("theta_measured_deg", "t_measured")
+        ),
     }
 
 

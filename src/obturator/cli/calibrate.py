@@ -21,7 +21,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="fit the sliding friction mu_s of the exact model to spin-rig data",
         description="Least-squares fit of mu_s of the exact rig model (integrated equations "
         "of motion) to measured opening times. DATA.csv has a header with t_cr_s and "
-        "readout_hz (18-tooth wheel) or spin_rate_rad_s, optionally starred (1/0). Runs "
+        "readout_hz (18-tooth wheel) or spin_rate_rad_s, optionally starred (1/0) and each "
+        "run's own theta0, hole_radius, density, ball_mass, theta_measured with t_measured "
+        "(unit in the header: theta0_deg, hole_radius_mm, density [kg/m^3], ...). Runs "
         "fitted: spin >= --min-spin if given, else the starred runs, else all runs.",
     )
     c.add_argument(
@@ -35,7 +37,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="X",
         type=quantity_of("theta0_deg"),
         default=None,
-        help=f"theta_0 [deg] ({TABLE1['theta0_deg']})",
+        help=f"theta_0 [deg] ({TABLE1['theta0_deg']}; on runs with their own theta0 "
+        "column, its offset from that value is added)",
     )
     c.add_argument(
         "--config",

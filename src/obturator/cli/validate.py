@@ -35,7 +35,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--data",
         metavar="FILE.csv",
         type=InputFile(example="runs.csv"),
-        help="runs in the calibrate CSV format (default: thesis Appendix B, 54 runs)",
+        help="runs in the calibrate CSV format, with each run's own theta0, hole radius, "
+        "density, ball mass and measured angle if given (default: thesis Appendix B, 54 runs)",
     )
     p.add_argument(
         "--models",
