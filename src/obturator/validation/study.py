@@ -253,6 +253,19 @@ def recommend(models: Sequence[ModelResult]) -> tuple[str, str]:
                 + ")"
             )
         why += "."
+    g = choice.goodness
+    if g:
+        failing = [b for b, row in g["bands"].items() if row["p_value"] < 0.05]
+        why += (
+            f" Against the replicate floor (band by band): overall lack-of-fit "
+            f"p = {g['overall']['p_value']:.2g}"
+            + (f", failing at 5 % in {', '.join(failing)}" if failing else ", no band failing")
+            + "."
+        )
+        passing = [
+            m.name for m in models if m.goodness and m.goodness["overall"]["p_value"] >= 0.05
+        ]
+        why += " Passing overall at 5 %: " + (", ".join(passing) if passing else "none") + "."
     implausible = [m.name for m in fitted if not m.fit.all_plausible]
     if implausible:
         why += " Outside their physical ranges: " + ", ".join(implausible) + "."

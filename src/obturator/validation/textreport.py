@@ -287,6 +287,24 @@ def markdown_summary(result: ValidationResult) -> list[str]:
             f"{_f(oob.get('high->low', math.nan))} | {_f(oob.get('low->high', math.nan))} | "
             f"{'yes' if f.all_plausible else 'no'} |"
         )
+    good = [m for m in result.models if m.goodness]
+    if good:
+        out += [
+            "",
+            "Lack of fit per band against the replicate floor (p of the F test of the "
+            "cluster means on the band's pure error; p < 0.05: the model misses):",
+            "",
+            "| model | " + " | ".join(bands) + " | overall X2 (dof) | p |",
+            "|---|" + "---|" * len(bands) + "---|---|",
+        ]
+        for m in good:
+            g = m.goodness
+            cells = [_f(g["bands"].get(b, {}).get("p_value", math.nan), ".2g") for b in bands]
+            o = g["overall"]
+            out.append(
+                f"| {m.name} | " + " | ".join(cells) + f" | {_f(o['X2'], '.1f')} ({o['dof']}) "
+                f"| {_f(o['p_value'], '.2g')} |"
+            )
     rec = result.model(result.recommended)
     out += ["", "**Recommended:** " + result.recommendation, ""]
     out += ["```"] + params_table(rec.fit) + ["```"]
