@@ -64,7 +64,7 @@ import math
 from dataclasses import dataclass
 
 from ..errors import check_range
-from .torques import SlipSpeedLaw
+from .torques import MAX_MU, SlipSpeedLaw
 
 __all__ = ["DEFAULT_MEMORY_LENGTH", "ContactAgeing"]
 
@@ -112,8 +112,10 @@ class ContactAgeing:
         return 2.0 * patch_radius / (ball_radius * spin_rate)
 
     def static_friction(self, mu_s: float, dwell_time: float) -> float:
-        """mu_0 = mu_s + b ln(1 + t_d / tau) [-]."""
-        return mu_s + self.rate * math.log1p(dwell_time / self.cutoff_time)
+        """mu_0 = mu_s + b ln(1 + t_d / tau) [-], at most the model's largest coefficient
+        :data:`~.torques.MAX_MU` (reached only far outside the physical range, at a
+        large b, a tiny tau and a slow spin; the fit's bounds keep b <= 0.1)."""
+        return min(mu_s + self.rate * math.log1p(dwell_time / self.cutoff_time), MAX_MU)
 
     def friction(
         self, mu_s: float, patch_radius: float, ball_radius: float, spin_rate: float

@@ -222,7 +222,8 @@ def recommend(models: Sequence[ModelResult]) -> tuple[str, str]:
     others = sorted((m for m in models if m is not choice), key=lambda m: m.fit.aic)
     f = choice.fit
     vals = ", ".join(
-        f"{k} = {f.values[k]:.4g} {PARAMETERS[k].unit}".replace(" 1", "") for k in f.params
+        f"{k} = {f.values[k]:.4g}" + ("" if PARAMETERS[k].unit == "1" else f" {PARAMETERS[k].unit}")
+        for k in f.params
     )
     why = (
         f"'{choice.name}' ({vals}): lowest AIC among candidates with every parameter in "
