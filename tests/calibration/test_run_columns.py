@@ -121,7 +121,7 @@ def test_example_file_calibrates_and_validates(capsys):
     argv = ["validate", "--data", str(EXAMPLE), "--models", "mu", "--no-profile", "--json"]
     assert main([*argv, "--no-progress"]) == 0
     res = json.loads(capsys.readouterr().out)
-    assert res["settings"]["n_runs"] == 10
+    assert res["settings"]["n_runs"] == 14
     assert res["settings"]["n_angle_observations"] == 3
     assert res["models"][0]["params"]["mu_s"]["value"] == pytest.approx(0.55, abs=0.02)
     with pytest.raises(InputError):

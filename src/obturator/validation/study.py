@@ -255,7 +255,9 @@ def recommend(models: Sequence[ModelResult]) -> tuple[str, str]:
             )
         why += "."
     g = choice.goodness
-    if g:
+    if g and not math.isfinite(g["overall"]["p_value"]):
+        why += " No band has replicates: no lack-of-fit test against a floor."
+    elif g:
         failing = [b for b, row in g["bands"].items() if row["p_value"] < 0.05]
         why += (
             f" Against the replicate floor (band by band): overall lack-of-fit "
@@ -357,7 +359,15 @@ def run_validation(
     check_range("curve_points", curve_points, 2, 10_000)
     check_choice("noise", noise, NOISE_MODELS)
     w, y, run = data.spin_rate, data.opening_time, data.run
-    floor: ReplicateFloor = replicate_floor(w, y, gap=gap)
+    # runs with another ball or load (a data file's columns) are no replicates; a
+    # theta_0 read per run varies like the spin within its band and does not split
+    settings = [
+        tuple(kv for kv in r if kv[0] in ("hole_radius", "density", "ball_mass"))
+        for r in data.run_settings()
+    ]
+    floor: ReplicateFloor = replicate_floor(
+        w, y, gap=gap, groups=settings if any(settings) else None
+    )
     mean_w = floor.cluster_mean_spin()
     band = band_of(mean_w)
     high = mean_w >= OUT_OF_BAND_SPLIT

@@ -118,11 +118,12 @@ def goodness_table(result: ValidationResult) -> list[str]:
                 "-" if row is None else f"{_f(row['rms_s'], '.3f')} / {_f(row['p_value'], '.2g')}"
             )
         o = g["overall"]
-        lines.append(
-            f"  {m.name:<27} "
-            + " ".join(f"{c:>15}" for c in cells)
-            + f" {_f(o['X2'], '.1f'):>6}({o['dof']}) {_f(o['p_value'], '.2g'):>6}"
+        overall = (
+            f"{_f(o['X2'], '.1f'):>6}({o['dof']}) {_f(o['p_value'], '.2g'):>6}"
+            if o["n_bands"]
+            else f"{'-':>16}"
         )
+        lines.append(f"  {m.name:<27} " + " ".join(f"{c:>15}" for c in cells) + f" {overall}")
     lines.append(
         "  p < 0.05: the band's cluster means miss the model by more than replicates scatter"
     )
