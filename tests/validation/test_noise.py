@@ -162,3 +162,13 @@ def test_cli_validate_noise_flag_and_goodness_json(tmp_path, capsys):
     assert main([*argv, "--noise", "per-run"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("obturator: error: --noise")
+
+
+def test_runs_with_another_ball_are_no_replicates():
+    from obturator.validation import cluster_runs
+
+    w = [100.0, 101.0, 100.5, 200.0]
+    assert list(cluster_runs(w)) == [0, 0, 0, 1]
+    assert list(cluster_runs(w, groups=["a", "a", "b", "a"])) == [0, 0, 1, 2]
+    fl = replicate_floor(w, [0.2, 0.3, 0.9, 0.4], groups=["a", "a", "b", "a"])
+    assert fl.overall.ss_pe == pytest.approx(2 * 0.05**2)  # only the pair of group a
