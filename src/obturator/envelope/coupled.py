@@ -12,8 +12,9 @@ frozen at their mid-segment values,
     F_p = pi r_p^2 (P_2 - P_1)(M(t_k + Delta/2), P_1(t_k + Delta/2))  (Eqs. 1, 3, 43),
     omega_p = omega_p(t_k + Delta/2),
 
-restarting from the previous segment's final state through the public
-``simulate(case, options, y0=...)``. The ball's own angular velocity is
+restarting from the previous segment's final state. Many points advance
+together: segment k of every point still running is one call of the front door
+:func:`obturator.solve.advance` (the SIMD lanes). The ball's own angular velocity is
 continuous across segment boundaries; the spin is stored as the last state
 component (``y[7]``) and replaced by the new projectile spin. The midpoint rule
 makes the error second order in Delta; :func:`coupled_convergence` halves
@@ -34,7 +35,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
@@ -48,9 +49,10 @@ from ..model.geometry import BoredBall
 from ..model.start import start_condition
 from ..solve import (
     SolverOptions,
-    alternative_family,
+    advance,
     convergence_check,
     opening_time,
+    refined_options,
     simulate,
 )
 from ..status import FLAGS, Status
@@ -68,7 +70,9 @@ __all__ = [
     "CoupledOpening",
     "CoupledConvergence",
     "coupled_opening",
+    "coupled_openings",
     "coupled_convergence",
+    "coupled_convergences",
     "constant_case",
     "cached_flight",
     "DEFAULT_SEGMENT",
@@ -289,6 +293,188 @@ class CoupledOpening:
         return math.isfinite(self.t_cr)
 
 
+@dataclass(eq=False)
+class _Segments:
+    """One point's flight cut into segments, and where its integration stands."""
+
+    design: ObturatorDesign
+    trajectory: Trajectory
+    t_end: float
+    scale: float  #: muzzle spin / the trajectory's
+    stop_angle: Callable[[float], float] | None
+    starts: np.ndarray
+    lengths: np.ndarray
+    machs: np.ndarray
+    forces: np.ndarray
+    spins: np.ndarray
+    y: np.ndarray  #: state at the start of the next segment
+    k: int = 0  #: segments integrated
+    status: int = STATUS_NOT_OPENED  #: STATUS_NOT_OPENED while running
+    running: bool = True
+    t_cr: float = math.nan
+    mach: float = math.nan
+    force: float = math.nan
+    spin: float = math.nan
+    nfev: int = 0
+    slot: int = -1  #: position among the points
+
+
+def _segments(
+    design: ObturatorDesign,
+    trajectory: Trajectory,
+    options: SolverOptions,
+    dt: float,
+    t_max: float | None,
+    spin_rate: float | None,
+    stop_angle: Callable[[float], float] | None,
+) -> _Segments:
+    t_end = trajectory.t_end if t_max is None else min(float(t_max), trajectory.t_end)
+    check_range("t_max", t_end, 0.0, lo_open=True, unit="s")
+    scale = 1.0
+    if spin_rate is not None:
+        scale = check_range("spin_rate", spin_rate, 0.0, lo_open=True, unit="rad/s") / float(
+            trajectory.spin_rate(0.0)
+        )
+    loads = trajectory.segment_loads(dt, t_end, design.bore_radius, design.gamma)
+    y = initial_state(
+        math.radians(design.theta0_deg),
+        scale * float(trajectory.spin_rate(0.0)),
+        formulation=options.formulation,
+    )
+    return _Segments(design, trajectory, t_end, scale, stop_angle, *loads, y)
+
+
+def _next_case(run: _Segments) -> Case | None:
+    """The case of `run`'s next segment (None: the run has ended, its status set)."""
+    if run.k >= run.starts.size:
+        run.running = False
+        return None
+    run.mach = float(run.machs[run.k])
+    if run.mach <= 1.0:
+        run.status, run.running = STATUS_SUBSONIC, False
+        return None
+    run.force = float(run.forces[run.k])
+    run.spin = run.scale * float(run.spins[run.k])
+    run.y = run.y.copy()
+    run.y[7] = run.spin
+    stop = None if run.stop_angle is None else float(run.stop_angle(run.mach))
+    if stop is not None and not math.isfinite(stop):
+        stop = _NEVER
+    return run.design.case(run.force, run.spin, float(run.lengths[run.k]), theta_cr=stop)
+
+
+def coupled_openings(
+    designs: Sequence[ObturatorDesign],
+    trajectories: Sequence[Trajectory],
+    options: SolverOptions | None = None,
+    *,
+    segment: float = DEFAULT_SEGMENT,
+    t_max: float | None = None,
+    spin_rates: Sequence[float | None] | None = None,
+    stop_angles: Sequence[Callable[[float], float] | None] | None = None,
+    record: bool = False,
+) -> list[CoupledOpening | InputError]:
+    """:func:`coupled_opening` of many points, segment by segment in lanes.
+
+    Segment k of every point still running is one call of the front door
+    :func:`obturator.solve.advance` (lanes, ``auto`` switching), each point from
+    its own state; a point's answer does not depend on the others beyond the
+    Radau IIA lanes' rounding (the same as :func:`obturator.solve.opening_times`).
+
+    Parameters
+    ----------
+    designs, trajectories : sequences of the same length n
+    options, segment, t_max, record
+        As for :func:`coupled_opening`, shared by all points.
+    spin_rates, stop_angles : sequences of length n, optional
+        Per point, as `spin_rate` and `stop_angle` of :func:`coupled_opening`.
+
+    Returns
+    -------
+    list of CoupledOpening or InputError
+        One per point; an :class:`~obturator.errors.InputError` where that point's
+        inputs are invalid.
+    """
+    options = options or SolverOptions()
+    n = len(designs)
+    dt = check_range("segment", segment, 0.0, 0.1, lo_open=True, unit="s")
+    spin_rates = [None] * n if spin_rates is None else list(spin_rates)
+    stop_angles = [None] * n if stop_angles is None else list(stop_angles)
+    runs: list[_Segments | InputError] = []
+    for design, tr, spin, stop in zip(designs, trajectories, spin_rates, stop_angles, strict=True):
+        try:
+            runs.append(_segments(design, tr, options, dt, t_max, spin, stop))
+            runs[-1].slot = len(runs) - 1  # type: ignore[union-attr]
+        except InputError as exc:
+            runs.append(exc)
+    hist: list[dict[str, list[np.ndarray]]] = [
+        {k: [] for k in ("t", "theta", "force", "spin", "mach")} for _ in range(n)
+    ]
+    live = [r for r in runs if isinstance(r, _Segments)]
+    while live:
+        cases, now = [], []
+        for run in live:
+            try:
+                case = _next_case(run)
+            except InputError as exc:
+                runs[run.slot] = exc
+                continue
+            if case is not None:
+                cases.append(case)
+                now.append(run)
+        if not cases:
+            break
+        out = advance(cases, np.array([r.y for r in now]), options)
+        for j, run in enumerate(now):
+            if record:
+                _record(hist[run.slot], run, cases[j], options)
+            run.k += 1
+            run.nfev += int(out.nfev[j])
+            if out.status[j] == Status.OPENED:
+                run.t_cr = float(run.starts[run.k - 1]) + float(out.t_cr[j])
+                run.status, run.running = STATUS_OPENED, False
+            elif out.status[j] == Status.T_MAX:
+                run.y = out.state[j]
+            else:
+                run.status, run.running = STATUS_FAILED, False
+        live = [r for r in now if r.running]
+    return [
+        r if isinstance(r, InputError) else _opening(r, dt, hist[i], record)
+        for i, r in enumerate(runs)
+    ]
+
+
+def _record(
+    hist: dict[str, list[np.ndarray]], run: _Segments, case: Case, options: SolverOptions
+) -> None:
+    """theta(t) over the segment, 20 samples (a second, recording run of the segment)."""
+    h = float(run.lengths[run.k])
+    res = simulate(case, options, y0=run.y, t_eval=np.linspace(0.0, h, 21)[1:])
+    t0 = float(run.starts[run.k])
+    for name, val in (
+        ("t", t0 + res.t),
+        ("theta", res.theta),
+        ("force", np.full(res.t.size, run.force)),
+        ("spin", np.full(res.t.size, run.spin)),
+        ("mach", np.full(res.t.size, run.mach)),
+    ):
+        hist[name].append(np.asarray(val))
+
+
+def _opening(
+    run: _Segments, dt: float, hist: dict[str, list[np.ndarray]], record: bool
+) -> CoupledOpening:
+    status = run.status
+    tr = run.trajectory
+    if status == STATUS_NOT_OPENED and tr.subsonic and run.t_end >= tr.t_end:
+        status = STATUS_SUBSONIC
+    history = {name: np.concatenate(v) if v else np.empty(0) for name, v in hist.items()}
+    return CoupledOpening(
+        run.t_cr, status, dt, run.k, run.mach, run.force, run.spin, run.nfev,
+        history if record else None,
+    )  # fmt: skip
+
+
 def coupled_opening(
     design: ObturatorDesign,
     trajectory: Trajectory,
@@ -328,68 +514,19 @@ def coupled_opening(
     Returns
     -------
     CoupledOpening
+
+    Raises
+    ------
+    InputError
+        Invalid segment, t_max, spin rate or design.
     """
-    options = options or SolverOptions()
-    dt = check_range("segment", segment, 0.0, 0.1, lo_open=True, unit="s")
-    t_end = trajectory.t_end if t_max is None else min(float(t_max), trajectory.t_end)
-    check_range("t_max", t_end, 0.0, lo_open=True, unit="s")
-    scale = 1.0
-    if spin_rate is not None:
-        scale = check_range("spin_rate", spin_rate, 0.0, lo_open=True, unit="rad/s") / float(
-            trajectory.spin_rate(0.0)
-        )
-    starts, lengths, machs, forces, spins = trajectory.segment_loads(
-        dt, t_end, design.bore_radius, design.gamma
-    )
-    y = initial_state(
-        math.radians(design.theta0_deg),
-        scale * float(trajectory.spin_rate(0.0)),
-        formulation=options.formulation,
-    )
-    hist: dict[str, list[np.ndarray]] = {k: [] for k in ("t", "theta", "force", "spin", "mach")}
-    t, k, nfev = 0.0, 0, 0
-    status = STATUS_NOT_OPENED
-    t_cr = math.nan
-    mach = force = spin = math.nan
-    for t, h, mach, force, spin0 in zip(starts, lengths, machs, forces, spins, strict=True):
-        if mach <= 1.0:
-            status = STATUS_SUBSONIC
-            break
-        spin = scale * float(spin0)
-        y = y.copy()
-        y[7] = spin
-        stop = None if stop_angle is None else float(stop_angle(float(mach)))
-        if stop is not None and not math.isfinite(stop):
-            stop = _NEVER
-        case = design.case(float(force), spin, float(h), theta_cr=stop)
-        te = np.linspace(0.0, h, 21)[1:] if record else np.array([h])
-        res = simulate(case, options, y0=y, t_eval=te)
-        nfev += res.nfev
-        k += 1
-        if record:
-            for name, val in (
-                ("t", t + res.t),
-                ("theta", res.theta),
-                ("force", np.full(res.t.size, force)),
-                ("spin", np.full(res.t.size, spin)),
-                ("mach", np.full(res.t.size, mach)),
-            ):
-                hist[name].append(np.asarray(val))
-        if res.status == Status.OPENED:
-            t_cr = float(t) + res.opening_time
-            status = STATUS_OPENED
-            break
-        if not res.success:
-            status = STATUS_FAILED
-            break
-        y = res.state[-1]
-    if status == STATUS_NOT_OPENED and trajectory.subsonic and t_end >= trajectory.t_end:
-        status = STATUS_SUBSONIC
-    history = {name: np.concatenate(v) if v else np.empty(0) for name, v in hist.items()}
-    hist_out = history if record else None
-    return CoupledOpening(
-        t_cr, status, dt, k, float(mach), float(force), float(spin), nfev, hist_out
-    )
+    (res,) = coupled_openings(
+        [design], [trajectory], options, segment=segment, t_max=t_max,
+        spin_rates=[spin_rate], stop_angles=[stop_angle], record=record,
+    )  # fmt: skip
+    if isinstance(res, InputError):
+        raise res
+    return res
 
 
 @dataclass(frozen=True)
@@ -444,6 +581,48 @@ class CoupledConvergence:
         return out
 
 
+def coupled_convergences(
+    designs: Sequence[ObturatorDesign],
+    trajectories: Sequence[Trajectory],
+    options: SolverOptions | None = None,
+    *,
+    segment: float = DEFAULT_SEGMENT,
+    t_max: float | None = None,
+    spin_rates: Sequence[float | None] | None = None,
+    stop_angles: Sequence[Callable[[float], float] | None] | None = None,
+    factor: float = 10.0,
+    threshold: float = 1e-3,
+    t_cr: Sequence[float] | None = None,
+    variants: Mapping[str, SolverOptions] | None = None,
+) -> list[CoupledConvergence | InputError]:
+    """:func:`coupled_convergence` of many points, each rerun batched as in
+    :func:`coupled_openings` (parameters per point as there)."""
+    options = options or SolverOptions()
+    kw: dict[str, Any] = {
+        "segment": segment, "t_max": t_max, "spin_rates": spin_rates, "stop_angles": stop_angles,
+    }  # fmt: skip
+
+    def times(opts: SolverOptions, **change: Any) -> list[float | InputError]:
+        res = coupled_openings(designs, trajectories, opts, **{**kw, **change})
+        return [r if isinstance(r, InputError) else r.t_cr for r in res]
+
+    base = times(options) if t_cr is None else [float(t) for t in t_cr]
+    if variants is None:
+        names = ("tighter_tolerance", "narrower_width", "other_family")
+        variants = dict(zip(names, refined_options(options, factor), strict=True))
+    reruns = {name: times(opts) for name, opts in variants.items()}
+    reruns["half_segment"] = times(options, segment=0.5 * segment)
+    out: list[CoupledConvergence | InputError] = []
+    for i, t in enumerate(base):
+        bad = [x for x in (t, *(r[i] for r in reruns.values())) if isinstance(x, InputError)]
+        out.append(
+            bad[0]
+            if bad
+            else CoupledConvergence(float(t), {k: r[i] for k, r in reruns.items()}, threshold)  # type: ignore[misc]
+        )
+    return out
+
+
 def coupled_convergence(
     design: ObturatorDesign,
     trajectory: Trajectory,
@@ -472,34 +651,22 @@ def coupled_convergence(
         The unrefined t_cr if already computed [s].
     variants : mapping of str to SolverOptions, optional
         Solver variants to rerun; default the three of
-        :func:`obturator.solve.convergence_check`: tolerances divided by `factor`,
-        friction width divided by `factor` (tolerances too, so slip speeds of order
-        the width stay resolved), and the other regularisation family
-        (:func:`obturator.solve.alternative_family`), since a width study alone cannot
-        show convergence to the wrong limit. The half-segment rerun is always added.
+        :func:`obturator.solve.convergence_check` (:func:`obturator.solve.refined_options`):
+        tolerances divided by `factor`, friction width divided by `factor` (tolerances
+        too, so slip speeds of order the width stay resolved), and the other
+        regularisation family, since a width study alone cannot show convergence to the
+        wrong limit. The half-segment rerun is always added.
     stop_angle : callable, optional
         As for :func:`coupled_opening` (the check of t_start).
     """
-    options = options or SolverOptions()
-    kw = {"segment": segment, "t_max": t_max, "spin_rate": spin_rate, "stop_angle": stop_angle}
-    if t_cr is None:
-        t_cr = coupled_opening(design, trajectory, options, **kw).t_cr  # type: ignore[arg-type]
-    if variants is None:
-        variants = {
-            "tighter_tolerance": options.tighter(factor),
-            "narrower_width": replace(
-                options.tighter(factor), friction_width=options.friction_width / factor
-            ),
-            "other_family": replace(
-                options, friction_family=alternative_family(options.friction_family)
-            ),
-        }
-    out: dict[str, float] = {}
-    for name, opts in variants.items():
-        out[name] = coupled_opening(design, trajectory, opts, **kw).t_cr  # type: ignore[arg-type]
-    kw["segment"] = 0.5 * segment
-    out["half_segment"] = coupled_opening(design, trajectory, options, **kw).t_cr  # type: ignore[arg-type]
-    return CoupledConvergence(float(t_cr), out, threshold)
+    (res,) = coupled_convergences(
+        [design], [trajectory], options, segment=segment, t_max=t_max,
+        spin_rates=[spin_rate], stop_angles=[stop_angle], factor=factor,
+        threshold=threshold, t_cr=None if t_cr is None else [t_cr], variants=variants,
+    )  # fmt: skip
+    if isinstance(res, InputError):
+        raise res
+    return res
 
 
 def constant_opening(

@@ -177,7 +177,10 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
     import xarray as xr
 
     runner = runner or Runner(workers=1)
-    results = runner.map(spec.model, spec.tasks(), label="envelope", warm=warm_integrators)
+    results = runner.map(
+        spec.model.evaluate_many, spec.tasks(), label="envelope", warm=warm_integrators,
+        batched=True,
+    )  # fmt: skip
     shape = spec.shape
 
     def grid(key: str, dtype: Any = float) -> np.ndarray:

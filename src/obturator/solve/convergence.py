@@ -3,14 +3,23 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+
+import numpy as np
 
 from ..model.case import Case
 from ..vocab import FRICTION_FAMILIES, check_choice
 from .one import opening_time
 from .options import SolverOptions
 
-__all__ = ["ConvergenceCheck", "alternative_family", "convergence_check"]
+__all__ = [
+    "ConvergenceCheck",
+    "alternative_family",
+    "convergence_check",
+    "convergence_checks",
+    "refined_options",
+]
 
 
 def alternative_family(family: str) -> str:
@@ -132,14 +141,54 @@ def convergence_check(
     """
     options = options or SolverOptions()
     family = alternative_family(options.friction_family) if family is None else family
-    check_choice("family", family, FRICTION_FAMILIES)
     t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
-    t1 = opening_time(case, options.tighter(factor))
+    t1, t2, t3 = (opening_time(case, o) for o in refined_options(options, factor, family))
+    return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
+
+
+def refined_options(
+    options: SolverOptions, factor: float = 10.0, family: str | None = None
+) -> tuple[SolverOptions, SolverOptions, SolverOptions]:
+    """The three reruns of a convergence check: tolerances / `factor`; width / `factor`
+    (tolerances too, so slip speeds of order the width stay resolved); the other
+    regularisation `family` (default :func:`alternative_family`). For the set-valued
+    method, which has no width, the last two are the regularised path."""
+    family = alternative_family(options.friction_family) if family is None else family
+    check_choice("family", family, FRICTION_FAMILIES)
     narrow = replace(options.tighter(factor), friction_width=options.friction_width / factor)
     other = replace(options, friction_family=family)
     if options.method == "set-valued":  # no width: the regularised path is the check
         narrow = replace(narrow, method="auto")
         other = replace(narrow, friction_family=family)
-    t2 = opening_time(case, narrow)
-    t3 = opening_time(case, other)
-    return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
+    return options.tighter(factor), narrow, other
+
+
+def convergence_checks(
+    cases: Sequence[Case],
+    options: SolverOptions | None = None,
+    *,
+    factor: float = 10.0,
+    threshold: float = 1e-3,
+    opening_times_s: Sequence[float] | None = None,
+    family: str | None = None,
+) -> list[ConvergenceCheck]:
+    """:func:`convergence_check` of many cases, each rerun through the front door
+    (:func:`obturator.solve.opening_times`: in lanes where the options allow).
+
+    Parameters are those of :func:`convergence_check`, with `opening_times_s` the
+    t_cr of every case already computed with `options` [s] (NaN: not opened).
+    """
+    from .many import opening_times
+
+    options = options or SolverOptions()
+    family = alternative_family(options.friction_family) if family is None else family
+    t0 = (
+        opening_times(cases, options)[0]
+        if opening_times_s is None
+        else np.asarray(opening_times_s, dtype=float)
+    )
+    reruns = [opening_times(cases, o)[0] for o in refined_options(options, factor, family)]
+    return [
+        ConvergenceCheck(float(t0[i]), *(float(r[i]) for r in reruns), family, factor, threshold)
+        for i in range(len(cases))
+    ]

@@ -55,7 +55,7 @@ import numpy as np
 from numba import njit
 
 from ..dynamics import nutation_angle_of_state, rhs, slip_and_spin
-from ..jit_flags import NO_REFCOUNT
+from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import FORM_EULER, N_STATE, P_FORM, P_THETA_CR, P_WIDTH
 from .common import (
     append_row,
@@ -116,7 +116,7 @@ __all__ = ["integrate"]
 _UROUND = 2.220446049250313e-16
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _colloc_weights(s: float) -> tuple[float, float, float]:
     """Weights of Z1, Z2, Z3 in the collocation polynomial at t0 + s h (s may exceed 1)."""
     l1 = s * (s - C2) * (s - 1.0) * RD1
@@ -125,7 +125,7 @@ def _colloc_weights(s: float) -> tuple[float, float, float]:
     return l1, l2, l3
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _factor(h, jac, lu) -> bool:
     """LU of gamma/h I - J (real) and (alpha + i beta)/h I - J (complex, split storage).
 
@@ -149,7 +149,7 @@ def _factor(h, jac, lu) -> bool:
     return lu_factor_complex(lu_cr, lu_ci, piv_c)
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _newton(t, y, h, p, scal, stage, lu, scratch, faccon0, fnewt):
     """Simplified Newton iterations for the stage increments Z (initial guess in z).
 
@@ -230,7 +230,7 @@ def _newton(t, y, h, p, scal, stage, lu, scratch, faccon0, fnewt):
             return True, newt, theta, faccon, 1.0
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _cos_nutation(y, p) -> float:
     """cos(theta) of a state, without the atan2 of nutation_angle_of_state."""
     if p[P_FORM] == FORM_EULER:
@@ -239,7 +239,7 @@ def _cos_nutation(y, p) -> float:
     return 1.0 - 2.0 * (y[1] * y[1] + y[2] * y[2]) / q2
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _dense(y, z, s, out) -> None:
     """Collocation polynomial of the step (y, z) at t0 + s h, written into out."""
     l1, l2, l3 = _colloc_weights(s)
@@ -247,7 +247,7 @@ def _dense(y, z, s, out) -> None:
         out[i] = y[i] + l1 * z[0, i] + l2 * z[1, i] + l3 * z[2, i]
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _restep(t, y, h, s, p, scal, jac, zacc, stage, lu, scratch, fnewt, ytry) -> int:
     """Re-solve the step from (t, y) with length s h (event location); result in ytry.
 
@@ -276,7 +276,7 @@ def _restep(t, y, h, s, p, scal, jac, zacc, stage, lu, scratch, fnewt, ytry) -> 
     return nfev
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def locate_opening(
     t, y, h, z, ynew, g_old, g_new, p, scal, jac, zacc, stage, lu, scratch, fnewt, event_tol,
     ytry, y_event,
@@ -339,7 +339,7 @@ def locate_opening(
     return True, t + s_hi * h, nfev
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"})
+@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
     p, scale = problem.p, problem.scale

@@ -67,7 +67,7 @@ from ..friction_sets import (
     turn_by,
     turn_rigidly,
 )
-from ..jit_flags import NO_REFCOUNT
+from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import (
     FORM_QUATERNION,
     FRIC_THESIS_FLIGHT,
@@ -150,21 +150,21 @@ def integrate(
     return _integrate(problem._replace(p=p), controls, p_jac, stick_slip, kick)
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _slip(y: np.ndarray) -> tuple[float, float, float, float]:
     """omega_r (inertial) and |omega_r| [rad/s] of a state."""
     wx, wy, wz = relative_rate(y, y[7])
     return wx, wy, wz, math.sqrt(wx * wx + wy * wy + wz * wz)
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _stick_admissible(y: np.ndarray, p: np.ndarray) -> bool:
     """G_req of `y` inside F with the relative margin _MARGIN."""
     gx, gy, gz = required_reaction(y, p, y[7])
     return stick_margin(gx, gy, gz, p) > _MARGIN * p[P_FRIC + 1]
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _slip_rate(y: np.ndarray, f: np.ndarray) -> float:
     """d|omega_r|/dt [rad/s^2] at `y` with derivative `f` (omega_r' = R w' - omega_p' Z)."""
     wx, wy, wz, r = _slip(y)
@@ -182,14 +182,14 @@ def _slip_rate(y: np.ndarray, f: np.ndarray) -> float:
     return (wx * ax + wy * ay + wz * az) / r
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _excess(y: np.ndarray, p: np.ndarray) -> float:
     """-stick_margin of G_req at `y` [N m]: how far G_req is outside F."""
     gx, gy, gz = required_reaction(y, p, y[7])
     return -stick_margin(gx, gy, gz, p)
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> float:
     """Start a slip from zero slip at `y` (in place); returns the time it takes [s].
 
@@ -232,7 +232,7 @@ def _break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> 
     return tau
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _through_window(y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval):
     """Hold the ball through the rest of an exit window of F (in place on `y`).
 
@@ -266,7 +266,7 @@ def _fresh_radau(h: float, h_max: float, t_left: float) -> tuple:
     return min(h, h_max, t_left), math.nan, True, False, True, math.inf
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"})
+@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
 def _integrate(problem, controls, p_jac, stick_slip, kick):
     """The mode loop: closed-form stick phases, Radau IIA slip phases (see module)."""
     p, scale = problem.p, problem.scale

@@ -84,7 +84,7 @@ from .radau_steps import (
     wnorm_lanes,
 )
 from .rates import cos_nutation_lanes, rhs_thesis_lanes
-from .simd import DRIVER_PHASE, LANES, NO_REFCOUNT
+from .simd import DRIVER_PHASE, LANES, NO_REFCOUNT, REFCOUNT
 from .solves import lu_solve_lanes, lu_solve_pair_lanes
 
 __all__ = ["integrate_radau_lanes"]
@@ -96,7 +96,7 @@ _M = N_STATE * N_STATE * LANES  # one matrix of every lane
 _RUNNING, _CONVERGED, _FAILED, _IDLE = 0, 1, 2, 3
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def integrate_radau_lanes(
     y0,
     t0,

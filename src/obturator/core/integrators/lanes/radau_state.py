@@ -14,7 +14,7 @@ from numba import njit
 
 from ...layout import N_STATE
 from .radau_steps import NW_F, NW_R1, NW_R2, NW_R3, NW_SCAL, NW_SIZE, NW_Z
-from .simd import LANES
+from .simd import LANES, REFCOUNT
 
 __all__ = ["Lanes", "Attempt", "OneLane", "Settings", "new_lanes", "new_attempt", "new_one_lane"]
 
@@ -121,7 +121,7 @@ class Settings(NamedTuple):
     vw: int  #: LANES, passed at run time (see :mod:`.lu`)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def new_lanes(n_par: int) -> Lanes:
     f = np.zeros(LANES)
     one = np.ones(LANES)
@@ -160,7 +160,7 @@ def new_lanes(n_par: int) -> Lanes:
     )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def new_attempt() -> Attempt:
     nw = np.zeros(NW_SIZE)
     scal = nw[NW_SCAL : NW_SCAL + _V]
@@ -206,7 +206,7 @@ def new_attempt() -> Attempt:
     )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def new_one_lane(n_par: int) -> OneLane:
     s = np.empty(_N)
     m = np.empty((_N, _N))
