@@ -45,6 +45,19 @@ Stribeck-type weakening whose height and fade speed both depend on omega_p.
 The rig's other mechanisms do not vary this way: a speed law of mu alone
 has the same curve at every spin.
 
+What the spin-rig runs say
+--------------------------
+Fitted to the 54 runs of Appendix B (``obturator validate``, band-wise noise)
+the ageing rate goes to b = 0: its -log L is that of mu_s alone, 80 AIC units
+behind velocity-strengthening friction. Ageing makes the slow runs slower,
+and they are measured faster than one mu predicts. The short dwell is itself
+the argument for the strengthening law: with contacts renewed every
+0.2-0.9 ms the state term b ln(1 + t/tau) has no time to grow, and what is
+left of rate-and-state friction is its direct effect, a ln(v) with a > 0 (the
+thermally activated creep of the junctions, Baumberger and Caroli 2006):
+friction that rises with slip speed, which is what the ``strengthening``
+candidate fits.
+
 Model
 -----
 Per case (one spin rate) :meth:`ContactAgeing.friction` gives the static
