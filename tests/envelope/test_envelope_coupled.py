@@ -117,12 +117,12 @@ def test_many_points_in_lanes_match_one_at_a_time():
     """coupled_openings advances all points segment by segment in lanes; each point's
     answer is the one it gets alone (a point that fails validation does not disturb the
     others), and FlightModel.evaluate_many is its __call__ point by point."""
-    from obturator.envelope.coupled import cached_flight, coupled_openings
+    from obturator.envelope.coupled import FlightPoints, cached_flight, coupled_openings
 
     flights = [cached_flight(Projectile(), Launch(mach=m), 1.0) for m in (1.75, 2.5, 3.5)]
     designs = [ObturatorDesign(mu_s=mu) for mu in (0.3, 0.45, 0.6)]
     spins = [None, -1.0, 9000.0]  # the second is invalid
-    many = coupled_openings(designs, flights, spin_rates=spins)
+    many = coupled_openings(FlightPoints(designs, flights, spins))
     assert isinstance(many[1], InputError) and "spin_rate" in str(many[1])
     for k in (0, 2):
         one = coupled_opening(designs[k], flights[k], spin_rate=spins[k])

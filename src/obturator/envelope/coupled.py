@@ -69,6 +69,7 @@ __all__ = [
     "ObturatorDesign",
     "CoupledOpening",
     "CoupledConvergence",
+    "FlightPoints",
     "coupled_opening",
     "coupled_openings",
     "coupled_convergence",
@@ -363,15 +364,36 @@ def _next_case(run: _Segments) -> Case | None:
     return run.design.case(run.force, run.spin, float(run.lengths[run.k]), theta_cr=stop)
 
 
+@dataclass(frozen=True)
+class FlightPoints:
+    """The points of a coupled study: per point a design, its flight and, optionally,
+    the muzzle spin replacing the flight's [rad/s] and the stop angle theta_stop(M)
+    (the `spin_rate` and `stop_angle` of :func:`coupled_opening`)."""
+
+    designs: Sequence[ObturatorDesign]
+    trajectories: Sequence[Trajectory]
+    spin_rates: Sequence[float | None] | None = None
+    stop_angles: Sequence[Callable[[float], float] | None] | None = None
+
+    def rows(self) -> list[tuple[Any, ...]]:
+        """(design, trajectory, spin_rate, stop_angle) of every point."""
+        n = len(self.designs)
+        spins = [None] * n if self.spin_rates is None else list(self.spin_rates)
+        stops = [None] * n if self.stop_angles is None else list(self.stop_angles)
+        return list(zip(self.designs, self.trajectories, spins, stops, strict=True))
+
+    def take(self, rows: Sequence[int]) -> FlightPoints:
+        """The points at positions `rows`."""
+        pick = [self.rows()[i] for i in rows]
+        return FlightPoints(*(list(col) for col in zip(*pick, strict=True)))  # type: ignore[arg-type]
+
+
 def coupled_openings(
-    designs: Sequence[ObturatorDesign],
-    trajectories: Sequence[Trajectory],
+    points: FlightPoints,
     options: SolverOptions | None = None,
     *,
     segment: float = DEFAULT_SEGMENT,
     t_max: float | None = None,
-    spin_rates: Sequence[float | None] | None = None,
-    stop_angles: Sequence[Callable[[float], float] | None] | None = None,
     record: bool = False,
 ) -> list[CoupledOpening | InputError]:
     """:func:`coupled_opening` of many points, segment by segment in lanes.
@@ -383,11 +405,10 @@ def coupled_openings(
 
     Parameters
     ----------
-    designs, trajectories : sequences of the same length n
+    points : FlightPoints
+        The n points.
     options, segment, t_max, record
         As for :func:`coupled_opening`, shared by all points.
-    spin_rates, stop_angles : sequences of length n, optional
-        Per point, as `spin_rate` and `stop_angle` of :func:`coupled_opening`.
 
     Returns
     -------
@@ -396,12 +417,10 @@ def coupled_openings(
         inputs are invalid.
     """
     options = options or SolverOptions()
-    n = len(designs)
+    n = len(points.designs)
     dt = check_range("segment", segment, 0.0, 0.1, lo_open=True, unit="s")
-    spin_rates = [None] * n if spin_rates is None else list(spin_rates)
-    stop_angles = [None] * n if stop_angles is None else list(stop_angles)
     runs: list[_Segments | InputError] = []
-    for design, tr, spin, stop in zip(designs, trajectories, spin_rates, stop_angles, strict=True):
+    for design, tr, spin, stop in points.rows():
         try:
             runs.append(_segments(design, tr, options, dt, t_max, spin, stop))
             runs[-1].slot = len(runs) - 1  # type: ignore[union-attr]
@@ -520,10 +539,8 @@ def coupled_opening(
     InputError
         Invalid segment, t_max, spin rate or design.
     """
-    (res,) = coupled_openings(
-        [design], [trajectory], options, segment=segment, t_max=t_max,
-        spin_rates=[spin_rate], stop_angles=[stop_angle], record=record,
-    )  # fmt: skip
+    one = FlightPoints([design], [trajectory], [spin_rate], [stop_angle])
+    (res,) = coupled_openings(one, options, segment=segment, t_max=t_max, record=record)
     if isinstance(res, InputError):
         raise res
     return res
@@ -582,28 +599,22 @@ class CoupledConvergence:
 
 
 def coupled_convergences(
-    designs: Sequence[ObturatorDesign],
-    trajectories: Sequence[Trajectory],
+    points: FlightPoints,
     options: SolverOptions | None = None,
     *,
     segment: float = DEFAULT_SEGMENT,
     t_max: float | None = None,
-    spin_rates: Sequence[float | None] | None = None,
-    stop_angles: Sequence[Callable[[float], float] | None] | None = None,
     factor: float = 10.0,
     threshold: float = 1e-3,
     t_cr: Sequence[float] | None = None,
     variants: Mapping[str, SolverOptions] | None = None,
 ) -> list[CoupledConvergence | InputError]:
     """:func:`coupled_convergence` of many points, each rerun batched as in
-    :func:`coupled_openings` (parameters per point as there)."""
+    :func:`coupled_openings`."""
     options = options or SolverOptions()
-    kw: dict[str, Any] = {
-        "segment": segment, "t_max": t_max, "spin_rates": spin_rates, "stop_angles": stop_angles,
-    }  # fmt: skip
 
-    def times(opts: SolverOptions, **change: Any) -> list[float | InputError]:
-        res = coupled_openings(designs, trajectories, opts, **{**kw, **change})
+    def times(opts: SolverOptions, dt: float = segment) -> list[float | InputError]:
+        res = coupled_openings(points, opts, segment=dt, t_max=t_max)
         return [r if isinstance(r, InputError) else r.t_cr for r in res]
 
     base = times(options) if t_cr is None else [float(t) for t in t_cr]
@@ -611,7 +622,7 @@ def coupled_convergences(
         names = ("tighter_tolerance", "narrower_width", "other_family")
         variants = dict(zip(names, refined_options(options, factor), strict=True))
     reruns = {name: times(opts) for name, opts in variants.items()}
-    reruns["half_segment"] = times(options, segment=0.5 * segment)
+    reruns["half_segment"] = times(options, 0.5 * segment)
     out: list[CoupledConvergence | InputError] = []
     for i, t in enumerate(base):
         bad = [x for x in (t, *(r[i] for r in reruns.values())) if isinstance(x, InputError)]
@@ -660,9 +671,9 @@ def coupled_convergence(
         As for :func:`coupled_opening` (the check of t_start).
     """
     (res,) = coupled_convergences(
-        [design], [trajectory], options, segment=segment, t_max=t_max,
-        spin_rates=[spin_rate], stop_angles=[stop_angle], factor=factor,
-        threshold=threshold, t_cr=None if t_cr is None else [t_cr], variants=variants,
+        FlightPoints([design], [trajectory], [spin_rate], [stop_angle]), options,
+        segment=segment, t_max=t_max, factor=factor, threshold=threshold,
+        t_cr=None if t_cr is None else [t_cr], variants=variants,
     )  # fmt: skip
     if isinstance(res, InputError):
         raise res

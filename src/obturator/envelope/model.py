@@ -29,6 +29,7 @@ from .coupled import (
     STATUS_NOT_OPENED,
     STATUS_OPENED,
     STATUS_UNCONVERGED,
+    FlightPoints,
     ObturatorDesign,
     cached_flight,
     constant_case,
@@ -266,17 +267,13 @@ class FlightModel:
             cached_flight(self.projectile, replace(launch, spin_rate=None), self.t_max)
             for _, launch in points
         ]
-        kw: dict[str, Any] = {
-            "segment": self.segment,
-            "t_max": self.t_max,
-            "spin_rates": [launch.muzzle_spin for _, launch in points],
-            "stop_angles": [
-                d.start_angle(launch.altitude_m) if self.event == "start" else None
-                for d, launch in points
-            ],
-        }
-        designs = [d for d, _ in points]
-        res = coupled_openings(designs, flights, self.options, **kw)
+        pts = FlightPoints(
+            [d for d, _ in points],
+            flights,
+            [launch.muzzle_spin for _, launch in points],
+            [d.start_angle(lc.altitude_m) if self.event == "start" else None for d, lc in points],
+        )
+        res = coupled_openings(pts, self.options, segment=self.segment, t_max=self.t_max)
         out: list[dict[str, Any]] = []
         for r in res:
             if isinstance(r, InputError):
@@ -287,20 +284,19 @@ class FlightModel:
                 "mach_end": r.mach_end, "force_end": r.force_end, "spin_end": r.spin_end,
             })  # fmt: skip
         check = [i for i, r in enumerate(res) if not isinstance(r, InputError) and r.opened]
-        if self.check_convergence and check:
-            sub = {k: [v[i] for i in check] for k, v in kw.items() if isinstance(v, list)}
-            convs = coupled_convergences(
-                [designs[i] for i in check], [flights[i] for i in check], self.options,
-                segment=self.segment, t_max=self.t_max, threshold=self.threshold,
-                t_cr=[out[i]["t_cr"] for i in check], **sub,
-            )  # fmt: skip
-            for i, conv in zip(check, convs, strict=True):
-                if isinstance(conv, InputError):
-                    out[i] = _invalid(conv)
-                    continue
-                out[i]["change"] = conv.max_change
-                if not conv.converged:
-                    out[i]["status"] = STATUS_UNCONVERGED
+        if not (self.check_convergence and check):
+            return out
+        convs = coupled_convergences(
+            pts.take(check), self.options, segment=self.segment, t_max=self.t_max,
+            threshold=self.threshold, t_cr=[out[i]["t_cr"] for i in check],
+        )  # fmt: skip
+        for i, conv in zip(check, convs, strict=True):
+            if isinstance(conv, InputError):
+                out[i] = _invalid(conv)
+                continue
+            out[i]["change"] = conv.max_change
+            if not conv.converged:
+                out[i]["status"] = STATUS_UNCONVERGED
         return out
 
     def evaluate_many(self, values: Sequence[Mapping[str, float]]) -> list[dict[str, Any]]:
