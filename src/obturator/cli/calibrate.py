@@ -23,7 +23,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         _calibrate,
         "Least-squares fit of mu_s of the exact rig model (integrated equations of motion) "
         "to measured opening times. DATA.csv has a header with t_cr_s and readout_hz "
-        "(18-tooth wheel) or spin_rate_rad_s, optionally starred (1/0). Runs fitted: spin "
+        "(18-tooth wheel) or spin_rate_rad_s, optionally starred (1/0) and each run's own "
+        "theta0, hole_radius, density, ball_mass, theta_measured with t_measured (unit in the "
+        "header: theta0_deg, hole_radius_mm, density [kg/m^3], ...). Runs fitted: spin "
         ">= --min-spin if given, else the starred runs, else all runs.",
         option(
             "data",
@@ -36,7 +38,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             metavar="X",
             type=quantity_of("theta0_deg"),
             default=None,
-            help=f"theta_0 [deg] ({TABLE1['theta0_deg']})",
+            help=f"theta_0 [deg] ({TABLE1['theta0_deg']}; on runs with their own theta0 "
+            "column, its offset from that value is added)",
         ),
         CONFIG.but(
             help="theta0, t_max, torque_model, [rig] weight and [solver] settings (flags win)"

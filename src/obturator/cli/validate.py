@@ -14,6 +14,7 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..params import Range
+from ..vocab import NOISE_MODELS
 from . import _json
 from ._flags import JSON, NO_PROGRESS, PLOT, T_MAX, add_command, option, switch
 from ._kinds import Count, InputFile, OutputDir, OutputFile, Quantity, Text
@@ -35,7 +36,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "--data",
             metavar="FILE.csv",
             type=InputFile(example="runs.csv"),
-            help="runs in the calibrate CSV format (default: thesis Appendix B, 54 runs)",
+            help="runs in the calibrate CSV format, with each run's own theta0, hole radius, "
+            "density, ball mass and measured angle if given (default: thesis Appendix B, "
+            "54 runs)",
         ),
         option(
             "--models",
@@ -76,6 +79,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             type=Quantity("rad/s", Range(0.0, 100.0), "1 rad/s"),
             help="spin error SD of the errors-in-variables term [rad/s] "
             "(default 1.01: uniform on the rig's +-1.75 rad/s; 0: off)",
+        ),
+        option(
+            "--noise",
+            choices=NOISE_MODELS,
+            default="band",
+            help="run-to-run noise of the likelihood: one sigma per spin band fitted with the "
+            "model (band, the default: the replicate scatter differs tenfold between bands) "
+            "or one pooled sigma (pooled)",
         ),
         option(
             "--cluster-gap",
@@ -149,6 +160,7 @@ def _run(args: argparse.Namespace) -> int:
         spin_sd=spin_sd,
         gap=gap,
         profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
+        noise=args.noise,
     )
     from ..runs.store import atomic_write_text
     from ..validation.textreport import format_report

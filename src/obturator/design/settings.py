@@ -12,9 +12,9 @@ and the obturator material):
 * hole radius r_s [m]: thesis Fig. 17 compares 3.75 and 5.58 mm (Table 1: 4.72 mm);
   r_s moves the opening angle beta_s = asin(r_s/R_s) and the inertia ratio C/A;
 * ball density rho [kg/m^3] (material): thesis Fig. 16 compares 6000 and 10000 kg/m^3.
-  On the rig the load is the ball's weight, scaled here from Table 1's measured
-  0.07987 N by the computed weight ratio; the friction law of each candidate is kept
-  (a real change of material also changes the steel/PMMA friction: an assumption).
+  On the rig the load is a new ball's own weight rho V g; the friction law of each
+  candidate is kept (a real change of material also changes the friction against the
+  PMMA seat: an assumption).
 
 What is measured: the opening time t_cr (the rig's laser readout, thesis chapter III.B).
 The time to an intermediate angle is not used: the rig gives only t_cr.
@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from ..errors import InputError, check_range
 from ..model.case import Case
-from ..model.cases import TABLE1, table1_ball
+from ..model.cases import TABLE1
 from ..validation.candidates import Candidate
 
 __all__ = [
@@ -195,6 +195,12 @@ def design_case(
 ) -> Case:
     """The rig case of `candidate` with fitted `values` at `setting` (module notes).
 
+    The setting is laid over the candidate as one measured run's own settings are
+    (:func:`obturator.calibration.rig_model.apply_run_settings`, the same path as a
+    user's runs with those columns in ``validate``): the release angle as set plus the
+    candidate's theta_0 offset, a new ball (weight rho V g) where the hole or the
+    density differs from Table 1's.
+
     Parameters
     ----------
     candidate : Candidate
@@ -206,10 +212,11 @@ def design_case(
     """
     v = {k: float(values[k]) for k in candidate.params}
     offset = v["theta0_deg"] - _THETA0 if "theta0_deg" in candidate.params else 0.0
-    v["theta0_deg"] = min(setting.theta0_deg + offset, 90.0)
-    ball = table1_ball(hole_radius=setting.hole_radius, density=setting.density)
-    weight = float(TABLE1["rig_weight"]) * ball.weight / table1_ball().weight
-    return candidate.build(setting.spin_rate, v, t_max, ball=ball, weight=weight)
+    conditions: dict[str, float] = {"theta0_deg": min(setting.theta0_deg, 90.0 - offset)}
+    if not math.isclose(setting.hole_radius, _HOLE) or not math.isclose(setting.density, _RHO):
+        conditions.update(hole_radius=setting.hole_radius, density=setting.density)
+    run = replace(candidate, conditions=tuple(conditions.items()))
+    return run.build(setting.spin_rate, v, t_max)
 
 
 #: Distinct spins of the naive plan: larger naive campaigns repeat them (replicates).
