@@ -144,13 +144,16 @@ class Posterior:
 def fit_task(task: Mapping[str, Any]) -> dict[str, Any]:
     """Fit one candidate to measured runs; its posterior as a dict (a runner task).
 
-    `task`: ``model``, ``spin_rate`` [rad/s], ``measured`` [s], ``t_max`` [s].
+    `task`: ``model``, ``spin_rate`` [rad/s], ``measured`` [s], ``t_max`` [s] and
+    ``conditions`` (each run's own settings as [name, SI value] pairs; empty: Table 1).
     """
     (cand,) = get_candidates([str(task["model"])])
+    conditions = [tuple((str(k), float(v)) for k, v in c) for c in task.get("conditions", ())]
     fit = fit_candidate(
         cand,
         np.asarray(task["spin_rate"], dtype=float),
         np.asarray(task["measured"], dtype=float),
         t_max=float(task["t_max"]),
+        conditions=conditions if any(conditions) else None,
     )
     return Posterior.from_fit(fit).to_dict()

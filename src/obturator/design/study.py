@@ -85,6 +85,7 @@ def _posteriors(
             "spin_rate": data.spin_rate.tolist(),
             "measured": data.opening_time.tolist(),
             "t_max": t_max,
+            "conditions": [[list(kv) for kv in c] for c in data.run_settings()],
         }
         for n in todo
     ]
