@@ -7,6 +7,7 @@ import math
 from collections.abc import Callable
 
 from ..params import Range
+from ..reference import FLIGHT_SOBOL_RANGES
 from ..sweeps.montecarlo import MAX_SAMPLES
 from ._args import quantity_of
 from ._flags import (
@@ -51,14 +52,7 @@ DEFAULT_UNCERTAINTY = (
     "spin_factor=normal:1,0.01",
 )
 #: Default ranges of ``sensitivity`` in flight (uniform, around Table 1).
-DEFAULT_RANGES = (
-    "mu_s=uniform:0.25,0.45",
-    "theta0_deg=uniform:86.25,88.25",
-    "gap=uniform:4.08e-5,6.08e-5",
-    "hole_radius=uniform:4.62e-3,4.82e-3",
-    "density=uniform:7500,7850",
-    "spin_factor=uniform:0.97,1.03",
-)
+DEFAULT_RANGES = FLIGHT_SOBOL_RANGES
 #: Default ranges of ``sensitivity`` on the spin rig (weight follows the ball).
 DEFAULT_RIG_RANGES = (
     "spin_rate=uniform:300,500",
