@@ -76,8 +76,9 @@ def design_section(
         + " and ".join(f"'{m}'" for m in res.models)
         + " (`obturator design-experiment`): the Box-Hill (1967) criterion, the expected "
         "symmetric Kullback-Leibler divergence between the models' predictive distributions "
-        "of t_cr (parameters from the Laplace posterior of each fit to all runs, noise the "
-        "replicate SD of each spin band), maximised over spin, release angle, hole radius "
+        "of t_cr (parameters from the Laplace posterior of each fit to all runs; noise the "
+        "replicate SD of each spin band, raised where a setting opens later or is steeper in "
+        "the release angle than the measured runs), maximised over spin, release angle, hole radius "
         f"and ball density; checked by simulated campaigns ({scope}) with exact solves at "
         "posterior draws, decided by Bayes factor > 10.",
         f"Recommended campaign: {rec.n_runs} runs, decisive in {100 * rec.p_decisive:.0f} % "

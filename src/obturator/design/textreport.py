@@ -42,6 +42,13 @@ def mechanism_note(s: Setting) -> str:
             "shrinks as the set angle moves away from 90 deg (the ball leaves 90 deg "
             "slowly, t_cr grows about as ln 1/(90 deg - theta0)); the other models take the "
             "set angle as true"
+            + (
+                "; released this far from 90 deg the opening is short and much of it is the "
+                "first slip after release, where velocity-strengthening friction is still low "
+                "(r mu_s) and a constant mu is not"
+                if s.theta0_deg < 80.0
+                else ""
+            )
         )
     if abs(s.hole_radius - NOMINAL_SETTING.hole_radius) > 1e-5:
         ball = table1_ball(hole_radius=s.hole_radius, density=s.density)
