@@ -79,8 +79,8 @@ def design_section(
         "of t_cr (parameters from the Laplace posterior of each fit to all runs; noise the "
         "replicate SD of each spin band, raised where a setting opens later or is steeper in "
         "the release angle than the measured runs), maximised over spin, release angle, "
-        f"hole radius and ball density; checked by simulated campaigns ({scope}) with exact solves at "
-        "posterior draws, decided by Bayes factor > 10.",
+        f"hole radius and ball density; checked by simulated campaigns ({scope}) with exact "
+        "solves at posterior draws, decided by Bayes factor > 10.",
         f"Recommended campaign: {rec.n_runs} runs, decisive in {100 * rec.p_decisive:.0f} % "
         f"of simulated campaigns; the naive plan of the same size (spins spread as Appendix "
         f"B, Table 1 rig) in {100 * rec.naive_p_decisive:.0f} %; {need_txt}.",
