@@ -104,6 +104,22 @@ def _cli_tests_in_a_tmp_folder(request: pytest.FixtureRequest, tmp_path, monkeyp
         monkeypatch.chdir(tmp_path)
 
 
+@pytest.fixture(scope="session")
+def readme_validate_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[str, object]:
+    """``obturator validate --out validation`` as the README runs it, once per session (a
+    few minutes): its printed block (tests/test_readme.py) and its output folder (the
+    whole-study checks of tests/validation/test_validation.py)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
+    import readme_blocks as rb
+
+    cwd = tmp_path_factory.mktemp("readme-validate")
+    shutil.copytree(rb.ROOT / "examples", cwd / "examples")
+    return rb.run_commands(rb.BLOCKS["validate"], cwd), cwd / "validation"
+
+
 @pytest.fixture
 def chromium() -> str:
     """Path of a headless-capable Chromium; in CI a missing browser fails the test

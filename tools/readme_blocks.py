@@ -91,7 +91,7 @@ BLOCKS: dict[str, Block] = {
     "reproduce": Block(
         ("obturator reproduce --out report",),
         slow=True,
-        cost="~3 min idle, 30+ min loaded (the 54-run validation study)",
+        cost="4.4 min, one other job running (the 54-run validation study inside)",
     ),
     "calibrate": Block(
         ("obturator calibrate examples/rig_runs.csv --bootstrap 0 --plot residuals.png",),
@@ -111,7 +111,7 @@ BLOCKS: dict[str, Block] = {
         # near-stick runs: fitted values and out-of-band rms move in the 4th digit
         rtol=2e-3,
         slow=True,
-        cost="~3 min idle, 20+ min loaded",
+        cost="3.7 min, one other job running",
     ),
     "envelope": Block(
         (

@@ -385,18 +385,20 @@ def test_simulate_and_sweep_reach_the_mechanisms(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_validation_study_thesis():
-    """The default study on all 54 runs (a few minutes on 2 cores)."""
-    from obturator.validation import run_validation
-
-    res = run_validation(runner=Runner(workers=2))
-    floor = res.floor.floor_rms
-    rec = res.model(res.recommended)
-    assert rec.fit.all_plausible
-    assert rec.fit.rms <= 1.25 * floor
-    assert rec.convergence["n_not_converged"] == 0
-    thesis = res.model("thesis-1980")
-    assert thesis.fit.rms > 3 * floor
+def test_validation_study_thesis(readme_validate_run):
+    """The default study on all 54 runs, as ``obturator validate --out validation`` (the
+    README's run, shared with its block check): the recommended model is physically
+    plausible, within 1.25 x the replicate floor (thesis chapter IV's starred-run fit
+    has 1.1-1.2 x per band above 200 rad/s) and converged; the thesis as published is
+    more than 3 x the floor over all runs (its low-spin runs)."""
+    out = json.loads((readme_validate_run[1] / "validation.json").read_text())
+    floor = out["floor_rms_s"]
+    models = {m["name"]: m for m in out["models"]}
+    rec = models[out["recommended"]]
+    assert rec["all_plausible"]
+    assert rec["rms_all_s"] <= 1.25 * floor
+    assert rec["convergence"]["n_not_converged"] == 0
+    assert models["thesis-1980"]["rms_all_s"] > 3 * floor
 
 
 def test_report_section_and_text(tiny_csv, tmp_path):
