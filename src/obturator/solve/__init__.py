@@ -15,7 +15,12 @@ another regularisation family. Past first light (:mod:`~obturator.solve.start`):
 compiled integrators (shared by both paths).
 """
 
-from .convergence import ConvergenceCheck, alternative_family, convergence_check
+from .convergence import (
+    ConvergenceCheck,
+    alternative_family,
+    convergence_check,
+    convergence_checks,
+)
 from .many import (
     POINT_STATUSES,
     PackedPoints,
@@ -49,6 +54,7 @@ __all__ = [
     "alternative_family",
     "batchable",
     "convergence_check",
+    "convergence_checks",
     "error_scale",
     "integrate_packed",
     "integration_controls",

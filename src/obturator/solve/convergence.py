@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
+
+import numpy as np
 
 from ..model.case import Case
 from ..vocab import FRICTION_FAMILIES, check_choice
 from .one import opening_time
 from .options import SolverOptions
 
-__all__ = ["ConvergenceCheck", "alternative_family", "convergence_check"]
+__all__ = ["ConvergenceCheck", "alternative_family", "convergence_check", "convergence_checks"]
 
 
 def alternative_family(family: str) -> str:
@@ -131,15 +134,62 @@ def convergence_check(
         :func:`alternative_family` of ``options.friction_family``.
     """
     options = options or SolverOptions()
+    family, tighter, narrow, other = _reruns(options, factor, family)
+    t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
+    t1 = opening_time(case, tighter)
+    t2 = opening_time(case, narrow)
+    t3 = opening_time(case, other)
+    return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
+
+
+def _reruns(
+    options: SolverOptions, factor: float, family: str | None
+) -> tuple[str, SolverOptions, SolverOptions, SolverOptions]:
+    """The other family and the options of the three reruns (tighter, narrower, other)."""
     family = alternative_family(options.friction_family) if family is None else family
     check_choice("family", family, FRICTION_FAMILIES)
-    t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
-    t1 = opening_time(case, options.tighter(factor))
     narrow = replace(options.tighter(factor), friction_width=options.friction_width / factor)
     other = replace(options, friction_family=family)
     if options.method == "set-valued":  # no width: the regularised path is the check
         narrow = replace(narrow, method="auto")
         other = replace(narrow, friction_family=family)
-    t2 = opening_time(case, narrow)
-    t3 = opening_time(case, other)
-    return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
+    return family, options.tighter(factor), narrow, other
+
+
+def convergence_checks(
+    cases: Sequence[Case],
+    options: SolverOptions | None = None,
+    *,
+    factor: float = 10.0,
+    threshold: float = 1e-3,
+    opening_times_s: Sequence[float] | None = None,
+    family: str | None = None,
+) -> list[ConvergenceCheck]:
+    """:func:`convergence_check` of many cases, each rerun one batched
+    :func:`~obturator.solve.opening_times` call (the lanes, where the options allow:
+    their t_cr is the one-by-one path's, see :mod:`obturator.solve.many`).
+
+    A rerun that fails (step limit, integrator failure) gives NaN, so that case counts
+    as not converged instead of raising.
+
+    Parameters
+    ----------
+    cases : sequence of Case
+    options, factor, threshold, family
+        As :func:`convergence_check`.
+    opening_times_s : sequence of float, optional
+        t_cr of each case already computed with `options` [s].
+    """
+    from .many import opening_times
+
+    options = options or SolverOptions()
+    family, tighter, narrow, other = _reruns(options, factor, family)
+    if opening_times_s is None:
+        t0 = opening_times(cases, options)[0]
+    else:
+        t0 = np.asarray(opening_times_s, dtype=float).reshape(-1)
+    reruns = [opening_times(cases, o)[0] for o in (tighter, narrow, other)]
+    return [
+        ConvergenceCheck(float(a), float(b), float(c), float(d), family, factor, threshold)
+        for a, b, c, d in zip(t0, *reruns, strict=True)
+    ]
