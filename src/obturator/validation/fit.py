@@ -79,7 +79,7 @@ _SETTINGS = LeastSquaresSettings("2-point", 1e-3, 1.0, _XTOL, _FTOL, 1e-3)
 #: scaled, it converges in 24 steps. The later passes, which start next to the
 #: optimum, keep unit scaling: scaled there too, 'coulomb-patch' stopped at a worse
 #: optimum (AIC 16.19 against 11.70) and 'strengthening' at a slightly worse one; so
-#: do the profile probes, which start next to the best fit.
+#: do the fits given a start (subset fits from the all-run fit, profile probes).
 _SETTINGS_FIRST = replace(_SETTINGS, x_scale="jac")
 
 
@@ -145,9 +145,14 @@ class _Optimum(NamedTuple):
 
 
 def _effective_variance(
-    obj: _Objective, x: NDArray[np.float64], spin_sd: float, controls: FitControls
+    obj: _Objective,
+    x: NDArray[np.float64],
+    spin_sd: float,
+    controls: FitControls,
+    first: LeastSquaresSettings = _SETTINGS,
 ) -> _Optimum:
-    """Steps 1-4 of the module notes: least squares at fixed s_i, then slopes and sigma."""
+    """Steps 1-4 of the module notes: least squares at fixed s_i, then slopes and sigma;
+    `first` is the first pass's settings."""
     y, t_max, w = obj.measured, obj.t_max, obj.spin_rate
     eiv = spin_sd > 0.0
     held = controls.slopes is not None
@@ -165,7 +170,7 @@ def _effective_variance(
                 obj.residuals(sd),
                 x,
                 obj.params.internal_bounds(),
-                _SETTINGS_FIRST if it == 0 and not held else _SETTINGS,
+                first if it == 0 else _SETTINGS,
                 xtol=controls.xtol if it == 0 else _XTOL_LATER,
                 prefetch=obj.prefetch,
             )
@@ -271,9 +276,10 @@ def fit_candidate(
     n_int0, n_fail0 = evaluator.n_integrations, evaluator.n_failed
     controls = controls or FitControls()
     obj = _Objective(_parameters(candidate), evaluator, w, y, t_max)
-    opt = _effective_variance(
-        obj, obj.params.start(_start_values(candidate, start)), spin_sd, controls
-    )
+    x0 = obj.params.start(_start_values(candidate, start))
+    # from the default start, far from the optimum, the first pass scales by the Jacobian
+    first = _SETTINGS_FIRST if start is None and controls.slopes is None else _SETTINGS
+    opt = _effective_variance(obj, x0, spin_sd, controls, first)
     m, g, sigma = opt.model, opt.slope, opt.sigma
     sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd)
     sd = np.where(np.isfinite(m), sd, sigma)
