@@ -36,6 +36,8 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
 * Set-valued stick-slip (:mod:`benchmarks.stick_slip`): cost per trajectory of
   ``method="set-valued"`` against the regularised path at 40-1000 rad/s and flight,
   as ratios, with each t_cr's error against a tight set-valued reference.
+* Trajectory-coupled openings (:mod:`benchmarks.coupled`): the probability study's
+  points through ``FlightModel.evaluate_many`` in lanes against one point at a time.
 * Other integrators (:mod:`benchmarks.alternatives`, optional ``.[bench]`` extra):
   numbalsoda's DOP853 and LSODA and diffrax's Tsit5 and Dopri8 on the same trajectory.
 """
@@ -591,6 +593,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     rec["stick_slip"] = stick_slip.cost(
         stick_slip.SPINS_QUICK if args.quick else stick_slip.SPINS, 2 if args.quick else 5
     )
+    from benchmarks import coupled
+
+    rec["coupled"] = coupled.cost(coupled.SIZES_QUICK if args.quick else coupled.SIZES)
     rec["cli_latency"] = latency.cli_latency(2 if args.quick else 5)
     from benchmarks import alternatives
 
@@ -600,6 +605,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     operating_range.print_range(rec["cost_per_point"], rec["throughput"])
     lanes.print_table(rec["lanes"])
     stick_slip.print_table(rec["stick_slip"])
+    coupled.print_table(rec["coupled"])
     latency.print_latency(rec["cli_latency"])
     alternatives.print_alternatives(rec["alternatives"])
     if args.plot:

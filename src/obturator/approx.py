@@ -99,6 +99,13 @@ class ApproximationWarning(UserWarning):
     """The small-torque assumption M / (C omega_p^2) << 1 of chapter II.C is not met."""
 
 
+def _transverse_inertia(value: float) -> float:
+    """The transverse moment of inertia A [kg m^2], checked positive and finite."""
+    return check_range(
+        "transverse_inertia", value, 0.0, math.inf, lo_open=True, hi_open=True, unit="kg m^2"
+    )
+
+
 def mean_moment_arm(theta0: ArrayLike) -> float | NDArray[np.float64]:
     """Mean sliding-friction moment arm r_bar / R_s = (2/pi) E(theta0), thesis Eq. (78).
 
@@ -347,15 +354,7 @@ def approximate_solution(
     ApproximateSolution
         With M = S |phi0_dot| + M_sg (Eq. 81).
     """
-    a = check_range(
-        "transverse_inertia",
-        transverse_inertia,
-        0.0,
-        math.inf,
-        lo_open=True,
-        hi_open=True,
-        unit="kg m^2",
-    )
+    a = _transverse_inertia(transverse_inertia)
     c = check_range(
         "axial_inertia", axial_inertia, a, math.inf, lo_open=True, hi_open=True, unit="kg m^2"
     )
@@ -560,15 +559,7 @@ def large_spin_coefficients(
     reproduced with M = W R_s mu_bar = 0.0798 N x 7.899 mm = 6.303e-4 mu_bar N m,
     not the printed M = 6.34e-4 mu_bar (which gives 2.051e5 and 3.016e-4).
     """
-    a = check_range(
-        "transverse_inertia",
-        transverse_inertia,
-        0.0,
-        math.inf,
-        lo_open=True,
-        hi_open=True,
-        unit="kg m^2",
-    )
+    a = _transverse_inertia(transverse_inertia)
     lam = check_range("inertia_ratio", inertia_ratio, 0.0, math.inf, lo_open=True, hi_open=True)
     m = check_range("moment", moment, 0.0, math.inf, lo_open=True, hi_open=True, unit="N m")
     th0 = check_range("theta0", theta0, 0.0, math.pi / 2, lo_open=True, hi_open=True, unit="rad")

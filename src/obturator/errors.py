@@ -39,7 +39,12 @@ class InputError(ValueError):
 
     def __init__(self, field: str, message: str) -> None:
         self.field = field
+        self.message = message
         super().__init__(f"{field}: {message}")
+
+    def __reduce__(self) -> tuple[type, tuple[str, str]]:
+        # picklable with both arguments: a worker process's error reaches the parent
+        return (type(self), (self.field, self.message))
 
 
 class SolverError(RuntimeError):

@@ -228,6 +228,11 @@ _PHYSICAL: tuple[Param, ...] = (
         True,
     ),
     Param("phi_dot0", "rad/s", "release spin rate phi_dot_0 about the hole axis (spin rig)"),
+    # contact ageing of the lucite seat (obturator.model.ageing)
+    Param("ageing_rate", "1", "contact ageing rate b of the static friction (spin rig)"),
+    Param("ageing_time", "s", "contact ageing cut-off time tau (spin rig)"),
+    # a run's ball mass (spin-rig data files): the load W = m g
+    Param("ball_mass", "kg", "ball mass m (spin rig: load W = m g)", None, _POSITIVE),
     Param("psi_dot0", "rad/s", "release precession rate psi_dot_0 - omega_p (spin rig)"),
 )
 
@@ -338,6 +343,34 @@ FIT_SPECS: dict[str, FitSpec] = {
         "out-of-roundness spread it further. Plausible: 0.15-0.6 mm; bounds 0.05-2 mm, "
         "a sixth to seven times Hertz.",
         scale=1e-4,
+    ),
+    "ageing_rate": FitSpec(
+        0.02,
+        (0.0, 0.1),
+        (0.0, 0.05),
+        "b of the contact ageing law mu_static = mu_s + b ln(1 + t_d/tau) "
+        "(obturator.model.ageing) of the steel ball on the rig's lucite seat (chapter "
+        "III.A): static friction of a dry contact grows with the "
+        "logarithm of its age as the asperity contacts creep (Dieterich 1972, J. Geophys. "
+        "Res. 77; for PMMA, the rig's lucite: Dieterich and Kilgore 1994, Pure Appl. "
+        "Geophys. 143; Berthoud et al. 1999, Phys. Rev. B 59), with b of order 1e-2. "
+        "Plausible 0-0.05 (up to five times that for a loaded, rough seat); bounds 0 (no "
+        "ageing: the thesis's law) to 0.1, where the friction at rest would exceed mu_s "
+        "by 0.75 at 38 rad/s with tau = 1 us.",
+    ),
+    "ageing_time": FitSpec(
+        1e-4,
+        (1e-6, 10.0),
+        (1e-5, 1e-1),
+        "tau of the contact ageing law, the cut-off time below which a contact has not "
+        "aged. The seat's contact time per pass of the patch, t_d = 2 a / (R_s omega_p) "
+        "with a the Hertz radius of the bottom contact (chapter III, Fig. 22), "
+        "is 0.16-0.9 ms over the rig's 78-446 rad/s, so a tau far above it leaves only "
+        "b t_d/tau (b and tau then not separately identified) and one far below it a "
+        "spin-independent offset of mu. Published cut-off times of polymer ageing are "
+        "short and poorly constrained; plausible 10 us-0.1 s, bounds 1 us-10 s. "
+        "Fitted in log10.",
+        transform="log10",
     ),
     "shear_constant": FitSpec(
         TABLE1["shear_constant"],

@@ -332,15 +332,20 @@ def fig38_eq92_data(ds: xr.Dataset, data: SpinRigData | None = None) -> Figure:
     return fig
 
 
-def fig39_mu_sensitivity(ds: xr.Dataset, exact: xr.Dataset | None = None) -> Figure:
-    """Fig. 39: Eq. (92) for several mu_s (dashed: exact model, if given)."""
-    fig, ax = _figure()
-    a = ax[0, 0]
+def _mu_curves(a: Any, ds: xr.Dataset, exact: xr.Dataset | None) -> None:
+    """Eq. (92) for each mu_s of `ds` at its theta_0, and dashed the exact model's."""
     th0 = {"theta0_deg": float(ds["theta0_deg"][0])}
     _tcr_curves(a, ds, "mu_s", lambda v: f"mu_s = {v:g}", fixed=th0, suffix=" (Eq. 92)")
     if exact is not None:
         a.set_prop_cycle(None)
         _tcr_curves(a, exact, "mu_s", lambda v: f"mu_s = {v:g}", "--", th0, " (exact)")
+
+
+def fig39_mu_sensitivity(ds: xr.Dataset, exact: xr.Dataset | None = None) -> Figure:
+    """Fig. 39: Eq. (92) for several mu_s (dashed: exact model, if given)."""
+    fig, ax = _figure()
+    a = ax[0, 0]
+    _mu_curves(a, ds, exact)
     _tcr_axes(a, "Fig. 39: sensitivity to mu_s", ymax=float(np.nanmax(ds["t_cr"])) * 1.05)
     return fig
 
@@ -372,11 +377,7 @@ def fig42_mu_data(
     """Fig. 42: Eq. (92) for several mu_s with the data (dashed: exact model, if given)."""
     fig, ax = _figure()
     a = ax[0, 0]
-    th0 = {"theta0_deg": float(ds["theta0_deg"][0])}
-    _tcr_curves(a, ds, "mu_s", lambda v: f"mu_s = {v:g}", fixed=th0, suffix=" (Eq. 92)")
-    if exact is not None:
-        a.set_prop_cycle(None)
-        _tcr_curves(a, exact, "mu_s", lambda v: f"mu_s = {v:g}", "--", th0, " (exact)")
+    _mu_curves(a, ds, exact)
     _data_points(a, data)
     _tcr_axes(a, "Fig. 42: data and Eq. 92 for several mu_s", ymax=1.0)
     return fig

@@ -25,6 +25,7 @@ __all__ = [
     "TorqueName",
     "SpeedLawName",
     "DistKind",
+    "NoiseModel",
     "CASE_NAMES",
     "SPIN_MODES",
     "METHODS",
@@ -33,6 +34,7 @@ __all__ = [
     "TORQUE_MODELS",
     "SPEED_LAWS",
     "DIST_KINDS",
+    "NOISE_MODELS",
     "check_choice",
 ]
 
@@ -54,6 +56,9 @@ TorqueName = Literal["thesis", "coulomb"]
 SpeedLawName = Literal["constant", "weakening", "strengthening"]
 #: Monte Carlo input distributions.
 DistKind = Literal["normal", "uniform", "lognormal", "truncnormal"]
+#: Run-to-run noise of the validation likelihood: one SD per spin band (fitted) or one
+#: pooled SD for all runs.
+NoiseModel = Literal["band", "pooled"]
 
 CASE_NAMES: tuple[str, ...] = get_args(CaseName)
 SPIN_MODES: tuple[str, ...] = get_args(SpinMode)
@@ -63,6 +68,7 @@ FRICTION_FAMILIES: tuple[str, ...] = get_args(FrictionFamily)
 TORQUE_MODELS: tuple[str, ...] = get_args(TorqueName)
 SPEED_LAWS: tuple[str, ...] = get_args(SpeedLawName)
 DIST_KINDS: tuple[str, ...] = get_args(DistKind)
+NOISE_MODELS: tuple[str, ...] = get_args(NoiseModel)
 
 
 def check_choice(field: str, value: object, allowed: tuple[str, ...]) -> str:

@@ -41,13 +41,24 @@ def _commands(tmp: Path) -> dict[str, list[str]]:
     }  # fmt: skip
 
 
-def _interrupt(args: list[str], delay: float, sig: int) -> tuple[int, str, float]:
+def _interrupt(
+    args: list[str], delay: float, sig: int, started: Path | None = None
+) -> tuple[int, str, float]:
+    """Signal the command `delay` seconds after it starts; with a store `started`, after
+    the store exists (on a loaded machine start-up alone can take longer than `delay`)."""
     proc = subprocess.Popen(
         [sys.executable, "-m", "obturator", *args],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
     )
+    if started is not None:
+        deadline = time.monotonic() + 120.0
+        while not any(started.parent.glob(started.name + "*")) and proc.poll() is None:
+            if time.monotonic() > deadline:
+                proc.kill()
+                pytest.fail(f"{args[0]} wrote no store within 120 s")
+            time.sleep(0.05)
     time.sleep(delay)
     if proc.poll() is not None:
         pytest.fail(f"{args[0]} finished before the signal; give it more work")
@@ -65,10 +76,13 @@ def test_ctrl_c_is_one_line_exit_130_within_a_second(tmp_path, name):
     args = _commands(tmp_path)[name]
     # past start-up, inside the work; for calibrate that is its bootstrap, a Python loop
     # of small NumPy calls where the watcher thread alone waited 2.8-4.5 s for the GIL
-    delay = random.Random(name).uniform(2.0, 3.0)
-    rc, err, dt = _interrupt(args, delay, signal.SIGINT)
-    assert rc == 130, err
     resumes = name.startswith("sweep")  # a store (--out); the montecarlo here has none
+    delay = (
+        random.Random(name).uniform(0.5, 1.0) if resumes else random.Random(name).uniform(2.0, 3.0)
+    )
+    store = Path(args[args.index("--out") + 1]) if resumes else None
+    rc, err, dt = _interrupt(args, delay, signal.SIGINT, started=store)
+    assert rc == 130, err
     hint = "; run the same command again to resume (finished work is kept)"
     *plan, last = err.splitlines()
     assert last == f"obturator: interrupted{hint * resumes}"
@@ -97,7 +111,7 @@ def test_sigterm_is_one_line_exit_143(tmp_path):
 @pytest.mark.slow  # ~15-20 s
 def test_interrupted_sweep_resumes_to_the_same_result(tmp_path):
     args = _commands(tmp_path)["sweep-2"]
-    rc, err, _ = _interrupt(args, 2.5, signal.SIGINT)
+    rc, err, _ = _interrupt(args, 1.0, signal.SIGINT, started=tmp_path / "s2.nc")
     assert rc == 130
     done = subprocess.run(
         [sys.executable, "-m", "obturator", *args], capture_output=True, text=True, timeout=300

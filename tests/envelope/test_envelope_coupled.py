@@ -111,3 +111,33 @@ def test_flight_model_point():
     assert exceeds(math.nan, int(Status.T_MAX), 0.1) and exceeds(0.05, int(Status.STEP_LIMIT), 0.1)
     # spin_factor multiplies the nominal muzzle spin
     assert m.build({"spin_factor": 0.5})[1].muzzle_spin == pytest.approx(6021.0)
+
+
+def test_many_points_in_lanes_match_one_at_a_time():
+    """coupled_openings advances all points segment by segment in lanes; each point's
+    answer is the one it gets alone (a point that fails validation does not disturb the
+    others), and FlightModel.evaluate_many is its __call__ point by point."""
+    from obturator.envelope.coupled import FlightPoints, cached_flight, coupled_openings
+
+    flights = [cached_flight(Projectile(), Launch(mach=m), 1.0) for m in (1.75, 2.5, 3.5)]
+    designs = [ObturatorDesign(mu_s=mu) for mu in (0.3, 0.45, 0.6)]
+    spins = [None, -1.0, 9000.0]  # the second is invalid
+    many = coupled_openings(FlightPoints(designs, flights, spins))
+    assert isinstance(many[1], InputError) and "spin_rate" in str(many[1])
+    for k in (0, 2):
+        one = coupled_opening(designs[k], flights[k], spin_rate=spins[k])
+        assert many[k].status == one.status == STATUS_OPENED
+        assert many[k].n_segments == one.n_segments and many[k].nfev == one.nfev
+        assert many[k].t_cr == pytest.approx(one.t_cr, rel=1e-12)
+    model = FlightModel(load="both", check_convergence=True)
+    points = [{"mach": 2.0, "mu_s": 0.4}, {"mach": 0.5}, {"mach": 3.0, "altitude_m": 5000.0}]
+    rows = model.evaluate_many(points)
+    assert rows[1]["status"] == Status.INVALID_INPUT and "mach" in rows[1]["error"]
+    for row, values in zip(rows, points, strict=True):
+        alone = model(values)
+        assert row.keys() == alone.keys()
+        for key, value in row.items():
+            if isinstance(value, float) and math.isfinite(value):
+                assert value == pytest.approx(alone[key], rel=1e-12), key
+            else:
+                assert value == alone[key] or (value != value and alone[key] != alone[key])

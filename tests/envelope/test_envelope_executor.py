@@ -129,21 +129,22 @@ def test_envelope_resumes(tmp_path, monkeypatch):
     )
     out = tmp_path / "env.nc"
     seen: list[float] = []
-    original = FlightModel.__call__
+    original = FlightModel.evaluate_many
 
-    def flaky(self, values):  # interrupted when the third point starts
-        if values["mach"] not in seen:  # (a point may call the model more than once)
-            seen.append(values["mach"])
+    def flaky(self, points):  # interrupted when the third point starts
+        for values in points:
+            if values["mach"] not in seen:  # (a point may call the model more than once)
+                seen.append(values["mach"])
         if len(seen) == 3:
             raise KeyboardInterrupt
-        return original(self, values)
+        return original(self, points)
 
-    monkeypatch.setattr(FlightModel, "__call__", flaky)
+    monkeypatch.setattr(FlightModel, "evaluate_many", flaky)
     runner = Runner(workers=1, store=out, chunk_size=1)
     runner.open(study_digest(spec.identity()))
     with pytest.raises(KeyboardInterrupt):
         run_envelope(spec, runner)
-    monkeypatch.setattr(FlightModel, "__call__", original)
+    monkeypatch.setattr(FlightModel, "evaluate_many", original)
     runner = Runner(workers=1, store=out)
     runner.open(study_digest(spec.identity()))
     ds = run_envelope(spec, runner)

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import csv
 import math
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -57,6 +58,28 @@ _SPIN = "spin_rate_rad_s"
 _PRINTED = "omega_p_printed_rad_s"
 _STARRED = "starred"
 _KNOWN = (_READOUT, _SPIN, _TIME, _PRINTED, _STARRED)
+#: Optional per-run settings: name -> (SI unit, unit of a header without one, parameter
+#: of obturator.params.PARAMS whose range applies). A header names the unit as
+#: ``name_unit`` (``hole_radius_mm``; ``_`` between units reads as ``/``, a trailing
+#: digit as a power: ``density_kg_m3``) or ``name [unit]`` (``density [g/cm^3]``);
+#: a bare ``name`` is in the documented unit.
+RUN_COLUMNS: dict[str, tuple[str, str, str]] = {
+    "theta0": ("deg", "deg", "theta0_deg"),
+    "hole_radius": ("m", "mm", "hole_radius"),
+    "density": ("kg/m^3", "kg/m^3", "density"),
+    "ball_mass": ("kg", "g", "ball_mass"),
+    "theta_measured": ("deg", "deg", "theta0_deg"),
+    "t_measured": ("s", "s", "t_max"),
+}
+#: Per-run setting names (SpinRigData.settings keys) of each optional column.
+SETTING_NAMES = {
+    "theta0": "theta0_deg",
+    "hole_radius": "hole_radius",
+    "density": "density",
+    "ball_mass": "ball_mass",
+    "theta_measured": "theta_measured_deg",
+    "t_measured": "t_measured",
+}
 _TRUE = {"1", "true", "yes", "y", "*"}
 _FALSE = {"0", "false", "no", "n", ""}
 
@@ -102,6 +125,12 @@ class SpinRigData:
         1-based run number in the source (defaults to 1..n).
     source : str
         Where the data came from.
+    settings : dict of str to ndarray
+        Optional per-run settings of the rig (NaN where a run leaves it at Table 1):
+        ``theta0_deg`` [deg], ``hole_radius`` [m], ``density`` [kg/m^3],
+        ``ball_mass`` [kg] (the load W = m g), and ``theta_measured_deg`` [deg] with
+        ``t_measured`` [s], an intermediate angle the laser readout saw and the time
+        from release to it (:data:`RUN_COLUMNS`).
     """
 
     spin_rate: NDArray[np.float64]
@@ -111,6 +140,7 @@ class SpinRigData:
     spin_rate_printed: NDArray[np.float64] | None = None
     run: NDArray[np.int64] | None = None
     source: str = ""
+    settings: dict[str, NDArray[np.float64]] = field(default_factory=dict)
     _n: int = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -123,6 +153,10 @@ class SpinRigData:
         set_(self, "spin_rate_printed", _frozen(self.spin_rate_printed, float))
         set_(self, "run", _frozen(np.arange(1, n + 1) if self.run is None else self.run, np.int64))
         set_(self, "_n", n)
+        set_(self, "settings", {k: _frozen(v, float) for k, v in self.settings.items()})
+        for k, v in self.settings.items():
+            if v.size != n:
+                raise InputError(k, f"has {v.size} entries, expected {n} (one per run)")
         for name in ("opening_time", "starred", "readout_hz", "spin_rate_printed", "run"):
             arr = getattr(self, name)
             if arr is not None and arr.size != n:
@@ -160,7 +194,21 @@ class SpinRigData:
             readout_hz=pick(self.readout_hz),
             spin_rate_printed=pick(self.spin_rate_printed),
             run=self.run[m],
+            settings={k: v[m] for k, v in self.settings.items()},
         )
+
+    def run_settings(self) -> list[tuple[tuple[str, float], ...]]:
+        """Each run's own settings as sorted (name, SI value) pairs (empty: Table 1).
+
+        Hashable, so runs with the same settings can share a model evaluation.
+        """
+        names = sorted(self.settings)
+        return [
+            tuple(
+                (k, float(self.settings[k][i])) for k in names if math.isfinite(self.settings[k][i])
+            )
+            for i in range(self._n)
+        ]
 
     def fit_subset(self, min_spin_rate: float | None = None) -> SpinRigData:
         """Runs used in the chapter IV fit.
@@ -204,6 +252,7 @@ class SpinRigData:
             cols[_PRINTED] = self.spin_rate_printed
         cols[_TIME] = self.opening_time
         cols[_STARRED] = self.starred
+        cols.update(self.settings)
         return pd.DataFrame(cols, index=pd.Index(self.run, name="run"))
 
 
@@ -295,6 +344,7 @@ def _parse(text: str, source: str, teeth: int) -> SpinRigData:
         j = col[name]
         return np.array([_positive(c[j], name, unit, source, ln) for ln, c in rows])
 
+    settings = _run_settings(header, rows, source, header_line)
     readout = numbers(_READOUT, "Hz")
     spin = readout_to_spin_rate(readout, teeth) if readout is not None else numbers(_SPIN, "rad/s")
     starred = np.zeros(len(rows), dtype=bool)
@@ -314,7 +364,109 @@ def _parse(text: str, source: str, teeth: int) -> SpinRigData:
         readout_hz=readout,
         spin_rate_printed=numbers(_PRINTED, "rad/s"),
         source=source,
+        settings=settings,
     )
+
+
+def _column_unit(cell: str) -> tuple[str, str] | None:
+    """(optional column, unit text) of a header cell, None if it is none of them."""
+    for name in sorted(RUN_COLUMNS, key=len, reverse=True):
+        if cell == name:
+            return name, RUN_COLUMNS[name][1]
+        rest = cell[len(name) :]
+        if not cell.startswith(name) or not rest:
+            continue
+        if rest[0] == "_":
+            # hole_radius_mm -> mm, density_kg_m3 -> kg/m^3
+            return name, re.sub(r"([A-Za-z])(\d)", r"\1^\2", rest[1:].replace("_", "/"))
+        bracket = rest.strip()
+        if bracket.startswith("[") and bracket.endswith("]"):
+            return name, bracket[1:-1].strip()
+    return None
+
+
+def _run_settings(
+    header: list[str], rows: list[tuple[int, list[str]]], source: str, header_line: int
+) -> dict[str, NDArray[np.float64]]:
+    """The optional per-run columns in SI units (NaN for an empty cell), checked."""
+    from ..params import PARAMS
+    from ..units import parse_quantity
+
+    out: dict[str, NDArray[np.float64]] = {}
+    for j, cell in enumerate(header):
+        found = _column_unit(cell)
+        if found is None:
+            continue
+        name, unit = found
+        si, _, param = RUN_COLUMNS[name]
+        key = SETTING_NAMES[name]
+        if key in out:
+            raise _fail(cell, source, header_line, f"a second {name!r} column")
+        try:
+            factor = parse_quantity(cell, f"1 {unit}", si)
+        except InputError as exc:
+            raise _fail(
+                cell,
+                source,
+                header_line,
+                f"unit {unit!r} is not a unit of {si} ({str(exc).split(': ', 1)[-1]})",
+            ) from None
+        rng = PARAMS[param].range if name != "t_measured" else None
+        values = np.full(len(rows), np.nan)
+        for k, (ln, c) in enumerate(rows):
+            text = c[j].strip()
+            if not text:
+                continue
+            x = _number(text, cell, source, ln) * factor
+            ok = rng.contains(x) if rng is not None else _MIN_TIME < x <= _LIMITS["s"][1]
+            if not ok:
+                allowed = rng if rng is not None else f"({_MIN_TIME:g}, {_LIMITS['s'][1]:g}]"
+                raise _fail(
+                    cell, source, ln, f"{x:g} {si} is outside the allowed range {allowed} {si}"
+                )
+            values[k] = x
+        out[key] = values
+    _check_measured_angles(out, rows, source)
+    return out
+
+
+def _number(text: str, column: str, source: str, line: int) -> float:
+    try:
+        x = float(text)
+    except ValueError:
+        raise _fail(column, source, line, f"{text!r} is not a number") from None
+    if not math.isfinite(x):
+        raise _fail(column, source, line, f"{text!r} is not finite")
+    return x
+
+
+def _check_measured_angles(
+    settings: dict[str, NDArray[np.float64]], rows: list[tuple[int, list[str]]], source: str
+) -> None:
+    """An intermediate angle comes with its time, and lies below the run's theta_0."""
+    from ..reference import TABLE1
+
+    angle = settings.get("theta_measured_deg")
+    time = settings.get("t_measured")
+    if angle is None and time is None:
+        return
+    n = len(rows)
+    angle = np.full(n, np.nan) if angle is None else angle
+    time = np.full(n, np.nan) if time is None else time
+    theta0 = settings.get("theta0_deg", np.full(n, np.nan))
+    for k, (ln, _) in enumerate(rows):
+        if np.isfinite(angle[k]) != np.isfinite(time[k]):
+            col = "t_measured" if np.isfinite(angle[k]) else "theta_measured"
+            raise _fail(col, source, ln, "theta_measured and t_measured come together")
+        t0 = theta0[k] if np.isfinite(theta0[k]) else TABLE1["theta0_deg"]
+        if np.isfinite(angle[k]) and not angle[k] < t0:
+            raise _fail(
+                "theta_measured",
+                source,
+                ln,
+                f"{angle[k]:g} deg is not below the run's theta_0 = {t0:g} deg "
+                "(the ball nutates down from theta_0)",
+            )
 
 
 def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigData:
@@ -327,7 +479,12 @@ def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigDat
         skipped. Columns: ``t_cr_s`` (opening time [s]), exactly one of
         ``readout_hz`` (counter readout [Hz], converted with 2 pi f / teeth) or
         ``spin_rate_rad_s`` ([rad/s]); optional ``starred`` (1/0, true/false,
-        ``*``) and ``omega_p_printed_rad_s``. Other columns are ignored.
+        ``*``) and ``omega_p_printed_rad_s``; optional per-run settings
+        (:data:`RUN_COLUMNS`; an empty cell keeps Table 1's value): ``theta0``
+        [deg], ``hole_radius`` [mm], ``density`` [kg/m^3], ``ball_mass`` [g], and
+        ``theta_measured`` [deg] with ``t_measured`` [s], each with its unit in the
+        header (``hole_radius_m``, ``density [g/cm^3]``) or else in the unit in
+        brackets here. Other columns are ignored.
     teeth : int
         Teeth on the bucket wheel (18 on Bloomer's rig).
 
@@ -336,8 +493,9 @@ def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigDat
     InputError
         For a missing or empty file, a missing or duplicated column, a repeated
         header line, a wrong number of fields, a non-numeric cell, or a time,
-        readout or spin rate outside (0, inf); the message names the file,
-        line number, column and allowed range.
+        readout or spin rate outside (0, inf), a setting's unit that does not convert
+        or a value outside its range (:data:`obturator.params.PARAMS`); the message
+        names the file, line number, column and allowed range.
     """
     from ..files import read_text_file
 

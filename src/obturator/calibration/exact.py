@@ -164,7 +164,9 @@ def _objective(
         weight=1.0 if sigma is None else 1.0 / sigma,
         params=ParameterSet.of(names, {k: v for k, v in (bounds or {}).items() if k in names}),
         held=start,
-        model_kw={k: v for k, v in given.items() if k not in start},
+        # each run's own settings (data-file columns) ride with the model's inputs
+        model_kw={k: v for k, v in given.items() if k not in start}
+        | {"run_settings": runs.run_settings()},
     )
     return objective, given
 
@@ -196,6 +198,10 @@ def _describe(
         "solver": f"{opts.method} rtol={opts.rtol:g} atol={opts.atol:g} "
         f"friction_width={opts.friction_width:g} formulation={opts.formulation}",
         "jacobian": f"central differences, relative step {_DIFF_STEP:g}",
+        # the data file's per-run columns the model used (theta_0, ball, load)
+        "run_settings": sorted(
+            k for k in runs.settings if k not in ("theta_measured_deg", "t_measured")
+        ),
     }
 
 

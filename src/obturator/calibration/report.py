@@ -91,7 +91,12 @@ def format_fit(fit: ExactFit) -> str:
         f"    data        = {fit.settings.get('source', '')}",
         f"    runs        = {fit.ndata} ({fit.settings.get('selection', '')})",
         f"    model       = rig, {fit.settings.get('torque_model')} friction, "
-        f"W = {fit.settings.get('weight')} N, constant spin",
+        f"W = {fit.settings.get('weight')} N, constant spin"
+        + (
+            f" (runs' own {', '.join(fit.settings['run_settings'])} from the data file)"
+            if fit.settings.get("run_settings")
+            else ""
+        ),
         f"    solver      = {fit.settings.get('solver')}",
         "[[Fit statistics]]",
         f"    # function evals   = {fit.nfev}",

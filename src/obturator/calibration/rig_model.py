@@ -9,18 +9,29 @@ slip-speed law of mu and the contact patch.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ..errors import InputError
 from ..model.case import Case
 from ..model.cases import rig_case
+from ..model.geometry import BoredBall
 from ..reference import TABLE1
 from ..solve import SolverOptions, opening_times
 
-__all__ = ["S_TABLE1", "model_opening_times", "model_opening_times_grid", "rig_model_case"]
+__all__ = [
+    "S_TABLE1",
+    "apply_run_settings",
+    "model_opening_times",
+    "model_opening_times_grid",
+    "rig_model_case",
+    "run_case_keywords",
+]
 
 #: Viscous constant S of Eq. (42) with the Table 1 inputs [N m s].
 S_TABLE1: float = rig_case().torque.viscous.coefficient
@@ -73,8 +84,73 @@ def model_opening_times_grid(
         The rig model's other inputs: keyword arguments of :func:`rig_model_case`.
     """
     w = np.asarray(spin_rates, dtype=float).reshape(-1)
-    cases = [rig_model_case(float(x), mu_s=float(m), **model) for m in mu_values for x in w]
+    runs = model.pop("run_settings", None)
+    if runs is None:
+        runs = [()] * w.size
+    if len(runs) != w.size:
+        raise InputError("run_settings", f"has {len(runs)} entries, expected {w.size}")
+    cases = [
+        apply_run_settings(rig_model_case, float(x), dict(r), mu_s=float(m), **model)
+        for m in mu_values
+        for x, r in zip(w, runs, strict=True)
+    ]
     return opening_times(cases, options, strict=True)[0].reshape(-1, w.size)
+
+
+def run_case_keywords(
+    settings: Mapping[str, float], theta0_offset_deg: float = 0.0
+) -> dict[str, Any]:
+    """Keywords of :func:`~obturator.model.cases.rig_case` for one run's own settings.
+
+    Parameters
+    ----------
+    settings : mapping
+        The run's settings (:meth:`~.data.SpinRigData.run_settings`): ``theta0_deg``,
+        ``hole_radius`` [m], ``density`` [kg/m^3], ``ball_mass`` [kg]; others ignored.
+    theta0_offset_deg : float
+        Added to the run's theta_0 [deg] (a fitted alignment offset).
+
+    Notes
+    -----
+    A hole radius, density or mass makes a new ball (Table 1 radius): its inertia
+    from the density (from the mass and the bored volume when only the mass is
+    given), its load W = m g from the mass when given, else the ball's own weight
+    rho V g (Table 1's measured 0.07987 N is for the Table 1 ball only).
+    """
+    from ..model.cases import table1_ball
+    from ..model.geometry import STANDARD_GRAVITY
+
+    kw: dict[str, Any] = {}
+    if "theta0_deg" in settings:
+        kw["theta0_deg"] = float(settings["theta0_deg"]) + theta0_offset_deg
+    if {"hole_radius", "density", "ball_mass"} & set(settings):
+        hole = settings.get("hole_radius")
+        density = settings.get("density")
+        if density is None and "ball_mass" in settings:
+            unit = table1_ball(hole_radius=hole, density=1.0)
+            density = float(settings["ball_mass"]) / unit.mass
+        kw["ball"] = table1_ball(density=density, hole_radius=hole)
+        mass = settings.get("ball_mass")
+        kw["weight"] = None if mass is None else float(mass) * STANDARD_GRAVITY
+    return kw
+
+
+def apply_run_settings(
+    factory: Any, spin_rate: float, settings: Mapping[str, float], **kw: Any
+) -> Case:
+    """``factory(spin_rate, **kw)`` with one run's settings laid over `kw`.
+
+    A run's own theta_0 replaces ``kw["theta0_deg"]`` shifted by that value's offset
+    from Table 1's 87.25 deg (so a fitted theta_0 acts as an alignment offset on
+    runs that state theirs). ``theta_cr_deg`` in `settings` moves the terminal event
+    to that angle (a time to an intermediate angle measured by the laser readout).
+    """
+    offset = float(kw.get("theta0_deg", TABLE1["theta0_deg"])) - TABLE1["theta0_deg"]
+    kw = {**kw, **run_case_keywords(settings, offset)}
+    case = factory(spin_rate, **kw)
+    if "theta_cr_deg" in settings:
+        case = replace(case, theta_cr=math.radians(float(settings["theta_cr_deg"])))
+    return case
 
 
 def rig_model_case(
@@ -92,6 +168,7 @@ def rig_model_case(
     slip_speed: float = 0.05,
     release_phase: float = 0.0,
     patch_radius: float | None = None,
+    ball: BoredBall | None = None,
 ) -> Case:
     """The spin-rig case (:func:`obturator.model.cases.rig_case`) of the rig model's inputs.
 
@@ -123,6 +200,8 @@ def rig_model_case(
         Release phase [rad].
     patch_radius : float, optional
         Coulomb contact patch radius [m].
+    ball : BoredBall, optional
+        The ball (default Table 1's; a run's own hole radius or density).
     """
     from ..model.torques import SlipSpeedLaw
 
@@ -143,5 +222,6 @@ def rig_model_case(
         torque_model=torque_model,
         viscosity=visc,
         t_max=t_max,
+        ball=ball,
         **extra,
     )

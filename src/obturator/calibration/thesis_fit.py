@@ -1,11 +1,8 @@
 """The thesis's friction calibration (chapter IV): least squares of the Appendix B runs.
 
-The rig spins a lucite "projectile" holding the ball; a counter reads the
-passing frequency f of an 18-tooth bucket wheel, so omega_p = f pi / 9
-(chapter III.C). Appendix B lists 54 runs (readout, t_cr, printed omega_p);
-the starred runs (omega_p >= 235.97 rad/s) are fitted in chapter IV to the
-large-spin form t = T2 omega_p (Eq. 96), and T2 gives the friction coefficient
-through Eq. (95), mu_bar = 3.03e-4 / T2, and mu_s = mu_bar / ((2/pi) E(theta0)).
+The runs and how the rig measured them are described in :mod:`obturator.calibration.data`;
+chapter IV fits the starred runs to the large-spin form t = T2 omega_p (Eq. 96), and
+T2 gives mu_s through Eq. (95).
 
 What the data reproduce (see ``tests/calibration/test_experiment.py``)
 ----------------------------------------------------------

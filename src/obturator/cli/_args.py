@@ -1,4 +1,4 @@
-"""Argument helpers shared by the sub-commands: numbers, solver options, study flags.
+"""Argument helpers shared by the sub-commands: numbers, kinds, solver options, study settings.
 
 Numbers are parsed here rather than by argparse so that a bad value gives the
 same one-line ``obturator: error: <field>: ...`` message (exit 2) as an
@@ -16,22 +16,19 @@ from ..errors import InputError, check_range
 from ..io import study_settings
 from ..params import PARAMS, SWEEP_PARAMS, Range
 from ..solve import SolverOptions, tolerances_for_opening_time
-from ..vocab import CASE_NAMES, FRICTION_FAMILIES, METHODS, SPIN_MODES, TORQUE_MODELS
-from ._kinds import Axis, Count, InputFile, Quantity, Text
+from ._kinds import Axis, Count, Quantity
 
 __all__ = [
     "flag",
     "parse_number",
     "parse_integer",
     "solver_options",
-    "add_study_flags",
     "study_config",
     "study_options",
     "study_t_max",
     "fmt_seconds",
     "quantity_of",
     "axis_of",
-    "add_execution_flags",
     "SEED",
     "MAX_WORKERS",
 ]
@@ -92,34 +89,6 @@ def axis_of(name: str) -> Axis:
     return Axis(q.unit, q.range, q.example)
 
 
-def add_execution_flags(p: argparse.ArgumentParser) -> None:
-    """Workers, Dask scheduler, chunk size, restart, progress (sweep, montecarlo)."""
-    from ..sweeps.grid import MAX_POINTS
-
-    p.add_argument(
-        "--workers",
-        metavar="N",
-        type=Count(1, MAX_WORKERS),
-        help="local worker processes (default: all CPUs; 1: in-process)",
-    )
-    p.add_argument(
-        "--scheduler",
-        metavar="ADDRESS",
-        type=Text(example="tcp://127.0.0.1:1"),
-        help="dask.distributed scheduler, e.g. tcp://host:8786",
-    )
-    p.add_argument(
-        "--chunk-size",
-        metavar="N",
-        type=Count(1, MAX_POINTS),
-        help="points per task (default: automatic)",
-    )
-    p.add_argument(
-        "--restart", action="store_true", help="discard partial results of a different study"
-    )
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-
-
 def flag(name: str) -> str:
     """The command-line flag of a field name (``spin_rate`` -> ``--spin-rate``)."""
     return "--" + name.replace("_", "-")
@@ -155,57 +124,6 @@ def solver_options(settings: Mapping[str, Any]) -> SolverOptions:
     A relative tolerance without an absolute one sets atol = rtol / 100.
     """
     return SolverOptions.from_settings(settings)
-
-
-def add_study_flags(p: argparse.ArgumentParser) -> None:
-    """Flags common to ``sweep`` and ``montecarlo``: case, models, solver, execution."""
-    p.add_argument(
-        "--case", choices=CASE_NAMES, default=None, help="Table 1 column (default spin-rig)"
-    )
-    p.add_argument("--torque-model", choices=TORQUE_MODELS, default=None)
-    p.add_argument("--spin-mode", choices=SPIN_MODES, default=None)
-    p.add_argument(
-        "--config",
-        metavar="FILE.toml",
-        type=InputFile(),
-        help="settings (schema in obturator.io; flags win)",
-    )
-    p.add_argument(
-        "--rtol", metavar="X", type=quantity_of("rtol"), help="relative tolerance (default 1e-8)"
-    )
-    p.add_argument(
-        "--atol",
-        metavar="X",
-        type=quantity_of("atol"),
-        help="absolute tolerance (default rtol/100, or 1e-10)",
-    )
-    p.add_argument(
-        "--tcr-rtol",
-        metavar="X",
-        type=Quantity("", Range(0.0, 1.0, True, True), "1e-4"),
-        help="set the tolerances for this relative t_cr accuracy (>= 4.5e-7; measured table "
-        "in obturator.solve.OPENING_TIME_ACCURACY, set by the rig's long near-stick runs "
-        "below 100 rad/s; the default rtol 1e-8 gives <= 3e-7 above 100 rad/s, <= 1.6e-3 "
-        "below)",
-    )
-    p.add_argument("--method", choices=METHODS, default=None, help="integrator")
-    p.add_argument(
-        "--friction-width",
-        metavar="X",
-        type=quantity_of("friction_width"),
-        help="regularisation width / omega_p (default 1e-7)",
-    )
-    p.add_argument(
-        "--friction-family",
-        choices=FRICTION_FAMILIES,
-        default=None,
-        help="regularisation family (default algebraic)",
-    )
-    p.add_argument(
-        "--t-max", metavar="S", type=quantity_of("t_max"), help="give up after this time [s]"
-    )
-    add_execution_flags(p)
-    p.add_argument("--json", action="store_true", help="print one JSON object")
 
 
 _STUDY_KEYS = (*SWEEP_PARAMS, "case", "torque_model", "spin_mode", "t_max")

@@ -13,8 +13,21 @@ from ..errors import check_range
 from ..io import SOLVER_KEYS, load_config
 from ..params import Range
 from ..units import parse_quantity
-from ._args import add_execution_flags, quantity_of, solver_options
-from ._kinds import Axis, InputFile, NameOrFile, OutputFile, Quantity
+from ._args import axis_of, flag, quantity_of, solver_options
+from ._flags import (
+    ATOL,
+    CONFIG,
+    JSON,
+    RTOL,
+    T_MAX,
+    TORQUE_MODEL,
+    Flag,
+    add_flags,
+    execution_flags,
+    option,
+    switch,
+)
+from ._kinds import Axis, NameOrFile, OutputFile, Quantity
 
 __all__ = [
     "add_model_arguments",
@@ -27,6 +40,10 @@ __all__ = [
     "REQUIREMENT",
     "FIGURE",
     "MIN_SEGMENT",
+    "MACH_GRID",
+    "ALTITUDE_GRID",
+    "REQUIREMENT_FLAG",
+    "FIGURE_FLAG",
 ]
 
 #: Config fields of the flight-trajectory commands (obturator.io.CONFIG_SCHEMA):
@@ -87,126 +104,125 @@ REQUIREMENT = Quantity("s", _POSITIVE, "0.1 s")
 #: A figure file (formats matplotlib writes).
 FIGURE = OutputFile(figure=True, example="figure.png")
 
+#: Grids of launch points (envelope, probability, optimize).
+MACH_GRID = option("--mach", dest="grid_mach", metavar="SPEC", type=MACH_AXIS)
+ALTITUDE_GRID = option(
+    "--altitude-m", dest="grid_altitude", metavar="SPEC", type=axis_of("altitude_m")
+)
+REQUIREMENT_FLAG = option(
+    "--requirement", metavar="S", default="0.1", type=REQUIREMENT, help="t_cr requirement [s]"
+)
+FIGURE_FLAG = option("--figure", metavar="FILE.png", type=FIGURE)
+
 
 def quantity(field: str, value: Any, unit: str) -> float:
     """A CLI value (number or quantity string) in `unit`."""
     return parse_quantity(field, value, unit)
 
 
-def add_model_arguments(p: argparse.ArgumentParser, *, launch_point: bool) -> None:
-    """Design, projectile, launch and solver flags shared by the envelope commands."""
-    g = p.add_argument_group("design (Table 1 defaults)")
-    for dest, text in _DESIGN_FLAGS.items():
-        g.add_argument(
-            "--" + dest.replace("_", "-"),
-            dest=dest,
-            metavar="X",
-            type=_design_kind(dest),
-            help=text,
-        )
-    g.add_argument("--torque-model", choices=("thesis", "coulomb"), default=None)
-    f = p.add_argument_group("flight")
-    if launch_point:
-        f.add_argument(
-            "--mach", metavar="X", type=LAUNCH_MACH, help="muzzle Mach number (default 3)"
-        )
-        f.add_argument(
-            "--altitude-m",
-            metavar="X",
-            type=quantity_of("altitude_m"),
-            help="launch altitude [m] (default 0)",
-        )
-        f.add_argument(
-            "--temperature-offset-k",
-            metavar="X",
-            type=TEMPERATURE_OFFSET,
-            help="off-standard temperature [K] (default 0)",
-        )
-    f.add_argument(
+def _design_flags() -> tuple[Flag, ...]:
+    """The design flags: unit and range from obturator.params."""
+    flags = [
+        option(flag(dest), dest=dest, metavar="X", type=quantity_of(dest), help=text)
+        for dest, text in _DESIGN_FLAGS.items()
+    ]
+    return (*flags, TORQUE_MODEL.but(choices=("thesis", "coulomb")))
+
+
+_LAUNCH_POINT = (
+    option("--mach", metavar="X", type=LAUNCH_MACH, help="muzzle Mach number (default 3)"),
+    option(
+        "--altitude-m",
+        metavar="X",
+        type=quantity_of("altitude_m"),
+        help="launch altitude [m] (default 0)",
+    ),
+    option(
+        "--temperature-offset-k",
+        metavar="X",
+        type=TEMPERATURE_OFFSET,
+        help="off-standard temperature [K] (default 0)",
+    ),
+)
+_LAUNCH = (
+    option(
         "--elevation-deg",
         metavar="X",
         type=Quantity("deg", Range(-90.0, 90.0), "0 deg"),
         help="elevation angle [deg] (default 0)",
-    )
-    f.add_argument(
+    ),
+    option(
         "--spin-rate",
         metavar="X",
         type=quantity_of("spin_rate"),
         help="muzzle spin [rad/s]; default: rifling twist, 2 pi V_0 / twist "
         "(12042 rad/s at Table 1's Mach 3, sea level)",
-    )
-    f.add_argument(
+    ),
+    option(
         "--twist",
         metavar="X",
         type=Quantity("m", Range(1e-3, 100.0), "0.5 m"),  # found by the fuzz suite: 1e308 m
         # divided by zero; 1 mm to 100 m per turn spans every rifling
         help="rifling twist [m per turn] (default 0.5327)",
-    )
-    f.add_argument(
+    ),
+    option(
         "--drag",
         "--cd-table",
         dest="drag",
         metavar="NAME|FILE.csv",
         type=NameOrFile(_DRAG_CURVES, "tubular-open"),
         help="drag curve: tubular-closed (default), tubular-open, or a CSV with columns mach,cd",
-    )
-    f.add_argument(
+    ),
+    option(
         "--roll-damping",
         metavar="X",
         type=Quantity("", Range(-10.0, 10.0), "-0.012"),
         help="roll-damping coefficient C_lp (-0.012)",
-    )
-    f.add_argument(
+    ),
+    option(
         "--projectile-mass",
         metavar="X",
         type=Quantity("kg", Range(1e-3, 1e3), "0.141 kg"),  # 1 g to 1 t (fuzz: 1e-300 kg
         # stalled the trajectory integration)
         help="projectile mass [kg] (0.141)",
-    )
-    s = p.add_argument_group("solver")
-    s.add_argument(
+    ),
+)
+_SOLVER = (
+    option(
         "--load",
         choices=("coupled", "constant"),
         default=None,
         help="trajectory-coupled load (default) or the thesis's constant muzzle load "
         "(the envelope always computes both)",
-    )
-    s.add_argument(
-        "--rtol", metavar="X", type=quantity_of("rtol"), help="relative tolerance (default 1e-8)"
-    )
-    s.add_argument(
-        "--atol", metavar="X", type=quantity_of("atol"), help="absolute tolerance (default 1e-10)"
-    )
-    s.add_argument(
+    ),
+    RTOL,
+    ATOL,
+    option(
         "--segment",
         metavar="S",
         type=Quantity("s", Range(MIN_SEGMENT, 0.1), "2 ms"),
         help=f"segment of the coupled load [s] (2e-3; {MIN_SEGMENT:g} to 0.1)",
-    )
-    s.add_argument(
-        "--t-max",
-        metavar="S",
-        type=quantity_of("t_max"),
-        help="give up after this time [s] (default 1)",
-    )
-    s.add_argument(
+    ),
+    T_MAX.but(help="give up after this time [s] (default 1)"),
+    switch(
         "--no-convergence-check",
-        action="store_true",
-        help="skip the refined reruns (t_cr then carries no convergence status)",
-    )
-    p.add_argument(
-        "--config", metavar="FILE.toml", type=InputFile(), help="TOML settings (flags override)"
-    )
+        "skip the refined reruns (t_cr then carries no convergence status)",
+    ),
+)
+
+
+def add_model_arguments(p: argparse.ArgumentParser, *, launch_point: bool) -> None:
+    """Design, projectile, launch and solver flags shared by the envelope commands."""
+    add_flags(p.add_argument_group("design (Table 1 defaults)"), *_design_flags())
+    add_flags(p.add_argument_group("flight"), *(_LAUNCH_POINT if launch_point else ()), *_LAUNCH)
+    add_flags(p.add_argument_group("solver"), *_SOLVER)
+    add_flags(p, CONFIG)
 
 
 def add_execution_arguments(p: argparse.ArgumentParser) -> None:
     """Workers, Dask scheduler, resume and output flags."""
-    add_execution_flags(p.add_argument_group("execution"))  # type: ignore[arg-type]
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-
-
-def _design_kind(dest: str) -> Quantity:
-    return quantity_of(dest)
+    add_flags(p.add_argument_group("execution"), *execution_flags())
+    add_flags(p, JSON)
 
 
 def _settings(args: argparse.Namespace) -> dict[str, Any]:

@@ -7,17 +7,29 @@ import math
 from collections.abc import Callable
 
 from ..params import Range
+from ..reference import FLIGHT_SOBOL_RANGES
 from ..sweeps.montecarlo import MAX_SAMPLES
-from ._args import SEED, axis_of, quantity_of
+from ._args import quantity_of
+from ._flags import (
+    CONFIDENCE,
+    OUT_NETCDF,
+    SEED_FLAG,
+    VARY,
+    add_command,
+    add_flags,
+    option,
+    switch,
+)
 from ._flight_args import (
-    FIGURE,
+    ALTITUDE_GRID,
+    FIGURE_FLAG,
     LAUNCH_MACH,
-    MACH_AXIS,
-    REQUIREMENT,
+    MACH_GRID,
+    REQUIREMENT_FLAG,
     add_execution_arguments,
     add_model_arguments,
 )
-from ._kinds import Count, OutputFile, Quantity, Text
+from ._kinds import Count, Quantity, Text
 
 __all__ = [
     "add_robust_commands",
@@ -40,14 +52,7 @@ DEFAULT_UNCERTAINTY = (
     "spin_factor=normal:1,0.01",
 )
 #: Default ranges of ``sensitivity`` in flight (uniform, around Table 1).
-DEFAULT_RANGES = (
-    "mu_s=uniform:0.25,0.45",
-    "theta0_deg=uniform:86.25,88.25",
-    "gap=uniform:4.08e-5,6.08e-5",
-    "hole_radius=uniform:4.62e-3,4.82e-3",
-    "density=uniform:7500,7850",
-    "spin_factor=uniform:0.97,1.03",
-)
+DEFAULT_RANGES = FLIGHT_SOBOL_RANGES
 #: Default ranges of ``sensitivity`` on the spin rig (weight follows the ball).
 DEFAULT_RIG_RANGES = (
     "spin_rate=uniform:300,500",
@@ -60,8 +65,6 @@ DEFAULT_RIG_RANGES = (
 
 
 _POSITIVE = Range(0.0, math.inf, True, True)
-CONFIDENCE = Quantity("", Range(0.0, 1.0, True, True), "0.9")
-VARY = Text(example="mu_s=uniform:0.3,0.4")
 #: Largest SALib base sample N: N (2 D + 2) model runs, ~0.9 million for D = 6 at
 #: 65536; Sobol-index intervals shrink as 1 / sqrt(N), already below 0.01 there.
 MAX_SOBOL_BASE = 65_536
@@ -74,206 +77,191 @@ def add_robust_commands(
     run_optimize: Callable[[argparse.Namespace], int],
 ) -> None:
     """Add the ``probability``, ``sensitivity`` and ``optimize`` sub-commands."""
-    p = subparsers.add_parser(
-        "probability",
-        help="P(t_cr > requirement) under uncertain inputs (importance sampling)",
-        description="Probability that the bore opens later than the requirement, by "
-        "cross-entropy importance sampling (--method is), brute-force Monte Carlo "
-        "(mc) or both, with confidence intervals. Default inputs: " + " ".join(DEFAULT_UNCERTAINTY),
-    )
-    p.add_argument(
-        "--mach",
-        dest="grid_mach",
-        default="3",
-        metavar="SPEC",
-        type=MACH_AXIS,
-        help="muzzle Mach",
-    )
-    p.add_argument(
-        "--altitude-m",
-        dest="grid_altitude",
-        default="0",
-        metavar="SPEC",
-        type=axis_of("altitude_m"),
-        help="altitude [m]",
-    )
-    p.add_argument(
-        "--vary", action="append", metavar="NAME=KIND:ARGS", type=VARY, help="uncertain input"
-    )
-    p.add_argument(
-        "--requirement", default="0.1", metavar="S", type=REQUIREMENT, help="t_cr requirement [s]"
-    )
-    p.add_argument("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
-    p.add_argument("--method", choices=("is", "mc", "both"), default="is")
-    p.add_argument(
-        "--samples",
-        default="2000",
-        metavar="N",
-        type=Count(1, MAX_SAMPLES, example="20"),
-        help=f"brute-force samples (at most {MAX_SAMPLES}, as montecarlo)",
-    )
-    p.add_argument(
-        "--stage-samples",
-        default="500",
-        metavar="N",
-        type=Count(20, MAX_SAMPLES, example="20"),
-        help="IS samples per stage",
-    )
-    p.add_argument(
-        "--final-samples",
-        default="1000",
-        metavar="N",
-        type=Count(20, MAX_SAMPLES, example="20"),
-        help="IS final samples",
-    )
-    p.add_argument(
-        "--rho",
-        default="0.1",
-        metavar="X",
-        type=Quantity("", Range(0.0, 1.0, True, True), "0.1"),
-        help="IS elite fraction",
-    )
-    p.add_argument("--seed", default="0", metavar="S", type=SEED)
-    p.add_argument("--confidence", default="0.95", metavar="C", type=CONFIDENCE)
-    add_model_arguments(p, launch_point=False)
-    add_execution_arguments(p)
-    p.add_argument(
-        "--out", metavar="FILE.nc", type=OutputFile(), help="NetCDF output (and resume store)"
-    )
-    p.set_defaults(func=run_probability)
+    for command in (
+        _add_probability(subparsers, run_probability),
+        _add_sensitivity(subparsers, run_sensitivity),
+        _add_optimize(subparsers, run_optimize),
+    ):
+        add_model_arguments(command, launch_point=False)
+        add_execution_arguments(command)
+        add_flags(command, OUT_NETCDF)
 
-    s = subparsers.add_parser(
+
+_EVENT = option("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
+
+
+def _add_probability(
+    subparsers: argparse._SubParsersAction, run: Callable[[argparse.Namespace], int]
+) -> argparse.ArgumentParser:
+    return add_command(
+        subparsers,
+        "probability",
+        run,
+        "Probability that the bore opens later than the requirement, by cross-entropy "
+        "importance sampling (--method is), brute-force Monte Carlo (mc) or both, with "
+        "confidence intervals. Default inputs: " + " ".join(DEFAULT_UNCERTAINTY),
+        MACH_GRID.but(default="3", help="muzzle Mach"),
+        ALTITUDE_GRID.but(default="0", help="altitude [m]"),
+        VARY,
+        REQUIREMENT_FLAG,
+        _EVENT,
+        option("--method", choices=("is", "mc", "both"), default="is"),
+        option(
+            "--samples",
+            default="2000",
+            metavar="N",
+            type=Count(1, MAX_SAMPLES, example="20"),
+            help=f"brute-force samples (at most {MAX_SAMPLES}, as montecarlo)",
+        ),
+        option(
+            "--stage-samples",
+            default="500",
+            metavar="N",
+            type=Count(20, MAX_SAMPLES, example="20"),
+            help="IS samples per stage",
+        ),
+        option(
+            "--final-samples",
+            default="1000",
+            metavar="N",
+            type=Count(20, MAX_SAMPLES, example="20"),
+            help="IS final samples",
+        ),
+        option(
+            "--rho",
+            default="0.1",
+            metavar="X",
+            type=Quantity("", Range(0.0, 1.0, True, True), "0.1"),
+            help="IS elite fraction",
+        ),
+        SEED_FLAG,
+        CONFIDENCE,
+    )
+
+
+def _add_sensitivity(
+    subparsers: argparse._SubParsersAction, run: Callable[[argparse.Namespace], int]
+) -> argparse.ArgumentParser:
+    return add_command(
+        subparsers,
         "sensitivity",
-        help="Sobol indices of t_cr (SALib) with bootstrap intervals",
-        description="First-order and total Sobol indices of t_cr. Defaults: flight "
+        run,
+        "First-order and total Sobol indices of t_cr. Defaults: flight "
         + " ".join(DEFAULT_RANGES)
         + "; spin-rig "
         + " ".join(DEFAULT_RIG_RANGES),
+        option("--case", choices=("flight", "spin-rig"), default="flight"),
+        option(
+            "--mach",
+            dest="mach_point",
+            metavar="X",
+            type=LAUNCH_MACH,
+            help="muzzle Mach (flight, 3)",
+        ),
+        option(
+            "--altitude-m",
+            dest="altitude_point",
+            metavar="X",
+            type=quantity_of("altitude_m"),
+            help="altitude [m] (0)",
+        ),
+        VARY,
+        option(
+            "--samples",
+            default="256",
+            metavar="N",
+            type=Count(8, MAX_SOBOL_BASE, example="8"),
+            help=f"SALib base N (power of 2; at most {MAX_SOBOL_BASE}: N (2 D + 2) runs)",
+        ),
+        _EVENT,
+        option(
+            "--resamples",
+            default="1000",
+            metavar="N",
+            type=Count(10, 100_000, example="10"),
+            help="bootstrap resamples (at most 100000)",
+        ),
+        SEED_FLAG,
+        CONFIDENCE,
+        FIGURE_FLAG.but(help="bar chart"),
     )
-    s.add_argument("--case", choices=("flight", "spin-rig"), default="flight")
-    s.add_argument(
-        "--mach", dest="mach_point", metavar="X", type=LAUNCH_MACH, help="muzzle Mach (flight, 3)"
-    )
-    s.add_argument(
-        "--altitude-m",
-        dest="altitude_point",
-        metavar="X",
-        type=quantity_of("altitude_m"),
-        help="altitude [m] (0)",
-    )
-    s.add_argument(
-        "--vary", action="append", metavar="NAME=KIND:ARGS", type=VARY, help="uncertain input"
-    )
-    s.add_argument(
-        "--samples",
-        default="256",
-        metavar="N",
-        type=Count(8, MAX_SOBOL_BASE, example="8"),
-        help=f"SALib base N (power of 2; at most {MAX_SOBOL_BASE}: N (2 D + 2) runs)",
-    )
-    s.add_argument("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
-    s.add_argument(
-        "--resamples",
-        default="1000",
-        metavar="N",
-        type=Count(10, 100_000, example="10"),
-        help="bootstrap resamples (at most 100000)",
-    )
-    s.add_argument("--seed", default="0", metavar="S", type=SEED)
-    s.add_argument("--confidence", default="0.95", metavar="C", type=CONFIDENCE)
-    s.add_argument("--figure", metavar="FILE.png", type=FIGURE, help="bar chart")
-    add_model_arguments(s, launch_point=False)
-    add_execution_arguments(s)
-    s.add_argument(
-        "--out", metavar="FILE.nc", type=OutputFile(), help="NetCDF output (and resume store)"
-    )
-    s.set_defaults(func=run_sensitivity)
 
-    o = subparsers.add_parser(
+
+def _add_optimize(
+    subparsers: argparse._SubParsersAction, run: Callable[[argparse.Namespace], int]
+) -> argparse.ArgumentParser:
+    return add_command(
+        subparsers,
         "optimize",
-        help="robust design: minimise the worst case / a quantile of t_cr over the envelope",
-        description="Differential evolution (SciPy) + SLSQP polish over the design "
-        "variables, subject to the bore-able hole, the ball blocking the bore at launch, "
-        "the socket wall and the mass budget; reports the optimum, its sensitivity and "
-        "(--pareto N) the t_cr-mass Pareto front.",
+        run,
+        "Differential evolution (SciPy) + SLSQP polish over the design variables, subject "
+        "to the bore-able hole, the ball blocking the bore at launch, the socket wall and "
+        "the mass budget; reports the optimum, its sensitivity and (--pareto N) the "
+        "t_cr-mass Pareto front.",
+        MACH_GRID.but(default="1.5,2.75,4"),
+        ALTITUDE_GRID.but(default="0,10000"),
+        option(
+            "--objective",
+            default="max",
+            metavar="[t_cr:|t_start:]max|quantile:Q",
+            type=Text(example="max"),
+            help="aggregate over the conditions of t_cr (default) or of t_start, e.g. "
+            "t_start, t_start:quantile:0.9",
+        ),
+        option(
+            "--variables",
+            default="hole_radius,ball_radius,density,gap,mu_s",
+            metavar="A,B,...",
+            type=Text(example="mu_s"),
+            help="design variables (default all five)",
+        ),
+        option(
+            "--bound",
+            action="append",
+            metavar="NAME=LO,HI",
+            type=Text(example="mu_s=0.3,0.4"),
+            help="override bounds (SI)",
+        ),
+        option(
+            "--mass-budget",
+            metavar="KG",
+            type=Quantity("kg", _POSITIVE, "10 g"),
+            help="largest ball mass (Table 1 ball's)",
+        ),
+        option(
+            "--wall",
+            metavar="M",
+            type=Quantity("m", _POSITIVE, "2 mm"),
+            help="smallest socket wall R_p - R_s (2.061 mm)",
+        ),
+        option(
+            "--block-margin-deg",
+            default="2",
+            metavar="DEG",
+            type=Quantity("deg", Range(0.0, 90.0, False, True), "2 deg"),
+            help="theta0-beta-beta_s",
+        ),
+        option(
+            "--popsize",
+            default="10",
+            metavar="N",
+            type=Count(2, 1000, example="2"),
+            help="differential-evolution population per variable (at most 1000)",
+        ),
+        option(
+            "--maxiter",
+            default="30",
+            metavar="N",
+            type=Count(1, 10_000, example="1"),
+            help="differential-evolution generations (at most 10000)",
+        ),
+        SEED_FLAG,
+        switch("--no-polish", "skip the SLSQP polish"),
+        option(
+            "--pareto",
+            metavar="N",
+            type=Count(2, 100, example="2"),
+            help="trace the t_cr-mass Pareto front with N points (at most 100)",
+        ),
+        FIGURE_FLAG.but(help="Pareto front figure (with --pareto)"),
     )
-    o.add_argument("--mach", dest="grid_mach", default="1.5,2.75,4", metavar="SPEC", type=MACH_AXIS)
-    o.add_argument(
-        "--altitude-m",
-        dest="grid_altitude",
-        default="0,10000",
-        metavar="SPEC",
-        type=axis_of("altitude_m"),
-    )
-    o.add_argument(
-        "--objective",
-        default="max",
-        metavar="[t_cr:|t_start:]max|quantile:Q",
-        type=Text(example="max"),
-        help="aggregate over the conditions of t_cr (default) or of t_start, e.g. t_start, "
-        "t_start:quantile:0.9",
-    )
-    o.add_argument(
-        "--variables",
-        default="hole_radius,ball_radius,density,gap,mu_s",
-        metavar="A,B,...",
-        type=Text(example="mu_s"),
-        help="design variables (default all five)",
-    )
-    o.add_argument(
-        "--bound",
-        action="append",
-        metavar="NAME=LO,HI",
-        type=Text(example="mu_s=0.3,0.4"),
-        help="override bounds (SI)",
-    )
-    o.add_argument(
-        "--mass-budget",
-        metavar="KG",
-        type=Quantity("kg", _POSITIVE, "10 g"),
-        help="largest ball mass (Table 1 ball's)",
-    )
-    o.add_argument(
-        "--wall",
-        metavar="M",
-        type=Quantity("m", _POSITIVE, "2 mm"),
-        help="smallest socket wall R_p - R_s (2.061 mm)",
-    )
-    o.add_argument(
-        "--block-margin-deg",
-        default="2",
-        metavar="DEG",
-        type=Quantity("deg", Range(0.0, 90.0, False, True), "2 deg"),
-        help="theta0-beta-beta_s",
-    )
-    o.add_argument(
-        "--popsize",
-        default="10",
-        metavar="N",
-        type=Count(2, 1000, example="2"),
-        help="differential-evolution population per variable (at most 1000)",
-    )
-    o.add_argument(
-        "--maxiter",
-        default="30",
-        metavar="N",
-        type=Count(1, 10_000, example="1"),
-        help="differential-evolution generations (at most 10000)",
-    )
-    o.add_argument("--seed", default="0", metavar="S", type=SEED)
-    o.add_argument("--no-polish", action="store_true", help="skip the SLSQP polish")
-    o.add_argument(
-        "--pareto",
-        metavar="N",
-        type=Count(2, 100, example="2"),
-        help="trace the t_cr-mass Pareto front with N points (at most 100)",
-    )
-    o.add_argument(
-        "--figure", metavar="FILE.png", type=FIGURE, help="Pareto front figure (with --pareto)"
-    )
-    add_model_arguments(o, launch_point=False)
-    add_execution_arguments(o)
-    o.add_argument(
-        "--out", metavar="FILE.nc", type=OutputFile(), help="NetCDF output (and resume store)"
-    )
-    o.set_defaults(func=run_optimize)

@@ -8,7 +8,8 @@ import sys
 
 from ..params import Range
 from ..reference import TABLE1
-from ._args import SEED, quantity_of, solver_options
+from ._args import quantity_of, solver_options
+from ._flags import CONFIG, JSON, PLOT, SEED_FLAG, add_command, option
 from ._kinds import Count, InputFile, OutputFile, Quantity, Text
 
 __all__ = ["register"]
@@ -16,65 +17,63 @@ __all__ = ["register"]
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``calibrate`` sub-command."""
-    c = subparsers.add_parser(
+    add_command(
+        subparsers,
         "calibrate",
-        help="fit the sliding friction mu_s of the exact model to spin-rig data",
-        description="Least-squares fit of mu_s of the exact rig model (integrated equations "
-        "of motion) to measured opening times. DATA.csv has a header with t_cr_s and "
-        "readout_hz (18-tooth wheel) or spin_rate_rad_s, optionally starred (1/0). Runs "
-        "fitted: spin >= --min-spin if given, else the starred runs, else all runs.",
+        _calibrate,
+        "Least-squares fit of mu_s of the exact rig model (integrated equations of motion) "
+        "to measured opening times. DATA.csv has a header with t_cr_s and readout_hz "
+        "(18-tooth wheel) or spin_rate_rad_s, optionally starred (1/0) and each run's own "
+        "theta0, hole_radius, density, ball_mass, theta_measured with t_measured (unit in the "
+        "header: theta0_deg, hole_radius_mm, density [kg/m^3], ...). Runs fitted: spin "
+        ">= --min-spin if given, else the starred runs, else all runs.",
+        option(
+            "data",
+            metavar="DATA.csv",
+            type=InputFile(example="runs.csv"),
+            help="spin-rig opening times",
+        ),
+        option(
+            "--theta0-deg",
+            metavar="X",
+            type=quantity_of("theta0_deg"),
+            default=None,
+            help=f"theta_0 [deg] ({TABLE1['theta0_deg']}; on runs with their own theta0 "
+            "column, its offset from that value is added)",
+        ),
+        CONFIG.but(
+            help="theta0, t_max, torque_model, [rig] weight and [solver] settings (flags win)"
+        ),
+        option(
+            "--min-spin",
+            metavar="X",
+            type=Quantity("rad/s", Range(0.0, math.inf, False, True), "1e5 rad/s"),
+            help="fit runs with omega_p >= X rad/s",
+        ),
+        option(
+            "--fit",
+            metavar="NAMES",
+            default="mu_s",
+            type=Text(example="mu_s"),
+            help="comma list of fitted parameters, mu_s among them: theta0_deg, "
+            "shear_constant, theta_dot0, release_phase, speed_ratio, slip_speed, patch_radius "
+            "(bounds and their reasons: obturator.params.FIT_SPECS)",
+        ),
+        # 1e5 resamples give percentile intervals to ~1e-3 of their width; more is wasted
+        option(
+            "--bootstrap",
+            metavar="N",
+            type=Count(0, 100_000, example="0"),
+            default=200,
+            help="bootstrap resamples (0: none; at most 100000)",
+        ),
+        SEED_FLAG.but(metavar="N", default=0, help="bootstrap seed"),
+        JSON,
+        PLOT.but(
+            type=OutputFile(figure=True, example="fit.png"),
+            help="write data, model and residuals",
+        ),
     )
-    c.add_argument(
-        "data",
-        metavar="DATA.csv",
-        type=InputFile(example="runs.csv"),
-        help="spin-rig opening times",
-    )
-    c.add_argument(
-        "--theta0-deg",
-        metavar="X",
-        type=quantity_of("theta0_deg"),
-        default=None,
-        help=f"theta_0 [deg] ({TABLE1['theta0_deg']})",
-    )
-    c.add_argument(
-        "--config",
-        metavar="FILE.toml",
-        type=InputFile(),
-        help="theta0, t_max, torque_model, [rig] weight and [solver] settings (flags win)",
-    )
-    c.add_argument(
-        "--min-spin",
-        metavar="X",
-        type=Quantity("rad/s", Range(0.0, math.inf, False, True), "1e5 rad/s"),
-        help="fit runs with omega_p >= X rad/s",
-    )
-    c.add_argument(
-        "--fit",
-        metavar="NAMES",
-        default="mu_s",
-        type=Text(example="mu_s"),
-        help="comma list of fitted parameters, mu_s among them: theta0_deg, shear_constant, "
-        "theta_dot0, release_phase, speed_ratio, slip_speed, patch_radius (bounds and their "
-        "reasons: obturator.params.FIT_SPECS)",
-    )
-    # 1e5 resamples give percentile intervals to ~1e-3 of their width; more is wasted time
-    c.add_argument(
-        "--bootstrap",
-        metavar="N",
-        type=Count(0, 100_000, example="0"),
-        default=200,
-        help="bootstrap resamples (0: none; at most 100000)",
-    )
-    c.add_argument("--seed", metavar="N", type=SEED, default=0, help="bootstrap seed")
-    c.add_argument("--json", action="store_true", help="print one JSON object")
-    c.add_argument(
-        "--plot",
-        metavar="FILE.png",
-        type=OutputFile(figure=True, example="fit.png"),
-        help="write data, model and residuals",
-    )
-    c.set_defaults(func=_calibrate)
 
 
 def _calibrate(args: argparse.Namespace) -> int:

@@ -43,20 +43,24 @@ from typing import Any
 
 from ..params import Range
 from . import _json
-from ._args import axis_of
+from ._flags import JSON, OUT_NETCDF, add_command, add_flags, option
 from ._flight_args import (
+    ALTITUDE_GRID,
     FIGURE,
+    FIGURE_FLAG,
     LAUNCH_MACH,
     MACH_AXIS,
+    MACH_GRID,
     MIN_SEGMENT,
     REQUIREMENT,
+    REQUIREMENT_FLAG,
     TEMPERATURE_OFFSET,
     add_execution_arguments,
     add_model_arguments,
     model_from_args,
     quantity,
 )
-from ._kinds import Axis, OutputFile, Quantity
+from ._kinds import Axis, Quantity
 from ._runner import study_runner, write_dataset
 
 __all__ = [
@@ -95,26 +99,11 @@ def _run_trajectory(args: argparse.Namespace) -> int:
     flight = cached_flight(model.projectile, replace(launch, spin_rate=None), model.t_max)
     spin0 = launch.muzzle_spin
     t0 = time.perf_counter()
-    res = coupled_opening(
-        model.design,
-        flight,
-        model.options,
-        segment=model.segment,
-        t_max=model.t_max,
-        spin_rate=spin0,
-        record=bool(args.figure),
-    )
+    run = {"segment": model.segment, "t_max": model.t_max, "spin_rate": spin0}
+    res = coupled_opening(model.design, flight, model.options, record=bool(args.figure), **run)
     conv = None
     if model.check_convergence and res.opened:
-        conv = coupled_convergence(
-            model.design,
-            flight,
-            model.options,
-            segment=model.segment,
-            t_max=model.t_max,
-            spin_rate=spin0,
-            t_cr=res.t_cr,
-        )
+        conv = coupled_convergence(model.design, flight, model.options, t_cr=res.t_cr, **run)
     t_const, conv_const = constant_opening(
         model.design, launch, model.options, t_max=model.t_max, check=model.check_convergence
     )
@@ -319,65 +308,50 @@ def _print_envelope(ds: Any) -> None:
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``trajectory`` and ``envelope`` sub-commands."""
-    t = subparsers.add_parser(
+    t = add_command(
+        subparsers,
         "trajectory",
-        help="t_cr along one flight: trajectory-coupled vs constant load",
-        description="Fly the Table 1 projectile from the muzzle (point mass, drag, gravity, "
-        "1976 atmosphere, roll damping) and integrate the obturator with the load and spin "
-        "of the flight; compare with the thesis's constant load.",
+        _run_trajectory,
+        "Fly the Table 1 projectile from the muzzle (point mass, drag, gravity, 1976 "
+        "atmosphere, roll damping) and integrate the obturator with the load and spin of "
+        "the flight; compare with the thesis's constant load.",
     )
     add_model_arguments(t, launch_point=True)
-    t.add_argument(
-        "--out", metavar="FILE.nc", type=OutputFile(), help="write the trajectory as NetCDF"
+    add_flags(
+        t,
+        OUT_NETCDF.but(help="write the trajectory as NetCDF"),
+        FIGURE_FLAG.but(help="theta(t), F_p(t), M(t)"),
+        JSON,
     )
-    t.add_argument("--figure", metavar="FILE.png", type=FIGURE, help="theta(t), F_p(t), M(t)")
-    t.add_argument("--json", action="store_true", help="print one JSON object")
-    t.set_defaults(func=_run_trajectory)
-
-    e = subparsers.add_parser(
+    e = add_command(
+        subparsers,
         "envelope",
-        help="t_cr map over muzzle Mach x altitude (coupled and constant load)",
-        description="Opening time over the firing envelope with the constant and the "
-        "trajectory-coupled load; marks choked (Fanno) and unstarted (Kantrowitz) points. "
-        "SPEC is START:STOP:COUNT or a,b,c.",
-    )
-    e.add_argument(
-        "--mach",
-        dest="grid_mach",
-        metavar="SPEC",
-        required=True,
-        type=MACH_AXIS,
-        help="muzzle Mach numbers",
-    )
-    e.add_argument(
-        "--altitude-m",
-        dest="grid_altitude",
-        metavar="SPEC",
-        required=True,
-        type=axis_of("altitude_m"),
-        help="launch altitudes [m] (units allowed: '0,1 km')",
-    )
-    e.add_argument(
-        "--temperature-offset-k",
-        dest="grid_temperature",
-        metavar="SPEC",
-        type=Axis("K", TEMPERATURE_OFFSET.range, "0 K"),
-        help="temperature offsets [K]",
-    )
-    e.add_argument(
-        "--requirement", metavar="S", default="0.1", type=REQUIREMENT, help="t_cr requirement [s]"
-    )
-    e.add_argument(
-        "--area-ratio",
-        metavar="X",
-        default="1",
-        type=Quantity("", Range(1.0, math.inf, False, True), "1"),
-        help="inlet A_c/A_t (default 1)",
+        _run_envelope,
+        "Opening time over the firing envelope with the constant and the trajectory-coupled "
+        "load; marks choked (Fanno) and unstarted (Kantrowitz) points. SPEC is "
+        "START:STOP:COUNT or a,b,c.",
+        MACH_GRID.but(required=True, help="muzzle Mach numbers"),
+        ALTITUDE_GRID.but(required=True, help="launch altitudes [m] (units allowed: '0,1 km')"),
+        option(
+            "--temperature-offset-k",
+            dest="grid_temperature",
+            metavar="SPEC",
+            type=Axis("K", TEMPERATURE_OFFSET.range, "0 K"),
+            help="temperature offsets [K]",
+        ),
+        REQUIREMENT_FLAG,
+        option(
+            "--area-ratio",
+            metavar="X",
+            default="1",
+            type=Quantity("", Range(1.0, math.inf, False, True), "1"),
+            help="inlet A_c/A_t (default 1)",
+        ),
     )
     add_model_arguments(e, launch_point=False)
     add_execution_arguments(e)
-    e.add_argument(
-        "--out", metavar="FILE.nc", default="envelope.nc", type=OutputFile(), help="NetCDF output"
+    add_flags(
+        e,
+        OUT_NETCDF.but(default="envelope.nc", help="NetCDF output"),
+        FIGURE_FLAG.but(help="contour map"),
     )
-    e.add_argument("--figure", metavar="FILE.png", type=FIGURE, help="contour map")
-    e.set_defaults(func=_run_envelope)

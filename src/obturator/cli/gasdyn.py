@@ -71,29 +71,31 @@ def _emit(args: argparse.Namespace, data: dict[str, Any], rows: list[Row]) -> in
     return 0
 
 
+def _emit_fields(args: argparse.Namespace, fields: list[tuple[str, str, Any, str]]) -> int:
+    """Print (key, label, value, unit) fields: as JSON keys, or as the table's rows."""
+    data = {key: value for key, _, value, _ in fields}
+    return _emit(args, data, [(label, value, unit) for _, label, value, unit in fields])
+
+
 def _cmd_normal_shock(args: argparse.Namespace) -> int:
-    mach = _number("mach", args.mach)
-    gamma = _number("gamma", args.gamma)
-    s = gd.normal_shock(mach, gamma)
-    data = {
-        "mach": s.mach,
-        "gamma": s.gamma,
-        "mach2": s.mach2,
-        "pressure_ratio": s.pressure_ratio,
-        "density_ratio": s.density_ratio,
-        "temperature_ratio": s.temperature_ratio,
-        "stagnation_pressure_ratio": s.stagnation_pressure_ratio,
-    }
-    rows: list[Row] = [
-        ("upstream Mach M1", s.mach, "-"),
-        ("gamma", s.gamma, "-"),
-        ("downstream Mach M2 (Eq. 3)", s.mach2, "-"),
-        ("pressure ratio p2/p1 (Eq. 1)", s.pressure_ratio, "-"),
-        ("density ratio rho2/rho1", s.density_ratio, "-"),
-        ("temperature ratio T2/T1", s.temperature_ratio, "-"),
-        ("stagnation pressure ratio p02/p01", s.stagnation_pressure_ratio, "-"),
-    ]
-    return _emit(args, data, rows)
+    s = gd.normal_shock(_number("mach", args.mach), _number("gamma", args.gamma))
+    return _emit_fields(
+        args,
+        [
+            ("mach", "upstream Mach M1", s.mach, "-"),
+            ("gamma", "gamma", s.gamma, "-"),
+            ("mach2", "downstream Mach M2 (Eq. 3)", s.mach2, "-"),
+            ("pressure_ratio", "pressure ratio p2/p1 (Eq. 1)", s.pressure_ratio, "-"),
+            ("density_ratio", "density ratio rho2/rho1", s.density_ratio, "-"),
+            ("temperature_ratio", "temperature ratio T2/T1", s.temperature_ratio, "-"),
+            (
+                "stagnation_pressure_ratio",
+                "stagnation pressure ratio p02/p01",
+                s.stagnation_pressure_ratio,
+                "-",
+            ),
+        ],
+    )
 
 
 def _cmd_start(args: argparse.Namespace) -> int:
@@ -242,29 +244,25 @@ def _cmd_choke(args: argparse.Namespace) -> int:
 
 
 def _cmd_atmosphere(args: argparse.Namespace) -> int:
-    altitude = _number("altitude_m", args.altitude_m)
-    atm = standard_atmosphere(altitude)
-    data = {
-        "altitude_m": atm.altitude_m,
-        "geopotential_m": atm.geopotential_m,
-        "temperature_K": atm.temperature,
-        "pressure_Pa": atm.pressure,
-        "density_kg_m3": atm.density,
-        "speed_of_sound_m_s": atm.speed_of_sound,
-        "dynamic_viscosity_Pa_s": atm.dynamic_viscosity,
-        "kinematic_viscosity_m2_s": atm.kinematic_viscosity,
-    }
-    rows: list[Row] = [
-        ("geometric altitude", atm.altitude_m, "m"),
-        ("geopotential altitude", atm.geopotential_m, "m'"),
-        ("temperature", atm.temperature, "K"),
-        ("pressure", atm.pressure, "Pa"),
-        ("density", atm.density, "kg/m^3"),
-        ("speed of sound", atm.speed_of_sound, "m/s"),
-        ("dynamic viscosity", atm.dynamic_viscosity, "Pa s"),
-        ("kinematic viscosity", atm.kinematic_viscosity, "m^2/s"),
-    ]
-    return _emit(args, data, rows)
+    atm = standard_atmosphere(_number("altitude_m", args.altitude_m))
+    return _emit_fields(
+        args,
+        [
+            ("altitude_m", "geometric altitude", atm.altitude_m, "m"),
+            ("geopotential_m", "geopotential altitude", atm.geopotential_m, "m'"),
+            ("temperature_K", "temperature", atm.temperature, "K"),
+            ("pressure_Pa", "pressure", atm.pressure, "Pa"),
+            ("density_kg_m3", "density", atm.density, "kg/m^3"),
+            ("speed_of_sound_m_s", "speed of sound", atm.speed_of_sound, "m/s"),
+            ("dynamic_viscosity_Pa_s", "dynamic viscosity", atm.dynamic_viscosity, "Pa s"),
+            (
+                "kinematic_viscosity_m2_s",
+                "kinematic viscosity",
+                atm.kinematic_viscosity,
+                "m^2/s",
+            ),
+        ],
+    )
 
 
 def register(subparsers: Any) -> None:

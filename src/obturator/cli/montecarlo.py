@@ -24,23 +24,31 @@ import numpy as np
 
 from ..errors import InputError, check_range
 from ..io import check_output_path
-from ..params import SWEEP_PARAMS, Range
+from ..params import SWEEP_PARAMS
 from ..sweeps import MAX_SAMPLES, MonteCarloSummary, monte_carlo, monte_carlo_summary
 from ..units import parse_quantity
 from . import _json
 from ._args import (
-    SEED,
-    add_study_flags,
-    flag,
     fmt_seconds,
     parse_integer,
     parse_number,
-    quantity_of,
     study_config,
     study_options,
     study_t_max,
 )
-from ._kinds import Count, OutputFile, Quantity, Text
+from ._flags import (
+    CONFIDENCE,
+    CSV,
+    OUT_NETCDF,
+    SEED_FLAG,
+    VARY,
+    add_command,
+    option,
+    parameter_flags,
+    study_flags,
+    switch,
+)
+from ._kinds import Count, Text
 from ._runner import runner_from_args
 
 __all__ = ["register"]
@@ -48,69 +56,44 @@ __all__ = ["register"]
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``montecarlo`` sub-command."""
-    m = subparsers.add_parser(
+    add_command(
+        subparsers,
         "montecarlo",
-        help="t_cr quantiles under uncertain inputs",
-        description="Sample uncertain inputs (--vary NAME=KIND:ARGS, KIND one of "
-        "normal:MEAN,SD uniform:LO,HI lognormal:MEDIAN,SIGMA_LN truncnormal:MEAN,SD,LO,HI) "
-        "and report t_cr quantiles with order-statistic confidence intervals.",
+        _run_montecarlo,
+        "Sample uncertain inputs (--vary NAME=KIND:ARGS, KIND one of normal:MEAN,SD "
+        "uniform:LO,HI lognormal:MEDIAN,SIGMA_LN truncnormal:MEAN,SD,LO,HI) and report t_cr "
+        "quantiles with order-statistic confidence intervals.",
+        option(
+            "--samples",
+            metavar="N",
+            required=True,
+            type=Count(1, MAX_SAMPLES, example="2"),
+            help=f"number of samples (at most {MAX_SAMPLES}: see obturator.sweeps.MAX_SAMPLES)",
+        ),
+        SEED_FLAG.but(help="root seed (default 0)"),
+        VARY.but(
+            required=True,
+            type=Text(example="mu_s=uniform:0.5,0.6"),
+            help="uncertain input, e.g. mu_s=normal:0.5473,0.03 (repeatable)",
+        ),
+        *parameter_flags(grid=False),
+        option(
+            "--quantiles",
+            metavar="P,P,...",
+            default="5,50,95",
+            type=Text(example="50"),
+            help="percentiles (default 5,50,95)",
+        ),
+        CONFIDENCE.but(metavar="X", help="interval level (0.95)"),
+        *study_flags(),
+        OUT_NETCDF.but(help="write samples and summary as NetCDF"),
+        switch(
+            "--no-check-convergence",
+            "skip the per-sample convergence check (4x faster; non-converged openings, "
+            "status 4, are then not detected)",
+        ),
+        CSV.but(help="write the samples as CSV"),
     )
-    m.add_argument(
-        "--samples",
-        metavar="N",
-        required=True,
-        type=Count(1, MAX_SAMPLES, example="2"),
-        help=f"number of samples (at most {MAX_SAMPLES}: see obturator.sweeps.MAX_SAMPLES)",
-    )
-    m.add_argument("--seed", metavar="S", default="0", type=SEED, help="root seed (default 0)")
-    m.add_argument(
-        "--vary",
-        metavar="NAME=KIND:ARGS",
-        action="append",
-        required=True,
-        type=Text(example="mu_s=uniform:0.5,0.6"),
-        help="uncertain input, e.g. mu_s=normal:0.5473,0.03 (repeatable)",
-    )
-    for name, par in SWEEP_PARAMS.items():
-        extra = " (flight only)" if par.flight_only else ""
-        m.add_argument(
-            flag(name),
-            dest=name,
-            metavar="X",
-            type=quantity_of(name),
-            help=f"fixed {par.long_name} [{par.unit}]{extra}",
-        )
-    m.add_argument(
-        "--quantiles",
-        metavar="P,P,...",
-        default="5,50,95",
-        type=Text(example="50"),
-        help="percentiles (default 5,50,95)",
-    )
-    m.add_argument(
-        "--confidence",
-        metavar="X",
-        default="0.95",
-        type=Quantity("", Range(0.0, 1.0, True, True), "0.9"),
-        help="interval level (0.95)",
-    )
-    add_study_flags(m)
-    m.add_argument(
-        "--out", metavar="FILE.nc", type=OutputFile(), help="write samples and summary as NetCDF"
-    )
-    m.add_argument(
-        "--no-check-convergence",
-        action="store_true",
-        help="skip the per-sample convergence check (4x faster; non-converged openings, "
-        "status 4, are then not detected)",
-    )
-    m.add_argument(
-        "--csv",
-        metavar="FILE.csv",
-        type=OutputFile(example="out.csv"),
-        help="write the samples as CSV",
-    )
-    m.set_defaults(func=_run_montecarlo)
 
 
 def _print_mc(s: MonteCarloSummary, header: str) -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from ._flags import NO_PROGRESS, add_command, option, switch
 from ._kinds import OutputDir
 
 __all__ = ["register"]
@@ -11,35 +12,31 @@ __all__ = ["register"]
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``reproduce`` sub-command."""
-    p = subparsers.add_parser(
+    add_command(
+        subparsers,
         "reproduce",
-        help="write every thesis figure (PNG) and a report (Markdown, HTML)",
-        description="Run the studies of Bloomer (1980) Figs. 9-43, the chapter IV and "
-        "exact-model friction calibrations, and write PNG figures plus report.md and "
-        "report.html comparing every checkable printed number with the computed one.",
+        _reproduce,
+        "Run the studies of Bloomer (1980) Figs. 9-43, the chapter IV and exact-model "
+        "friction calibrations, and write PNG figures plus report.md and report.html "
+        "comparing every checkable printed number with the computed one.",
+        option(
+            "--out",
+            metavar="DIR",
+            required=True,
+            type=OutputDir(),
+            help="output directory (created)",
+        ),
+        switch("--quick", "fewer points and a smaller bootstrap (seconds)"),
+        NO_PROGRESS,
+        switch(
+            "--no-validation",
+            "leave out the validation section (fits to all 54 runs; ~1 min quick)",
+        ),
+        switch(
+            "--envelope",
+            "add the firing-envelope section (t_cr map over Mach x altitude, Sobol indices)",
+        ),
     )
-    p.add_argument(
-        "--out",
-        metavar="DIR",
-        required=True,
-        type=OutputDir(),
-        help="output directory (created)",
-    )
-    p.add_argument(
-        "--quick", action="store_true", help="fewer points and a smaller bootstrap (seconds)"
-    )
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--no-validation",
-        action="store_true",
-        help="leave out the validation section (fits to all 54 runs; ~1 min quick)",
-    )
-    p.add_argument(
-        "--envelope",
-        action="store_true",
-        help="add the firing-envelope section (t_cr map over Mach x altitude, Sobol indices)",
-    )
-    p.set_defaults(func=_reproduce)
 
 
 def _reproduce(args: argparse.Namespace) -> int:

@@ -32,11 +32,11 @@ from ..vocab import (
     FRICTION_FAMILIES,
     SPEED_LAWS,
     SPIN_MODES,
-    TORQUE_MODELS,
 )
 from . import _json
-from ._args import quantity_of, solver_options
-from ._kinds import InputFile, OutputFile
+from ._args import flag, quantity_of, solver_options
+from ._flags import CONFIG, CSV, JSON, PLOT, TORQUE_MODEL, Flag, add_command, option, switch
+from ._kinds import OutputFile
 
 __all__ = ["register", "case_from_settings", "options_from_settings"]
 
@@ -58,86 +58,74 @@ _QUANTITY_FLAGS = (
 )
 
 
+def _quantity(name: str, metavar: str, text: str) -> Flag:
+    """The flag of parameter `name` (one of _QUANTITY_FLAGS): unit and range from
+    obturator.params."""
+    return option(flag(name), metavar=metavar, type=quantity_of(name), help=text)
+
+
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``simulate`` sub-command."""
-    p = subparsers.add_parser(
+    add_command(
+        subparsers,
         "simulate",
-        help="integrate one case to the opening time t_cr",
-        description="Integrate the ball's nutation to the opening event theta = beta_s. "
-        "Quantities accept units, e.g. --spin-rate '115000 rpm'.",
+        _run,
+        "Integrate the ball's nutation to the opening event theta = beta_s. Quantities "
+        "accept units, e.g. --spin-rate '115000 rpm'.",
+        option(
+            "--case",
+            choices=CASE_NAMES,
+            default=None,
+            help="Table 1 column (default spin-rig, or the config's case)",
+        ),
+        _quantity("spin_rate", "RAD_S", "projectile spin omega_p [rad/s]"),
+        _quantity("mu_s", "X", "sliding friction coefficient [-]"),
+        _quantity("theta0_deg", "X", "initial nutation theta_0 [deg]"),
+        TORQUE_MODEL,
+        option("--spin-mode", choices=SPIN_MODES, default=None),
+        _quantity("mach", "M", "flight Mach number (normal bow shock, Eq. 1)"),
+        _quantity("altitude_m", "H", "flight altitude [m] (US 1976 atmosphere)"),
+        CONFIG.but(help="run configuration (units allowed)"),
+        _quantity("rtol", "X", "relative tolerance (default 1e-8)"),
+        _quantity("friction_width", "X", "Coulomb regularisation width / omega_p (default 1e-7)"),
+        option(
+            "--friction-family",
+            choices=FRICTION_FAMILIES,
+            default=None,
+            help="shape of the regularised friction magnitude (default algebraic); "
+            "the convergence check reruns with another family",
+        ),
+        _quantity(
+            "patch_radius",
+            "M",
+            "contact patch radius of --torque-model coulomb [m] "
+            "(default: Hertz radius; 0: point contact)",
+        ),
+        option("--formulation", choices=FORMULATIONS, default=None),
+        _quantity("theta_dot0", "RAD_S", "release transient theta_dot_0 [rad/s] (rig)"),
+        _quantity("release_phase", "RAD", "release azimuth psi_0 [rad] (rig)"),
+        option(
+            "--speed-law",
+            choices=SPEED_LAWS,
+            default=None,
+            help="slip-speed dependence of mu (rig; default constant, the thesis's)",
+        ),
+        _quantity("speed_ratio", "R", "mu(v) ratio r in (0, 1] (with --speed-law)"),
+        _quantity("slip_speed", "M_S", "mu(v) speed v_s [m/s] (with --speed-law)"),
+        _quantity("t_max", "S", "give up after this time [s]"),
+        JSON,
+        switch(
+            "--no-check",
+            "skip the convergence check (reruns with tolerances / 10, friction width / 10 "
+            "and another regularisation family)",
+        ),
+        PLOT.but(
+            type=OutputFile(figure=True, example="theta.png"), help="write theta(t) as a figure"
+        ),
+        CSV.but(
+            type=OutputFile(("csv",), example="theta.csv"), help="write the time series as CSV"
+        ),
     )
-    p.add_argument(
-        "--case",
-        choices=CASE_NAMES,
-        default=None,
-        help="Table 1 column (default spin-rig, or the config's case)",
-    )
-    p.add_argument("--spin-rate", metavar="RAD_S", help="projectile spin omega_p [rad/s]")
-    p.add_argument("--mu-s", metavar="X", help="sliding friction coefficient [-]")
-    p.add_argument("--theta0-deg", metavar="X", help="initial nutation theta_0 [deg]")
-    p.add_argument("--torque-model", choices=TORQUE_MODELS, default=None)
-    p.add_argument("--spin-mode", choices=SPIN_MODES, default=None)
-    p.add_argument("--mach", metavar="M", help="flight Mach number (normal bow shock, Eq. 1)")
-    p.add_argument("--altitude-m", metavar="H", help="flight altitude [m] (US 1976 atmosphere)")
-    p.add_argument(
-        "--config", metavar="FILE.toml", type=InputFile(), help="run configuration (units allowed)"
-    )
-    p.add_argument("--rtol", metavar="X", help="relative tolerance (default 1e-8)")
-    p.add_argument(
-        "--friction-width",
-        metavar="X",
-        help="Coulomb regularisation width / omega_p (default 1e-7)",
-    )
-    p.add_argument(
-        "--friction-family",
-        choices=FRICTION_FAMILIES,
-        default=None,
-        help="shape of the regularised friction magnitude (default algebraic); "
-        "the convergence check reruns with another family",
-    )
-    p.add_argument(
-        "--patch-radius",
-        metavar="M",
-        help="contact patch radius of --torque-model coulomb [m] "
-        "(default: Hertz radius; 0: point contact)",
-    )
-    p.add_argument("--formulation", choices=FORMULATIONS, default=None)
-    p.add_argument(
-        "--theta-dot0", metavar="RAD_S", help="release transient theta_dot_0 [rad/s] (rig)"
-    )
-    p.add_argument("--release-phase", metavar="RAD", help="release azimuth psi_0 [rad] (rig)")
-    p.add_argument(
-        "--speed-law",
-        choices=SPEED_LAWS,
-        default=None,
-        help="slip-speed dependence of mu (rig; default constant, the thesis's)",
-    )
-    p.add_argument("--speed-ratio", metavar="R", help="mu(v) ratio r in (0, 1] (with --speed-law)")
-    p.add_argument("--slip-speed", metavar="M_S", help="mu(v) speed v_s [m/s] (with --speed-law)")
-    p.add_argument("--t-max", metavar="S", help="give up after this time [s]")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.add_argument(
-        "--no-check",
-        action="store_true",
-        help="skip the convergence check (reruns with tolerances / 10, friction width / 10 "
-        "and another regularisation family)",
-    )
-    p.add_argument(
-        "--plot",
-        metavar="FILE.png",
-        type=OutputFile(figure=True, example="theta.png"),
-        help="write theta(t) as a figure",
-    )
-    p.add_argument(
-        "--csv",
-        metavar="FILE.csv",
-        type=OutputFile(("csv",), example="theta.csv"),
-        help="write the time series as CSV",
-    )
-    for action in p._actions:  # every quantity flag: the unit and range of obturator.params
-        if action.dest in _QUANTITY_FLAGS:
-            action.type = quantity_of(action.dest)
-    p.set_defaults(func=_run)
 
 
 def _merge(args: argparse.Namespace) -> dict[str, Any]:

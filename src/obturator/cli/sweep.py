@@ -36,15 +36,8 @@ from ..params import SWEEP_PARAMS
 from ..sweeps import SweepSpec, execute_sweep, parse_axis, sweep_summary
 from ..vocab import SPEED_LAWS
 from . import _json
-from ._args import (
-    add_study_flags,
-    axis_of,
-    flag,
-    study_config,
-    study_options,
-    study_t_max,
-)
-from ._kinds import OutputFile
+from ._args import study_config, study_options, study_t_max
+from ._flags import CSV, OUT_NETCDF, add_command, option, parameter_flags, study_flags, switch
 from ._runner import runner_from_args
 
 __all__ = ["register", "AUTO_CSV_MAX_POINTS"]
@@ -55,52 +48,35 @@ AUTO_CSV_MAX_POINTS = 10_000
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``sweep`` sub-command."""
-    p = subparsers.add_parser(
+    add_command(
+        subparsers,
         "sweep",
-        help="t_cr on a grid of parameters (parallel, resumable)",
-        description="Evaluate the opening time t_cr on the Cartesian grid of the given "
-        "parameters. SPEC is START:STOP:COUNT (both ends included) or a list a,b,c; "
-        "a single value fixes the parameter. Values take units (e.g. --spin-rate "
-        "'1000:6000:11 rpm'); a number without a unit is in the unit shown.",
+        _run_sweep,
+        "Evaluate the opening time t_cr on the Cartesian grid of the given parameters. "
+        "SPEC is START:STOP:COUNT (both ends included) or a list a,b,c; a single value "
+        "fixes the parameter. Values take units (e.g. --spin-rate '1000:6000:11 rpm'); a "
+        "number without a unit is in the unit shown.",
+        *parameter_flags(grid=True),
+        *study_flags(),
+        OUT_NETCDF.but(required=True, help="NetCDF output"),
+        option(
+            "--speed-law",
+            choices=SPEED_LAWS,
+            default="constant",
+            help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed)",
+        ),
+        switch(
+            "--check-convergence",
+            "re-run each opened point with tolerances / 10, friction width / 10 and another "
+            "regularisation family and mark points whose t_cr moves by more than 1e-3 "
+            "(status 4; 4x the cost)",
+        ),
+        CSV,
+        switch(
+            "--no-csv",
+            f"no automatic CSV next to the NetCDF (written for <= {AUTO_CSV_MAX_POINTS} points)",
+        ),
     )
-    for name, par in SWEEP_PARAMS.items():
-        extra = " (flight only)" if par.flight_only else ""
-        p.add_argument(
-            flag(name),
-            dest=name,
-            metavar="SPEC",
-            type=axis_of(name),
-            help=f"{par.long_name} [{par.unit}]{extra}",
-        )
-    add_study_flags(p)
-    p.add_argument(
-        "--out", metavar="FILE.nc", required=True, type=OutputFile(), help="NetCDF output"
-    )
-    p.add_argument(
-        "--speed-law",
-        choices=SPEED_LAWS,
-        default="constant",
-        help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed)",
-    )
-    p.add_argument(
-        "--check-convergence",
-        action="store_true",
-        help="re-run each opened point with tolerances / 10, friction width / 10 and another "
-        "regularisation family and mark points whose t_cr moves by more than 1e-3 "
-        "(status 4; 4x the cost)",
-    )
-    p.add_argument(
-        "--csv",
-        metavar="FILE.csv",
-        type=OutputFile(example="out.csv"),
-        help="also write a CSV table",
-    )
-    p.add_argument(
-        "--no-csv",
-        action="store_true",
-        help=f"no automatic CSV next to the NetCDF (written for <= {AUTO_CSV_MAX_POINTS} points)",
-    )
-    p.set_defaults(func=_run_sweep)
 
 
 def _run_sweep(args: argparse.Namespace) -> int:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from . import _json
+from ._flags import JSON, add_command, option, switch
 from ._kinds import Count
 
 __all__ = ["register"]
@@ -12,25 +13,25 @@ __all__ = ["register"]
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``warmup`` sub-command."""
-    p = subparsers.add_parser(
+    add_command(
+        subparsers,
         "warmup",
-        help="compile the integrators into numba's cache (once, after installing)",
-        description="Compile the four integrators (DOP853 and Radau IIA, and the sweeps' "
-        "DOP853 and Radau IIA lanes; with --all also Rosenbrock) side by side in fresh "
-        "processes and store the machine code in numba's cache, so that the first "
-        "simulation or sweep starts warm. Says whether each was compiled or loaded from "
-        "the cache, and where the cache is.",
+        _run,
+        "Compile the four integrators (DOP853 and Radau IIA, and the sweeps' DOP853 and "
+        "Radau IIA lanes; with --all also Rosenbrock) side by side in fresh processes and "
+        "store the machine code in numba's cache, so that the first simulation or sweep "
+        "starts warm. Says whether each was compiled or loaded from the cache, and where "
+        "the cache is.",
+        option(
+            "--jobs",
+            metavar="N",
+            default=2,
+            type=Count(1, 64, example="2"),
+            help="processes compiling at once (2; at most 64: one per integrator is all it uses)",
+        ),
+        switch("--all", "also the Rosenbrock method"),
+        JSON,
     )
-    p.add_argument(
-        "--jobs",
-        metavar="N",
-        default=2,
-        type=Count(1, 64, example="2"),
-        help="processes compiling at once (2; at most 64: one per integrator is all it uses)",
-    )
-    p.add_argument("--all", action="store_true", help="also the Rosenbrock method")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(func=_run)
 
 
 def _run(args: argparse.Namespace) -> int:

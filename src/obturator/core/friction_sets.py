@@ -53,7 +53,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def arm_coefficients(p: np.ndarray) -> tuple[float, float]:
     """(b_X, b_Z) of ARM(u)^2 = b_X u_X^2 + u_Y^2 + b_Z u_Z^2 (rig Eq. 61; Appendix A)."""
     if p[P_FRIC] == FRIC_THESIS_FLIGHT:
@@ -65,7 +65,7 @@ def arm_coefficients(p: np.ndarray) -> tuple[float, float]:
     return 1.0, 1.0  # no friction: the set is {0}; never used with stick
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _hole_axis(y: np.ndarray) -> tuple[float, float, float]:
     """Hole axis z in inertial axes: third column of R(q / |q|)."""
     q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
@@ -73,7 +73,7 @@ def _hole_axis(y: np.ndarray) -> tuple[float, float, float]:
     return s * (q1 * q3 + q0 * q2), s * (q2 * q3 - q0 * q1), 1.0 - s * (q1 * q1 + q2 * q2)
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def required_reaction(y: np.ndarray, p: np.ndarray, wp: float) -> tuple[float, float, float]:
     """Friction moment [N m] (inertial axes) that keeps omega_r = 0 at state `y`.
 
@@ -85,7 +85,7 @@ def required_reaction(y: np.ndarray, p: np.ndarray, wp: float) -> tuple[float, f
     return -g * zy, g * zx, 0.0
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def stick_margin(gx: float, gy: float, gz: float, p: np.ndarray) -> float:
     """M ARM(u) - |G| [N m] for the moment G with u = -G / |G|: > 0 inside F.
 
@@ -100,7 +100,7 @@ def stick_margin(gx: float, gy: float, gz: float, p: np.ndarray) -> float:
     return m * math.sqrt(max(arm2, 0.0)) - g
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def breakaway_angle(y: np.ndarray, p: np.ndarray, wp: float) -> float:
     """Rotation angle [rad] of rigid stick from `y` after which G_req leaves F.
 
@@ -134,7 +134,7 @@ def breakaway_angle(y: np.ndarray, p: np.ndarray, wp: float) -> float:
     return -(math.pi - psi1 - psi)  # inside the window: minus the angle to its end
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def relative_rate(y: np.ndarray, wp: float) -> tuple[float, float, float]:
     """omega_r = R w - omega_p Z in inertial axes [rad/s] (Eqs. 35-36, 69)."""
     q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
@@ -149,7 +149,7 @@ def relative_rate(y: np.ndarray, wp: float) -> tuple[float, float, float]:
     return wx, wy, wz
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def hold_stick(y: np.ndarray, wp: float) -> None:
     """Set omega_r = 0 in place: body rates w = omega_p R^T Z, |q| = 1."""
     n = math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
@@ -163,7 +163,7 @@ def hold_stick(y: np.ndarray, wp: float) -> None:
     y[6] = wp * zz
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def turn_by(y: np.ndarray, vx: float, vy: float, vz: float) -> None:
     """Turn the attitude of `y` in place by the inertial rotation vector v [rad]."""
     a = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -179,7 +179,7 @@ def turn_by(y: np.ndarray, vx: float, vy: float, vz: float) -> None:
     y[3] = c * q3 + q0 * az + ax * q2 - ay * q1
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def turn_rigidly(y: np.ndarray, angle: float, out: np.ndarray) -> None:
     """`out` = `y` turned by `angle` [rad] about Z (q <- q_Z(angle) q; body rates kept)."""
     c = math.cos(0.5 * angle)

@@ -1,22 +1,46 @@
-"""numba flags shared by the compiled core: reference counting off where nothing allocates.
+"""numba flags shared by the compiled core, stated on every compiled function.
 
-numba counts references to every array passed between compiled functions, with
-atomic increments and decrements around most calls; its pruning pass removes
-them only in simple control flow. In the integrators' hot loops they were most of
-the time: perf put them at ~60 % of one DOP853 trajectory, ~40 % of the DOP853
-lanes and ~15 % of the Radau IIA lanes. Functions that allocate nothing (the
-right-hand side, the step and error sums, the linear algebra) are compiled with
-numba's own switch for it, ``_nrt=False`` (``numba.core.options.DefaultOptions``),
-which callees inherit: such a function must not call one that allocates. Where a
-numba release lacks the switch the flags are empty and the code is compiled as
-before (slower, same results).
+**Every flag that numba lets a callee inherit is stated explicitly.** numba
+compiles a jitted function once per signature, the first time any caller needs
+it, and ``fastmath``, ``error_model`` and reference counting (``_nrt``) that the
+function does not state itself are taken from *that first caller*
+(``numba.core.cpu.CPUTargetOptions.finalize``, ``Flags.inherit_if_not_set``).
+A helper shared by the integrators (the right-hand side, the torque law, the
+event search) was therefore compiled with FMA contraction or without it
+depending on which integrator, or which test, happened to compile first, and
+the generic kernel's lanes and scalar path differed by 3.6e-9 relative in one
+build order and agreed bit for bit in another. With every decorator in
+``core/`` stating all three flags (``tests/core/test_jit_flags.py`` checks it,
+and that two opposite compile orders give the same bits), no order can matter.
+Functions inlined at numba's IR level (``inline="always"``) take their caller's
+flags by construction, which is deterministic.
+
+Reference counting: numba counts references to every array passed between
+compiled functions, with atomic increments and decrements around most calls;
+its pruning pass removes them only in simple control flow. In the integrators'
+hot loops they were most of the time: perf put them at ~60 % of one DOP853
+trajectory, ~40 % of the DOP853 lanes and ~15 % of the Radau IIA lanes.
+Functions that allocate nothing (the right-hand side, the step and error sums,
+the linear algebra) are compiled with numba's own switch for it, ``_nrt=False``
+(``numba.core.options.DefaultOptions``): :data:`NO_REFCOUNT`. Functions that
+allocate state :data:`REFCOUNT` (on). A function without counting must not call
+one that allocates. Where a numba release lacks the switch both are empty and
+the code is compiled with counting everywhere (slower, same results).
 """
 
 from __future__ import annotations
 
 from numba.core.options import DefaultOptions
 
-__all__ = ["NO_REFCOUNT"]
+__all__ = ["INHERITED_FLAGS", "NO_REFCOUNT", "REFCOUNT"]
+
+_HAS_NRT_SWITCH = hasattr(DefaultOptions, "_nrt")
 
 #: Extra ``njit`` options of the functions that allocate nothing.
-NO_REFCOUNT: dict[str, object] = {"_nrt": False} if hasattr(DefaultOptions, "_nrt") else {}
+NO_REFCOUNT: dict[str, object] = {"_nrt": False} if _HAS_NRT_SWITCH else {}
+#: Extra ``njit`` options of the functions that allocate (counting stated, not inherited).
+REFCOUNT: dict[str, object] = {"_nrt": True} if _HAS_NRT_SWITCH else {}
+#: The ``njit`` options a callee would otherwise take from its first caller.
+INHERITED_FLAGS: tuple[str, ...] = ("fastmath", "error_model") + (
+    ("_nrt",) if _HAS_NRT_SWITCH else ()
+)

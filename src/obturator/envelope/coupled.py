@@ -12,8 +12,9 @@ frozen at their mid-segment values,
     F_p = pi r_p^2 (P_2 - P_1)(M(t_k + Delta/2), P_1(t_k + Delta/2))  (Eqs. 1, 3, 43),
     omega_p = omega_p(t_k + Delta/2),
 
-restarting from the previous segment's final state through the public
-``simulate(case, options, y0=...)``. The ball's own angular velocity is
+restarting from the previous segment's final state. Many points advance
+together: segment k of every point still running is one call of the front door
+:func:`obturator.solve.advance` (the SIMD lanes). The ball's own angular velocity is
 continuous across segment boundaries; the spin is stored as the last state
 component (``y[7]``) and replaced by the new projectile spin. The midpoint rule
 makes the error second order in Delta; :func:`coupled_convergence` halves
@@ -34,26 +35,22 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field, fields, replace
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ..errors import InputError, check_range
-from ..flow import pressure_force
 from ..model.case import Case, initial_state
-from ..model.cases import TABLE1, flight_case
-from ..model.geometry import BoredBall
-from ..model.start import start_condition
 from ..solve import (
     SolverOptions,
-    alternative_family,
-    convergence_check,
-    opening_time,
+    advance,
+    refined_options,
     simulate,
 )
 from ..status import FLAGS, Status
+from .design import ObturatorDesign, constant_case, constant_opening  # re-exported here
 from .trajectory import Launch, Projectile, Trajectory, fly
 
 __all__ = [
@@ -67,9 +64,13 @@ __all__ = [
     "ObturatorDesign",
     "CoupledOpening",
     "CoupledConvergence",
+    "FlightPoints",
     "coupled_opening",
+    "coupled_openings",
     "coupled_convergence",
+    "coupled_convergences",
     "constant_case",
+    "constant_opening",
     "cached_flight",
     "DEFAULT_SEGMENT",
 ]
@@ -99,149 +100,6 @@ _NEVER = 1e-12
 
 #: Default segment length Delta [s] of the piecewise-constant load.
 DEFAULT_SEGMENT = 2e-3
-
-
-@dataclass(frozen=True)
-class ObturatorDesign:
-    """Ball, socket and bore of the obturator (Table 1 flight column by default).
-
-    Parameters
-    ----------
-    mu_s : float
-        Sliding friction coefficient [-] (Table 1: 0.35).
-    theta0_deg : float
-        Initial nutation theta_0 [deg] (87.25).
-    gap : float
-        Ball-socket gap h [m] (5.08e-5).
-    hole_radius : float
-        Hole radius of the ball r_s [m] (4.72e-3).
-    ball_radius : float
-        Ball radius R_s [m] (7.899e-3).
-    density : float
-        Ball density rho [kg/m^3] (7669.6).
-    bore_radius : float
-        Projectile bore radius r_p [m] (4.72e-3): sets F_p and the contact
-        angle beta = asin(r_p / R_s) (Eq. 47).
-    viscosity : float
-        Gap fluid viscosity mu_f [Pa s] (1.917e-5).
-    torque_model : {"thesis", "coulomb"}
-        Friction model of :func:`obturator.model.cases.flight_case`.
-    gamma : float
-        Ratio of specific heats of air [-] (1.4).
-    """
-
-    mu_s: float = TABLE1["mu_s"]
-    theta0_deg: float = TABLE1["theta0_deg"]
-    gap: float = TABLE1["gap"]
-    hole_radius: float = TABLE1["hole_radius"]
-    ball_radius: float = TABLE1["ball_radius"]
-    density: float = TABLE1["density"]
-    bore_radius: float = TABLE1["bore_radius"]
-    viscosity: float = TABLE1["viscosity"]
-    torque_model: str = "thesis"
-    gamma: float = TABLE1["gamma"]
-
-    def __post_init__(self) -> None:
-        check_range("mu_s", self.mu_s, 0.0, 2.0)
-        check_range("gap", self.gap, 0.0, 1e-3, lo_open=True, unit="m")
-        check_range("viscosity", self.viscosity, 0.0, lo_open=True, unit="Pa s")
-        check_range("gamma", self.gamma, 1.0, 3.0, lo_open=True)
-        check_range(
-            "bore_radius",
-            self.bore_radius,
-            0.0,
-            self.ball_radius,
-            lo_open=True,
-            hi_open=True,
-            unit="m",
-        )
-        # builds the ball and the case once: geometry and theta_0 > beta_s
-        self.case(1.0, 1.0, 1.0)
-
-    def ball(self) -> BoredBall:
-        """The bored ball (R_s, r_s, rho)."""
-        return BoredBall(self.ball_radius, self.hole_radius, self.density)
-
-    @property
-    def mass(self) -> float:
-        """Ball mass [kg]."""
-        return self.ball().mass
-
-    def case(
-        self, force: float, spin_rate: float, t_max: float, theta_cr: float | None = None
-    ) -> Case:
-        """Thesis flight case with load F_p = `force` [N] and spin `spin_rate` [rad/s].
-
-        Parameters
-        ----------
-        force : float
-            F_p [N].
-        spin_rate : float
-            omega_p [rad/s].
-        t_max : float
-            Integration limit [s].
-        theta_cr : float, optional
-            Stop angle [rad]; default first light, beta_s.
-        """
-        case = flight_case(
-            spin_rate,
-            self.mu_s,
-            theta0_deg=self.theta0_deg,
-            torque_model=self.torque_model,  # type: ignore[arg-type]
-            pressure_force=force,
-            ball=self.ball(),
-            bore_radius=self.bore_radius,
-            gap=self.gap,
-            viscosity=self.viscosity,
-            t_max=t_max,
-        )
-        return case if theta_cr is None else case.with_(theta_cr=theta_cr)
-
-    def start_angle(self, altitude_m: float = 0.0) -> Callable[[float], float]:
-        """theta_start(M) [rad] of this design (NaN where the tube cannot start).
-
-        :func:`obturator.model.start.start_condition` with the bore as capture
-        area; memoised per Mach number (a flight repeats few values).
-        """
-        ball = self.ball()
-
-        @functools.lru_cache(maxsize=1024)
-        def angle(mach: float) -> float:
-            cond = start_condition(
-                mach, ball, self.bore_radius, gamma=self.gamma, altitude_m=altitude_m
-            )
-            return cond.theta_start
-
-        return angle
-
-    def with_(self, **changes: Any) -> ObturatorDesign:
-        """A copy with fields replaced (validated again)."""
-        names = {f.name for f in fields(self)}
-        for k in changes:
-            if k not in names:
-                raise InputError("design", f"unknown field {k!r}; allowed: {', '.join(names)}")
-        return replace(self, **changes)
-
-    def to_dict(self) -> dict[str, Any]:
-        """Field values (SI) as a JSON-ready dict."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
-
-def constant_case(design: ObturatorDesign, launch: Launch, t_max: float) -> Case:
-    """The thesis's constant-load flight case at the muzzle conditions of `launch`.
-
-    F_p from the normal shock at the muzzle Mach number and the launch
-    altitude's pressure, omega_p the muzzle spin (:attr:`Launch.muzzle_spin`).
-    """
-    p1 = _pressure(launch.altitude_m)
-    force = float(pressure_force(launch.mach, p1, design.bore_radius, design.gamma))
-    return design.case(force, launch.muzzle_spin, t_max)
-
-
-def _pressure(altitude_m: float) -> float:
-    from .trajectory import air_state
-
-    return air_state(altitude_m)[0]
 
 
 @functools.lru_cache(maxsize=64)
@@ -289,6 +147,206 @@ class CoupledOpening:
         return math.isfinite(self.t_cr)
 
 
+@dataclass(eq=False)
+class _Segments:
+    """One point's flight cut into segments, and where its integration stands."""
+
+    design: ObturatorDesign
+    trajectory: Trajectory
+    t_end: float
+    scale: float  #: muzzle spin / the trajectory's
+    stop_angle: Callable[[float], float] | None
+    starts: np.ndarray
+    lengths: np.ndarray
+    machs: np.ndarray
+    forces: np.ndarray
+    spins: np.ndarray
+    y: np.ndarray  #: state at the start of the next segment
+    k: int = 0  #: segments integrated
+    status: int = STATUS_NOT_OPENED  #: STATUS_NOT_OPENED while running
+    running: bool = True
+    t_cr: float = math.nan
+    mach: float = math.nan
+    force: float = math.nan
+    spin: float = math.nan
+    nfev: int = 0
+    slot: int = -1  #: position among the points
+
+
+def _segments(
+    design: ObturatorDesign,
+    trajectory: Trajectory,
+    options: SolverOptions,
+    dt: float,
+    t_max: float | None,
+    spin_rate: float | None,
+    stop_angle: Callable[[float], float] | None,
+) -> _Segments:
+    t_end = trajectory.t_end if t_max is None else min(float(t_max), trajectory.t_end)
+    check_range("t_max", t_end, 0.0, lo_open=True, unit="s")
+    scale = 1.0
+    if spin_rate is not None:
+        scale = check_range("spin_rate", spin_rate, 0.0, lo_open=True, unit="rad/s") / float(
+            trajectory.spin_rate(0.0)
+        )
+    loads = trajectory.segment_loads(dt, t_end, design.bore_radius, design.gamma)
+    y = initial_state(
+        math.radians(design.theta0_deg),
+        scale * float(trajectory.spin_rate(0.0)),
+        formulation=options.formulation,
+    )
+    return _Segments(design, trajectory, t_end, scale, stop_angle, *loads, y)
+
+
+def _next_case(run: _Segments) -> Case | None:
+    """The case of `run`'s next segment (None: the run has ended, its status set)."""
+    if run.k >= run.starts.size:
+        run.running = False
+        return None
+    run.mach = float(run.machs[run.k])
+    if run.mach <= 1.0:
+        run.status, run.running = STATUS_SUBSONIC, False
+        return None
+    run.force = float(run.forces[run.k])
+    run.spin = run.scale * float(run.spins[run.k])
+    run.y = run.y.copy()
+    run.y[7] = run.spin
+    stop = None if run.stop_angle is None else float(run.stop_angle(run.mach))
+    if stop is not None and not math.isfinite(stop):
+        stop = _NEVER
+    return run.design.case(run.force, run.spin, float(run.lengths[run.k]), theta_cr=stop)
+
+
+@dataclass(frozen=True)
+class FlightPoints:
+    """The points of a coupled study: per point a design, its flight and, optionally,
+    the muzzle spin replacing the flight's [rad/s] and the stop angle theta_stop(M)
+    (the `spin_rate` and `stop_angle` of :func:`coupled_opening`)."""
+
+    designs: Sequence[ObturatorDesign]
+    trajectories: Sequence[Trajectory]
+    spin_rates: Sequence[float | None] | None = None
+    stop_angles: Sequence[Callable[[float], float] | None] | None = None
+
+    def rows(self) -> list[tuple[Any, ...]]:
+        """(design, trajectory, spin_rate, stop_angle) of every point."""
+        n = len(self.designs)
+        spins = [None] * n if self.spin_rates is None else list(self.spin_rates)
+        stops = [None] * n if self.stop_angles is None else list(self.stop_angles)
+        return list(zip(self.designs, self.trajectories, spins, stops, strict=True))
+
+    def take(self, rows: Sequence[int]) -> FlightPoints:
+        """The points at positions `rows`."""
+        pick = [self.rows()[i] for i in rows]
+        return FlightPoints(*(list(col) for col in zip(*pick, strict=True)))  # type: ignore[arg-type]
+
+
+def coupled_openings(
+    points: FlightPoints,
+    options: SolverOptions | None = None,
+    *,
+    segment: float = DEFAULT_SEGMENT,
+    t_max: float | None = None,
+    record: bool = False,
+) -> list[CoupledOpening | InputError]:
+    """:func:`coupled_opening` of many points, segment by segment in lanes.
+
+    Segment k of every point still running is one call of the front door
+    :func:`obturator.solve.advance` (lanes, ``auto`` switching), each point from
+    its own state; a point's answer does not depend on the others beyond the
+    Radau IIA lanes' rounding (the same as :func:`obturator.solve.opening_times`).
+
+    Parameters
+    ----------
+    points : FlightPoints
+        The n points.
+    options, segment, t_max, record
+        As for :func:`coupled_opening`, shared by all points.
+
+    Returns
+    -------
+    list of CoupledOpening or InputError
+        One per point; an :class:`~obturator.errors.InputError` where that point's
+        inputs are invalid.
+    """
+    options = options or SolverOptions()
+    n = len(points.designs)
+    dt = check_range("segment", segment, 0.0, 0.1, lo_open=True, unit="s")
+    runs: list[_Segments | InputError] = []
+    for design, tr, spin, stop in points.rows():
+        try:
+            runs.append(_segments(design, tr, options, dt, t_max, spin, stop))
+            runs[-1].slot = len(runs) - 1  # type: ignore[union-attr]
+        except InputError as exc:
+            runs.append(exc)
+    hist: list[dict[str, list[np.ndarray]]] = [
+        {k: [] for k in ("t", "theta", "force", "spin", "mach")} for _ in range(n)
+    ]
+    live = [r for r in runs if isinstance(r, _Segments)]
+    while live:
+        cases, now = [], []
+        for run in live:
+            try:
+                case = _next_case(run)
+            except InputError as exc:
+                runs[run.slot] = exc
+                continue
+            if case is not None:
+                cases.append(case)
+                now.append(run)
+        if not cases:
+            break
+        out = advance(cases, np.array([r.y for r in now]), options)
+        for j, run in enumerate(now):
+            if record:
+                _record(hist[run.slot], run, cases[j], options)
+            run.k += 1
+            run.nfev += int(out.nfev[j])
+            if out.status[j] == Status.OPENED:
+                run.t_cr = float(run.starts[run.k - 1]) + float(out.t_cr[j])
+                run.status, run.running = STATUS_OPENED, False
+            elif out.status[j] == Status.T_MAX:
+                run.y = out.state[j]
+            else:
+                run.status, run.running = STATUS_FAILED, False
+        live = [r for r in now if r.running]
+    return [
+        r if isinstance(r, InputError) else _opening(r, dt, hist[i], record)
+        for i, r in enumerate(runs)
+    ]
+
+
+def _record(
+    hist: dict[str, list[np.ndarray]], run: _Segments, case: Case, options: SolverOptions
+) -> None:
+    """theta(t) over the segment, 20 samples (a second, recording run of the segment)."""
+    h = float(run.lengths[run.k])
+    res = simulate(case, options, y0=run.y, t_eval=np.linspace(0.0, h, 21)[1:])
+    t0 = float(run.starts[run.k])
+    for name, val in (
+        ("t", t0 + res.t),
+        ("theta", res.theta),
+        ("force", np.full(res.t.size, run.force)),
+        ("spin", np.full(res.t.size, run.spin)),
+        ("mach", np.full(res.t.size, run.mach)),
+    ):
+        hist[name].append(np.asarray(val))
+
+
+def _opening(
+    run: _Segments, dt: float, hist: dict[str, list[np.ndarray]], record: bool
+) -> CoupledOpening:
+    status = run.status
+    tr = run.trajectory
+    if status == STATUS_NOT_OPENED and tr.subsonic and run.t_end >= tr.t_end:
+        status = STATUS_SUBSONIC
+    history = {name: np.concatenate(v) if v else np.empty(0) for name, v in hist.items()}
+    return CoupledOpening(
+        run.t_cr, status, dt, run.k, run.mach, run.force, run.spin, run.nfev,
+        history if record else None,
+    )  # fmt: skip
+
+
 def coupled_opening(
     design: ObturatorDesign,
     trajectory: Trajectory,
@@ -328,68 +386,17 @@ def coupled_opening(
     Returns
     -------
     CoupledOpening
+
+    Raises
+    ------
+    InputError
+        Invalid segment, t_max, spin rate or design.
     """
-    options = options or SolverOptions()
-    dt = check_range("segment", segment, 0.0, 0.1, lo_open=True, unit="s")
-    t_end = trajectory.t_end if t_max is None else min(float(t_max), trajectory.t_end)
-    check_range("t_max", t_end, 0.0, lo_open=True, unit="s")
-    scale = 1.0
-    if spin_rate is not None:
-        scale = check_range("spin_rate", spin_rate, 0.0, lo_open=True, unit="rad/s") / float(
-            trajectory.spin_rate(0.0)
-        )
-    starts, lengths, machs, forces, spins = trajectory.segment_loads(
-        dt, t_end, design.bore_radius, design.gamma
-    )
-    y = initial_state(
-        math.radians(design.theta0_deg),
-        scale * float(trajectory.spin_rate(0.0)),
-        formulation=options.formulation,
-    )
-    hist: dict[str, list[np.ndarray]] = {k: [] for k in ("t", "theta", "force", "spin", "mach")}
-    t, k, nfev = 0.0, 0, 0
-    status = STATUS_NOT_OPENED
-    t_cr = math.nan
-    mach = force = spin = math.nan
-    for t, h, mach, force, spin0 in zip(starts, lengths, machs, forces, spins, strict=True):
-        if mach <= 1.0:
-            status = STATUS_SUBSONIC
-            break
-        spin = scale * float(spin0)
-        y = y.copy()
-        y[7] = spin
-        stop = None if stop_angle is None else float(stop_angle(float(mach)))
-        if stop is not None and not math.isfinite(stop):
-            stop = _NEVER
-        case = design.case(float(force), spin, float(h), theta_cr=stop)
-        te = np.linspace(0.0, h, 21)[1:] if record else np.array([h])
-        res = simulate(case, options, y0=y, t_eval=te)
-        nfev += res.nfev
-        k += 1
-        if record:
-            for name, val in (
-                ("t", t + res.t),
-                ("theta", res.theta),
-                ("force", np.full(res.t.size, force)),
-                ("spin", np.full(res.t.size, spin)),
-                ("mach", np.full(res.t.size, mach)),
-            ):
-                hist[name].append(np.asarray(val))
-        if res.status == Status.OPENED:
-            t_cr = float(t) + res.opening_time
-            status = STATUS_OPENED
-            break
-        if not res.success:
-            status = STATUS_FAILED
-            break
-        y = res.state[-1]
-    if status == STATUS_NOT_OPENED and trajectory.subsonic and t_end >= trajectory.t_end:
-        status = STATUS_SUBSONIC
-    history = {name: np.concatenate(v) if v else np.empty(0) for name, v in hist.items()}
-    hist_out = history if record else None
-    return CoupledOpening(
-        t_cr, status, dt, k, float(mach), float(force), float(spin), nfev, hist_out
-    )
+    one = FlightPoints([design], [trajectory], [spin_rate], [stop_angle])
+    (res,) = coupled_openings(one, options, segment=segment, t_max=t_max, record=record)
+    if isinstance(res, InputError):
+        raise res
+    return res
 
 
 @dataclass(frozen=True)
@@ -444,6 +451,42 @@ class CoupledConvergence:
         return out
 
 
+def coupled_convergences(
+    points: FlightPoints,
+    options: SolverOptions | None = None,
+    *,
+    segment: float = DEFAULT_SEGMENT,
+    t_max: float | None = None,
+    factor: float = 10.0,
+    threshold: float = 1e-3,
+    t_cr: Sequence[float] | None = None,
+    variants: Mapping[str, SolverOptions] | None = None,
+) -> list[CoupledConvergence | InputError]:
+    """:func:`coupled_convergence` of many points, each rerun batched as in
+    :func:`coupled_openings`."""
+    options = options or SolverOptions()
+
+    def times(opts: SolverOptions, dt: float = segment) -> list[float | InputError]:
+        res = coupled_openings(points, opts, segment=dt, t_max=t_max)
+        return [r if isinstance(r, InputError) else r.t_cr for r in res]
+
+    base = times(options) if t_cr is None else [float(t) for t in t_cr]
+    if variants is None:
+        names = ("tighter_tolerance", "narrower_width", "other_family")
+        variants = dict(zip(names, refined_options(options, factor), strict=True))
+    reruns = {name: times(opts) for name, opts in variants.items()}
+    reruns["half_segment"] = times(options, 0.5 * segment)
+    out: list[CoupledConvergence | InputError] = []
+    for i, t in enumerate(base):
+        bad = [x for x in (t, *(r[i] for r in reruns.values())) if isinstance(x, InputError)]
+        out.append(
+            bad[0]
+            if bad
+            else CoupledConvergence(float(t), {k: r[i] for k, r in reruns.items()}, threshold)  # type: ignore[misc]
+        )
+    return out
+
+
 def coupled_convergence(
     design: ObturatorDesign,
     trajectory: Trajectory,
@@ -472,63 +515,19 @@ def coupled_convergence(
         The unrefined t_cr if already computed [s].
     variants : mapping of str to SolverOptions, optional
         Solver variants to rerun; default the three of
-        :func:`obturator.solve.convergence_check`: tolerances divided by `factor`,
-        friction width divided by `factor` (tolerances too, so slip speeds of order
-        the width stay resolved), and the other regularisation family
-        (:func:`obturator.solve.alternative_family`), since a width study alone cannot
-        show convergence to the wrong limit. The half-segment rerun is always added.
+        :func:`obturator.solve.convergence_check` (:func:`obturator.solve.refined_options`):
+        tolerances divided by `factor`, friction width divided by `factor` (tolerances
+        too, so slip speeds of order the width stay resolved), and the other
+        regularisation family, since a width study alone cannot show convergence to the
+        wrong limit. The half-segment rerun is always added.
     stop_angle : callable, optional
         As for :func:`coupled_opening` (the check of t_start).
     """
-    options = options or SolverOptions()
-    kw = {"segment": segment, "t_max": t_max, "spin_rate": spin_rate, "stop_angle": stop_angle}
-    if t_cr is None:
-        t_cr = coupled_opening(design, trajectory, options, **kw).t_cr  # type: ignore[arg-type]
-    if variants is None:
-        variants = {
-            "tighter_tolerance": options.tighter(factor),
-            "narrower_width": replace(
-                options.tighter(factor), friction_width=options.friction_width / factor
-            ),
-            "other_family": replace(
-                options, friction_family=alternative_family(options.friction_family)
-            ),
-        }
-    out: dict[str, float] = {}
-    for name, opts in variants.items():
-        out[name] = coupled_opening(design, trajectory, opts, **kw).t_cr  # type: ignore[arg-type]
-    kw["segment"] = 0.5 * segment
-    out["half_segment"] = coupled_opening(design, trajectory, options, **kw).t_cr  # type: ignore[arg-type]
-    return CoupledConvergence(float(t_cr), out, threshold)
-
-
-def constant_opening(
-    design: ObturatorDesign,
-    launch: Launch,
-    options: SolverOptions | None = None,
-    *,
-    t_max: float = 1.0,
-    check: bool = True,
-    start: bool = False,
-) -> tuple[float, dict[str, Any] | None]:
-    """Constant-load t_cr [s] at the muzzle conditions and its convergence check.
-
-    With ``start=True`` the time is t_start, to theta_start(M_0) of
-    :meth:`ObturatorDesign.start_angle` (NaN where the tube cannot start).
-
-    Returns
-    -------
-    (float, dict or None)
-        t_cr (NaN if not opened by `t_max`) and
-        :meth:`obturator.solve.ConvergenceCheck.to_dict` (None with ``check=False``).
-    """
-    case = constant_case(design, launch, t_max)
-    if start:  # run on to theta_start at the muzzle Mach, the closed-bore load kept
-        theta = design.start_angle(launch.altitude_m)(launch.mach)
-        if not math.isfinite(theta):
-            return math.nan, None
-        case = case.with_(theta_cr=theta)
-    t = opening_time(case, options)
-    if not check:
-        return t, None
-    return t, convergence_check(case, options, opening_time_s=t).to_dict()
+    (res,) = coupled_convergences(
+        FlightPoints([design], [trajectory], [spin_rate], [stop_angle]), options,
+        segment=segment, t_max=t_max, factor=factor, threshold=threshold,
+        t_cr=None if t_cr is None else [t_cr], variants=variants,
+    )  # fmt: skip
+    if isinstance(res, InputError):
+        raise res
+    return res

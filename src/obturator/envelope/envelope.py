@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -177,102 +178,135 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
     import xarray as xr
 
     runner = runner or Runner(workers=1)
-    results = runner.map(spec.model, spec.tasks(), label="envelope", warm=warm_integrators)
-    shape = spec.shape
+    results = runner.map(
+        spec.model.evaluate_many, spec.tasks(), label="envelope", warm=warm_integrators,
+        batched=True,
+    )  # fmt: skip
+    grid = partial(_grid, results, spec.shape)
+    data = {**_opening_variables(spec, grid), **_flow_variables(spec, grid)}
+    data |= _requirement_and_start_variables(spec, grid)
+    ds = xr.Dataset(data, coords=_coords(spec), attrs=_attrs(spec, runner.backend))
+    if len(spec.temperature_offset_k) == 1:
+        ds = ds.squeeze("temperature_offset_k")
+    return ds
 
-    def grid(key: str, dtype: Any = float) -> np.ndarray:
-        fill = math.nan if dtype is float else -2
-        vals = [r.get(key, fill) for r in results]
-        return np.asarray(vals, dtype=dtype).reshape(shape)
 
+_DIMS = ("mach", "altitude_m", "temperature_offset_k")
+_OPENED = (STATUS_OPENED, STATUS_UNCONVERGED)
+#: A dataset variable: (dimensions, values, attributes).
+_Variable = tuple[tuple[str, ...], np.ndarray, dict[str, Any]]
+
+
+def _grid(results: list[dict[str, Any]], shape: tuple[int, ...], key: str, dtype: Any = float):
+    """One result field of every grid point as an array of the grid's shape (NaN, or
+    status -2, where a point lacks it)."""
+    fill = math.nan if dtype is float else -2
+    return np.asarray([r.get(key, fill) for r in results], dtype=dtype).reshape(shape)
+
+
+def _opening_variables(spec: EnvelopeSpec, grid: Any) -> dict[str, _Variable]:
+    """t_cr under both loads, their statuses and refinement changes, the state at
+    opening and the muzzle conditions."""
     t_cpl, t_con = grid("t_cr"), grid("t_cr_constant")
-    ts_cpl, ts_con = grid("t_start"), grid("t_start_constant")  # not convergence-checked
-    design = spec.model.design
-    theta_start = np.empty(shape)
-    for i, task in enumerate(spec.tasks()):
-        angle = design.start_angle(task["altitude_m"])
-        theta_start.flat[i] = math.degrees(angle(task["mach"]))
-    s_cpl, s_con = grid("status", np.int8), grid("status_constant", np.int8)
-    m_open = grid("mach_end")
-    choke = np.array([spec.choke_mach(h) for h in spec.altitude_m])
-    m_start = float(start_mach(spec.area_ratio))
-    mach = np.asarray(spec.mach)[:, None, None]
-    ok = (STATUS_OPENED, STATUS_UNCONVERGED)
-    req = spec.requirement
-    meets_cpl = np.isin(s_cpl, ok) & (t_cpl <= req)
-    meets_con = np.isin(s_con, ok) & (t_con <= req)
-    velocity = np.empty(shape)
-    spin0 = np.empty(shape)
+    velocity = np.empty(spec.shape)
+    spin0 = np.empty(spec.shape)
     for i, task in enumerate(spec.tasks()):
         launch = replace(spec.model.launch, **task)
         velocity.flat[i] = launch.velocity
         spin0.flat[i] = launch.muzzle_spin
-    dims = ("mach", "altitude_m", "temperature_offset_k")
     s_attrs = status_attrs()
-    data = {
-        "t_cr_coupled": (dims, t_cpl, {"units": "s", "long_name": "t_cr, trajectory-coupled"}),
-        "status_coupled": (dims, s_cpl, s_attrs),
+    return {
+        "t_cr_coupled": (_DIMS, t_cpl, {"units": "s", "long_name": "t_cr, trajectory-coupled"}),
+        "status_coupled": (_DIMS, grid("status", np.int8), s_attrs),
         "change_coupled": (
-            dims,
+            _DIMS,
             grid("change"),
             {"units": "1", "long_name": "largest relative change of t_cr under refinement"},
         ),
-        "t_cr_constant": (dims, t_con, {"units": "s", "long_name": "t_cr, constant muzzle load"}),
-        "status_constant": (dims, s_con, s_attrs),
-        "change_constant": (dims, grid("change_constant"), {"units": "1"}),
+        "t_cr_constant": (_DIMS, t_con, {"units": "s", "long_name": "t_cr, constant muzzle load"}),
+        "status_constant": (_DIMS, grid("status_constant", np.int8), s_attrs),
+        "change_constant": (_DIMS, grid("change_constant"), {"units": "1"}),
         "relative_difference": (
-            dims,
+            _DIMS,
             t_cpl / t_con - 1.0,
             {"units": "1", "long_name": "t_cr coupled / t_cr constant - 1"},
         ),
-        "mach_at_opening": (dims, m_open, {"units": "1"}),
-        "force_at_opening": (dims, grid("force_end"), {"units": "N", "long_name": "F_p at t_cr"}),
-        "spin_at_opening": (dims, grid("spin_end"), {"units": "rad/s"}),
-        "muzzle_velocity": (dims, velocity, {"units": "m/s"}),
-        "muzzle_spin": (dims, spin0, {"units": "rad/s"}),
+        "mach_at_opening": (_DIMS, grid("mach_end"), {"units": "1"}),
+        "force_at_opening": (_DIMS, grid("force_end"), {"units": "N", "long_name": "F_p at t_cr"}),
+        "spin_at_opening": (_DIMS, grid("spin_end"), {"units": "rad/s"}),
+        "muzzle_velocity": (_DIMS, velocity, {"units": "m/s"}),
+        "muzzle_spin": (_DIMS, spin0, {"units": "rad/s"}),
+    }
+
+
+def _flow_variables(spec: EnvelopeSpec, grid: Any) -> dict[str, _Variable]:
+    """Where the flow model changes: Fanno choking (muzzle, opening, start), the
+    Kantrowitz start and theta_start at the muzzle Mach."""
+    shape = spec.shape
+    choke = np.array([spec.choke_mach(h) for h in spec.altitude_m])[None, :, None]
+    mach = np.asarray(spec.mach)[:, None, None]
+    theta_start = np.empty(shape)
+    for i, task in enumerate(spec.tasks()):
+        angle = spec.model.design.start_angle(task["altitude_m"])
+        theta_start.flat[i] = math.degrees(angle(task["mach"]))
+    started = np.broadcast_to(mach > float(start_mach(spec.area_ratio)), shape)
+    return {
         "choke_mach": (
             ("altitude_m",),
-            choke,
+            choke[0, :, 0],
             {"units": "1", "long_name": "Fanno choking Mach of the open bore"},
         ),
-        "choked_at_muzzle": (dims, (mach <= choke[None, :, None]).astype(np.int8), {}),
-        "choked_at_opening": (dims, (m_open <= choke[None, :, None]).astype(np.int8), {}),
+        "choked_at_muzzle": (_DIMS, (mach <= choke).astype(np.int8), {}),
+        "choked_at_opening": (_DIMS, (grid("mach_end") <= choke).astype(np.int8), {}),
         "started": (
-            dims,
-            np.broadcast_to(mach > m_start, shape).astype(np.int8),
+            _DIMS,
+            started.astype(np.int8),
             {"long_name": "muzzle Mach above the Kantrowitz self-starting Mach"},
         ),
         "theta_start_muzzle": (
-            dims,
+            _DIMS,
             theta_start,
             {"units": "deg", "long_name": "theta_start at the muzzle Mach (Eq. 2 on A(theta))"},
         ),
         "choked_at_start": (
-            dims,
-            (grid("mach_at_start") <= choke[None, :, None]).astype(np.int8),
+            _DIMS,
+            (grid("mach_at_start") <= choke).astype(np.int8),
             {"long_name": "the flight Mach at t_start is at or below the Fanno choking Mach"},
         ),
         "unstartable": (
-            dims,
+            _DIMS,
             (~np.isfinite(theta_start)).astype(np.int8),
             {"long_name": "even the aligned ball cannot swallow the shock at the muzzle Mach"},
         ),
-        "meets_requirement_coupled": (dims, meets_cpl.astype(np.int8), {}),
-        "meets_requirement_constant": (dims, meets_con.astype(np.int8), {}),
     }
-    for load, t_start, t_first in (("coupled", ts_cpl, t_cpl), ("constant", ts_con, t_con)):
+
+
+def _requirement_and_start_variables(spec: EnvelopeSpec, grid: Any) -> dict[str, _Variable]:
+    """Whether each load meets the requirement, and t_start with its delay after t_cr
+    (not convergence-checked)."""
+    data: dict[str, _Variable] = {}
+    for load, suffix in (("coupled", ""), ("constant", "_constant")):
+        meets = np.isin(grid("status" + suffix, np.int8), _OPENED)
+        meets &= grid("t_cr" + suffix) <= spec.requirement
+        data[f"meets_requirement_{load}"] = (_DIMS, meets.astype(np.int8), {})
+    for load, suffix in (("coupled", ""), ("constant", "_constant")):
         what = "trajectory-coupled" if load == "coupled" else "constant muzzle load"
+        t_start = grid("t_start" + suffix)
         data[f"t_start_{load}"] = (
-            dims,
+            _DIMS,
             t_start,
             {"units": "s", "long_name": f"t_start (shock swallowed), {what}"},
         )
         data[f"delay_{load}"] = (
-            dims,
-            t_start - t_first,
+            _DIMS,
+            t_start - grid("t_cr" + suffix),
             {"units": "s", "long_name": f"t_start - t_cr, {what}"},
         )
-    coords = {
+    return data
+
+
+def _coords(spec: EnvelopeSpec) -> dict[str, Any]:
+    return {
         "mach": ("mach", np.asarray(spec.mach), {"units": "1", "long_name": "muzzle Mach M_0"}),
         "altitude_m": ("altitude_m", np.asarray(spec.altitude_m), {"units": "m"}),
         "temperature_offset_k": (
@@ -281,12 +315,16 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
             {"units": "K", "long_name": "off-standard temperature"},
         ),
     }
+
+
+def _attrs(spec: EnvelopeSpec, backend: str) -> dict[str, Any]:
+    """The study's settings: requirement, inlet, model, design."""
     model = spec.model
     attrs = {
         "title": "obturator opening time over the firing envelope",
-        "requirement_s": req,
+        "requirement_s": spec.requirement,
         "area_ratio": spec.area_ratio,
-        "start_mach": m_start,
+        "start_mach": float(start_mach(spec.area_ratio)),
         "segment_s": model.segment,
         "t_max_s": model.t_max,
         "convergence_threshold": model.threshold,
@@ -296,14 +334,11 @@ def run_envelope(spec: EnvelopeSpec, runner: Runner | None = None) -> Any:
         "spin_law": "given" if model.launch.spin_rate is not None else "twist",
         "twist_m": model.launch.twist,
         "elevation_deg": model.launch.elevation_deg,
-        "backend": runner.backend,
+        "backend": backend,
     }
     for k, v in model.design.to_dict().items():
         attrs[f"design_{k}"] = v
-    ds = xr.Dataset(data, coords=coords, attrs=attrs)
-    if len(spec.temperature_offset_k) == 1:
-        ds = ds.squeeze("temperature_offset_k")
-    return ds
+    return attrs
 
 
 def envelope_summary(ds: Any) -> dict[str, Any]:

@@ -12,12 +12,16 @@ frozen and picklable, so process pools and Dask workers can run them.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any, Literal
 
+import numpy as np
+
 from ..errors import InputError, check_range
-from ..solve import SolverOptions
+from ..model.case import Case
+from ..solve import SolverOptions, convergence_checks, opening_times
+from ..status import Status
 from .coupled import (
     DEFAULT_SEGMENT,
     STATUS_FAILED,
@@ -25,15 +29,16 @@ from .coupled import (
     STATUS_NOT_OPENED,
     STATUS_OPENED,
     STATUS_UNCONVERGED,
+    FlightPoints,
     ObturatorDesign,
     cached_flight,
-    constant_opening,
-    coupled_convergence,
-    coupled_opening,
+    constant_case,
+    coupled_convergences,
+    coupled_openings,
 )
 from .trajectory import Launch, Projectile
 
-__all__ = ["INPUTS", "LOADS", "EVENTS", "TIMES", "FlightModel", "exceeds"]
+__all__ = ["INPUTS", "LOADS", "EVENTS", "TIMES", "FlightModel", "exceeds", "opening_rows"]
 
 
 @dataclass(frozen=True)
@@ -94,6 +99,48 @@ def exceeds(t_cr: float, status: int, requirement: float) -> bool:
 
 def _invalid(exc: Exception) -> dict[str, Any]:
     return {"t_cr": math.nan, "status": STATUS_INVALID, "change": math.nan, "error": str(exc)}
+
+
+def opening_rows(
+    cases: Sequence[Case | InputError | None],
+    options: SolverOptions,
+    check_convergence: bool,
+    threshold: float = 1e-3,
+) -> list[dict[str, Any]]:
+    """``t_cr``, ``status`` and ``change`` of many constant-load cases (the rows of the
+    envelope studies), through the front door with batched convergence checks.
+
+    ``None`` in place of a case: a point that cannot reach its event (not opened, not
+    integrated); an InputError: invalid input. ``change`` is the largest relative
+    change of :func:`obturator.solve.convergence_checks` (tolerances, width, family);
+    status ``UNCONVERGED`` where it reaches `threshold`.
+    """
+    run = [i for i, c in enumerate(cases) if c is not None]
+    t_cr = np.full(len(cases), math.nan)
+    status = np.full(len(cases), Status.T_MAX, dtype=np.int8)
+    if run:
+        t_cr[run], status[run], _ = opening_times([cases[i] for i in run], options)
+    opened = np.flatnonzero(status == Status.OPENED)
+    change = np.full(len(cases), math.nan)
+    if check_convergence and opened.size:
+        checks = convergence_checks(
+            [cases[i] for i in opened], options, opening_times_s=t_cr[opened]
+        )  # type: ignore[misc]
+        for i, c in zip(opened, checks, strict=True):
+            change[i] = max(c.tolerance_change, c.width_change, c.family_change)
+    out = []
+    for i, case in enumerate(cases):
+        if isinstance(case, InputError):
+            out.append(_invalid(case))
+            continue
+        s = {Status.OPENED: STATUS_OPENED, Status.T_MAX: STATUS_NOT_OPENED}.get(
+            Status(int(status[i])), STATUS_FAILED
+        )
+        if s == STATUS_OPENED and check_convergence and not change[i] < threshold:
+            s = STATUS_UNCONVERGED
+        t = float(t_cr[i]) if s in (STATUS_OPENED, STATUS_UNCONVERGED) else math.nan
+        out.append({"t_cr": t, "status": s, "change": float(change[i])})
+    return out
 
 
 @dataclass(frozen=True)
@@ -194,54 +241,105 @@ class FlightModel:
             launch = replace(launch, spin_rate=launch.muzzle_spin * factor)
         return design, launch
 
-    def _constant(self, design: ObturatorDesign, launch: Launch) -> dict[str, Any]:
-        try:
-            t, conv = constant_opening(
-                design,
-                launch,
-                self.options,
-                t_max=self.t_max,
-                check=self.check_convergence,
-                start=self.event == "start",
-            )
-        except RuntimeError:
-            return {"t_cr": math.nan, "status": STATUS_FAILED, "change": math.nan}
-        change = math.nan
-        if not math.isfinite(t):
-            return {"t_cr": math.nan, "status": STATUS_NOT_OPENED, "change": change}
-        status = STATUS_OPENED
-        if conv is not None:
-            rel = [conv["tolerance_rel_change"], conv["width_rel_change"]]
-            change = max(math.inf if r is None else r for r in rel)
-            if not change < self.threshold:
-                status = STATUS_UNCONVERGED
-        return {"t_cr": t, "status": status, "change": change}
+    def _constant(self, points: list[tuple[ObturatorDesign, Launch]]) -> list[dict[str, Any]]:
+        """Constant muzzle load (thesis): every point's case through the front door."""
+        cases: list[Case | InputError | None] = []
+        unstartable = []  # the tube cannot start at the muzzle Mach: never reaches theta_start
+        for i, (design, launch) in enumerate(points):
+            try:
+                case = constant_case(design, launch, self.t_max)
+                if self.event == "start":  # on to theta_start(M_0), the closed-bore load kept
+                    theta = design.start_angle(launch.altitude_m)(launch.mach)
+                    if not math.isfinite(theta):
+                        unstartable.append(i)
+                        theta = case.theta_cr
+                    case = case.with_(theta_cr=theta)
+                cases.append(case)
+            except InputError as exc:
+                cases.append(exc)
+        for i in unstartable:
+            cases[i] = None
+        return opening_rows(cases, self.options, self.check_convergence, self.threshold)
 
-    def _coupled(self, design: ObturatorDesign, launch: Launch) -> dict[str, Any]:
-        flight = cached_flight(self.projectile, replace(launch, spin_rate=None), self.t_max)
-        kw = {"segment": self.segment, "t_max": self.t_max, "spin_rate": launch.muzzle_spin}
-        if self.event == "start":
-            kw["stop_angle"] = design.start_angle(launch.altitude_m)
-        res = coupled_opening(design, flight, self.options, **kw)  # type: ignore[arg-type]
-        out = {
-            "t_cr": res.t_cr,
-            "status": res.status,
-            "change": math.nan,
-            "mach_end": res.mach_end,
-            "force_end": res.force_end,
-            "spin_end": res.spin_end,
-        }
-        if res.status == STATUS_OPENED and self.check_convergence:
-            conv = coupled_convergence(
-                design, flight, self.options, threshold=self.threshold, t_cr=res.t_cr, **kw
-            )  # type: ignore[arg-type]
-            out["change"] = conv.max_change
+    def _coupled(self, points: list[tuple[ObturatorDesign, Launch]]) -> list[dict[str, Any]]:
+        """Trajectory-coupled load: all points segment by segment in lanes."""
+        flights = [
+            cached_flight(self.projectile, replace(launch, spin_rate=None), self.t_max)
+            for _, launch in points
+        ]
+        pts = FlightPoints(
+            [d for d, _ in points],
+            flights,
+            [launch.muzzle_spin for _, launch in points],
+            [d.start_angle(lc.altitude_m) if self.event == "start" else None for d, lc in points],
+        )
+        res = coupled_openings(pts, self.options, segment=self.segment, t_max=self.t_max)
+        out: list[dict[str, Any]] = []
+        for r in res:
+            if isinstance(r, InputError):
+                out.append(_invalid(r))
+                continue
+            out.append({
+                "t_cr": r.t_cr, "status": r.status, "change": math.nan,
+                "mach_end": r.mach_end, "force_end": r.force_end, "spin_end": r.spin_end,
+            })  # fmt: skip
+        check = [i for i, r in enumerate(res) if not isinstance(r, InputError) and r.opened]
+        if not (self.check_convergence and check):
+            return out
+        convs = coupled_convergences(
+            pts.take(check), self.options, segment=self.segment, t_max=self.t_max,
+            threshold=self.threshold, t_cr=[out[i]["t_cr"] for i in check],
+        )  # fmt: skip
+        for i, conv in zip(check, convs, strict=True):
+            if isinstance(conv, InputError):
+                out[i] = _invalid(conv)
+                continue
+            out[i]["change"] = conv.max_change
             if not conv.converged:
-                out["status"] = STATUS_UNCONVERGED
+                out[i]["status"] = STATUS_UNCONVERGED
         return out
 
+    def evaluate_many(self, values: Sequence[Mapping[str, float]]) -> list[dict[str, Any]]:
+        """Evaluate many points together (the lanes); each result as :meth:`__call__`'s.
+
+        A point's result does not depend on the other points beyond the rounding of
+        the Radau IIA lanes (see :func:`obturator.solve.opening_times`).
+        """
+        results: list[dict[str, Any]] = [{} for _ in values]
+        points: list[tuple[ObturatorDesign, Launch]] = []
+        where: list[int] = []
+        for i, v in enumerate(values):
+            try:
+                points.append(self.build(v))
+                where.append(i)
+            except InputError as exc:
+                results[i] = _invalid(exc)
+        if points:
+            if self.load == "constant":
+                main = self._constant(points)
+            else:
+                main = self._coupled(points)
+                if self.load == "both":
+                    for row, const in zip(main, self._constant(points), strict=True):
+                        if row["status"] != STATUS_INVALID:
+                            row.update({f"{k}_constant": v for k, v in const.items()})
+            for i, row in zip(where, main, strict=True):
+                results[i] = row
+        if self.with_start and self.event == "first_light" and where:
+            onward = self.with_(event="start", with_start=False, check_convergence=False)
+            started = onward.evaluate_many([values[i] for i in where])
+            for i, st in zip(where, started, strict=True):
+                if results[i]["status"] == STATUS_INVALID:
+                    continue
+                results[i]["t_start"] = st["t_cr"]
+                results[i]["status_start"] = st["status"]
+                results[i]["mach_at_start"] = st.get("mach_end", math.nan)
+                if "t_cr_constant" in st:
+                    results[i]["t_start_constant"] = st["t_cr_constant"]
+        return results
+
     def __call__(self, values: Mapping[str, float]) -> dict[str, Any]:
-        """Evaluate one point.
+        """Evaluate one point (:meth:`evaluate_many` of one).
 
         Returns
         -------
@@ -249,37 +347,16 @@ class FlightModel:
             ``t_cr`` [s] (NaN if not opened), ``status`` (1 opened, 2 opened
             but not converged, 0 not opened by t_max, 3 subsonic before
             opening, -1 solver failure, -2 invalid input), ``change`` (largest
-            relative change under refinement), and for the coupled load
-            ``mach_end``, ``force_end`` [N], ``spin_end`` [rad/s] at t_cr.
+            relative change under refinement: tolerances, friction width, the other
+            regularisation family and, coupled, half the segment), and for the coupled
+            load ``mach_end``, ``force_end`` [N], ``spin_end`` [rad/s] at t_cr.
             With ``load="both"`` the constant-load results are added with the
             suffix ``_constant``. With ``with_start``: ``t_start`` [s] and
             ``status_start``, ``mach_at_start`` (and ``t_start_constant``), the times to
             theta_start(M). With ``event="start"`` the time reported as
             ``t_cr`` is t_start.
         """
-        try:
-            design, launch = self.build(values)
-        except InputError as exc:
-            return _invalid(exc)
-        if self.load == "constant":
-            out = self._constant(design, launch)
-        else:
-            try:
-                out = self._coupled(design, launch)
-            except InputError as exc:
-                return _invalid(exc)
-        if self.load == "both":
-            for k, v in self._constant(design, launch).items():
-                out[f"{k}_constant"] = v
-        if self.with_start and self.event == "first_light":
-            onward = self.with_(event="start", with_start=False, check_convergence=False)
-            started = onward(values)
-            out["t_start"] = started["t_cr"]
-            out["status_start"] = started["status"]
-            out["mach_at_start"] = started.get("mach_end", math.nan)
-            if "t_cr_constant" in started:
-                out["t_start_constant"] = started["t_cr_constant"]
-        return out
+        return self.evaluate_many([values])[0]
 
     def with_(self, **changes: Any) -> FlightModel:
         """A copy with fields replaced."""

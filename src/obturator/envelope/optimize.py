@@ -292,24 +292,30 @@ class DesignPoint:
     problem: DesignProblem
     check_convergence: bool = False
 
-    def __call__(self, task: Mapping[str, float]) -> dict[str, Any]:
+    def evaluate_many(self, tasks: Sequence[Mapping[str, float]]) -> list[dict[str, Any]]:
+        """Every design of `tasks` over every condition, in one batch of the model
+        (:meth:`FlightModel.evaluate_many`: the lanes)."""
         pb = self.problem
         model = pb.model.with_(check_convergence=self.check_convergence)
-        x = [float(task[k]) for k in pb.names]
-        ts, ss, cs = [], [], []
-        for cond in pb.conditions:
-            r = model({**pb.values(x), **cond})
-            ts.append(float(r["t_cr"]))
-            ss.append(int(r["status"]))
-            cs.append(float(r.get("change", math.nan)))
-        t = np.array(ts)
-        return {
-            "objective": _objective_value(t, pb.objective, pb.model.t_max),
-            "t_cr": ts,
-            "status": ss,
-            "change": cs,
-            "mass": pb.mass(x),
-        }
+        xs = [[float(task[k]) for k in pb.names] for task in tasks]
+        rows = model.evaluate_many([{**pb.values(x), **cond} for x in xs for cond in pb.conditions])
+        n = len(pb.conditions)
+        out = []
+        for j, x in enumerate(xs):
+            mine = rows[j * n : (j + 1) * n]
+            ts = [float(r["t_cr"]) for r in mine]
+            out.append({
+                "objective": _objective_value(np.array(ts), pb.objective, pb.model.t_max),
+                "t_cr": ts,
+                "status": [int(r["status"]) for r in mine],
+                "change": [float(r.get("change", math.nan)) for r in mine],
+                "mass": pb.mass(x),
+            })  # fmt: skip
+        return out
+
+    def __call__(self, task: Mapping[str, float]) -> dict[str, Any]:
+        """One design over all conditions (:meth:`evaluate_many` of one)."""
+        return self.evaluate_many([task])[0]
 
 
 class _GenerationMap:
@@ -326,7 +332,13 @@ class _GenerationMap:
         self.n_eval += len(tasks)
         return [
             r["objective"]
-            for r in self.runner.map(self.point, tasks, label="designs", warm=warm_integrators)
+            for r in self.runner.map(
+                self.point.evaluate_many,
+                tasks,
+                label="designs",
+                warm=warm_integrators,
+                batched=True,
+            )  # fmt: skip
         ]
 
 
@@ -453,7 +465,10 @@ def _sensitivity(
             tasks.append(problem.values(xi))
             where.append((i, xi[i]))
     vals = [
-        r["objective"] for r in runner.map(point, tasks, label="sensitivity", warm=warm_integrators)
+        r["objective"]
+        for r in runner.map(
+            point.evaluate_many, tasks, label="sensitivity", warm=warm_integrators, batched=True
+        )
     ]
     for i, name in enumerate(problem.names):
         (_, xm), (_, xp) = where[2 * i], where[2 * i + 1]
@@ -529,8 +544,9 @@ def optimise(
     checked = DesignPoint(problem, check_convergence=True)
     base_x = problem.baseline()
     opt, base = runner.map(
-        checked, [problem.values(x), problem.values(base_x)], label="check", warm=warm_integrators
-    )
+        checked.evaluate_many, [problem.values(x), problem.values(base_x)], label="check",
+        warm=warm_integrators, batched=True,
+    )  # fmt: skip
     return OptimisationResult(
         problem,
         x,

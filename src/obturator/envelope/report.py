@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..reference import FLIGHT_SOBOL_RANGES
 from ..runs import Runner
 from .envelope import EnvelopeSpec, envelope_summary, run_envelope
 from .figures import plot_envelope, plot_sobol
@@ -23,14 +24,7 @@ from .uncertain import parse_input_distribution, performance
 __all__ = ["EnvelopeSection", "SOBOL_RANGES", "envelope_section"]
 
 #: Input ranges of the report's flight Sobol study (as ``obturator sensitivity``).
-SOBOL_RANGES = (
-    "mu_s=uniform:0.25,0.45",
-    "theta0_deg=uniform:86.25,88.25",
-    "gap=uniform:4.08e-5,6.08e-5",
-    "hole_radius=uniform:4.62e-3,4.82e-3",
-    "density=uniform:7500,7850",
-    "spin_factor=uniform:0.97,1.03",
-)
+SOBOL_RANGES = FLIGHT_SOBOL_RANGES
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,6 @@ into the vectorised function of input lists that the studies call.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -25,16 +24,9 @@ from scipy.stats import truncnorm
 
 from ..errors import InputError
 from ..runs import Runner
-from ..solve import SolverOptions, convergence_check, opening_time
+from ..solve import SolverOptions
 from ..sweeps import Distribution, SweepSpec
-from .coupled import (
-    STATUS_FAILED,
-    STATUS_INVALID,
-    STATUS_NOT_OPENED,
-    STATUS_OPENED,
-    STATUS_UNCONVERGED,
-)
-from .model import INPUTS, warm_integrators
+from .model import INPUTS, opening_rows, warm_integrators
 
 __all__ = [
     "RIG_INPUTS",
@@ -159,28 +151,21 @@ class RigModel:
             "check_convergence": self.check_convergence,
         }
 
+    def evaluate_many(self, values: Sequence[Mapping[str, float]]) -> list[dict[str, Any]]:
+        """``t_cr`` [s], ``status`` and ``change`` of many points as :class:`FlightModel`
+        returns them, through the front door (lanes) with batched convergence checks."""
+        spec = self._spec()
+        cases: list[Any] = []
+        for v in values:
+            try:
+                cases.append(spec.build_case(v))
+            except InputError as exc:
+                cases.append(exc)
+        return opening_rows(cases, self.options, self.check_convergence)
+
     def __call__(self, values: Mapping[str, float]) -> dict[str, Any]:
-        """``t_cr`` [s], ``status`` and ``change`` as :class:`FlightModel` returns them."""
-        try:
-            case = self._spec().build_case(values)
-        except InputError as exc:
-            return {
-                "t_cr": math.nan,
-                "status": STATUS_INVALID,
-                "change": math.nan,
-                "error": str(exc),
-            }
-        try:
-            t = opening_time(case, self.options)
-        except RuntimeError:
-            return {"t_cr": math.nan, "status": STATUS_FAILED, "change": math.nan}
-        if not math.isfinite(t):
-            return {"t_cr": math.nan, "status": STATUS_NOT_OPENED, "change": math.nan}
-        if not self.check_convergence:
-            return {"t_cr": t, "status": STATUS_OPENED, "change": math.nan}
-        c = convergence_check(case, self.options, opening_time_s=t)
-        status = STATUS_OPENED if c.converged else STATUS_UNCONVERGED
-        return {"t_cr": t, "status": status, "change": max(c.tolerance_change, c.width_change)}
+        """One point (:meth:`evaluate_many` of one)."""
+        return self.evaluate_many([values])[0]
 
 
 #: A vectorised performance function: input dicts -> (t_cr [s], status) arrays.
@@ -192,8 +177,13 @@ def performance(
 ) -> Performance:
     """Wrap a point function and a runner as a vectorised :data:`Performance`."""
 
+    many = getattr(model, "evaluate_many", None)  # the lanes, a chunk of points per call
+
     def f(points: list[dict[str, float]]) -> tuple[np.ndarray, np.ndarray]:
-        res = runner.map(model, points, label=label, warm=warm_integrators)
+        if many is not None:
+            res = runner.map(many, points, label=label, warm=warm_integrators, batched=True)
+        else:
+            res = runner.map(model, points, label=label, warm=warm_integrators)
         t = np.array([r["t_cr"] for r in res], dtype=float)
         s = np.array([r["status"] for r in res], dtype=np.int8)
         return t, s

@@ -16,6 +16,7 @@ from ..errors import InputError, check_range
 from ..params import PARAMS
 from ..reference import COUETTE_P52, TABLE1
 from ..vocab import CASE_NAMES, SPIN_MODES, TORQUE_MODELS, SpinMode, TorqueName, check_choice
+from .ageing import ContactAgeing
 from .case import Case
 from .geometry import BoredBall
 from .torques import (
@@ -99,6 +100,7 @@ def rig_case(
     release_rate: tuple[float, float, float] = (0.0, 0.0, 0.0),
     release_phase: float = 0.0,
     t_max: float = 100.0,
+    ageing: ContactAgeing | None = None,
 ) -> Case:
     """Spin-rig case (Table 1 "gravitational model", thesis Eqs. 56-61, 64).
 
@@ -134,10 +136,23 @@ def rig_case(
     t_max : float
         Integration limit [s]. Default 100 s: near-stick runs at low spin open
         late (about 43 s at 40 rad/s, mu_s = 0.5473).
+    ageing : ContactAgeing, optional
+        Static friction of the lucite seat aged for the time the contact patch takes
+        to pass (:mod:`obturator.model.ageing`): mu_s becomes the fast-slip value and
+        the friction at rest mu_s + b ln(1 + t_d/tau); not with `speed_law`.
     """
     _check_model(torque_model)
     ball = ball or table1_ball()
     w = ball.weight if weight is None else weight
+    if ageing is not None:
+        if speed_law is not None:
+            raise InputError("ageing", "has its own slip-speed law; give it or speed_law")
+        a_dwell = (
+            patch_radius
+            if patch_radius
+            else hertz_patch_radius(w, ball.radius, gap, seat_material="lucite")
+        )
+        mu_s, speed_law = ageing.friction(mu_s, a_dwell, ball.radius, spin_rate)
     if torque_model == "thesis":
         friction = ThesisRigFriction(mu_s, w, ball.radius)
     else:

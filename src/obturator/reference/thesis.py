@@ -16,6 +16,7 @@ from __future__ import annotations
 from .printed import CHAPTER4_SUMS
 
 __all__ = [
+    "FLIGHT_SOBOL_RANGES",
     "TABLE1",
     "THESIS_MU_S",
     "COUETTE_P52",
@@ -96,3 +97,16 @@ THESIS_REYNOLDS_MACH = 2.5
 
 #: Teeth on the rig's bucket wheel (chapter III.C): omega_p = 2 pi f / 18.
 RIG_TEETH = 18
+
+#: Uniform ranges around Table 1 for the flight Sobol study (``obturator sensitivity``
+#: and the report's envelope section): mu_s 0.35 +- 0.1, theta_0 87.25 +- 1 deg, gap
+#: 5.08e-5 +- 1e-5 m, hole radius 4.72e-3 +- 1e-4 m, density 7500-7850 kg/m^3, muzzle
+#: spin +-3 %.
+FLIGHT_SOBOL_RANGES: tuple[str, ...] = (
+    "mu_s=uniform:0.25,0.45",
+    "theta0_deg=uniform:86.25,88.25",
+    "gap=uniform:4.08e-5,6.08e-5",
+    "hole_radius=uniform:4.62e-3,4.82e-3",
+    "density=uniform:7500,7850",
+    "spin_factor=uniform:0.97,1.03",
+)

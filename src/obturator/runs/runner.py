@@ -256,6 +256,7 @@ class Runner:
         warm: Callable[[], None] | None = None,
         chunk_size: int | None = None,
         probe_first: bool = True,
+        batched: bool = False,
     ) -> list[Any]:
         """``[fn(t) for t in tasks]``, computed as :meth:`run` computes.
 
@@ -263,7 +264,9 @@ class Runner:
         ----------
         fn : callable
             Picklable function of one task; with a store, the task must be JSON-ready
-            (its content hash is its key) and the result too.
+            (its content hash is its key) and the result too. With `batched`, a
+            function of a list of tasks that returns their results in order (one call
+            per chunk: the lanes of :func:`obturator.solve.opening_times`).
         tasks : sequence
         label, unit : str
             What the progress display calls the run and its tasks.
@@ -273,9 +276,15 @@ class Runner:
             Tasks per chunk of this map (default the runner's).
         probe_first : bool
             See :meth:`run`.
+        batched : bool
+            `fn` takes a chunk's tasks at once; a task's result may then depend on its
+            chunk at the rounding level, so a probe only times (``Job.separable``).
         """
         results = MapResults(tasks, keyed=self.sidecar is not None)
-        job = Job(run_tasks, lambda idx: (fn, [tasks[i] for i in idx.tolist()]), warm)
+        if batched:
+            job = Job(fn, lambda idx: ([tasks[i] for i in idx.tolist()],), warm, separable=False)
+        else:
+            job = Job(run_tasks, lambda idx: (fn, [tasks[i] for i in idx.tolist()]), warm)
         self.run(
             job,
             results,

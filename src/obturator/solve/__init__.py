@@ -5,7 +5,9 @@ One case, one trajectory (:mod:`~obturator.solve.one`): :func:`simulate` (time h
 :class:`~obturator.result.NutationResult`) and :func:`opening_time` (t_cr alone).
 Many cases (:mod:`~obturator.solve.many`): :func:`opening_times`, the front door every
 study (sweeps, Monte Carlo, calibration, validation, the thesis figures, the envelope)
-takes; SIMD lanes where the options allow, else one by one, same answers.
+takes; SIMD lanes where the options allow, else one by one, same answers;
+:func:`advance`, the same from given states to each case's t_max (one segment of a
+piecewise-constant load for many points).
 Settings (:mod:`~obturator.solve.options`): :class:`SolverOptions` and the measured
 accuracy table. Convergence (:mod:`~obturator.solve.convergence`):
 :func:`convergence_check` reruns with tighter tolerances, a narrower width and
@@ -20,10 +22,13 @@ from .convergence import (
     alternative_family,
     convergence_check,
     convergence_checks,
+    refined_options,
 )
 from .many import (
     POINT_STATUSES,
+    Advanced,
     PackedPoints,
+    advance,
     batchable,
     integrate_packed,
     opening_times,
@@ -47,10 +52,12 @@ __all__ = [
     "MAX_STEP_PERIODS_SHARP",
     "OPENING_TIME_ACCURACY",
     "POINT_STATUSES",
+    "Advanced",
     "ConvergenceCheck",
     "PackedPoints",
     "SolverOptions",
     "StartTimes",
+    "advance",
     "alternative_family",
     "batchable",
     "convergence_check",
@@ -64,6 +71,7 @@ __all__ = [
     "opening_times",
     "pack_parameters",
     "pack_points",
+    "refined_options",
     "point_status",
     "simulate",
     "start_times",

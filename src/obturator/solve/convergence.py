@@ -13,7 +13,13 @@ from ..vocab import FRICTION_FAMILIES, check_choice
 from .one import opening_time
 from .options import SolverOptions
 
-__all__ = ["ConvergenceCheck", "alternative_family", "convergence_check", "convergence_checks"]
+__all__ = [
+    "ConvergenceCheck",
+    "alternative_family",
+    "convergence_check",
+    "convergence_checks",
+    "refined_options",
+]
 
 
 def alternative_family(family: str) -> str:
@@ -134,18 +140,19 @@ def convergence_check(
         :func:`alternative_family` of ``options.friction_family``.
     """
     options = options or SolverOptions()
-    family, tighter, narrow, other = _reruns(options, factor, family)
+    family = alternative_family(options.friction_family) if family is None else family
     t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
-    t1 = opening_time(case, tighter)
-    t2 = opening_time(case, narrow)
-    t3 = opening_time(case, other)
+    t1, t2, t3 = (opening_time(case, o) for o in refined_options(options, factor, family))
     return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
 
 
-def _reruns(
-    options: SolverOptions, factor: float, family: str | None
-) -> tuple[str, SolverOptions, SolverOptions, SolverOptions]:
-    """The other family and the options of the three reruns (tighter, narrower, other)."""
+def refined_options(
+    options: SolverOptions, factor: float = 10.0, family: str | None = None
+) -> tuple[SolverOptions, SolverOptions, SolverOptions]:
+    """The three reruns of a convergence check: tolerances / `factor`; width / `factor`
+    (tolerances too, so slip speeds of order the width stay resolved); the other
+    regularisation `family` (default :func:`alternative_family`). For the set-valued
+    method, which has no width, the last two are the regularised path."""
     family = alternative_family(options.friction_family) if family is None else family
     check_choice("family", family, FRICTION_FAMILIES)
     narrow = replace(options.tighter(factor), friction_width=options.friction_width / factor)
@@ -153,7 +160,7 @@ def _reruns(
     if options.method == "set-valued":  # no width: the regularised path is the check
         narrow = replace(narrow, method="auto")
         other = replace(narrow, friction_family=family)
-    return family, options.tighter(factor), narrow, other
+    return options.tighter(factor), narrow, other
 
 
 def convergence_checks(
@@ -165,31 +172,23 @@ def convergence_checks(
     opening_times_s: Sequence[float] | None = None,
     family: str | None = None,
 ) -> list[ConvergenceCheck]:
-    """:func:`convergence_check` of many cases, each rerun one batched
-    :func:`~obturator.solve.opening_times` call (the lanes, where the options allow:
-    their t_cr is the one-by-one path's, see :mod:`obturator.solve.many`).
+    """:func:`convergence_check` of many cases, each rerun through the front door
+    (:func:`obturator.solve.opening_times`: in lanes where the options allow).
 
-    A rerun that fails (step limit, integrator failure) gives NaN, so that case counts
-    as not converged instead of raising.
-
-    Parameters
-    ----------
-    cases : sequence of Case
-    options, factor, threshold, family
-        As :func:`convergence_check`.
-    opening_times_s : sequence of float, optional
-        t_cr of each case already computed with `options` [s].
+    Parameters are those of :func:`convergence_check`, with `opening_times_s` the
+    t_cr of every case already computed with `options` [s] (NaN: not opened).
     """
     from .many import opening_times
 
     options = options or SolverOptions()
-    family, tighter, narrow, other = _reruns(options, factor, family)
-    if opening_times_s is None:
-        t0 = opening_times(cases, options)[0]
-    else:
-        t0 = np.asarray(opening_times_s, dtype=float).reshape(-1)
-    reruns = [opening_times(cases, o)[0] for o in (tighter, narrow, other)]
+    family = alternative_family(options.friction_family) if family is None else family
+    t0 = (
+        opening_times(cases, options)[0]
+        if opening_times_s is None
+        else np.asarray(opening_times_s, dtype=float)
+    )
+    reruns = [opening_times(cases, o)[0] for o in refined_options(options, factor, family)]
     return [
-        ConvergenceCheck(float(a), float(b), float(c), float(d), family, factor, threshold)
-        for a, b, c, d in zip(t0, *reruns, strict=True)
+        ConvergenceCheck(float(t0[i]), *(float(r[i]) for r in reruns), family, factor, threshold)
+        for i in range(len(cases))
     ]

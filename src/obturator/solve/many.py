@@ -52,7 +52,7 @@ from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes, inte
 from ..core.layout import KERNEL_THESIS, N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError, SolverError
 from ..status import MESSAGES, Status
-from .one import opening_time
+from .one import opening_time, simulate
 from .options import SolverOptions
 from .setup import integration_controls, integration_setup
 
@@ -61,7 +61,9 @@ __all__ = [
     "PACKED_WIDTHS",
     "POINT_STATUSES",
     "RADAU_LANES_MIN",
+    "Advanced",
     "PackedPoints",
+    "advance",
     "batchable",
     "env_switch",
     "integrate_packed",
@@ -192,6 +194,72 @@ def opening_times(
     return out
 
 
+class Advanced(NamedTuple):
+    """Where each case of :func:`advance` ended."""
+
+    t_cr: np.ndarray  #: (n,) opening time [s] from the case's t = 0 (NaN if not opened)
+    status: np.ndarray  #: (n,) int8 :class:`~obturator.status.Status`, as :func:`opening_times`
+    state: np.ndarray  #: (n, 8) state at t_max (the event state if opened; NaN if invalid)
+    nfev: np.ndarray  #: (n,) right-hand-side evaluations of each case
+    stats: dict[str, int]  #: as :func:`opening_times`
+
+
+def advance(
+    cases: Sequence[object],
+    states: np.ndarray,
+    options: SolverOptions | None = None,
+    *,
+    n_lanes: int = DEFAULT_LANES,
+) -> Advanced:
+    """Integrate many cases from given states to the opening event or each ``case.t_max``.
+
+    One segment of a piecewise-constant load for many points at once (the
+    trajectory-coupled opening of :mod:`obturator.envelope.coupled`): the same
+    lanes and ``auto`` switching as :func:`opening_times`, each case starting at its
+    t = 0 from row i of `states` with the initial step of a fresh run.
+
+    Parameters
+    ----------
+    cases : sequence of Case or InputError
+    states : ndarray, shape (n, 8)
+        Initial states in ``options.formulation`` (:meth:`Case.initial_state` layout).
+    options : SolverOptions, optional
+    n_lanes : int
+        Lanes advanced together (1 to 16).
+
+    Returns
+    -------
+    Advanced
+        t_cr [s] relative to the segment start, status, end states and stats.
+    """
+    options = options or SolverOptions()
+    n = len(cases)
+    states = np.asarray(states, dtype=float)
+    if states.shape != (n, N_STATE):
+        raise InputError("states", f"expected shape ({n}, {N_STATE}), got {states.shape}")
+    end = np.full((n, N_STATE), math.nan)
+    nfev = np.zeros(n, dtype=np.int64)
+    if batchable(options):
+        packed = pack_points(cases, options, states)
+        t_cr, status, stats = integrate_packed(
+            packed, options, n_lanes=n_lanes, end_states=end, point_nfev=nfev
+        )
+        return Advanced(t_cr, status, end, nfev, stats)
+
+    t_cr = np.full(n, math.nan)
+    status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
+    for k, case in enumerate(cases):
+        if isinstance(case, InputError):
+            continue
+        res = simulate(case, options, y0=states[k], t_eval=np.array([case.t_max]))
+        t_cr[k], status[k] = point_status(res.status, res.opening_time)
+        nfev[k] = res.nfev
+        if res.state.shape[0]:
+            end[k] = res.state[-1]
+    stats = {"n_points": n, "nfev": int(nfev.sum()), "n_stiff": 0, "n_hand_backs": 0}
+    return Advanced(t_cr, status, end, nfev, stats)
+
+
 def _raise_failed(cases: Sequence[object], status: np.ndarray) -> None:
     """Raise for the first case that is invalid or whose integration failed."""
     for case, s in zip(cases, status.tolist(), strict=True):
@@ -246,12 +314,19 @@ class PackedPoints(NamedTuple):
 PACKED_WIDTHS: tuple[int, ...] = (1, N_STATE, N_PARAM, N_STATE, 1, 1, 1, 1)
 
 
-def pack_points(cases: Sequence[object], options: SolverOptions) -> PackedPoints:
+def pack_points(
+    cases: Sequence[object], options: SolverOptions, states: np.ndarray | None = None
+) -> PackedPoints:
     """:class:`PackedPoints` of `cases` (an :class:`~obturator.errors.InputError` in
-    place of a case marks an invalid point)."""
+    place of a case marks an invalid point), from row i of `states` (n, 8) where given,
+    else from each case's release state."""
     n = len(cases)
     valid = np.array([not isinstance(c, InputError) for c in cases], dtype=bool)
-    setups = [integration_setup(c, options) for c, ok in zip(cases, valid, strict=True) if ok]
+    setups = [
+        integration_setup(c, options, None if states is None else states[i])
+        for i, (c, ok) in enumerate(zip(cases, valid, strict=True))
+        if ok
+    ]
     out = PackedPoints(
         valid, np.zeros((n, N_STATE)), np.zeros((n, N_PARAM)), np.ones((n, N_STATE)),
         *(np.zeros(n) for _ in range(4)),
@@ -269,9 +344,16 @@ def pack_points(cases: Sequence[object], options: SolverOptions) -> PackedPoints
 
 
 def integrate_packed(
-    packed: PackedPoints, options: SolverOptions, *, n_lanes: int = DEFAULT_LANES
+    packed: PackedPoints,
+    options: SolverOptions,
+    *,
+    n_lanes: int = DEFAULT_LANES,
+    end_states: np.ndarray | None = None,
+    point_nfev: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
-    """:func:`opening_times` of points already packed (:func:`pack_points`)."""
+    """:func:`opening_times` of points already packed (:func:`pack_points`); where
+    given, row i of `end_states` (n, 8) receives point i's last state and entry i of
+    `point_nfev` its right-hand-side evaluations."""
     if options.method not in BATCH_METHODS:
         raise InputError("method", f"{options.method!r}: the lanes integrate {BATCH_METHODS}")
     n = packed.valid.size
@@ -282,11 +364,15 @@ def integrate_packed(
     kernels = packed.p[valid, P_KERNEL]
     for kernel in np.unique(kernels):
         idx = valid[kernels == kernel]
-        _run_group(idx, packed.take(idx), options, n_lanes, t_cr, status, stats)
+        y_end, nfev = _run_group(idx, packed.take(idx), options, n_lanes, t_cr, status, stats)
+        if end_states is not None:
+            end_states[idx] = y_end
+        if point_nfev is not None:
+            point_nfev[idx] = nfev
     return t_cr, status, stats
 
 
-def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
+def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.ndarray, np.ndarray]:
     """Points of one kernel: DOP853 lanes, stiff points on in Radau IIA lanes, the points
     where sliding resumed back in DOP853 lanes, and so on, as :func:`continue_auto` does
     for one point; stiff points too few for Radau IIA lanes (or of another kernel)
@@ -327,6 +413,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
             )  # fmt: skip
             out = continue_auto(dop, problem, controls, int(hand_backs[g]))
             cnt[0, g] = out.nfev
+            y[g] = out.y_end
             end_status[g], t_event[g] = out.status, out.t_event
         pending = in_lanes
         if in_lanes.size:
@@ -346,6 +433,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> None:
     stats["n_hand_backs"] += int(hand_backs.sum())
     for g, k in enumerate(idx):
         t_cr[k], status[k] = point_status(Status(int(end_status[g])), float(t_event[g]))
+    return y, cnt[0]
 
 
 def _advance(lanes, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps, *rest):

@@ -52,21 +52,16 @@ __all__ = ["monte_carlo", "monte_carlo_summary", "MAX_SAMPLES"]
 
 
 def monte_carlo(
-    case: str = "spin-rig",
+    case: str | SweepSpec = "spin-rig",
     vary: Mapping[str, Distribution | str] | Sequence[str] = (),
     *,
     samples: int,
     seed: int,
-    fixed: Mapping[str, float] | None = None,
-    torque_model: str = "thesis",
-    spin_mode: str = "constant",
-    options: SolverOptions | None = None,
-    t_max: float | None = None,
     quantiles: Sequence[float] = (0.05, 0.5, 0.95),
     confidence: float = 0.95,
     runner: Runner | None = None,
     csv: str | os.PathLike[str] | None = None,
-    check_convergence: bool = True,
+    **model: Any,
 ) -> xarray.Dataset:
     """Monte Carlo study of t_cr under uncertain inputs.
 
@@ -78,7 +73,9 @@ def monte_carlo(
 
     Parameters
     ----------
-    case : {"spin-rig", "flight"}
+    case : {"spin-rig", "flight"} or SweepSpec
+        The case, with the model settings in `model`; or the whole study without
+        axes as a :class:`SweepSpec` (then no `model` settings).
     vary : mapping of str to Distribution or str, or sequence of str
         Uncertain inputs: ``{"mu_s": Distribution("normal", (0.5473, 0.03))}``,
         ``{"mu_s": "normal:0.5473,0.03"}`` or ``["mu_s=normal:0.5473,0.03"]``
@@ -88,10 +85,6 @@ def monte_carlo(
         Number of samples n >= 1.
     seed : int
         Root seed (>= 0); sample i uses ``SeedSequence(seed).spawn(n)[i]``.
-    fixed : mapping of str to float, optional
-        Inputs held fixed (e.g. ``{"spin_rate": 300.0}``); see :class:`SweepSpec`.
-    torque_model, spin_mode, options, t_max
-        As in :class:`SweepSpec`.
     quantiles : sequence of float
         Probabilities reported, default 5, 50 and 95 %.
     confidence : float
@@ -101,6 +94,10 @@ def monte_carlo(
         the NetCDF output, and its resume store holds the samples' results).
     csv : path, optional
         Flat CSV table of the samples, written after the NetCDF file.
+    **model
+        The fields of :class:`SweepSpec` other than case and axes: ``fixed`` (inputs
+        held fixed, e.g. ``{"spin_rate": 300.0}``), ``torque_model``, ``spin_mode``,
+        ``options``, ``t_max``, ``check_convergence`` (default True here).
 
     Returns
     -------
@@ -114,39 +111,11 @@ def monte_carlo(
     import xarray as xr
 
     dists = distributions(vary)
-    try:
-        n = int(samples)
-    except (TypeError, ValueError):
-        raise InputError("samples", f"expected a whole number, got {samples!r}") from None
-    if n < 1 or n > MAX_SAMPLES:
-        raise InputError(
-            "samples",
-            f"{n} is outside the allowed range [1, {MAX_SAMPLES}] (obturator.sweeps.MAX_SAMPLES)",
-        )
-    try:
-        seed_i = int(seed)
-    except (TypeError, ValueError):
-        raise InputError("seed", f"expected a whole number, got {seed!r}") from None
-    if seed_i < 0:
-        raise InputError("seed", f"{seed_i} is outside the allowed range >= 0")
+    n = _whole("samples", samples, 1, MAX_SAMPLES)
+    seed_i = _whole("seed", seed, 0, None)
     runner = runner or Runner()
     check_distinct_outputs(runner.store, csv)
-    fixed = dict(fixed or {})
-    for name in dists:
-        if name in fixed:
-            raise InputError(name, "is both varied and fixed")
-    spec = SweepSpec(
-        case,
-        {},
-        fixed,
-        torque_model=torque_model,
-        spin_mode=spin_mode,
-        options=options or SolverOptions(),
-        t_max=t_max,
-        check_convergence=bool(check_convergence),
-    )
-    for name in dists:
-        spec._check_name(name)
+    spec = _study(case, dists, model)
     values = sample_inputs(dists, n, seed_i)
     check_samples(values)
     check_sample_cases(spec, values)
@@ -177,15 +146,10 @@ def monte_carlo(
     data: dict[str, Any] = {k: ("sample", values[k], coord_attrs(k)) for k in names}
     data["t_cr"] = ("sample", out.t_cr, T_CR_ATTRS)
     data["status"] = ("sample", out.status, status_attrs())
-    q_attrs = {"units": "s", "comment": "inf: the order statistic did not open by t_max"}
-    qs = summ.quantiles
-    data["t_cr_quantile"] = ("quantile", [q.value for q in qs], q_attrs)
-    data["t_cr_quantile_lower"] = ("quantile", [q.lower for q in qs], q_attrs)
-    data["t_cr_quantile_upper"] = ("quantile", [q.upper for q in qs], q_attrs)
-    data["ci_coverage"] = ("quantile", [q.coverage for q in qs], {"units": "1"})
+    data |= _quantile_variables(summ)
     coords: dict[str, Any] = {
         "sample": ("sample", np.arange(n), {"long_name": "sample number"}),
-        "quantile": ("quantile", [q.probability for q in qs], {"units": "1"}),
+        "quantile": ("quantile", [q.probability for q in summ.quantiles], {"units": "1"}),
     }
     for name, value in spec.resolved().items():
         if name not in names and value is not None:
@@ -196,6 +160,61 @@ def monte_carlo(
         "seed": seed_i,
         "samples": n,
         "seeding": "numpy.random.SeedSequence(seed).spawn(samples), one child per sample",
+        **_summary_attrs(summ),
+        **common_attrs(spec),
+        "study_hash": digest,
+    }
+    ds = xr.Dataset(data, coords=coords, attrs=attrs)
+    write_outputs(ds, runner, csv)
+    return ds
+
+
+def _whole(field: str, value: Any, lo: int, hi: int | None) -> int:
+    """`value` as a whole number in [lo, hi] (no upper bound if hi is None)."""
+    try:
+        n = int(value)
+    except (TypeError, ValueError):
+        raise InputError(field, f"expected a whole number, got {value!r}") from None
+    if n < lo or (hi is not None and n > hi):
+        allowed = f">= {lo}" if hi is None else f"[{lo}, {hi}] (obturator.sweeps.MAX_SAMPLES)"
+        raise InputError(field, f"{n} is outside the allowed range {allowed}")
+    return n
+
+
+def _study(case: str | SweepSpec, dists: Mapping[str, Distribution], model: dict) -> SweepSpec:
+    """The study the samples vary: `case` with the `model` settings (or the SweepSpec
+    given), checked against the varied names."""
+    if isinstance(case, SweepSpec):
+        if model or case.axes:
+            raise InputError("case", "a SweepSpec without axes, and no further settings")
+        spec = case
+    else:
+        model = {"check_convergence": True, **model}
+        model["check_convergence"] = bool(model["check_convergence"])
+        model["options"] = model.get("options") or SolverOptions()
+        spec = SweepSpec(case, {}, dict(model.pop("fixed", None) or {}), **model)
+    for name in dists:
+        if name in spec.fixed:
+            raise InputError(name, "is both varied and fixed")
+        spec._check_name(name)
+    return spec
+
+
+def _quantile_variables(summ: MonteCarloSummary) -> dict[str, Any]:
+    """The t_cr quantiles with their intervals and coverage, along ``quantile``."""
+    q_attrs = {"units": "s", "comment": "inf: the order statistic did not open by t_max"}
+    qs = summ.quantiles
+    return {
+        "t_cr_quantile": ("quantile", [q.value for q in qs], q_attrs),
+        "t_cr_quantile_lower": ("quantile", [q.lower for q in qs], q_attrs),
+        "t_cr_quantile_upper": ("quantile", [q.upper for q in qs], q_attrs),
+        "ci_coverage": ("quantile", [q.coverage for q in qs], {"units": "1"}),
+    }
+
+
+def _summary_attrs(summ: MonteCarloSummary) -> dict[str, Any]:
+    """The counts, the fraction not opened with its interval, mean and SD of t_cr."""
+    return {
         "confidence": summ.confidence,
         "ci_method": CI_METHOD,
         "n_opened": summ.n_opened,
@@ -208,11 +227,6 @@ def monte_carlo(
         "mean_t_cr_s": summ.mean_s,
         "std_t_cr_s": summ.std_s,
     }
-    attrs.update(common_attrs(spec))
-    attrs["study_hash"] = digest
-    ds = xr.Dataset(data, coords=coords, attrs=attrs)
-    write_outputs(ds, runner, csv)
-    return ds
 
 
 def monte_carlo_summary(ds: xarray.Dataset) -> MonteCarloSummary:

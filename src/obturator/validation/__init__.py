@@ -5,8 +5,10 @@ One concern per module:
 * :mod:`.floor` - replicate clusters and the pure-error floor;
 * :mod:`.candidates` - the registry of candidate mechanisms and the parameters they
   fit (bounds and physical ranges: the fit registry, :data:`obturator.params.FIT_SPECS`);
-* :mod:`.likelihood` - the censored Gaussian likelihood with the spin
-  error-in-variables term;
+* :mod:`.likelihood` - the censored Gaussian likelihood, one sigma per spin
+  band (or pooled), with the spin error-in-variables term;
+* :mod:`.goodness` - goodness of fit per band and per replicate cluster against
+  the replicate floor;
 * :mod:`.evaluate` - cached exact-model t_cr per (parameter vector, spin);
 * :mod:`.fit` - maximum-likelihood fit, Wald and profile-likelihood intervals, through
   the fit engine :mod:`obturator.fitting`;
@@ -20,6 +22,7 @@ from . import candidates as _candidates
 from .candidates import CANDIDATES, DEFAULT_MODELS, PARAMETERS, Candidate, get_candidates
 from .fit import fit_candidate, profile_interval
 from .floor import BANDS, ReplicateFloor, cluster_runs, replicate_floor
+from .goodness import band_goodness, cluster_goodness, goodness_summary
 from .likelihood import SPIN_SD, nll_terms
 from .results import CandidateFit, ModelResult, ValidationResult
 from .study import recommend, run_validation
@@ -31,6 +34,9 @@ __all__ = [
     "DEFAULT_MODELS",
     "PARAMETERS",
     "SPIN_SD",
+    "band_goodness",
+    "cluster_goodness",
+    "goodness_summary",
     "Candidate",
     "CandidateFit",
     "ModelResult",

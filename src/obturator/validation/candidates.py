@@ -18,7 +18,17 @@ parameter                rig_case keyword
 ``speed_ratio``          ``speed_law=SlipSpeedLaw(kind, ratio, speed)``
 ``slip_speed``           (same)
 ``patch_radius``         ``patch_radius`` [m] with ``torque_model="coulomb"``
+``ageing_rate``          ``ageing=ContactAgeing(rate, cutoff_time)``
+``ageing_time``          (same; :mod:`obturator.model.ageing`)
 =======================  ======================================================
+
+The ``ageing`` candidate is the one argued from the tribology of the rig's
+dry steel-on-PMMA contact rather than fitted for shape: static friction that
+grows with the contact's age (Dieterich 1972; Dieterich and Kilgore 1994;
+Berthoud et al. 1999), where the age of the lucite seat's asperities is the
+time the contact patch takes to pass over them as the seat turns under the
+ball, 2 a / (R_s omega_p): longer at low spin (see :mod:`obturator.model.ageing`
+for the argument and the references).
 
 Physical ranges
 ---------------
@@ -45,8 +55,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ..calibration.rig_model import apply_run_settings
 from ..errors import InputError
 from ..fitting import FIT_PARAMETERS, FitParameter
+from ..model.ageing import ContactAgeing
 from ..model.case import Case
 from ..model.cases import TABLE1, rig_case
 from ..model.torques import SlipSpeedLaw, hertz_patch_radius
@@ -85,6 +97,8 @@ NOMINAL: dict[str, float] = {
     "speed_ratio": 1.0,
     "slip_speed": 0.1,
     "patch_radius": HERTZ_PATCH_RADIUS,
+    "ageing_rate": 0.0,
+    "ageing_time": 1e-4,
 }
 #: The parameters the candidates draw on: the fit registry's entries (start, bounds,
 #: physical range, transform, reason: :data:`obturator.params.FIT_SPECS`).
@@ -123,6 +137,12 @@ class Candidate:
         Friction law at the bottom contact.
     mechanisms : tuple of str
         Mechanism labels (for pairs: both).
+    conditions : tuple of (str, float) pairs
+        Settings of the runs this candidate is evaluated at, where they differ from
+        Table 1 (a data file's columns,
+        :meth:`~obturator.calibration.data.SpinRigData.run_settings`; applied by
+        :func:`~obturator.calibration.rig_model.apply_run_settings`: a fitted
+        ``theta0_deg`` is then an offset from 87.25 deg on the run's own theta_0).
     """
 
     name: str
@@ -132,6 +152,7 @@ class Candidate:
     speed_law: str = "constant"
     torque_model: str = "thesis"
     mechanisms: tuple[str, ...] = ()
+    conditions: tuple[tuple[str, float], ...] = ()
 
     def __post_init__(self) -> None:
         for k in (*self.params, *self.fixed):
@@ -175,6 +196,7 @@ class Candidate:
         """
         v = self.values(fitted)
         kw: dict[str, Any] = {
+            "mu_s": v["mu_s"],
             "theta0_deg": v["theta0_deg"],
             "release_rate": (v["theta_dot0"], v["phi_dot0"], v["psi_dot0"]),
             "release_phase": v["release_phase"],
@@ -185,7 +207,11 @@ class Candidate:
             kw["speed_law"] = SlipSpeedLaw(self.speed_law, v["speed_ratio"], v["slip_speed"])
         if self.torque_model == "coulomb":
             kw["patch_radius"] = v["patch_radius"]
-        return rig_case(float(spin_rate), v["mu_s"], **kw)
+        if "ageing_rate" in self.params or "ageing_rate" in self.fixed:
+            kw["ageing"] = ContactAgeing(v["ageing_rate"], v["ageing_time"])
+        if self.conditions:
+            return apply_run_settings(rig_case, float(spin_rate), dict(self.conditions), **kw)
+        return rig_case(float(spin_rate), **kw)
 
     def plausibility(self, fitted: Mapping[str, float]) -> dict[str, bool]:
         """Whether each fitted value lies in its physically argued range."""
@@ -271,6 +297,19 @@ CANDIDATES: dict[str, Candidate] = {
             mechanisms=("coulomb-patch",),
         ),
         _c(
+            "ageing",
+            "contact ageing of the lucite seat: static friction mu_s + b ln(1 + t_d/tau), "
+            "t_d = 2a/(R_s omega_p)",
+            ("mu_s", "ageing_rate", "ageing_time"),
+            mechanisms=("ageing",),
+        ),
+        _c(
+            "theta0+ageing",
+            "theta_0 fitted and contact ageing of the lucite seat",
+            ("mu_s", "theta0_deg", "ageing_rate", "ageing_time"),
+            mechanisms=("theta0", "ageing"),
+        ),
+        _c(
             "theta0+strengthening",
             "theta_0 fitted and velocity-strengthening friction",
             ("mu_s", "theta0_deg", "speed_ratio", "slip_speed"),
@@ -310,6 +349,7 @@ DEFAULT_MODELS: tuple[str, ...] = (
     "stribeck",
     "strengthening",
     "coulomb-patch",
+    "ageing",
     "theta0+strengthening",
     "release-rate+strengthening",
     "theta0+release-rate",

@@ -8,8 +8,8 @@ Algorithm (effective-variance iteration, see :mod:`.likelihood`):
    reflective, bounds, forward differences with a relative step of 1e-3 on
    the optimiser scale: large enough to step over the tiny ripple of t_cr in
    the parameters, small against their uncertainties);
-3. recompute the secant slopes g_i at the new optimum and the ML sigma
-   (:func:`.likelihood.profile_sigma`);
+3. recompute the secant slopes g_i at the new optimum and the ML sigmas, one per
+   noise group (:func:`.likelihood.profile_noise`: per spin band, or pooled);
 4. repeat 2-3 until -log L changes by less than 1e-3 (at most ``max_outer``
    passes). Without a spin error (``spin_sd = 0``) one pass is exact.
 
@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -56,10 +56,24 @@ from ..solve import SolverOptions
 from .candidates import PARAMETERS, Candidate
 from .evaluate import DEFAULT_T_MAX, ModelEvaluator
 from .floor import band_of
-from .likelihood import SPIN_SD, effective_sd, nll_terms, profile_sigma, scaled_residuals
+from .likelihood import (
+    SPIN_SD,
+    effective_sd,
+    nll_terms,
+    noise_groups,
+    profile_noise,
+    scaled_residuals,
+)
 from .results import CandidateFit
 
-__all__ = ["CHI2_95", "FitControls", "fit_candidate", "predict", "profile_interval"]
+__all__ = [
+    "CHI2_95",
+    "FitControls",
+    "RunModels",
+    "fit_candidate",
+    "predict",
+    "profile_interval",
+]
 
 # optimiser stopping (relative step of the parameters): tight in the first pass,
 # whose valley (mu_s against v_s) is long and curved, looser in the later
@@ -102,12 +116,87 @@ class FitControls:
         Compute the Wald covariance.
     xtol : float
         Relative parameter step at which the first pass stops.
+    sigma : array_like, optional
+        Run-to-run sigma per run [s] of the first pass (profile probes: the best
+        fit's); default the rms residual of the start for every run.
     """
 
     slopes: ArrayLike | None = None
     max_outer: int = 4
     covariance: bool = True
     xtol: float = _XTOL
+    sigma: ArrayLike | None = None
+
+
+Conditions = tuple[tuple[str, float], ...]
+
+
+@dataclass
+class RunModels:
+    """A candidate's model at runs that may have their own settings (a data file's
+    theta0, hole radius, density, mass, measured angle): one cached
+    :class:`~.evaluate.ModelEvaluator` per distinct setting, the given one for the
+    runs at Table 1 (all the thesis's runs: then this is that evaluator alone).
+
+    Parameters
+    ----------
+    base : ModelEvaluator
+        The candidate's evaluator at Table 1 settings.
+    conditions : sequence of tuple, optional
+        Per run, its settings as (name, value) pairs (empty: Table 1).
+    """
+
+    base: ModelEvaluator
+    conditions: Sequence[Conditions] | None = None
+    _by_setting: dict[Conditions, ModelEvaluator] = field(default_factory=dict, repr=False)
+
+    def _groups(self, n: int) -> list[tuple[ModelEvaluator, NDArray[np.bool_] | None]]:
+        cond = self.conditions
+        if cond is None or not any(cond):
+            return [(self.base, None)]
+        if len(cond) != n:
+            raise InputError("conditions", f"has {len(cond)} entries, expected {n}")
+        out = []
+        for c in dict.fromkeys(cond):
+            if c not in self._by_setting:
+                base = self.base
+                self._by_setting[c] = (
+                    base
+                    if not c
+                    else ModelEvaluator(
+                        replace(base.candidate, conditions=c), base.t_max, base.options
+                    )
+                )
+            out.append((self._by_setting[c], np.array([x == c for x in cond])))
+        return out
+
+    def _each(self, method: str, values: Sequence[float], w: NDArray[np.float64]) -> NDArray:
+        out = np.empty(w.size)
+        for ev, sel in self._groups(w.size):
+            if sel is None:
+                return getattr(ev, method)(values, w)
+            out[sel] = getattr(ev, method)(values, w[sel])
+        return out
+
+    def opening_times(self, values: Sequence[float], w: NDArray[np.float64]) -> NDArray:
+        """t_cr [s] of each run (NaN: censored)."""
+        return self._each("opening_times", values, w)
+
+    def slopes(self, values: Sequence[float], w: NDArray[np.float64]) -> NDArray:
+        """Secant dt_cr/domega_p [s^2] of each run."""
+        return self._each("slopes", values, w)
+
+    def prefetch(self, many: Sequence[Sequence[float]], w: NDArray[np.float64]) -> None:
+        """t_cr of each run at many parameter vectors, one batched solve per setting,
+        into the evaluators' caches."""
+        for ev, sel in self._groups(w.size):
+            ev.opening_times_of(many, w if sel is None else w[sel])
+
+    @property
+    def counts(self) -> tuple[int, int]:
+        """Integrations and failures over every evaluator."""
+        evs = {id(e): e for e in (self.base, *self._by_setting.values())}.values()
+        return sum(e.n_integrations for e in evs), sum(e.n_failed for e in evs)
 
 
 @dataclass
@@ -115,7 +204,7 @@ class _Objective:
     """The model t_cr of one candidate at the runs, in the optimiser's variables."""
 
     params: ParameterSet
-    evaluator: ModelEvaluator
+    evaluator: RunModels
     spin_rate: NDArray[np.float64]
     measured: NDArray[np.float64]
     t_max: float
@@ -128,7 +217,7 @@ class _Objective:
 
     def prefetch(self, xs: Sequence[NDArray[np.float64]]) -> None:
         """Model t_cr at many points x in one batched solve, into the evaluator's cache."""
-        self.evaluator.opening_times_of([self.params.from_internal(x) for x in xs], self.spin_rate)
+        self.evaluator.prefetch([self.params.from_internal(x) for x in xs], self.spin_rate)
 
     def residuals(self, sd: NDArray[np.float64]) -> Callable[[NDArray[np.float64]], NDArray]:
         """x -> (m_i - y_i) / s_i at fixed effective SDs (Gauss-Newton residuals)."""
@@ -139,7 +228,8 @@ class _Optimum(NamedTuple):
     x: NDArray[np.float64]
     model: NDArray[np.float64]
     slope: NDArray[np.float64]
-    sigma: float
+    sigma: NDArray[np.float64]  # per run
+    sigma_by_group: dict[str, float]
     success: bool
     message: str
 
@@ -149,6 +239,7 @@ def _effective_variance(
     x: NDArray[np.float64],
     spin_sd: float,
     controls: FitControls,
+    groups: NDArray[np.str_],
     first: LeastSquaresSettings = _SETTINGS,
 ) -> _Optimum:
     """Steps 1-4 of the module notes: least squares at fixed s_i, then slopes and sigma;
@@ -159,10 +250,15 @@ def _effective_variance(
     g = np.asarray(controls.slopes, dtype=float).copy() if held else np.zeros(w.size)
     success, message = True, "no free parameters"
     m = obj.model(x)
-    sigma = float(np.sqrt(np.mean((np.where(np.isfinite(m), m, t_max) - y) ** 2)))
-    sigma = max(sigma, 1e-3)
+    if controls.sigma is not None:
+        sigma = np.asarray(controls.sigma, dtype=float).reshape(-1)
+    else:
+        # each group's rms residual at the start (the ML sigma without spin error)
+        sigma = np.maximum(profile_noise(y, m, np.zeros(w.size), t_max, groups, 0.0)[0], 1e-3)
     nll_prev = math.inf
-    outer = 1 if (held or not eiv) else max(1, int(controls.max_outer))
+    # one pass is exact without spin error and with one sigma (the weights are equal)
+    reweight = eiv or np.unique(groups).size > 1
+    outer = 1 if (held or not reweight) else max(1, int(controls.max_outer))
     for it in range(outer):
         sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd if eiv else 0.0)
         if len(obj.params):
@@ -178,11 +274,13 @@ def _effective_variance(
             m = obj.model(x)
         if eiv and not held:
             g = obj.evaluator.slopes(obj.params.from_internal(x), w)
-        sigma, nll = profile_sigma(y, m, g, t_max, spin_sd if eiv else 0.0)
+        sigma, by_group, nll = profile_noise(
+            y, m, np.where(np.isfinite(m), g, 0.0), t_max, groups, spin_sd if eiv else 0.0
+        )
         if abs(nll_prev - nll) < 1e-3:
             break
         nll_prev = nll
-    return _Optimum(x, m, g, sigma, success, message)
+    return _Optimum(x, m, g, sigma, by_group, success, message)
 
 
 def _runs(
@@ -230,6 +328,8 @@ def fit_candidate(
     options: SolverOptions | None = None,
     evaluator: ModelEvaluator | None = None,
     controls: FitControls | None = None,
+    noise: str = "band",
+    conditions: Sequence[Conditions] | None = None,
 ) -> CandidateFit:
     """Fit one candidate to runs by maximum likelihood (censored Gaussian with spin EIV).
 
@@ -257,6 +357,13 @@ def fit_candidate(
         Reused (with its cache) if it belongs to this candidate and horizon.
     controls : FitControls, optional
         Iteration settings (default: a full fit with its covariance).
+    noise : {"band", "pooled"}
+        Run-to-run noise: one sigma per spin band of `band` (small bands merged,
+        :func:`.likelihood.noise_groups`) or one for all runs
+        (see :mod:`.likelihood`).
+    conditions : sequence of tuple, optional
+        Each run's own settings (:meth:`~obturator.calibration.data.SpinRigData.run_settings`;
+        default: every run at Table 1).
 
     Returns
     -------
@@ -273,13 +380,15 @@ def fit_candidate(
         or evaluator.options != options
     ):
         evaluator = ModelEvaluator(candidate, t_max, options)
-    n_int0, n_fail0 = evaluator.n_integrations, evaluator.n_failed
+    models = RunModels(evaluator, conditions)
+    n_int0, n_fail0 = models.counts
     controls = controls or FitControls()
-    obj = _Objective(_parameters(candidate), evaluator, w, y, t_max)
+    groups = noise_groups(bands, noise)
+    obj = _Objective(_parameters(candidate), models, w, y, t_max)
     x0 = obj.params.start(_start_values(candidate, start))
     # from the default start, far from the optimum, the first pass scales by the Jacobian
     first = _SETTINGS_FIRST if start is None and controls.slopes is None else _SETTINGS
-    opt = _effective_variance(obj, x0, spin_sd, controls, first)
+    opt = _effective_variance(obj, x0, spin_sd, controls, groups, first)
     m, g, sigma = opt.model, opt.slope, opt.sigma
     sd = effective_sd(sigma, np.where(np.isfinite(m), g, 0.0), spin_sd)
     sd = np.where(np.isfinite(m), sd, sigma)
@@ -294,8 +403,9 @@ def fit_candidate(
         jac = central_jacobian(
             obj.residuals(sd), opt.x, box, _SETTINGS.covariance_step, prefetch=obj.prefetch
         )
-        # sigma is fitted too: n - (p + 1) degrees of freedom
-        est = wald(obj.params, opt.x, covariance_internal(jac), max(w.size - (p + 1), 1))
+        # the sigmas are fitted too: n - (p + n_sigma) degrees of freedom
+        dof = max(w.size - (p + len(opt.sigma_by_group)), 1)
+        est = wald(obj.params, opt.x, covariance_internal(jac), dof)
         cov, stderr, ci95 = est.covariance, est.stderr, est.ci95
     return CandidateFit(
         name=candidate.name,
@@ -306,9 +416,9 @@ def fit_candidate(
         ci95=ci95,
         ci_method={k: "wald" for k in candidate.params},
         plausible=candidate.plausibility(values),
-        sigma=float(sigma),
+        sigma=float(np.sqrt(np.mean(sigma**2))),
         nll=nll,
-        k=p + 1,
+        k=p + len(opt.sigma_by_group),
         spin_rate=w,
         measured=y,
         model=m,
@@ -321,9 +431,13 @@ def fit_candidate(
         success=opt.success,
         message=opt.message,
         nfev=obj.nfev,
-        n_integrations=evaluator.n_integrations - n_int0,
-        n_failed=evaluator.n_failed - n_fail0,
+        n_integrations=models.counts[0] - n_int0,
+        n_failed=models.counts[1] - n_fail0,
         elapsed_s=time.perf_counter() - t_start,
+        noise=noise,
+        sigma_by_group=dict(opt.sigma_by_group),
+        noise_group=groups,
+        conditions=None if conditions is None else tuple(conditions),
     )
 
 
@@ -335,10 +449,13 @@ def predict(
     t_max: float = DEFAULT_T_MAX,
     options: SolverOptions | None = None,
     evaluator: ModelEvaluator | None = None,
+    conditions: Sequence[Conditions] | None = None,
 ) -> NDArray[np.float64]:
-    """Model t_cr [s] at the given spins [rad/s] for fitted `values` (NaN: censored)."""
+    """Model t_cr [s] at the given spins [rad/s] for fitted `values` (NaN: censored),
+    at each run's own settings if `conditions` are given (see :class:`RunModels`)."""
     ev = evaluator or ModelEvaluator(candidate, t_max, options)
-    return ev.opening_times([values[k] for k in candidate.params], spin_rate)
+    w = np.asarray(spin_rate, dtype=float).reshape(-1)
+    return RunModels(ev, conditions).opening_times([values[k] for k in candidate.params], w)
 
 
 def profile_interval(
@@ -402,7 +519,11 @@ def profile_interval(
             spin_sd=spin_sd,
             t_max=best.t_max,
             options=options,
-            controls=FitControls(best.slope, covariance=False, xtol=_XTOL_LATER),
+            controls=FitControls(
+                best.slope, covariance=False, xtol=_XTOL_LATER, sigma=best.sigma_per_run
+            ),
+            noise=best.noise,
+            conditions=best.conditions,
         )
         d = max(2.0 * (f.nll - best.nll), 0.0)
         return math.copysign(math.sqrt(d), xv - x_best)

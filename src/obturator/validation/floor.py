@@ -88,7 +88,9 @@ def band_of(spin_rate: ArrayLike) -> NDArray[np.str_]:
     return out.astype(str)
 
 
-def cluster_runs(spin_rate: ArrayLike, gap: float = DEFAULT_CLUSTER_GAP) -> NDArray[np.int64]:
+def cluster_runs(
+    spin_rate: ArrayLike, gap: float = DEFAULT_CLUSTER_GAP, groups: ArrayLike | None = None
+) -> NDArray[np.int64]:
     """Cluster label of each run: single linkage in omega_p with a maximum gap.
 
     Parameters
@@ -98,16 +100,34 @@ def cluster_runs(spin_rate: ArrayLike, gap: float = DEFAULT_CLUSTER_GAP) -> NDAr
     gap : float
         Neighbours (in sorted order) closer than or equal to `gap` [rad/s]
         share a cluster. Default: 2 x 1.75 rad/s, the rig's regulation band.
+    groups : array_like, optional
+        A label per run (hashable): runs of different groups are never replicates
+        (a data file's runs with another ball, theta_0 or load). Default: one group.
 
     Returns
     -------
     ndarray of int
-        Labels 0..k-1, numbered in increasing spin, in the input order.
+        Labels 0..k-1, numbered in increasing spin (then group), in the input order.
     """
     check_range("gap", gap, 0.0, math.inf, hi_open=True, unit="rad/s")
     w = np.asarray(spin_rate, dtype=float).reshape(-1)
     if w.size == 0:
         raise InputError("spin_rate", "no runs to cluster")
+    if groups is not None:
+        g = list(groups)
+        if len(g) != w.size:
+            raise InputError("groups", f"has {len(g)} entries, expected {w.size}")
+        keys = list(dict.fromkeys(g))
+        pieces = []  # (lowest spin, group number, run indices) of every cluster
+        for n, key in enumerate(keys):
+            idx = np.array([i for i, x in enumerate(g) if x == key])
+            sub = cluster_runs(w[idx], gap)
+            for c in np.unique(sub):
+                pieces.append((float(w[idx[sub == c]].min()), n, idx[sub == c]))
+        labels = np.empty(w.size, dtype=np.int64)
+        for k, (_, _, idx) in enumerate(sorted(pieces, key=lambda p: (p[0], p[1]))):
+            labels[idx] = k
+        return labels
     order = np.argsort(w, kind="stable")
     ws = w[order]
     # tiny slack: readouts are integers, so f pi/9 differences of exactly 10 Hz
@@ -344,7 +364,11 @@ def lack_of_fit(floor: ReplicateFloor, residuals: ArrayLike, n_params: int) -> d
 
 
 def replicate_floor(
-    spin_rate: ArrayLike, opening_time: ArrayLike, *, gap: float = DEFAULT_CLUSTER_GAP
+    spin_rate: ArrayLike,
+    opening_time: ArrayLike,
+    *,
+    gap: float = DEFAULT_CLUSTER_GAP,
+    groups: ArrayLike | None = None,
 ) -> ReplicateFloor:
     """Cluster the runs and compute the pure-error floor, overall and per band.
 
@@ -356,6 +380,8 @@ def replicate_floor(
         Measured t_cr per run [s].
     gap : float
         Single-linkage gap [rad/s] (:func:`cluster_runs`).
+    groups : array_like, optional
+        Per run, its settings group: only runs of one group can be replicates.
 
     Returns
     -------
@@ -365,7 +391,7 @@ def replicate_floor(
     y = np.asarray(opening_time, dtype=float).reshape(-1)
     if w.size != y.size:
         raise InputError("opening_time", f"has {y.size} entries, expected {w.size}")
-    lab = cluster_runs(w, gap)
+    lab = cluster_runs(w, gap, groups)
     # cluster mean spin decides the band of every run in the cluster
     mean_w = np.empty_like(w)
     for c in np.unique(lab):

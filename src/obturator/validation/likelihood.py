@@ -1,4 +1,4 @@
-"""The likelihood of measured opening times under a model (issue 9, item 3).
+"""The likelihood of measured opening times under a model (issue 9, item 3; issue 29, item 5).
 
 Noise model
 -----------
@@ -8,17 +8,43 @@ T (``t_max``). The measurement is
 
     y_i = t_cr(theta; w_i + u_i) + e_i,
 
-e_i ~ N(0, sigma^2) the run-to-run scatter (sigma fitted, one value for all
-runs) and u_i the spin error. The regulator held the readout to +-5 Hz
-(+-1.75 rad/s, thesis chapter III.B), taken as u_i uniform on that band:
-SD sigma_w = 1.75/sqrt(3) = 1.01 rad/s (:data:`SPIN_SD`). Propagated to first
-order (the effective-variance method of errors in variables):
+e_i ~ N(0, sigma_b(i)^2) the run-to-run scatter and u_i the spin error. The
+regulator held the readout to +-5 Hz (+-1.75 rad/s, thesis chapter III.B),
+taken as u_i uniform on that band: SD sigma_w = 1.75/sqrt(3) = 1.01 rad/s
+(:data:`SPIN_SD`). Propagated to first order (the effective-variance method of
+errors in variables):
 
-    s_i^2 = sigma^2 + (g_i sigma_w)^2,  g_i = dt_cr/domega_p at w_i,
+    s_i^2 = sigma_b(i)^2 + (g_i sigma_w)^2,  g_i = dt_cr/domega_p at w_i,
 
 with g_i the secant slope of the model over the regulation band,
 (t(w_i + 1.75) - t(w_i - 1.75)) / 3.5 rad/s, which is robust to the small
 ripple of t_cr in omega_p (see :func:`obturator.calibration.fit_exact`).
+
+Which sigma_b (``noise``):
+
+* ``"band"`` (the default of ``obturator validate``): one sigma per spin band
+  of :data:`~.floor.BANDS` (by cluster-mean spin), each fitted by maximum
+  likelihood together with the model. The replicate scatter of the thesis runs
+  differs tenfold between bands (pooled pure-error SD 0.104 s below 120 rad/s,
+  0.012-0.013 s at 120-300 rad/s, 0.039 s above; :mod:`.floor`), so a single
+  sigma lets the noisy slow runs pull the fit and hides misfit in the quiet
+  middle bands. Why fitted and not the floor's band SDs plugged in: the floor's
+  SD below 120 rad/s is the four runs at 78 rad/s, where t_cr changes fastest
+  with spin, so it already contains most of the spin-error scatter that the
+  (g_i sigma_w)^2 term models; fixed floor SDs beside that term would count it
+  twice. Fitting sigma_b with the term gives it only the rest. It also uses
+  every run of the band (singletons included; the floor uses only the
+  replicates: 6 pure-error degrees of freedom below 120 rad/s) and gives a
+  band without replicates a sigma. A band with fewer than
+  :data:`MIN_GROUP_RUNS` runs shares the sigma of its neighbour
+  (:func:`noise_groups`): an ML sigma of one or two residuals collapses
+  towards 0. Goodness of fit is then judged against the independent replicate
+  floor, band by band (:mod:`.goodness`), not against these fitted sigmas.
+* ``"pooled"``: one sigma for all runs (issue 9's likelihood).
+
+Each fitted sigma counts in k (AIC, BIC): the band model has k = p + 4 on the
+thesis runs, the same for every candidate, so differences between candidates
+are unchanged by the count.
 
 Why errors in variables, not per-cluster offsets: an offset per replicate
 cluster adds 23 parameters for 54 runs (and is not identifiable for the 9
@@ -38,9 +64,9 @@ probability, as in a Tobit model)::
 
     log L_i = log P(e < y_i - T) = log Phi((y_i - T) / s_i) = log(1 - Phi((T - y_i) / s_i))
 
-with s_i = sigma for censored runs (no slope). Every run contributes; none is
+with s_i = sigma_b(i) for censored runs (no slope). Every run contributes; none is
 dropped. AIC = 2k - 2 log L and BIC = k ln n - 2 log L, with k the fitted
-physical parameters plus sigma.
+physical parameters plus the fitted sigmas.
 
 For the Gauss-Newton steps (:func:`scaled_residuals`) a censored run enters
 as if it had opened at the horizon, residual (T - y_i)/s_i: the limit of the
@@ -56,16 +82,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.special import log_ndtr
 
+from ..errors import InputError
 from ..fitting import minimize_bounded_scalar
-from .floor import SPIN_REGULATION
+from ..vocab import NOISE_MODELS, check_choice
+from .floor import SPIN_REGULATION, band_labels
 
 __all__ = [
     "LOG_2PI",
+    "MIN_GROUP_RUNS",
     "SPIN_SD",
     "aic",
     "bic",
     "effective_sd",
     "nll_terms",
+    "noise_groups",
+    "profile_noise",
     "profile_sigma",
     "scaled_residuals",
 ]
@@ -74,6 +105,8 @@ __all__ = [
 SPIN_SD = SPIN_REGULATION / math.sqrt(3.0)
 LOG_2PI = math.log(2.0 * math.pi)
 _SIGMA_RANGE = (1e-5, 10.0)  # s
+#: Fewest runs that get their own sigma under ``noise="band"``.
+MIN_GROUP_RUNS = 3
 
 
 def effective_sd(sigma: float, slope: ArrayLike, spin_sd: float = SPIN_SD) -> NDArray[np.float64]:
@@ -81,15 +114,16 @@ def effective_sd(sigma: float, slope: ArrayLike, spin_sd: float = SPIN_SD) -> ND
 
     Parameters
     ----------
-    sigma : float
-        Run-to-run scatter [s].
+    sigma : float or array_like
+        Run-to-run scatter [s] (one value, or one per run).
     slope : array_like
         g_i = dt_cr/domega_p [s^2] (NaN counts as 0).
     spin_sd : float
         sigma_w [rad/s].
     """
     g = np.nan_to_num(np.asarray(slope, dtype=float), nan=0.0)
-    return np.sqrt(sigma * sigma + (g * spin_sd) ** 2)
+    sig = np.asarray(sigma, dtype=float)
+    return np.sqrt(sig * sig + (g * spin_sd) ** 2)
 
 
 def nll_terms(
@@ -167,3 +201,79 @@ def aic(nll: float, k: int) -> float:
 def bic(nll: float, k: int, n: int) -> float:
     """Bayesian information criterion k ln n + 2 nll."""
     return k * math.log(n) + 2.0 * nll
+
+
+def noise_groups(band: ArrayLike, noise: str = "band") -> NDArray[np.str_]:
+    """The sigma group of each run: its spin band, or ``"all"``.
+
+    Under ``"band"`` a band with fewer than :data:`MIN_GROUP_RUNS` runs joins the
+    next band down the spin range that has runs (the next one up for the lowest);
+    if all runs together are fewer, they share one sigma.
+
+    Parameters
+    ----------
+    band : array_like of str
+        Band label of each run (:func:`~.floor.band_of`, by cluster-mean spin).
+    noise : {"band", "pooled"}
+    """
+    check_choice("noise", noise, NOISE_MODELS)
+    labels = np.asarray(band).astype(str).reshape(-1)
+    if noise == "pooled" or labels.size < MIN_GROUP_RUNS:
+        return np.full(labels.size, "all")
+    order = [b for b in band_labels() if np.any(labels == b)]
+    order += sorted(set(labels.tolist()) - set(order))  # labels from elsewhere, if any
+    counts = {b: int(np.sum(labels == b)) for b in order}
+    target = {b: b for b in order}
+    while True:
+        small = [b for b in order if counts[b] < MIN_GROUP_RUNS]
+        if not small or len(order) == 1:
+            break
+        b = small[0]
+        i = order.index(b)
+        into = order[i - 1] if i > 0 else order[i + 1]
+        counts[into] += counts.pop(b)
+        order.remove(b)
+        for k, v in target.items():
+            if v == b:
+                target[k] = into
+    return np.array([target[b] for b in labels.tolist()], dtype=str)
+
+
+def profile_noise(
+    measured: ArrayLike,
+    model: ArrayLike,
+    slope: ArrayLike,
+    t_max: float,
+    groups: ArrayLike,
+    spin_sd: float = SPIN_SD,
+) -> tuple[NDArray[np.float64], dict[str, float], float]:
+    """Maximum-likelihood sigma of each group [s] and the minimised total -log L.
+
+    The runs of one group share a sigma and the terms of -log L separate by
+    group, so each group's sigma is :func:`profile_sigma` of its own runs.
+
+    Returns
+    -------
+    sigma_per_run : ndarray
+        sigma_b(i) of each run [s].
+    sigma_by_group : dict of str to float
+        Each group's sigma [s].
+    nll : float
+        Total -log L.
+    """
+    y = np.asarray(measured, dtype=float).reshape(-1)
+    m = np.asarray(model, dtype=float).reshape(-1)
+    g = np.asarray(slope, dtype=float).reshape(-1)
+    lab = np.asarray(groups).astype(str).reshape(-1)
+    if not (y.size == m.size == g.size == lab.size):
+        raise InputError("groups", f"has {lab.size} entries, expected {y.size} (one per run)")
+    per_run = np.empty(y.size)
+    by_group: dict[str, float] = {}
+    total = 0.0
+    for name in dict.fromkeys(lab.tolist()):
+        sel = lab == name
+        sigma, nll = profile_sigma(y[sel], m[sel], g[sel], t_max, spin_sd)
+        per_run[sel] = sigma
+        by_group[name] = sigma
+        total += nll
+    return per_run, by_group, total

@@ -73,7 +73,8 @@ class CandidateFit:
     plausible : dict of str to bool
         Whether each value lies in its physically argued range.
     sigma : float
-        ML run-to-run scatter [s].
+        ML run-to-run scatter [s]: the one sigma of ``noise="pooled"``; under
+        ``"band"`` the rms of the runs' sigmas (each band's in `sigma_by_group`).
     nll : float
         Minimised -log L.
     k : int
@@ -99,6 +100,14 @@ class CandidateFit:
         Integrations that failed (counted as censored).
     elapsed_s : float
         Wall time of the fit [s].
+    noise : {"band", "pooled"}
+        Noise model of the likelihood (:mod:`.likelihood`).
+    sigma_by_group : dict of str to float
+        ML sigma of each noise group [s] (a spin band, or "all").
+    noise_group : ndarray of str
+        Noise group of each run.
+    conditions : tuple, optional
+        Each run's own settings where a data file gave them (None: Table 1).
     """
 
     name: str
@@ -127,6 +136,17 @@ class CandidateFit:
     n_integrations: int = 0
     n_failed: int = 0
     elapsed_s: float = math.nan
+    noise: str = "pooled"
+    sigma_by_group: dict[str, float] = field(default_factory=dict)
+    noise_group: NDArray[np.str_] | None = None
+    conditions: tuple[tuple[tuple[str, float], ...], ...] | None = None
+
+    @property
+    def sigma_per_run(self) -> NDArray[np.float64]:
+        """sigma_b(i) of each run [s] (without the spin-error term)."""
+        if self.noise_group is None or not self.sigma_by_group:
+            return np.full(self.ndata, self.sigma)
+        return np.array([self.sigma_by_group[g] for g in self.noise_group.tolist()])
 
     @property
     def ndata(self) -> int:
@@ -210,6 +230,8 @@ class CandidateFit:
                 "selection": self.selection,
                 "params": self.params_dict(),
                 "sigma_s": self.sigma,
+                "noise": self.noise,
+                "sigma_by_group_s": self.sigma_by_group,
                 "nll": self.nll,
                 "k": self.k,
                 "ndata": self.ndata,
@@ -252,6 +274,9 @@ class ModelResult:
         :func:`obturator.solve.convergence_check` (empty if not run).
     lack_of_fit : dict
         Lack-of-fit F test of the all-run fit (:func:`.floor.lack_of_fit`).
+    goodness : dict
+        Per-band and per-cluster goodness of fit of the all-run fit against the
+        replicate floor (:func:`.goodness.goodness_summary`).
     """
 
     name: str
@@ -264,6 +289,7 @@ class ModelResult:
     curve_t: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))
     convergence: dict[str, Any] = field(default_factory=dict)
     lack_of_fit: dict[str, float] = field(default_factory=dict)
+    goodness: dict[str, Any] = field(default_factory=dict)
 
     @property
     def description(self) -> str:
@@ -280,6 +306,8 @@ class ModelResult:
                 "description": self.description,
                 "params": f.params_dict(),
                 "sigma_s": f.sigma,
+                "noise": f.noise,
+                "sigma_by_group_s": f.sigma_by_group,
                 "k": f.k,
                 "ndata": f.ndata,
                 "rms_all_s": f.rms,
@@ -297,6 +325,7 @@ class ModelResult:
                 },
                 "convergence": self.convergence,
                 "lack_of_fit": self.lack_of_fit,
+                "goodness": self.goodness,
                 "fit_elapsed_s": f.elapsed_s,
                 "runs": {
                     "run": f.run,

@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 from functools import partial
 from typing import Any
 
@@ -43,10 +44,12 @@ from ..calibration.data import SpinRigData, load_thesis_data
 from ..errors import InputError, check_range
 from ..runs import Runner
 from ..solve import SolverOptions, convergence_checks, opening_times
+from ..vocab import NOISE_MODELS, check_choice
 from .candidates import CANDIDATES, PARAMETERS, Candidate, get_candidates
 from .evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS, ModelEvaluator
-from .fit import fit_candidate, profile_interval
+from .fit import Conditions, fit_candidate, predict, profile_interval
 from .floor import DEFAULT_CLUSTER_GAP, ReplicateFloor, band_of, lack_of_fit, replicate_floor
+from .goodness import goodness_summary
 from .likelihood import SPIN_SD
 from .results import CandidateFit, ModelResult, ValidationResult
 
@@ -74,6 +77,9 @@ def _fit_task(
     spin_sd: float,
     t_max: float,
     options: SolverOptions | None,
+    noise: str = "band",
+    conditions: list[Conditions] | None = None,
+    predict_conditions: list[Conditions] | None = None,
 ) -> tuple[CandidateFit, NDArray[np.float64] | None]:
     cand = CANDIDATES[name]
     ev = ModelEvaluator(cand, t_max, options)
@@ -89,10 +95,12 @@ def _fit_task(
         t_max=t_max,
         options=options,
         evaluator=ev,
+        noise=noise,
+        conditions=conditions,
     )
     pred = None
     if predict_w is not None:
-        pred = ev.opening_times([fit.values[k] for k in cand.params], predict_w)
+        pred = predict(cand, fit.values, predict_w, evaluator=ev, conditions=predict_conditions)
     return fit, pred
 
 
@@ -104,6 +112,7 @@ def _curve_task(
     run_t: NDArray[np.float64],
     t_max: float,
     options: SolverOptions | None,
+    conditions: list[Conditions] | None = None,
 ) -> tuple[NDArray[np.float64], dict[str, Any]]:
     cand = CANDIDATES[name]
     ev = ModelEvaluator(cand, t_max, options)
@@ -111,8 +120,12 @@ def _curve_task(
     tol = wid = fam = 0.0
     n_bad = 0
     worst_w = math.nan
+    conds = conditions or [()] * len(run_w)
+    at_runs = [replace(cand, conditions=c) if c else cand for c in conds]
     checks = convergence_checks(
-        [cand.build(float(w), values, t_max) for w in run_w], options, opening_times_s=run_t
+        [at.build(float(w), values, t_max) for at, w in zip(at_runs, run_w, strict=True)],
+        options,
+        opening_times_s=run_t,
     )
     for w, chk in zip(run_w, checks, strict=True):
         change = max(chk.tolerance_change, chk.width_change, chk.family_change)
@@ -218,7 +231,8 @@ def recommend(models: Sequence[ModelResult]) -> tuple[str, str]:
     others = sorted((m for m in models if m is not choice), key=lambda m: m.fit.aic)
     f = choice.fit
     vals = ", ".join(
-        f"{k} = {f.values[k]:.4g} {PARAMETERS[k].unit}".replace(" 1", "") for k in f.params
+        f"{k} = {f.values[k]:.4g}" + ("" if PARAMETERS[k].unit == "1" else f" {PARAMETERS[k].unit}")
+        for k in f.params
     )
     why = (
         f"'{choice.name}' ({vals}): lowest AIC among candidates with every parameter in "
@@ -249,6 +263,21 @@ def recommend(models: Sequence[ModelResult]) -> tuple[str, str]:
                 + ")"
             )
         why += "."
+    g = choice.goodness
+    if g and not math.isfinite(g["overall"]["p_value"]):
+        why += " No band has replicates: no lack-of-fit test against a floor."
+    elif g:
+        failing = [b for b, row in g["bands"].items() if row["p_value"] < 0.05]
+        why += (
+            f" Against the replicate floor (band by band): overall lack-of-fit "
+            f"p = {g['overall']['p_value']:.2g}"
+            + (f", failing at 5 % in {', '.join(failing)}" if failing else ", no band failing")
+            + "."
+        )
+        passing = [
+            m.name for m in models if m.goodness and m.goodness["overall"]["p_value"] >= 0.05
+        ]
+        why += " Passing overall at 5 %: " + (", ".join(passing) if passing else "none") + "."
     implausible = [m.name for m in fitted if not m.fit.all_plausible]
     if implausible:
         why += " Outside their physical ranges: " + ", ".join(implausible) + "."
@@ -288,6 +317,7 @@ def run_validation(
     options: SolverOptions | None = None,
     profile: bool | str = True,
     curve_points: int = _CURVE_POINTS,
+    noise: str = "band",
 ) -> ValidationResult:
     """Run the validation study (see the module notes).
 
@@ -315,6 +345,9 @@ def run_validation(
         about 2-3 times the study's time), or none (False: Wald intervals).
     curve_points : int
         Points of each model's t_cr(omega_p) curve.
+    noise : {"band", "pooled"}
+        Run-to-run noise of the likelihood: one sigma per spin band, fitted with
+        the model (default), or one pooled sigma (:mod:`.likelihood`).
 
     Returns
     -------
@@ -333,25 +366,42 @@ def run_validation(
     else:
         profile_all = False
     check_range("curve_points", curve_points, 2, 10_000)
+    check_choice("noise", noise, NOISE_MODELS)
     w, y, run = data.spin_rate, data.opening_time, data.run
-    floor: ReplicateFloor = replicate_floor(w, y, gap=gap)
+    # runs with another ball or load (a data file's columns) are no replicates; a
+    # theta_0 read per run varies like the spin within its band and does not split
+    settings = [
+        tuple(kv for kv in r if kv[0] in ("hole_radius", "density", "ball_mass"))
+        for r in data.run_settings()
+    ]
+    floor: ReplicateFloor = replicate_floor(
+        w, y, gap=gap, groups=settings if any(settings) else None
+    )
     mean_w = floor.cluster_mean_spin()
     band = band_of(mean_w)
     high = mean_w >= OUT_OF_BAND_SPLIT
+    n_runs = len(w)
+    starred = data.starred
+    # a data file's own settings per run, and its times to intermediate angles as
+    # further observations of the same runs (the floor and its clusters stay t_cr's)
+    w, y, run, band, high, starred, conds = _observations(data, band, high)
     if len(w) < 5:
         raise InputError("data", f"{len(w)} runs; the study needs at least 5")
-    common = (spin_sd, t_max, options)
+    common = (spin_sd, t_max, options, noise)
     grid = np.geomspace(0.9 * float(w.min()), 1.05 * float(w.max()), int(curve_points))
 
     # on the thesis data the starred runs are exactly the high half: fit once
-    same_split = bool(np.array_equal(data.starred, high))
+    same_split = bool(np.array_equal(starred, high))
     # phase 1: every all-run fit
     timings: dict[str, float] = {}
     # costliest first, so that the last fit to end is not a long one started late
     order = sorted(range(len(cands)), key=lambda i: _cost_rank(cands[i]), reverse=True)
     fitted_ordered = runner.map(
         _call,
-        [(_fit_task, cands[i].name, "all", w, y, band, run, None, None, *common) for i in order],
+        [
+            (_fit_task, cands[i].name, "all", w, y, band, run, None, None, *common, conds)
+            for i in order
+        ],
         label="validate: all-run fits",
         unit="fits",
         chunk_size=1,
@@ -381,8 +431,8 @@ def run_validation(
         f = fits[c.name]
         start = dict(f.values)
         subsets = []
-        if data.starred.any() and not same_split:
-            subsets.append(("starred", data.starred, np.ones_like(high)))
+        if starred.any() and not same_split:
+            subsets.append(("starred", starred, np.ones_like(high)))
         if high.any() and (~high).any():
             subsets.append((f"omega_p >= {OUT_OF_BAND_SPLIT:g}", high, ~high))
             subsets.append((f"omega_p < {OUT_OF_BAND_SPLIT:g}", ~high, high))
@@ -390,11 +440,16 @@ def run_validation(
             if int(m_fit.sum()) < c.n_params + 2:
                 continue
             ws, ys, bs, rs = _subset(m_fit, w, y, band, run)
-            tasks.append((_fit_task, c.name, label, ws, ys, bs, rs, start, w[m_pred], *common))
+            c_fit, c_pred = _pick(conds, m_fit), _pick(conds, m_pred)
+            tasks.append(
+                (_fit_task, c.name, label, ws, ys, bs, rs, start, w[m_pred], *common, c_fit, c_pred)
+            )
             tags.append((c.name, label, m_pred))
         model_t = np.where(np.isfinite(f.model), f.model, np.nan)
-        ok = np.isfinite(model_t)
-        tasks.append((_curve_task, c.name, start, grid, w[ok], model_t[ok], t_max, options))
+        ok = np.isfinite(model_t) & (np.arange(w.size) < n_runs)  # the t_cr observations
+        tasks.append(
+            (_curve_task, c.name, start, grid, w[ok], model_t[ok], t_max, options, _pick(conds, ok))
+        )
         tags.append((c.name, "curve", None))
     done = runner.map(
         _call,
@@ -445,7 +500,8 @@ def run_validation(
                 curve_spin=grid,
                 curve_t=curve,
                 convergence=conv,
-                lack_of_fit=lack_of_fit(floor, fits[c.name].residuals, c.n_params),
+                lack_of_fit=lack_of_fit(floor, fits[c.name].residuals[:n_runs], c.n_params),
+                goodness=goodness_summary(floor, _first_runs(fits[c.name], n_runs)),
                 **kw,
             )
         )
@@ -460,7 +516,8 @@ def run_validation(
     opts = options
     settings = {
         "source": data.source,
-        "n_runs": int(len(w)),
+        "n_runs": n_runs,
+        "n_angle_observations": int(len(w) - n_runs),
         "t_max_s": t_max,
         "spin_sd_rad_s": spin_sd,
         "cluster_gap_rad_s": gap,
@@ -469,7 +526,13 @@ def run_validation(
         "profile": "all" if profile_all else "recommended" if profile else "none",
         "solver": f"{opts.method} rtol={opts.rtol:g} atol={opts.atol:g} "
         f"friction_width={opts.friction_width:g} family={opts.friction_family}",
-        "likelihood": "Gaussian, sigma fitted, + (dt/domega sigma_w)^2 error-in-variables; "
+        "noise": noise,
+        "likelihood": (
+            "Gaussian, one sigma per spin band fitted"
+            if noise == "band"
+            else "Gaussian, one pooled sigma fitted"
+        )
+        + ", + (dt/domega sigma_w)^2 error-in-variables; "
         "runs not opened by t_max censored (survival term)",
         "ranking": "AIC of the all-run fit",
         "starred_runs_are_high_half": same_split,
@@ -484,6 +547,48 @@ def run_validation(
         elapsed_s=time.perf_counter() - t_start,
         phase_scatter=phase,
     )
+
+
+def _pick(conds: list[Conditions] | None, mask: NDArray[np.bool_]) -> list[Conditions] | None:
+    return None if conds is None else [c for c, m in zip(conds, mask, strict=True) if m]
+
+
+def _observations(
+    data: SpinRigData, band: NDArray[np.str_], high: NDArray[np.bool_]
+) -> tuple[Any, ...]:
+    """Spins, times, runs, bands, halves, starred flags and per-run settings of every
+    observation: the runs' t_cr, then each time to an intermediate angle (event at
+    theta_measured; same run, band and half). Settings None where all are Table 1."""
+    w, y, run, starred = data.spin_rate, data.opening_time, data.run, data.starred
+    settings = data.run_settings()
+    measured = ("t_measured", "theta_measured_deg")
+    conds = [tuple(kv for kv in s if kv[0] not in measured) for s in settings]
+    angle = data.settings.get("theta_measured_deg")
+    extra = np.zeros(w.size, dtype=bool) if angle is None else np.isfinite(angle)
+    if extra.any():
+        t_angle = data.settings["t_measured"]
+        conds += [
+            tuple(sorted((*conds[i], ("theta_cr_deg", float(angle[i])))))
+            for i in np.flatnonzero(extra)
+        ]
+        w = np.concatenate([w, w[extra]])
+        y = np.concatenate([y, t_angle[extra]])
+        run, band = np.concatenate([run, run[extra]]), np.concatenate([band, band[extra]])
+        high = np.concatenate([high, high[extra]])
+        starred = np.concatenate([starred, starred[extra]])
+    return w, y, run, band, high, starred, (conds if any(conds) else None)
+
+
+def _first_runs(fit: CandidateFit, n: int) -> CandidateFit:
+    """The fit restricted to its first `n` observations (the runs' t_cr)."""
+    if fit.ndata == n:
+        return fit
+    cut = {
+        k: getattr(fit, k)[:n]
+        for k in ("spin_rate", "measured", "model", "slope", "sd", "band", "run")
+    }
+    group = None if fit.noise_group is None else fit.noise_group[:n]
+    return replace(fit, noise_group=group, **cut)
 
 
 def _replace_ci(

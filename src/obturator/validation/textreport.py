@@ -9,7 +9,9 @@ from .floor import band_labels
 from .results import CandidateFit, ModelResult, ValidationResult
 
 __all__ = [
+    "cluster_table",
     "floor_table",
+    "goodness_table",
     "format_report",
     "markdown_summary",
     "params_table",
@@ -88,8 +90,94 @@ def params_table(fit: CandidateFit, indent: str = "  ") -> list[str]:
             f"95% [{_f(lo, '.5g')}, {_f(hi, '.5g')}] ({fit.ci_method[k]}) {p.unit:<5} "
             f"physical {p.plausible[0]:g}..{p.plausible[1]:g}: {plaus}"
         )
-    lines.append(f"{indent}{'sigma':<16} {fit.sigma:>10.5g} s (ML run-to-run scatter)")
+    if fit.noise == "band" and fit.sigma_by_group:
+        per = ", ".join(f"{g} {v:.4f}" for g, v in fit.sigma_by_group.items())
+        lines.append(f"{indent}{'sigma by band':<16} {per} s (ML run-to-run scatter)")
+    else:
+        lines.append(f"{indent}{'sigma':<16} {fit.sigma:>10.5g} s (ML run-to-run scatter)")
     return lines
+
+
+def goodness_table(result: ValidationResult) -> list[str]:
+    """Lines: lack of fit per band against the replicate floor, every model."""
+    bands = band_labels()
+    head = f"  {'model':<27} " + " ".join(f"{b:>15}" for b in bands) + f" {'overall':>16}"
+    lines = [
+        "Goodness of fit against the replicate floor: per band rms [s] / lack-of-fit p "
+        "(F test of the cluster means on the band's pure error); overall X2(dof) p",
+        head,
+    ]
+    for m in result.models:
+        g = m.goodness
+        if not g:
+            continue
+        cells = []
+        for b in bands:
+            row = g["bands"].get(b)
+            cells.append(
+                "-" if row is None else f"{_f(row['rms_s'], '.3f')} / {_f(row['p_value'], '.2g')}"
+            )
+        o = g["overall"]
+        overall = (
+            f"{_f(o['X2'], '.1f'):>6}({o['dof']}) {_f(o['p_value'], '.2g'):>6}"
+            if o["n_bands"]
+            else f"{'-':>16}"
+        )
+        lines.append(f"  {m.name:<27} " + " ".join(f"{c:>15}" for c in cells) + f" {overall}")
+    lines.append(
+        "  p < 0.05: the band's cluster means miss the model by more than replicates scatter"
+    )
+    return lines
+
+
+def cluster_table(result: ValidationResult, n_models: int = 5) -> list[str]:
+    """Lines: every replicated cluster, its scatter, and the residual of the recommended
+    and the next best models (model - measured mean [s], z on the band's pure error)."""
+    models = [result.model(result.recommended)]
+    models += [m for m in result.models if m.name != result.recommended][: n_models - 1]
+    models = [m for m in models if m.goodness]
+    if not models:
+        return []
+    head = f"  {'cluster':>9} {'n':>2} {'t mean':>7} {'SD':>7} " + " ".join(
+        f"{m.name[:16]:>16}" for m in models
+    )
+    lines = [
+        "Replicate clusters: measured mean and SD [s]; per model: residual [s] (z on the "
+        "band's pure-error SD / sqrt(n))",
+        head,
+    ]
+    rows = {m.name: {r["cluster"]: r for r in m.goodness["clusters"]} for m in models}
+    for r in models[0].goodness["clusters"]:
+        if r["n"] < 2:
+            continue
+        cells = []
+        for m in models:
+            q = rows[m.name][r["cluster"]]
+            cells.append(f"{q['residual_s']:+.3f} ({_f(q['z_band'], '+.1f')})")
+        lines.append(
+            f"  {r['name']:>9} {r['n']:>2d} {r['t_mean_s']:>7.4f} {_f(r['t_sd_s']):>7} "
+            + " ".join(f"{c:>16}" for c in cells)
+        )
+    return lines + _tightest_cluster(result)
+
+
+def _tightest_cluster(result: ValidationResult) -> list[str]:
+    """Every model's residual at the tightest cluster of three or more runs (on the thesis
+    runs 96 rad/s, SD 0.002 s): where a smooth model's misfit is plainest."""
+    models = [m for m in result.models if m.goodness]
+    rows = [r for r in models[0].goodness["clusters"] if r["n"] >= 3] if models else []
+    if not rows:
+        return []
+    tight = min(rows, key=lambda r: r["t_sd_s"])
+    res = {
+        m.name: next(r for r in m.goodness["clusters"] if r["cluster"] == tight["cluster"])
+        for m in models
+    }
+    cells = ", ".join(f"{name} {r['residual_s']:+.3f}" for name, r in res.items())
+    return [
+        f"Tightest replicated cluster, {tight['name']} ({tight['n']} runs, mean "
+        f"{tight['t_mean_s']:.4f} s, SD {tight['t_sd_s']:.4f} s): model - measured [s]: " + cells
+    ]
 
 
 def _model_lines(m: ModelResult) -> list[str]:
@@ -125,6 +213,7 @@ def _model_lines(m: ModelResult) -> list[str]:
 def format_report(result: ValidationResult, *, details: bool = True) -> str:
     """The study as text: floor, ranked table, recommendation, per-model details."""
     lines = floor_table(result) + [""] + ranked_table(result) + [""]
+    lines += goodness_table(result) + [""] + cluster_table(result) + [""]
     rec = result.model(result.recommended)
     lines.append("Recommended: " + result.recommendation)
     lines += params_table(rec.fit)
@@ -218,6 +307,24 @@ def markdown_summary(result: ValidationResult) -> list[str]:
             f"{_f(oob.get('high->low', math.nan))} | {_f(oob.get('low->high', math.nan))} | "
             f"{'yes' if f.all_plausible else 'no'} |"
         )
+    good = [m for m in result.models if m.goodness]
+    if good:
+        out += [
+            "",
+            "Lack of fit per band against the replicate floor (p of the F test of the "
+            "cluster means on the band's pure error; p < 0.05: the model misses):",
+            "",
+            "| model | " + " | ".join(bands) + " | overall X2 (dof) | p |",
+            "|---|" + "---|" * len(bands) + "---|---|",
+        ]
+        for m in good:
+            g = m.goodness
+            cells = [_f(g["bands"].get(b, {}).get("p_value", math.nan), ".2g") for b in bands]
+            o = g["overall"]
+            out.append(
+                f"| {m.name} | " + " | ".join(cells) + f" | {_f(o['X2'], '.1f')} ({o['dof']}) "
+                f"| {_f(o['p_value'], '.2g')} |"
+            )
     rec = result.model(result.recommended)
     out += ["", "**Recommended:** " + result.recommendation, ""]
     out += ["```"] + params_table(rec.fit) + ["```"]

@@ -45,7 +45,7 @@ import numpy as np
 from numba import njit
 
 from ..dynamics import nutation_angle_of_state, rhs
-from ..jit_flags import NO_REFCOUNT
+from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import N_STATE, P_THETA_CR
 from .common import (
     append_row,
@@ -84,7 +84,7 @@ STIFF_STEPS = 15
 TOL_FACTOR = 0.01
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
 def _stages(t, y, h, p, k, ynew, work) -> None:
     """Stages k[1..11] (k[0] = f(t, y) given) and the 8th-order solution ynew."""
     n = N_STATE
@@ -102,7 +102,7 @@ def _stages(t, y, h, p, k, ynew, work) -> None:
         ynew[i] = y[i] + h * acc
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
 def step_factor(err) -> float:
     """0.9 err^(-1/8), DOP853's step-size factor before its bounds (inf at err = 0).
 
@@ -114,13 +114,13 @@ def step_factor(err) -> float:
     return 0.9 / math.sqrt(math.sqrt(math.sqrt(err)))
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
 def stiffness_product(h, num, den) -> float:
     """Hairer's h |lambda| estimate h sqrt(num / den), or -1 when den = 0."""
     return h * math.sqrt(num / den) if den > 0.0 else -1.0
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
 def error_weight(atol, scale, rtol, y, ynew) -> float:
     """atol * scale + rtol * max(|y|, |ynew|), compiled without FMA contraction: with it,
     a * b + c * d may fuse either product, and the scalar and the vectorised lane code
@@ -128,7 +128,7 @@ def error_weight(atol, scale, rtol, y, ynew) -> float:
     return atol * scale + rtol * max(abs(y), abs(ynew))
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT)
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="python")
 def _error_norm(k, h, y, ynew, rtol, atol, scale) -> float:
     """DOP853's combined estimate h |e5|^2 / sqrt((|e5|^2 + 0.01 |e3|^2) n)."""
     n = N_STATE
@@ -150,7 +150,7 @@ def _error_norm(k, h, y, ynew, rtol, atol, scale) -> float:
     return abs(h) * s5 / math.sqrt((s5 + 0.01 * s3) * n)
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
 def locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol):
     """Opening time inside the accepted step (t, t + h] (g_old > 0 >= g_new).
 
@@ -179,7 +179,8 @@ def locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol):
     return t + s_hi * h, nfev
 
 
-@njit(cache=True, nogil=True)  # nogil: the CLI watcher thread can stop a long run
+# nogil: the CLI watcher thread can stop a long run
+@njit(cache=True, nogil=True, fastmath=False, error_model="python", **REFCOUNT)
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`.
 

@@ -19,6 +19,7 @@ import numpy as np
 from numba import njit
 
 from ..dynamics import nutation_angle_of_state, rhs
+from ..jit_flags import REFCOUNT
 from ..layout import N_STATE, P_THETA_CR
 from .common import (
     append_row,
@@ -41,7 +42,7 @@ _D = 1.0 / (2.0 + math.sqrt(2.0))
 _E32 = 6.0 + math.sqrt(2.0)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False, error_model="python", **REFCOUNT)
 def _step(t, y, h, f0, jac, p, lu, piv, k1, k2, k3, f1, f2, ynew, work) -> bool:
     """One ode23s step of size h; fills ynew, k1, k2 and the error in k3."""
     n = N_STATE
@@ -72,7 +73,8 @@ def _step(t, y, h, f0, jac, p, lu, piv, k1, k2, k3, f1, f2, ynew, work) -> bool:
     return True
 
 
-@njit(cache=True, nogil=True)  # nogil: the CLI watcher thread can stop a long run
+# nogil: the CLI watcher thread can stop a long run
+@njit(cache=True, nogil=True, fastmath=False, error_model="python", **REFCOUNT)
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
     p, scale = problem.p, problem.scale

@@ -67,7 +67,7 @@ from ..friction_sets import (
     turn_by,
     turn_rigidly,
 )
-from ..jit_flags import NO_REFCOUNT
+from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import (
     FORM_QUATERNION,
     FRIC_THESIS_FLIGHT,
@@ -87,6 +87,7 @@ from ..layout import (
     SPIN_THESIS_ENERGY,
 )
 from . import AUTO_RADAU_TOL_FACTOR
+from . import stick_slip_map as return_map
 from .common import append_row, jacobian, record_row, rms_norm, start, underflow
 from .contract import Controls, Problem, RawSolution, Status
 from .dop853 import integrate as dop853_integrate
@@ -95,13 +96,33 @@ from .radau import _UROUND, _colloc_weights, _dense, _factor, _newton, locate_op
 from .radau_coefficients import C1, C2, E1, E2, E3
 from .radau_control import _LIM_SHRINK, next_step, step_quotient
 
-__all__ = ["STICK_SLIP", "KICK", "HOME_IN", "JACOBIAN_WIDTH", "FAST_SLIP", "integrate"]
+__all__ = [
+    "STICK_SLIP",
+    "KICK",
+    "HOME_IN",
+    "JACOBIAN_WIDTH",
+    "FAST_SLIP",
+    "TAKE_OFF",
+    "RELEASE_KICK",
+    "REKICK",
+    "HOLD_THROUGH",
+    "integrate",
+    "run_cycles",
+]
 
 #: Slip speed, in units of |omega_p|, at which a decaying slip with G_req inside F
 #: becomes stick.
 STICK_SLIP = 1e-6
 #: Slip speed, in units of |omega_p|, given at breakaway (along -G_req / |G_req|).
-KICK = 1e-9
+#: 1e-9 let Radau IIA hover at the kick's level for ~100 steps in the wide windows
+#: near theta = 49 deg (40 rad/s), and rounding alone then decided whether a window
+#: slipped in full (t_cr moved by a whole cycle, 1.9e-3, between two equivalent
+#: starts); at 1e-8 and 1e-7 it took off in every window tried.
+KICK = 1e-8
+#: The kick at release (zero slip, G_req outside F: flight, the rig at some azimuths),
+#: where G_req is well outside F and the slip takes off at once: 1e-9 as before (at 1e-8
+#: the flight t_cr moved by up to 4e-8 at rtol 1e-9, by 3e-7 at rtol 1e-8, Mach 3).
+RELEASE_KICK = 1e-9
 #: Fraction of the predicted time to zero slip taken as the step when homing in.
 HOME_IN = 0.98
 #: Width, in units of the slip speed, of the parameter copy used for Radau IIA's
@@ -111,6 +132,14 @@ JACOBIAN_WIDTH = 1e-3
 #: Slip speed above which slip is integrated by DOP853, in units of (M / A) h_max: the
 #: slip direction relaxes at ~ M / (A |omega_r|), so there h_max resolves it.
 FAST_SLIP = 4.0
+#: First Radau IIA step after a breakaway, in units of the kicked slip's age (the time
+#: from the exit of F to the kick).
+TAKE_OFF = 1.0
+#: A kicked slip that falls back below the kick inside an exit window of F is held
+#: rigidly through this fraction of the window left, then kicked again ...
+REKICK = 0.5
+#: ... unless no more than this is left [rad]: then through the window (a grazing exit).
+HOLD_THROUGH = 1e-4
 #: Fraction of |omega_r| / |omega_r'| that one DOP853 stretch may last.
 _CHUNK = 0.5
 #: Relative margin (of M) that G_req must keep inside F to enter stick.
@@ -141,30 +170,43 @@ def integrate(
         raise InputError(
             "torque_model", "the set-valued solver takes the thesis law with constant mu_s"
         )
-    spin = abs(float(problem.y0[7])) or 1.0
     p[P_KERNEL] = KERNEL_GENERIC
     p[P_WIDTH] = 0.0
     p[P_FAMILY] = 0.0
-    p_jac = p.copy()
-    p_jac[P_WIDTH] = JACOBIAN_WIDTH * spin
-    return _integrate(problem._replace(p=p), controls, p_jac, stick_slip, kick)
+    problem = problem._replace(p=p)
+    if return_map.applies(problem, controls):
+        return return_map.integrate(problem, controls, run_cycles(stick_slip, kick))
+    return run_cycles(stick_slip, kick)(problem, controls, math.inf)
 
 
-@njit(cache=True, **NO_REFCOUNT)
+def run_cycles(stick_slip: float = STICK_SLIP, kick: float = KICK):
+    """``run(problem, controls, cycle_end) -> RawSolution``: the mode loop on a problem
+    whose parameters :func:`integrate` has checked and set to zero width, stopping at
+    the first breakaway at or after `cycle_end` [s] (``math.inf``: never)."""
+
+    def run(problem: Problem, controls: Controls, cycle_end: float) -> RawSolution:
+        p_jac = problem.p.copy()
+        p_jac[P_WIDTH] = JACOBIAN_WIDTH * (abs(float(problem.y0[7])) or 1.0)
+        return _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end)
+
+    return run
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _slip(y: np.ndarray) -> tuple[float, float, float, float]:
     """omega_r (inertial) and |omega_r| [rad/s] of a state."""
     wx, wy, wz = relative_rate(y, y[7])
     return wx, wy, wz, math.sqrt(wx * wx + wy * wy + wz * wz)
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _stick_admissible(y: np.ndarray, p: np.ndarray) -> bool:
     """G_req of `y` inside F with the relative margin _MARGIN."""
     gx, gy, gz = required_reaction(y, p, y[7])
     return stick_margin(gx, gy, gz, p) > _MARGIN * p[P_FRIC + 1]
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _slip_rate(y: np.ndarray, f: np.ndarray) -> float:
     """d|omega_r|/dt [rad/s^2] at `y` with derivative `f` (omega_r' = R w' - omega_p' Z)."""
     wx, wy, wz, r = _slip(y)
@@ -182,14 +224,14 @@ def _slip_rate(y: np.ndarray, f: np.ndarray) -> float:
     return (wx * ax + wy * ay + wz * az) / r
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _excess(y: np.ndarray, p: np.ndarray) -> float:
     """-stick_margin of G_req at `y` [N m]: how far G_req is outside F."""
     gx, gy, gz = required_reaction(y, p, y[7])
     return -stick_margin(gx, gy, gz, p)
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> float:
     """Start a slip from zero slip at `y` (in place); returns the time it takes [s].
 
@@ -232,19 +274,24 @@ def _break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> 
     return tau
 
 
-@njit(cache=True, **NO_REFCOUNT)
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def _through_window(y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval):
-    """Hold the ball through the rest of an exit window of F (in place on `y`).
+    """Hold the ball rigidly through part of an exit window of F (in place on `y`).
 
-    For a slip that cannot take off: G_req only grazes the boundary of F, |omega_r|
-    has fallen below the kick and Radau IIA's steps have collapsed. Its creep is below
-    the kick's scale, so the ball turns rigidly to the end of the window. Returns
-    (t_end, i_eval, n_out), t_end < 0 where this does not apply (the run failed).
+    For a slip that did not take off: |omega_r| has fallen below the kick with G_req
+    outside F and Radau IIA's steps have collapsed. Where G_req only grazes the boundary
+    of F its creep is below the kick's scale, and the ball turns rigidly to the end of the
+    window; otherwise (more than :data:`HOLD_THROUGH` rad of window left) it turns
+    through :data:`REKICK` of what is left and the mode loop kicks it again, with the
+    larger excess there. Returns (t_end, i_eval, n_out), t_end < 0 where this does not
+    apply (the run failed).
     """
     wp = y[7]
     window = -breakaway_angle(y, p, wp)
     if not (_slip(y)[3] < r_kick and window > 0.0 and wp != 0.0):
         return -1.0, i_eval, n_out
+    if window > HOLD_THROUGH:
+        window *= REKICK
     t_new = min(t + (window + 1e-12) / abs(wp), t_max)
     while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
         turn_rigidly(y, wp * (t_eval[i_eval] - t), ytry)
@@ -266,9 +313,13 @@ def _fresh_radau(h: float, h_max: float, t_left: float) -> tuple:
     return min(h, h_max, t_left), math.nan, True, False, True, math.inf
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"})
-def _integrate(problem, controls, p_jac, stick_slip, kick):
-    """The mode loop: closed-form stick phases, Radau IIA slip phases (see module)."""
+@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
+def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
+    """The mode loop: closed-form stick phases, Radau IIA slip phases (see module).
+
+    Stops (status ``T_MAX``, ``t_end < t_max``) at the first breakaway at or after
+    `cycle_end` [s], before its kick: one cycle of the return map (:mod:`.stick_slip_map`).
+    """
     p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
     n = N_STATE
@@ -339,8 +390,12 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
     theta = 0.0
     armed = True  # re-stick allowed (after a breakaway: once G_req has left F)
     if not sticking:
-        if r0 < r_kick:  # released at (or near) zero slip with G_req outside F
-            t += _break_away(y, p, r_kick, ytry)
+        r_release = RELEASE_KICK * spin
+        if r0 < r_release:  # released at (or near) zero slip with G_req outside F
+            tau = _break_away(y, p, r_release, ytry)
+            t += tau
+            if tau > 0.0:
+                h = min(h, TAKE_OFF * tau)
         rhs(t, y, p, f0)
         nfev += 1
     g_old = nutation_angle_of_state(y, p) - theta_cr
@@ -348,7 +403,8 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
         if sticking:
             wp = y[7]
             hold_stick(y, wp)
-            angle = max(breakaway_angle(y, p, wp), 0.0)
+            exit_angle = breakaway_angle(y, p, wp)  # < 0: a re-kick inside a window
+            angle = max(exit_angle, 0.0)
             t_b = min(t + angle / abs(wp), t_max) if wp != 0.0 else t_max
             if use_eval:
                 while i_eval < n_eval and t_eval[i_eval] <= t_b:
@@ -362,14 +418,21 @@ def _integrate(problem, controls, p_jac, stick_slip, kick):
             t = t_b
             if record and not use_eval:
                 ts, ys, n_out = append_row(ts, ys, n_out, t, y)
-            if t >= t_max:
+            if t >= t_max or (t >= cycle_end and exit_angle >= 0.0):
                 break
-            t += _break_away(y, p, r_kick, ytry)
+            tau = _break_away(y, p, r_kick, ytry)
+            t += tau
             sticking = False
             armed = False
             rhs(t, y, p, f0)
             nfev += 1
-            h, h_lu, need_jac, have_poly, first, h_lim = _fresh_radau(h0, h_max, t_max - t)
+            # first step: the slip's age tau (it about doubles): a longer first step
+            # let Newton land on a decaying branch of the non-smooth law (seen at
+            # 40 rad/s, one window in ~500 lost by rounding alone)
+            h_first = TAKE_OFF * tau if tau > 0.0 else h0
+            h, h_lu, need_jac, have_poly, first, h_lim = _fresh_radau(
+                min(h0, h_first), h_max, t_max - t
+            )
             rejected = False
             faccon = 1.0
             g_old = nutation_angle_of_state(y, p) - theta_cr

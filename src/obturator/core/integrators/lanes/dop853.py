@@ -55,7 +55,7 @@ from ..dop853 import (
 from .dop853_sums import error_sums, stage_sum
 from .points import Outcome, Points, copy_lane, finish, new_outcome, pack_lanes
 from .rates import cos_nutation_lanes, rhs_generic_lanes, rhs_thesis_lanes
-from .simd import DRIVER_PHASE, LANE_KERNEL, LANES, NO_REFCOUNT
+from .simd import DRIVER_PHASE, LANE_KERNEL, LANES, NO_REFCOUNT, REFCOUNT
 
 __all__ = ["integrate_lanes", "LANES", "DEFAULT_LANES"]
 
@@ -107,7 +107,7 @@ class Attempt(NamedTuple):
     scratch: tuple  #: (work, trial state, derivative) of the scalar routines
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def _new_lanes(n_par: int) -> Lanes:
     f = np.zeros(LANES)
     i = np.zeros(LANES, dtype=np.int64)
@@ -133,7 +133,7 @@ def _new_lanes(n_par: int) -> Lanes:
     )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def _new_attempt(n_par: int) -> Attempt:
     v = np.zeros(_N * LANES)
     f = np.zeros(LANES)
@@ -157,7 +157,7 @@ def _new_attempt(n_par: int) -> Attempt:
     )
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def integrate_lanes(
     y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes
 ):
@@ -427,7 +427,8 @@ def _error_lanes(k, h, y, ynew, rtol, atol, scale, err, s5, s3) -> None:
             err[j] = abs(h[j]) * s5[j] / math.sqrt((s5[j] + 0.01 * s3[j]) * N_STATE)
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT)  # no contract: as dop853.integrate
+# no contract: as dop853.integrate, whose step control this mirrors
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
 def _control_lanes(err, fac, hl, h, f1, k, ynew, work, num, den) -> None:
     """Step-size factor and stiffness estimate of every lane, in vector loops.
 
@@ -460,7 +461,7 @@ _GO_ON = -100
 _T_MAX, _STEP_LIMIT, _STIFF = int(Status.T_MAX), int(Status.STEP_LIMIT), int(Status.STIFF)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **NO_REFCOUNT)
 def _top_of_step(t, t0, h, t_max, steps_per_s, n_steps, n_rejected, max_steps):
     """The checks at the top of dop853.integrate's loop for one lane (started at t0).
 

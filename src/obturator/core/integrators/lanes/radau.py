@@ -23,7 +23,7 @@ vectorised loop each (:mod:`.radau_steps`):
 
 The per-lane decisions (convergence, acceptance, step size, Jacobian reuse,
 the event test) are the scalar code's, lane by lane. The opening is located
-with :func:`obturator.core.integrators.radau.locate_opening` on the lane's data, as in
+with :func:`obturator.core.integrators.radau.locate_opening_at` on the lane's data, as in
 the scalar code.
 
 The state is named tuples of arrays (:mod:`.radau_state`): what a lane carries from
@@ -48,13 +48,14 @@ from ...dynamics import nutation_angle_of_state, slip_and_spin
 from ...layout import N_STATE, P_THETA_CR, P_WIDTH
 from ..common import increment_cap, underflow
 from ..contract import Status
-from ..radau import _UROUND, locate_opening
+from ..radau import _UROUND, locate_opening_at
 from ..radau_control import (
     _LIM_SHRINK,
     _NIT,
     _THET,
     newton_contraction,
     next_step,
+    radau5_tolerances,
     sliding_resumed,
     step_quotient,
 )
@@ -84,7 +85,7 @@ from .radau_steps import (
     wnorm_lanes,
 )
 from .rates import cos_nutation_lanes, rhs_thesis_lanes
-from .simd import DRIVER_PHASE, LANES, NO_REFCOUNT
+from .simd import DRIVER_PHASE, LANES, NO_REFCOUNT, REFCOUNT
 from .solves import lu_solve_lanes, lu_solve_pair_lanes
 
 __all__ = ["integrate_radau_lanes"]
@@ -96,7 +97,7 @@ _M = N_STATE * N_STATE * LANES  # one matrix of every lane
 _RUNNING, _CONVERGED, _FAILED, _IDLE = 0, 1, 2, 3
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def integrate_radau_lanes(
     y0,
     t0,
@@ -158,11 +159,7 @@ def integrate_radau_lanes(
     n_par = p.shape[1]
     pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, hand_back, order)
     out = new_outcome(n_pts)
-    # RADAU5's tolerance transformation and Newton stopping tolerance (as radau.integrate)
-    quot_tol = atol / rtol
-    rtol = 0.1 * rtol ** (2.0 / 3.0)
-    atol = rtol * quot_tol
-    fnewt = max(10.0 * _UROUND / rtol, min(0.03, math.sqrt(rtol)))
+    rtol, atol, fnewt = radau5_tolerances(rtol, atol)  # as radau.integrate
     tol = Settings(rtol, atol, fnewt, event_tol, vw)
     nl = max(1, min(n_lanes, LANES, n_pts))
     _run(pts, new_lanes(n_par), new_attempt(), new_one_lane(n_par), out, nl, tol)
@@ -504,7 +501,7 @@ def _decide(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Settings
 @njit(**DRIVER_PHASE)
 def _opening(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Settings) -> bool:
     """The exact opening test of lane j's converged step and, where theta crosses
-    theta_cr inside it, its location (radau.locate_opening on the lane's data); whether
+    theta_cr inside it, its location (radau.locate_opening_at on the lane's data); whether
     the point opened (it has then ended). Sets ``g_old`` for the next step otherwise."""
     ps = one.p
     for i in range(ps.shape[0]):
@@ -522,25 +519,9 @@ def _opening(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Setting
         for i in range(_N):
             for c in range(_N):
                 one.jac[i, c] = ln.jac[(i * _N + c) * LANES + j]
-        found, t_ev, nf = locate_opening(
-            ln.t[j],
-            one.y,
-            ln.h[j],
-            one.z,
-            one.ynew,
-            ln.g_old[j],
-            g_new,
-            ps,
-            one.scal,
-            one.jac,
-            one.z_acc,
-            one.stage,
-            one.lu,
-            one.scratch,
-            tol.fnewt,
-            tol.event_tol,
-            one.y_try,
-            one.y_event,
+        step = (ln.t[j], one.y, ln.h[j], one.z, one.ynew, ln.g_old[j], g_new)
+        found, t_ev, nf = locate_opening_at(
+            step, ps, one.scal, one.jac, tol.fnewt, tol.event_tol, one.event
         )
         ln.cnt[0, j] += nf
         if found:

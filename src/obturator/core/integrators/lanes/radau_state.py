@@ -13,8 +13,9 @@ import numpy as np
 from numba import njit
 
 from ...layout import N_STATE
+from ..radau import EventWork
 from .radau_steps import NW_F, NW_R1, NW_R2, NW_R3, NW_SCAL, NW_SIZE, NW_Z
-from .simd import LANES
+from .simd import LANES, REFCOUNT
 
 __all__ = ["Lanes", "Attempt", "OneLane", "Settings", "new_lanes", "new_attempt", "new_one_lane"]
 
@@ -95,7 +96,7 @@ class Attempt(NamedTuple):
 
 
 class OneLane(NamedTuple):
-    """One lane's data for the scalar event location (radau.locate_opening)."""
+    """One lane's data for the scalar event location (radau.locate_opening_at)."""
 
     y: np.ndarray
     ynew: np.ndarray
@@ -103,12 +104,7 @@ class OneLane(NamedTuple):
     scal: np.ndarray
     z: np.ndarray  #: (3, N_STATE)
     jac: np.ndarray  #: (N_STATE, N_STATE)
-    z_acc: np.ndarray  #: (3, N_STATE)
-    stage: tuple  #: three (3, N_STATE)
-    lu: tuple  #: real LU, pivots, complex LU (two parts), pivots
-    scratch: tuple  #: three (N_STATE,)
-    y_try: np.ndarray
-    y_event: np.ndarray
+    event: EventWork  #: what the event location writes
 
 
 class Settings(NamedTuple):
@@ -121,7 +117,7 @@ class Settings(NamedTuple):
     vw: int  #: LANES, passed at run time (see :mod:`.lu`)
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def new_lanes(n_par: int) -> Lanes:
     f = np.zeros(LANES)
     one = np.ones(LANES)
@@ -160,7 +156,7 @@ def new_lanes(n_par: int) -> Lanes:
     )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def new_attempt() -> Attempt:
     nw = np.zeros(NW_SIZE)
     scal = nw[NW_SCAL : NW_SCAL + _V]
@@ -206,7 +202,7 @@ def new_attempt() -> Attempt:
     )
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def new_one_lane(n_par: int) -> OneLane:
     s = np.empty(_N)
     m = np.empty((_N, _N))
@@ -219,10 +215,12 @@ def new_one_lane(n_par: int) -> OneLane:
         scal=s.copy(),
         z=z.copy(),
         jac=m.copy(),
-        z_acc=z.copy(),
-        stage=(z.copy(), z.copy(), z.copy()),
-        lu=(m.copy(), piv.copy(), m.copy(), m.copy(), piv.copy()),
-        scratch=(s.copy(), s.copy(), s.copy()),
-        y_try=s.copy(),
-        y_event=s.copy(),
+        event=EventWork(
+            zacc=z.copy(),
+            stage=(z.copy(), z.copy(), z.copy()),
+            lu=(m.copy(), piv.copy(), m.copy(), m.copy(), piv.copy()),
+            scratch=(s.copy(), s.copy(), s.copy()),
+            ytry=s.copy(),
+            y_event=s.copy(),
+        ),
     )

@@ -86,7 +86,7 @@ def _thesis_lanes(y, p, dy, do, turbulent) -> int:
     return n_above
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
 def rhs_generic_lanes(y, p, dy, do, nl, one) -> None:
     """The generic right-hand side (:func:`~obturator.core.dynamics.rhs`) in lanes
     0..nl-1, through `one` = (state, derivative, parameters) of one lane (scratch)."""

@@ -7,9 +7,9 @@ arrays of runtime stride they did not vectorise at all). 16 lanes measured
 fastest on the 2-core AVX2 development machine (8: slower; 32: within noise).
 """
 
-from ...jit_flags import NO_REFCOUNT
+from ...jit_flags import NO_REFCOUNT, REFCOUNT
 
-__all__ = ["LANES", "LANE_KERNEL", "DRIVER_PHASE", "NO_REFCOUNT"]
+__all__ = ["LANES", "LANE_KERNEL", "DRIVER_PHASE", "NO_REFCOUNT", "REFCOUNT"]
 
 LANES = 16
 

@@ -1,0 +1,218 @@
+"""Command-line options declared once (:class:`Flag`) and composed into commands.
+
+An option that several commands take (``--json``, ``--seed``, the solver tolerances,
+the execution flags, the outputs) is one :class:`Flag` here, with its kind
+(:mod:`._kinds`); a command adds the ones it takes with :func:`add_flags` (or
+:func:`add_command`), changing a setting only where its meaning differs there
+(:meth:`Flag.but`: another default, help or destination).
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+from ..params import SWEEP_PARAMS, Range
+from ..vocab import CASE_NAMES, FRICTION_FAMILIES, METHODS, SPIN_MODES, TORQUE_MODELS
+from ._args import MAX_WORKERS, SEED, axis_of, flag, quantity_of
+from ._kinds import Count, InputFile, OutputFile, Quantity, Text
+
+__all__ = [
+    "Flag",
+    "option",
+    "switch",
+    "add_flags",
+    "add_command",
+    "execution_flags",
+    "study_flags",
+    "parameter_flags",
+    "JSON",
+    "NO_PROGRESS",
+    "CONFIG",
+    "RTOL",
+    "ATOL",
+    "T_MAX",
+    "SEED_FLAG",
+    "CONFIDENCE",
+    "VARY",
+    "OUT_NETCDF",
+    "CSV",
+    "PLOT",
+    "TORQUE_MODEL",
+]
+
+
+@dataclass(frozen=True)
+class Flag:
+    """One command-line option: its names and its ``add_argument`` settings."""
+
+    names: tuple[str, ...]
+    settings: Mapping[str, Any] = field(default_factory=dict)
+
+    def but(self, **changes: Any) -> Flag:
+        """The same option with some settings changed (a command's default or help)."""
+        return Flag(self.names, MappingProxyType({**self.settings, **changes}))
+
+
+def option(*names: str, **settings: Any) -> Flag:
+    """A :class:`Flag` with these names and ``add_argument`` settings."""
+    return Flag(names, MappingProxyType(settings))
+
+
+def switch(name: str, text: str) -> Flag:
+    """An on/off option (``store_true``) with its help `text`."""
+    return option(name, action="store_true", help=text)
+
+
+def add_flags(parser: Any, *flags: Flag) -> None:
+    """Add `flags` to `parser` (an ``ArgumentParser`` or an argument group), in order."""
+    for f in flags:
+        parser.add_argument(*f.names, **f.settings)
+
+
+def add_command(
+    subparsers: argparse._SubParsersAction,
+    name: str,
+    run: Callable[[argparse.Namespace], int],
+    description: str,
+    *flags: Flag,
+) -> argparse.ArgumentParser:
+    """Add sub-command `name` (its one-line help from ``obturator.cli._COMMANDS``) that
+    calls `run` with the parsed flags; returns its parser for further flags."""
+    from . import _COMMANDS
+
+    parser = subparsers.add_parser(name, help=_COMMANDS[name][1], description=description)
+    add_flags(parser, *flags)
+    parser.set_defaults(func=run)
+    return parser
+
+
+JSON = switch("--json", "print one JSON object")
+NO_PROGRESS = switch("--no-progress", "no progress bar")
+CONFIG = option(
+    "--config", metavar="FILE.toml", type=InputFile(), help="TOML settings (flags override)"
+)
+RTOL = option(
+    "--rtol", metavar="X", type=quantity_of("rtol"), help="relative tolerance (default 1e-8)"
+)
+ATOL = option(
+    "--atol", metavar="X", type=quantity_of("atol"), help="absolute tolerance (default 1e-10)"
+)
+T_MAX = option(
+    "--t-max", metavar="S", type=quantity_of("t_max"), help="give up after this time [s]"
+)
+TORQUE_MODEL = option("--torque-model", choices=TORQUE_MODELS, default=None)
+SEED_FLAG = option("--seed", metavar="S", default="0", type=SEED)
+#: Level of a confidence interval.
+CONFIDENCE = option(
+    "--confidence",
+    metavar="C",
+    default="0.95",
+    type=Quantity("", Range(0.0, 1.0, True, True), "0.9"),
+)
+#: An uncertain input, repeatable.
+VARY = option(
+    "--vary",
+    action="append",
+    metavar="NAME=KIND:ARGS",
+    type=Text(example="mu_s=uniform:0.3,0.4"),
+    help="uncertain input",
+)
+OUT_NETCDF = option(
+    "--out", metavar="FILE.nc", type=OutputFile(), help="NetCDF output (and resume store)"
+)
+CSV = option(
+    "--csv", metavar="FILE.csv", type=OutputFile(example="out.csv"), help="also write a CSV table"
+)
+PLOT = option("--plot", metavar="FILE.png")
+
+
+def execution_flags() -> tuple[Flag, ...]:
+    """Workers, Dask scheduler, chunk size, restart, progress (every study that runs on
+    a :class:`obturator.runs.Runner`)."""
+    from ..sweeps.grid import MAX_POINTS  # not at import: start-up time
+
+    return (
+        option(
+            "--workers",
+            metavar="N",
+            type=Count(1, MAX_WORKERS),
+            help="local worker processes (default: all CPUs; 1: in-process)",
+        ),
+        option(
+            "--scheduler",
+            metavar="ADDRESS",
+            type=Text(example="tcp://127.0.0.1:1"),
+            help="dask.distributed scheduler, e.g. tcp://host:8786",
+        ),
+        option(
+            "--chunk-size",
+            metavar="N",
+            type=Count(1, MAX_POINTS),
+            help="points per task (default: automatic)",
+        ),
+        switch("--restart", "discard partial results of a different study"),
+        NO_PROGRESS,
+    )
+
+
+def study_flags() -> tuple[Flag, ...]:
+    """Flags common to ``sweep`` and ``montecarlo``: case, models, solver, execution."""
+    return (
+        option(
+            "--case", choices=CASE_NAMES, default=None, help="Table 1 column (default spin-rig)"
+        ),
+        TORQUE_MODEL,
+        option("--spin-mode", choices=SPIN_MODES, default=None),
+        CONFIG.but(help="settings (schema in obturator.io; flags win)"),
+        RTOL,
+        ATOL.but(help="absolute tolerance (default rtol/100, or 1e-10)"),
+        option(
+            "--tcr-rtol",
+            metavar="X",
+            type=Quantity("", Range(0.0, 1.0, True, True), "1e-4"),
+            help="set the tolerances for this relative t_cr accuracy (>= 4.5e-7; measured "
+            "table in obturator.solve.OPENING_TIME_ACCURACY, set by the rig's long near-stick "
+            "runs below 100 rad/s; the default rtol 1e-8 gives <= 3e-7 above 100 rad/s, "
+            "<= 1.6e-3 below)",
+        ),
+        option("--method", choices=METHODS, default=None, help="integrator"),
+        option(
+            "--friction-width",
+            metavar="X",
+            type=quantity_of("friction_width"),
+            help="regularisation width / omega_p (default 1e-7)",
+        ),
+        option(
+            "--friction-family",
+            choices=FRICTION_FAMILIES,
+            default=None,
+            help="regularisation family (default algebraic)",
+        ),
+        T_MAX,
+        *execution_flags(),
+        JSON,
+    )
+
+
+def parameter_flags(*, grid: bool) -> tuple[Flag, ...]:
+    """One flag per sweepable parameter (``obturator.params.SWEEP_PARAMS``): a grid
+    axis (``sweep``) or a fixed value (``montecarlo``)."""
+    flags = []
+    for name, par in SWEEP_PARAMS.items():
+        extra = " (flight only)" if par.flight_only else ""
+        text = f"{par.long_name} [{par.unit}]{extra}"
+        kind, metavar = (axis_of(name), "SPEC") if grid else (quantity_of(name), "X")
+        flags.append(
+            option(
+                flag(name),
+                dest=name,
+                metavar=metavar,
+                type=kind,
+                help=text if grid else "fixed " + text,
+            )
+        )
+    return tuple(flags)
