@@ -13,8 +13,6 @@ of their t_cr (the lanes' rounding).
 
 from __future__ import annotations
 
-import argparse
-import json
 import math
 import time
 from collections.abc import Sequence
@@ -85,19 +83,13 @@ def print_table(rows: list[dict[str, Any]]) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m benchmarks.coupled``."""
-    ap = argparse.ArgumentParser(prog="python -m benchmarks.coupled")
-    ap.add_argument("--quick", action="store_true", help="16 points only")
-    ap.add_argument("--json", metavar="PATH", help="write the rows as JSON")
-    args = ap.parse_args(argv)
-    from benchmarks.run import _meta
+    from benchmarks._module import run_module
 
-    rows = cost(SIZES_QUICK if args.quick else SIZES)
-    print(f"CPU: {_meta()['cpu']}")
-    print_table(rows)
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(rows, fh, indent=2)
-    return 0
+    def rows_of(quick: bool) -> list[dict[str, Any]]:
+        return cost(SIZES_QUICK if quick else SIZES)
+
+    prog = "python -m benchmarks.coupled"
+    return run_module(prog, "16 points only", rows_of, print_table, argv)
 
 
 if __name__ == "__main__":

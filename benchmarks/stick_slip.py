@@ -14,8 +14,6 @@ family limit, ``docs/stick_slip.md``).
 
 from __future__ import annotations
 
-import argparse
-import json
 import time
 from collections.abc import Sequence
 from typing import Any
@@ -87,16 +85,13 @@ def print_table(rows: list[dict[str, Any]]) -> None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m benchmarks.stick_slip``."""
-    ap = argparse.ArgumentParser(prog="python -m benchmarks.stick_slip")
-    ap.add_argument("--quick", action="store_true", help="three spins, two repeats")
-    ap.add_argument("--json", metavar="PATH", help="write the rows as JSON")
-    args = ap.parse_args(argv)
-    rows = cost(SPINS_QUICK if args.quick else SPINS, 2 if args.quick else 5)
-    print_table(rows)
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(rows, fh, indent=2)
-    return 0
+    from benchmarks._module import run_module
+
+    def rows_of(quick: bool) -> list[dict[str, Any]]:
+        return cost(SPINS_QUICK if quick else SPINS, 2 if quick else 5)
+
+    prog = "python -m benchmarks.stick_slip"
+    return run_module(prog, "three spins, two repeats", rows_of, print_table, argv)
 
 
 if __name__ == "__main__":

@@ -96,6 +96,14 @@ def _pools_even_for_small_studies(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(runner, "POOL_MIN_SERIAL_S", 0.0)
 
 
+@pytest.fixture(autouse=True)
+def _cli_tests_in_a_tmp_folder(request: pytest.FixtureRequest, tmp_path, monkeypatch) -> None:
+    """Command-line tests run in a temporary folder: an output option fuzzed with its
+    bare example value (``theta.csv``) must not write into the checkout."""
+    if request.node.path.parent.name == "cli":
+        monkeypatch.chdir(tmp_path)
+
+
 @pytest.fixture
 def chromium() -> str:
     """Path of a headless-capable Chromium; in CI a missing browser fails the test

@@ -16,7 +16,7 @@ import pytest
 PKG = Path(__file__).resolve().parents[1] / "src" / "obturator"
 EDGE = ("cli", "io", "files", "sweeps", "thesis", "plotting", "validation", "envelope", "runs")
 #: The studies: each may import ``runs`` (the runner of its tasks); ``runs`` imports none.
-STUDIES = ("sweeps", "thesis", "validation", "envelope", "calibration")
+STUDIES = ("sweeps", "thesis", "validation", "envelope", "calibration", "design")
 
 # module prefix (relative to obturator) -> obturator subpackages/modules it must not import
 FORBIDDEN: dict[str, tuple[str, ...]] = {
@@ -51,6 +51,8 @@ FORBIDDEN: dict[str, tuple[str, ...]] = {
     "thesis": ("cli", "sweeps", "core"),
     "validation": ("cli", "thesis", "envelope", "core"),
     "envelope": ("cli", "thesis", "validation", "calibration", "core"),
+    # the experiment design builds on the validation's candidates, fits and floor
+    "design": ("cli", "thesis", "envelope", "sweeps", "core"),
     "plotting": ("cli", "sweeps"),
     "warmup": (*EDGE, "calibration"),
     "io": ("cli", "core", "sweeps", "thesis", "plotting"),

@@ -36,6 +36,7 @@ PUBLIC = [
     "case_from_settings",
     "convergence_check",
     "couette_case",
+    "design_experiment",
     "fit_exact",
     "flight_case",
     "initial_state",

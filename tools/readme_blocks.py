@@ -131,6 +131,19 @@ BLOCKS: dict[str, Block] = {
         slow=True,
         cost="20 s",
     ),
+    "design": Block(
+        ("obturator design-experiment --out design.nc --figure design.png",),
+        keep=(
+            r"^Recommended campaign",
+            r"^\s+\d+\s+\d+\s+[\d.]+ rad/s",
+            r"^\s+N\s+designed",
+            r"^\s+(5|10|20)\s+\d\.\d\d\s",
+            r"^\s+runs for P",
+        ),
+        rtol=0.02,  # seeded campaigns: a decision at the edge may move a rate by 1/200
+        slow=True,
+        cost="30 s",
+    ),
     "probability": Block(
         (
             "obturator probability --mach 1.75 --altitude-m 6000 --method both --samples 2000",

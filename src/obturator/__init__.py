@@ -71,6 +71,7 @@ _LAZY = {
     "monte_carlo": "sweeps",
     "Distribution": "sweeps",
     "reproduce": "thesis",
+    "design_experiment": "design",
     # input at the edge
     "parse_quantity": "units",
     "load_config": "io",

@@ -126,3 +126,15 @@ def test_example_file_calibrates_and_validates(capsys):
     assert res["models"][0]["params"]["mu_s"]["value"] == pytest.approx(0.55, abs=0.02)
     with pytest.raises(InputError):
         load_spin_rig_csv(EXAMPLE.parent / "missing.csv")
+
+
+def test_calibrate_recovers_the_example_campaigns_mu_s(capsys):
+    """examples/rig_runs_settings.csv was written by examples/make_rig_runs_settings.py
+    from the exact model at mu_s = 0.55 (each run's own ball, load and theta_0) plus 4 ms
+    noise: the fit must bracket 0.55 with its 95 % interval, an inverse-problem check of
+    how the per-run settings reach the model."""
+    rc = main(["calibrate", str(EXAMPLE), "--bootstrap", "0", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0
+    lo, hi = out["parameters"]["mu_s"]["ci95"]
+    assert lo < 0.55 < hi and hi - lo < 0.02

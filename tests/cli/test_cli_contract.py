@@ -73,7 +73,7 @@ def value_options(parser: argparse.ArgumentParser) -> list[argparse.Action]:
 
 def test_all_commands_are_in_the_registry():
     assert {p[0] for p in PARSERS} == set(_COMMANDS)
-    assert len(PARSERS) == 16  # 12 commands + gasdyn's 4 topics
+    assert len(PARSERS) == 17  # 13 commands + gasdyn's 4 topics
 
 
 @pytest.mark.parametrize("path", sorted(PARSERS), ids=" ".join)

@@ -37,14 +37,14 @@ def _options(command: str) -> set[str]:
 def test_readme_lists_every_command():
     listed = re.search(r"Commands: (.*?)\.", README, re.S)
     assert listed
-    names = set(re.findall(r"`(\w+)`", listed.group(1)))
+    names = set(re.findall(r"`([\w-]+)`", listed.group(1)))
     assert names == set(_COMMANDS)
 
 
 def _readme_command_lines() -> list[tuple[str, str]]:
     """(command, rest) of every ``obturator COMMAND ...`` the README shows."""
-    spans = re.findall(r"`obturator (\w+)([^`]*)`", README)
-    spans += re.findall(r"^\$ obturator (\w+)(.*(?:\\\n.*)*)$", README, re.M)
+    spans = re.findall(r"`obturator ([\w-]+)([^`]*)`", README)
+    spans += re.findall(r"^\$ obturator ([\w-]+)(.*(?:\\\n.*)*)$", README, re.M)
     return [(c, r) for c, r in spans if c in _COMMANDS]
 
 

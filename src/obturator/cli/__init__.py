@@ -50,6 +50,10 @@ _COMMANDS: dict[str, tuple[str, str]] = {
         "obturator.cli.validate",
         "fit candidate mechanisms to all spin-rig runs and rank them",
     ),
+    "design-experiment": (
+        "obturator.cli.design",
+        "plan the rig runs that decide between candidate mechanisms",
+    ),
     "trajectory": (
         "obturator.cli.envelope",
         "t_cr along one flight: trajectory-coupled vs constant load",

@@ -36,6 +36,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "--envelope",
             "add the firing-envelope section (t_cr map over Mach x altitude, Sobol indices)",
         ),
+        switch(
+            "--design",
+            "add the experiment-design section (which runs decide between the leading "
+            "mechanisms, simulated campaigns)",
+        ),
     )
 
 
@@ -51,6 +56,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         command=command_line(),
         envelope=args.envelope,
         validation=not args.no_validation,
+        design=args.design,
     )
     flagged = sum(1 for r in res.rows if r.difference is not None and abs(r.difference) > 2.0)
     print(

@@ -265,6 +265,7 @@ def reproduce(
     command: str | None = None,
     envelope: bool = False,
     validation: bool = True,
+    design: bool = False,
 ) -> ReproduceResult:
     """Run every study, write the figures (PNG) and report.md / report.html into `out_dir`.
 
@@ -288,6 +289,10 @@ def reproduce(
     envelope : bool
         Add the firing-envelope section (:mod:`obturator.envelope.report`: t_cr map
         over muzzle Mach x altitude and flight Sobol indices; about 1 minute).
+    design : bool
+        Add the experiment-design section (:mod:`obturator.design.report`: the campaign
+        that decides between the validation's leading mechanisms and its decision curve,
+        reusing the validation section's fits), with ``design.png`` and ``design.json``.
 
     Returns
     -------
@@ -350,6 +355,13 @@ def reproduce(
         section = envelope_section(out, quick=quick, runner=quiet)
         ctx["sections"].append(section)
         paths.extend(out / name for name, _ in section.figures)
+    if design:
+        from ..design.report import design_section
+
+        fits = {m.name: m.fit for m in res["validation"].models} if validation else None
+        dsec = design_section(out, quick=quick, runner=quiet, fits=fits)
+        ctx["sections"].append(dsec)
+        paths.extend(out / name for name, _ in dsec.figures)
     ctx["images"] = {p.name: base64.b64encode(p.read_bytes()).decode("ascii") for p in paths}
     ctx["explorer"] = explorer_html(res["explorer"])
     md, hp = out / "report.md", out / "report.html"

@@ -61,9 +61,6 @@ from ..dynamics import nutation_angle_of_state, rhs
 from ..friction_sets import (
     breakaway_angle,
     hold_stick,
-    relative_rate,
-    required_reaction,
-    stick_margin,
     turn_by,
     turn_rigidly,
 )
@@ -95,6 +92,12 @@ from .linalg import lu_solve
 from .radau import _UROUND, _colloc_weights, _dense, _factor, _newton, locate_opening
 from .radau_coefficients import C1, C2, E1, E2, E3
 from .radau_control import _LIM_SHRINK, next_step, step_quotient
+from .stick_slip_modes import HOLD_THROUGH, REKICK
+from .stick_slip_modes import break_away as _break_away
+from .stick_slip_modes import slip as _slip
+from .stick_slip_modes import slip_rate as _slip_rate
+from .stick_slip_modes import stick_admissible as _stick_admissible
+from .stick_slip_modes import through_window as _through_window
 
 __all__ = [
     "STICK_SLIP",
@@ -135,15 +138,8 @@ FAST_SLIP = 4.0
 #: First Radau IIA step after a breakaway, in units of the kicked slip's age (the time
 #: from the exit of F to the kick).
 TAKE_OFF = 1.0
-#: A kicked slip that falls back below the kick inside an exit window of F is held
-#: rigidly through this fraction of the window left, then kicked again ...
-REKICK = 0.5
-#: ... unless no more than this is left [rad]: then through the window (a grazing exit).
-HOLD_THROUGH = 1e-4
 #: Fraction of |omega_r| / |omega_r'| that one DOP853 stretch may last.
 _CHUNK = 0.5
-#: Relative margin (of M) that G_req must keep inside F to enter stick.
-_MARGIN = 1e-9
 
 
 def integrate(
@@ -190,120 +186,6 @@ def run_cycles(stick_slip: float = STICK_SLIP, kick: float = KICK):
         return _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end)
 
     return run
-
-
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def _slip(y: np.ndarray) -> tuple[float, float, float, float]:
-    """omega_r (inertial) and |omega_r| [rad/s] of a state."""
-    wx, wy, wz = relative_rate(y, y[7])
-    return wx, wy, wz, math.sqrt(wx * wx + wy * wy + wz * wz)
-
-
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def _stick_admissible(y: np.ndarray, p: np.ndarray) -> bool:
-    """G_req of `y` inside F with the relative margin _MARGIN."""
-    gx, gy, gz = required_reaction(y, p, y[7])
-    return stick_margin(gx, gy, gz, p) > _MARGIN * p[P_FRIC + 1]
-
-
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def _slip_rate(y: np.ndarray, f: np.ndarray) -> float:
-    """d|omega_r|/dt [rad/s^2] at `y` with derivative `f` (omega_r' = R w' - omega_p' Z)."""
-    wx, wy, wz, r = _slip(y)
-    if r == 0.0:
-        return 0.0
-    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
-    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-    a1, a2, a3 = f[4], f[5], f[6]
-    ax = (1.0 - s * (q2 * q2 + q3 * q3)) * a1 + s * (q1 * q2 - q0 * q3) * a2
-    ax += s * (q1 * q3 + q0 * q2) * a3
-    ay = s * (q1 * q2 + q0 * q3) * a1 + (1.0 - s * (q1 * q1 + q3 * q3)) * a2
-    ay += s * (q2 * q3 - q0 * q1) * a3
-    az = s * (q1 * q3 - q0 * q2) * a1 + s * (q2 * q3 + q0 * q1) * a2
-    az += (1.0 - s * (q1 * q1 + q2 * q2)) * a3 - f[7]
-    return (wx * ax + wy * ay + wz * az) / r
-
-
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def _excess(y: np.ndarray, p: np.ndarray) -> float:
-    """-stick_margin of G_req at `y` [N m]: how far G_req is outside F."""
-    gx, gy, gz = required_reaction(y, p, y[7])
-    return -stick_margin(gx, gy, gz, p)
-
-
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def _break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> float:
-    """Start a slip from zero slip at `y` (in place); returns the time it takes [s].
-
-    Leaving F, the ball slips along u = -G_req / |G_req| (perpendicular to the hole
-    axis, so the inertia along u is A) with |omega_r|(tau) = a tau + j tau^2 / 2,
-    a = e / A and j = de/dt / A, e the excess of |G_req| over the radius of F.
-    The slip starts at |omega_r| = `kick`, i.e. at the tau where that series reaches
-    it, from the rigid motion turned on by omega_p tau (the slip's own turn there,
-    ~ kick tau / 3, is dropped).
-    """
-    wp = y[7]
-    a_inv = 1.0 / p[P_A]
-    dphi = 1e-6
-    e0 = _excess(y, p)
-    turn_rigidly(y, dphi if wp >= 0.0 else -dphi, work)
-    rate = a_inv * max(e0, 0.0)
-    jerk = a_inv * (_excess(work, p) - e0) * abs(wp) / dphi
-    tau = 0.0
-    if jerk > 0.0:
-        tau = (math.sqrt(rate * rate + 2.0 * jerk * kick) - rate) / jerk
-    elif rate > 0.0:
-        tau = kick / rate
-    turn_rigidly(y, wp * tau, work)
-    for i in range(4):
-        y[i] = work[i]
-    gx, gy, gz = required_reaction(y, p, wp)
-    g = math.sqrt(gx * gx + gy * gy + gz * gz)
-    if g == 0.0:
-        return tau
-    ux, uy, uz = -kick * gx / g, -kick * gy / g, -kick * gz / g
-    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
-    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-    # body rates += R^T u
-    y[4] += (1.0 - s * (q2 * q2 + q3 * q3)) * ux + s * (q1 * q2 + q0 * q3) * uy
-    y[4] += s * (q1 * q3 - q0 * q2) * uz
-    y[5] += s * (q1 * q2 - q0 * q3) * ux + (1.0 - s * (q1 * q1 + q3 * q3)) * uy
-    y[5] += s * (q2 * q3 + q0 * q1) * uz
-    y[6] += s * (q1 * q3 + q0 * q2) * ux + s * (q2 * q3 - q0 * q1) * uy
-    y[6] += (1.0 - s * (q1 * q1 + q2 * q2)) * uz
-    return tau
-
-
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def _through_window(y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval):
-    """Hold the ball rigidly through part of an exit window of F (in place on `y`).
-
-    For a slip that did not take off: |omega_r| has fallen below the kick with G_req
-    outside F and Radau IIA's steps have collapsed. Where G_req only grazes the boundary
-    of F its creep is below the kick's scale, and the ball turns rigidly to the end of the
-    window; otherwise (more than :data:`HOLD_THROUGH` rad of window left) it turns
-    through :data:`REKICK` of what is left and the mode loop kicks it again, with the
-    larger excess there. Returns (t_end, i_eval, n_out), t_end < 0 where this does not
-    apply (the run failed).
-    """
-    wp = y[7]
-    window = -breakaway_angle(y, p, wp)
-    if not (_slip(y)[3] < r_kick and window > 0.0 and wp != 0.0):
-        return -1.0, i_eval, n_out
-    if window > HOLD_THROUGH:
-        window *= REKICK
-    t_new = min(t + (window + 1e-12) / abs(wp), t_max)
-    while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
-        turn_rigidly(y, wp * (t_eval[i_eval] - t), ytry)
-        ts[n_out] = t_eval[i_eval]
-        for i in range(y.shape[0]):
-            ys[n_out, i] = ytry[i]
-        n_out += 1
-        i_eval += 1
-    turn_rigidly(y, wp * (t_new - t), ytry)
-    for i in range(y.shape[0]):
-        y[i] = ytry[i]
-    return t_new, i_eval, n_out
 
 
 @njit(cache=True, inline="always", **NO_REFCOUNT)

@@ -1,0 +1,159 @@
+"""The modes of the exact stick-slip law: slip speed, stick admissibility, breakaway.
+
+The pieces of :mod:`obturator.core.integrators.stick_slip` that decide and change the
+mode of a state (Leine & Nijmeijer's switch model with the exact admissible set F of
+:mod:`obturator.core.friction_sets`): the relative rotation omega_r and its rate,
+whether the required reaction G_req lies inside F (stick), the kick that starts a slip
+where it leaves F, and the rigid passage through an exit window where a kicked slip
+falls back.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..friction_sets import (
+    breakaway_angle,
+    relative_rate,
+    required_reaction,
+    stick_margin,
+    turn_rigidly,
+)
+from ..jit_flags import NO_REFCOUNT
+from ..layout import P_A, P_FRIC
+
+__all__ = [
+    "HOLD_THROUGH",
+    "REKICK",
+    "break_away",
+    "excess",
+    "slip",
+    "slip_rate",
+    "stick_admissible",
+    "through_window",
+]
+
+#: A kicked slip that falls back below the kick inside an exit window of F is held
+#: rigidly through this fraction of the window left, then kicked again ...
+REKICK = 0.5
+#: ... unless no more than this is left [rad]: then through the window (a grazing exit).
+HOLD_THROUGH = 1e-4
+#: Relative margin (of M) that G_req must keep inside F to enter stick.
+_MARGIN = 1e-9
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def slip(y: np.ndarray) -> tuple[float, float, float, float]:
+    """omega_r (inertial) and |omega_r| [rad/s] of a state."""
+    wx, wy, wz = relative_rate(y, y[7])
+    return wx, wy, wz, math.sqrt(wx * wx + wy * wy + wz * wz)
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def stick_admissible(y: np.ndarray, p: np.ndarray) -> bool:
+    """G_req of `y` inside F with the relative margin _MARGIN."""
+    gx, gy, gz = required_reaction(y, p, y[7])
+    return stick_margin(gx, gy, gz, p) > _MARGIN * p[P_FRIC + 1]
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def slip_rate(y: np.ndarray, f: np.ndarray) -> float:
+    """d|omega_r|/dt [rad/s^2] at `y` with derivative `f` (omega_r' = R w' - omega_p' Z)."""
+    wx, wy, wz, r = slip(y)
+    if r == 0.0:
+        return 0.0
+    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
+    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    a1, a2, a3 = f[4], f[5], f[6]
+    ax = (1.0 - s * (q2 * q2 + q3 * q3)) * a1 + s * (q1 * q2 - q0 * q3) * a2
+    ax += s * (q1 * q3 + q0 * q2) * a3
+    ay = s * (q1 * q2 + q0 * q3) * a1 + (1.0 - s * (q1 * q1 + q3 * q3)) * a2
+    ay += s * (q2 * q3 - q0 * q1) * a3
+    az = s * (q1 * q3 - q0 * q2) * a1 + s * (q2 * q3 + q0 * q1) * a2
+    az += (1.0 - s * (q1 * q1 + q2 * q2)) * a3 - f[7]
+    return (wx * ax + wy * ay + wz * az) / r
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def excess(y: np.ndarray, p: np.ndarray) -> float:
+    """-stick_margin of G_req at `y` [N m]: how far G_req is outside F."""
+    gx, gy, gz = required_reaction(y, p, y[7])
+    return -stick_margin(gx, gy, gz, p)
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> float:
+    """Start a slip from zero slip at `y` (in place); returns the time it takes [s].
+
+    Leaving F, the ball slips along u = -G_req / |G_req| (perpendicular to the hole
+    axis, so the inertia along u is A) with |omega_r|(tau) = a tau + j tau^2 / 2,
+    a = e / A and j = de/dt / A, e the excess of |G_req| over the radius of F.
+    The slip starts at |omega_r| = `kick`, i.e. at the tau where that series reaches
+    it, from the rigid motion turned on by omega_p tau (the slip's own turn there,
+    ~ kick tau / 3, is dropped).
+    """
+    wp = y[7]
+    a_inv = 1.0 / p[P_A]
+    dphi = 1e-6
+    e0 = excess(y, p)
+    turn_rigidly(y, dphi if wp >= 0.0 else -dphi, work)
+    rate = a_inv * max(e0, 0.0)
+    jerk = a_inv * (excess(work, p) - e0) * abs(wp) / dphi
+    tau = 0.0
+    if jerk > 0.0:
+        tau = (math.sqrt(rate * rate + 2.0 * jerk * kick) - rate) / jerk
+    elif rate > 0.0:
+        tau = kick / rate
+    turn_rigidly(y, wp * tau, work)
+    for i in range(4):
+        y[i] = work[i]
+    gx, gy, gz = required_reaction(y, p, wp)
+    g = math.sqrt(gx * gx + gy * gy + gz * gz)
+    if g == 0.0:
+        return tau
+    ux, uy, uz = -kick * gx / g, -kick * gy / g, -kick * gz / g
+    q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
+    s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+    # body rates += R^T u
+    y[4] += (1.0 - s * (q2 * q2 + q3 * q3)) * ux + s * (q1 * q2 + q0 * q3) * uy
+    y[4] += s * (q1 * q3 - q0 * q2) * uz
+    y[5] += s * (q1 * q2 - q0 * q3) * ux + (1.0 - s * (q1 * q1 + q3 * q3)) * uy
+    y[5] += s * (q2 * q3 + q0 * q1) * uz
+    y[6] += s * (q1 * q3 + q0 * q2) * ux + s * (q2 * q3 - q0 * q1) * uy
+    y[6] += (1.0 - s * (q1 * q1 + q2 * q2)) * uz
+    return tau
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def through_window(y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval):
+    """Hold the ball rigidly through part of an exit window of F (in place on `y`).
+
+    For a slip that did not take off: |omega_r| has fallen below the kick with G_req
+    outside F and Radau IIA's steps have collapsed. Where G_req only grazes the boundary
+    of F its creep is below the kick's scale, and the ball turns rigidly to the end of the
+    window; otherwise (more than :data:`HOLD_THROUGH` rad of window left) it turns
+    through :data:`REKICK` of what is left and the mode loop kicks it again, with the
+    larger excess there. Returns (t_end, i_eval, n_out), t_end < 0 where this does not
+    apply (the run failed).
+    """
+    wp = y[7]
+    window = -breakaway_angle(y, p, wp)
+    if not (slip(y)[3] < r_kick and window > 0.0 and wp != 0.0):
+        return -1.0, i_eval, n_out
+    if window > HOLD_THROUGH:
+        window *= REKICK
+    t_new = min(t + (window + 1e-12) / abs(wp), t_max)
+    while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_new:
+        turn_rigidly(y, wp * (t_eval[i_eval] - t), ytry)
+        ts[n_out] = t_eval[i_eval]
+        for i in range(y.shape[0]):
+            ys[n_out, i] = ytry[i]
+        n_out += 1
+        i_eval += 1
+    turn_rigidly(y, wp * (t_new - t), ytry)
+    for i in range(y.shape[0]):
+        y[i] = ytry[i]
+    return t_new, i_eval, n_out

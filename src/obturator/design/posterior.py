@@ -1,0 +1,159 @@
+"""Parameter uncertainty of each candidate: the Laplace posterior of its validation fit.
+
+The maximum-likelihood fit of :func:`obturator.validation.fit_candidate` to the measured
+runs gives the optimum x_hat on the optimiser's scale (log10 for ``slip_speed``, value /
+scale for the others; :data:`obturator.params.FIT_SPECS`) and the Gauss-Newton
+covariance C = (J^T J)^-1 there. With a flat prior on that scale the posterior is, to
+second order, N(x_hat, C) (Laplace's approximation); draws outside the fit bounds are
+clipped to them. The design propagates these draws, not the point estimate alone.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InputError
+from ..fitting import ParameterSet
+from ..validation.candidates import PARAMETERS, get_candidates
+from ..validation.fit import fit_candidate
+from ..validation.results import CandidateFit
+
+__all__ = ["Posterior", "fit_task"]
+
+
+@dataclass(frozen=True)
+class Posterior:
+    """N(mean, covariance) of one candidate's parameters on the optimiser's scale.
+
+    Attributes
+    ----------
+    model : str
+        Candidate name.
+    params : tuple of str
+        Its fitted parameters, in order.
+    mean : ndarray
+        x_hat, optimiser variables.
+    covariance : ndarray
+        Covariance of x (optimiser variables).
+    values : dict of str to float
+        Best values (physical units).
+    sigma : float
+        The fit's ML run-to-run scatter [s] (reported; the design's noise is the floor).
+    aic : float
+        AIC of the fit.
+    """
+
+    model: str
+    params: tuple[str, ...]
+    mean: NDArray[np.float64]
+    covariance: NDArray[np.float64]
+    values: dict[str, float]
+    sigma: float
+    aic: float
+
+    def __post_init__(self) -> None:
+        c = self.covariance
+        if not self.params:
+            raise InputError("models", f"{self.model!r} fits no parameter: nothing to design")
+        if c.shape != (len(self.params),) * 2 or not np.all(np.isfinite(c)):
+            raise InputError(
+                "models", f"{self.model!r}: its fit has no finite covariance (not identified)"
+            )
+
+    @property
+    def parameter_set(self) -> ParameterSet:
+        """The fit registry's parameters (bounds, transforms)."""
+        return ParameterSet(tuple(PARAMETERS[k] for k in self.params))
+
+    @property
+    def cholesky(self) -> NDArray[np.float64]:
+        """Lower factor L of the covariance (C = L L^T; a tiny ridge if it is singular)."""
+        c = 0.5 * (self.covariance + self.covariance.T)
+        try:
+            return np.linalg.cholesky(c)
+        except np.linalg.LinAlgError:
+            ridge = 1e-12 * max(float(np.max(np.diag(c))), 1e-300)
+            return np.linalg.cholesky(c + ridge * np.eye(c.shape[0]))
+
+    @property
+    def sd(self) -> NDArray[np.float64]:
+        """Posterior SD of each optimiser variable."""
+        return np.sqrt(np.diag(self.covariance))
+
+    def clip(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """x clipped into the fit bounds (rows of x: points)."""
+        lo, hi = self.parameter_set.internal_bounds()
+        return np.clip(x, lo, hi)
+
+    def draws(self, rng: np.random.Generator, n: int) -> NDArray[np.float64]:
+        """n draws (rows) of x, clipped into the fit bounds."""
+        z = rng.standard_normal((n, len(self.params)))
+        return self.clip(self.mean + z @ self.cholesky.T)
+
+    def whiten(self, x: NDArray[np.float64]) -> NDArray[np.float64]:
+        """z = L^-1 (x - mean) per row: the draw in posterior SDs along L's columns."""
+        return np.linalg.solve(self.cholesky, (np.atleast_2d(x) - self.mean).T).T
+
+    def to_values(self, x: NDArray[np.float64]) -> dict[str, float]:
+        """Physical values of one point x."""
+        return self.parameter_set.values(np.asarray(x, dtype=float))
+
+    @classmethod
+    def from_fit(cls, fit: CandidateFit) -> Posterior:
+        """The Laplace posterior of a validation fit (physical covariance -> optimiser's)."""
+        pset = ParameterSet(tuple(PARAMETERS[k] for k in fit.params))
+        x = pset.to_internal([fit.values[k] for k in fit.params])
+        d = pset.derivatives(x)
+        cov = np.asarray(fit.covariance, dtype=float) / np.outer(d, d)
+        return cls(fit.name, tuple(fit.params), x, cov, dict(fit.values), fit.sigma, fit.aic)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready (also the stored result of :func:`fit_task`)."""
+        return {
+            "model": self.model,
+            "params": list(self.params),
+            "mean_internal": self.mean.tolist(),
+            "covariance_internal": self.covariance.tolist(),
+            "values": dict(self.values),
+            "sd_internal": self.sd.tolist(),
+            "sigma_s": self.sigma,
+            "aic": self.aic,
+            "scale": {k: "log10" if PARAMETERS[k].log else "linear" for k in self.params},
+        }
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Posterior:
+        """Inverse of :meth:`to_dict`."""
+        return cls(
+            str(d["model"]),
+            tuple(d["params"]),
+            np.asarray(d["mean_internal"], dtype=float),
+            np.asarray(d["covariance_internal"], dtype=float),
+            {k: float(v) for k, v in d["values"].items()},
+            float(d["sigma_s"]) if d["sigma_s"] is not None else math.nan,
+            float(d["aic"]) if d["aic"] is not None else math.nan,
+        )
+
+
+def fit_task(task: Mapping[str, Any]) -> dict[str, Any]:
+    """Fit one candidate to measured runs; its posterior as a dict (a runner task).
+
+    `task`: ``model``, ``spin_rate`` [rad/s], ``measured`` [s], ``t_max`` [s] and
+    ``conditions`` (each run's own settings as [name, SI value] pairs; empty: Table 1).
+    """
+    (cand,) = get_candidates([str(task["model"])])
+    conditions = [tuple((str(k), float(v)) for k, v in c) for c in task.get("conditions", ())]
+    fit = fit_candidate(
+        cand,
+        np.asarray(task["spin_rate"], dtype=float),
+        np.asarray(task["measured"], dtype=float),
+        t_max=float(task["t_max"]),
+        conditions=conditions if any(conditions) else None,
+    )
+    return Posterior.from_fit(fit).to_dict()
