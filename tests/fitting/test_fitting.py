@@ -166,6 +166,49 @@ def test_central_jacobian_steps_stay_inside_the_bounds():
     assert jac[0, 0] == pytest.approx(2.0, rel=1e-3)  # one-sided at the bound
 
 
+@pytest.mark.parametrize("jac", ["2-point", "3-point"])
+def test_prefetch_sees_every_jacobian_point_first_and_changes_nothing(jac):
+    # A nonlinear problem (exponential decay, three parameters): with a prefetch that
+    # records the points it is handed, every point the finite differences then evaluate
+    # was handed over before (so a batched model answers them from its cache), and the
+    # optimum, its evaluation count and the central Jacobian are the same to the bit.
+    t = np.linspace(0.0, 3.0, 20)
+    y = 2.0 * np.exp(-1.3 * t) + 0.1 + 0.01 * np.sin(7.0 * t)
+
+    def resid(x):
+        a, b, c = x
+        return a * np.exp(-b * t) + c - y
+
+    box = (np.array([0.0, 0.0, -1.0]), np.array([10.0, 10.0, 1.0]))
+    x0 = np.array([1.0, 0.5, 0.0])
+    settings = LeastSquaresSettings(jac)
+    handed: list[tuple[float, ...]] = []
+    batches: list[int] = []
+
+    def prefetch(points):
+        batches.append(len(points))
+        handed.extend(tuple(p) for p in points)
+
+    evaluated: list[tuple[float, ...]] = []
+
+    def recording(x):
+        evaluated.append(tuple(x))
+        return resid(x)
+
+    plain = minimize_least_squares(resid, x0, box, settings)
+    fetched = minimize_least_squares(recording, x0, box, settings, prefetch=prefetch)
+    np.testing.assert_array_equal(plain.x, fetched.x)
+    assert plain.nfev == fetched.nfev
+    assert batches and set(batches) == {3 if jac == "2-point" else 6}
+    assert set(handed) <= set(evaluated)
+    assert len(evaluated) - len(handed) == fetched.nfev  # the rest: the optimiser's steps
+    handed.clear()
+    j0 = central_jacobian(resid, plain.x, box, 1e-3)
+    j1 = central_jacobian(resid, plain.x, box, 1e-3, prefetch=prefetch)
+    np.testing.assert_array_equal(j0, j1)
+    assert len(handed) == 6
+
+
 def test_profile_limit_of_a_quadratic_likelihood():
     x0, s = 2.0, 0.3
 

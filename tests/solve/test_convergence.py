@@ -127,3 +127,24 @@ def test_flight_opens_well_inside_0p1_s_but_viscous_alone_does_not(family_times)
     res = simulate(couette_case(1.0), terminal=True)
     assert res.status == 0 and not res.opened
     assert np.min(res.theta) > math.radians(80.0)
+
+
+def test_batched_convergence_checks_equal_one_by_one():
+    # The batched reruns go through the lanes (DOP853 lanes round as the scalar DOP853;
+    # these few stiff points go one by one), so every t_cr of the three reruns is the
+    # one-by-one check's to the bit, a failing check (Coulomb point contact) included.
+    from obturator.solve import convergence_checks
+
+    cases = [
+        rig_case(78.0, 0.5473),
+        rig_case(300.0, 0.5473),
+        rig_case(700.0, 0.35),
+        rig_case(300.0, 0.5473, torque_model="coulomb", patch_radius=0.0, t_max=20.0),
+    ]
+    opts = SolverOptions(rtol=1e-9, atol=1e-11, friction_width=1e-5)
+    one = [convergence_check(c, opts) for c in cases]
+    many = convergence_checks(cases, opts)
+    assert many == one
+    assert many[1].converged and many[2].converged and not many[3].converged
+    given = convergence_checks(cases, opts, opening_times_s=[c.opening_time for c in one])
+    assert given == one
