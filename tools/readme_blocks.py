@@ -10,6 +10,7 @@ machine (timings masked; near-stick digits compared to a stated relative toleran
     python tools/readme_blocks.py --write --only sweep
     python tools/readme_blocks.py --check --fast     # compare; exit 1 on a difference
     python tools/readme_blocks.py --list             # names, costs
+    python tools/readme_blocks.py --write --only validate --keep /tmp/blocks  # keep files
 
 ``tests/test_readme.py`` checks each block against a fresh run (the expensive ones
 are marked slow). Commands run in a temporary folder holding a copy of ``examples/``,
@@ -104,14 +105,14 @@ BLOCKS: dict[str, Block] = {
         # the ranking table and the recommended model's parameters (two-space indent)
         keep=(
             r"^Models ranked",
-            r"^\s+(#|replicate floor|\d+ \S)",
+            r"^\s+(#|replicate floor|\d+ (?!rad/s)\S)",
             r"^  k counts",
             r"^  (mu_s|speed_ratio|slip_speed|sigma) ",
         ),
         # near-stick runs: fitted values and out-of-band rms move in the 4th digit
         rtol=2e-3,
         slow=True,
-        cost="3.7 min, one other job running",
+        cost="2.9 min, nearly idle",
     ),
     "envelope": Block(
         (
@@ -267,8 +268,14 @@ def differences(readme: str, fresh: str, block: Block) -> list[str]:
     return out
 
 
-def fresh_output(name: str) -> str:
-    """Run block NAME in a temporary folder holding a copy of examples/."""
+def fresh_output(name: str, keep: Path | None = None) -> str:
+    """Run block NAME in a temporary folder holding a copy of examples/ (in ``keep/NAME``,
+    left in place with the block's output files, where `keep` is given)."""
+    if keep is not None:
+        cwd = keep / name
+        shutil.rmtree(cwd, ignore_errors=True)
+        shutil.copytree(ROOT / "examples", cwd / "examples")
+        return run_commands(BLOCKS[name], cwd)
     with tempfile.TemporaryDirectory(prefix="readme-") as tmp:
         shutil.copytree(ROOT / "examples", Path(tmp) / "examples")
         return run_commands(BLOCKS[name], Path(tmp))
@@ -283,6 +290,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--only", action="append", metavar="NAME", help="these blocks only")
     parser.add_argument("--fast", action="store_true", help="skip the slow blocks")
     parser.add_argument("--readme", type=Path, default=README, help="the file (README.md)")
+    parser.add_argument(
+        "--keep", type=Path, metavar="DIR", help="run each block in DIR/NAME and keep its files"
+    )
     args = parser.parse_args(argv)
     readme: Path = args.readme
     names = args.only or [n for n, b in BLOCKS.items() if not (args.fast and b.slow)]
@@ -298,7 +308,7 @@ def main(argv: list[str] | None = None) -> int:
     failed = 0
     for name in names:
         t0 = time.perf_counter()
-        fresh = fresh_output(name)
+        fresh = fresh_output(name, args.keep)
         took = time.perf_counter() - t0
         if args.write:
             text = readme.read_text(encoding="utf-8")
