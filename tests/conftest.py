@@ -97,11 +97,12 @@ def _pools_even_for_small_studies(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 @pytest.fixture(autouse=True)
-def _cli_tests_in_a_tmp_folder(request: pytest.FixtureRequest, tmp_path, monkeypatch) -> None:
+def _cli_tests_in_a_tmp_folder(request: pytest.FixtureRequest, monkeypatch) -> None:
     """Command-line tests run in a temporary folder: an output option fuzzed with its
-    bare example value (``theta.csv``) must not write into the checkout."""
+    bare example value (``theta.csv``) must not write into the checkout (other tests get
+    no folder they did not ask for)."""
     if request.node.path.parent.name == "cli":
-        monkeypatch.chdir(tmp_path)
+        monkeypatch.chdir(request.getfixturevalue("tmp_path"))
 
 
 @pytest.fixture(scope="session")
@@ -115,9 +116,8 @@ def readme_validate_run(tmp_path_factory: pytest.TempPathFactory) -> tuple[str, 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools"))
     import readme_blocks as rb
 
-    cwd = tmp_path_factory.mktemp("readme-validate")
-    shutil.copytree(rb.ROOT / "examples", cwd / "examples")
-    return rb.run_commands(rb.BLOCKS["validate"], cwd), cwd / "validation"
+    keep = tmp_path_factory.mktemp("readme")
+    return rb.fresh_output("validate", keep), keep / "validate" / "validation"
 
 
 @pytest.fixture

@@ -237,7 +237,8 @@ class FlightPoints:
 
     def take(self, rows: Sequence[int]) -> FlightPoints:
         """The points at positions `rows`."""
-        pick = [self.rows()[i] for i in rows]
+        every = self.rows()
+        pick = [every[i] for i in rows]
         return FlightPoints(*(list(col) for col in zip(*pick, strict=True)))  # type: ignore[arg-type]
 
 

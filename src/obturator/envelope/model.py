@@ -244,21 +244,16 @@ class FlightModel:
     def _constant(self, points: list[tuple[ObturatorDesign, Launch]]) -> list[dict[str, Any]]:
         """Constant muzzle load (thesis): every point's case through the front door."""
         cases: list[Case | InputError | None] = []
-        unstartable = []  # the tube cannot start at the muzzle Mach: never reaches theta_start
-        for i, (design, launch) in enumerate(points):
+        for design, launch in points:
             try:
-                case = constant_case(design, launch, self.t_max)
+                case: Case | None = constant_case(design, launch, self.t_max)
                 if self.event == "start":  # on to theta_start(M_0), the closed-bore load kept
                     theta = design.start_angle(launch.altitude_m)(launch.mach)
-                    if not math.isfinite(theta):
-                        unstartable.append(i)
-                        theta = case.theta_cr
-                    case = case.with_(theta_cr=theta)
+                    # None: the tube cannot start at the muzzle Mach, never reaches theta_start
+                    case = case.with_(theta_cr=theta) if math.isfinite(theta) else None
                 cases.append(case)
             except InputError as exc:
                 cases.append(exc)
-        for i in unstartable:
-            cases[i] = None
         return opening_rows(cases, self.options, self.check_convergence, self.threshold)
 
     def _coupled(self, points: list[tuple[ObturatorDesign, Launch]]) -> list[dict[str, Any]]:
