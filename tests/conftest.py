@@ -86,6 +86,40 @@ def raw() -> object:
     return raw_solve
 
 
+def _solver_settings() -> dict[str, object]:
+    """The module-level dispatch settings of ``obturator.solve`` (thresholds, switches)."""
+    import importlib
+    import pkgutil
+
+    import obturator.solve
+
+    found = {}
+    for info in pkgutil.iter_modules(obturator.solve.__path__, "obturator.solve."):
+        module = importlib.import_module(info.name)
+        for name, value in vars(module).items():
+            if name.isupper() and isinstance(value, int | float | str | bool):
+                found[f"{info.name}.{name}"] = value
+    return found
+
+
+_SETTINGS: dict[str, object] = {}
+
+
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    """A test that changes a dispatch threshold in this process (e.g. the Radau lanes'
+    minimum batch) without restoring it changes how every later test solves: CI once
+    failed on exactly that, order-dependently. Checked before each test, when every
+    fixture of the previous one (``monkeypatch`` included) has been torn down."""
+    now = _solver_settings()
+    previous = _SETTINGS.pop("by", None)
+    if _SETTINGS and now != _SETTINGS:
+        changed = {k: (_SETTINGS.get(k), v) for k, v in now.items() if v != _SETTINGS.get(k)}
+        _SETTINGS.update(now)
+        raise AssertionError(f"{previous} left solver settings changed: {changed}")
+    _SETTINGS.update(now)
+    _SETTINGS["by"] = item.nodeid
+
+
 @pytest.fixture(autouse=True)
 def _pools_even_for_small_studies(monkeypatch: pytest.MonkeyPatch) -> None:
     """Tests of the process pool use small studies, which would otherwise run in

@@ -44,9 +44,14 @@ def measure() -> dict[str, object]:
     def t_cr(spins, **options):
         return [opening_time(rig_case(w, MU_S), SolverOptions(**options)) for w in spins]
 
-    many.RADAU_LANES_MIN = 1  # the Radau lanes for any number of stiff points
-    cases = [rig_case(w, MU_S) for w in SLIDING + STICKING]
-    lanes, _, stats = many.opening_times(cases, SolverOptions())
+    # the Radau lanes for any number of stiff points; restored, since measure() also runs
+    # in the test session, where a left-over setting changed later tests' dispatch
+    saved, many.RADAU_LANES_MIN = many.RADAU_LANES_MIN, 1
+    try:
+        cases = [rig_case(w, MU_S) for w in SLIDING + STICKING]
+        lanes, _, stats = many.opening_times(cases, SolverOptions())
+    finally:
+        many.RADAU_LANES_MIN = saved
     return {
         "scalar_radau": t_cr(SLIDING + STICKING, method="radau"),
         # auto: DOP853 alone on the sliding points, handing over to Radau IIA on the others
