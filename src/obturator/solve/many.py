@@ -17,8 +17,8 @@ t_cr and status per case:
    accepted state, as :func:`obturator.core.integrators.integrate` does for one
    trajectory: in Radau IIA lanes
    (:func:`obturator.core.integrators.lanes.integrate_radau_lanes`) when
-   the batch has at least :data:`RADAU_LANES_MIN` such points and the thesis
-   kernel, else one by one;
+   the batch has at least :data:`RADAU_LANES_MIN` such points (either kernel), else
+   one by one;
 4. a Radau IIA lane whose ball slides again (status ``NONSTIFF``, the end of the
    stick-slip phase; :func:`obturator.core.integrators.continue_auto`) goes back
    to the DOP853 lanes, in rounds until every point has ended.
@@ -49,7 +49,7 @@ from ..core.integrators import (
     continue_auto,
 )
 from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes, integrate_radau_lanes
-from ..core.layout import KERNEL_THESIS, N_PARAM, N_STATE, P_KERNEL
+from ..core.layout import N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError, SolverError
 from ..status import MESSAGES, Status
 from .one import opening_time, simulate
@@ -375,8 +375,8 @@ def integrate_packed(
 def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.ndarray, np.ndarray]:
     """Points of one kernel: DOP853 lanes, stiff points on in Radau IIA lanes, the points
     where sliding resumed back in DOP853 lanes, and so on, as :func:`continue_auto` does
-    for one point; stiff points too few for Radau IIA lanes (or of another kernel)
-    finish one by one through :func:`continue_auto` itself."""
+    for one point; stiff points too few for Radau IIA lanes finish one by one through
+    :func:`continue_auto` itself."""
     n = idx.size
     p, scale, spin = packed.p, packed.scale, packed.spin
     t_max, h0, h_max = packed.t_max, packed.h0, packed.h_max
@@ -388,7 +388,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
     end_status = np.zeros(n, dtype=np.int8)
     t_event = np.full(n, math.nan)
     went_stiff = np.zeros(n, dtype=bool)
-    radau_lanes = p[0, P_KERNEL] == KERNEL_THESIS and env_switch("OBTURATOR_RADAU_LANES")
+    radau_lanes = env_switch("OBTURATOR_RADAU_LANES")
     pending = np.arange(n)
     while pending.size:
         sel = pending
