@@ -1,4 +1,6 @@
-"""The batched Radau IIA (stiff points of a sweep in lanes) against the scalar Radau IIA.
+"""The batched Radau IIA (stiff points of a sweep in lanes) against the scalar Radau IIA,
+for the thesis kernel and the generic right-hand side (Coulomb contact patch, the tanh
+and linear friction families, rig and flight: ``KERNELS``).
 
 References are not produced by the code under test: every t_cr is compared with
 :func:`obturator.solve.opening_time` (``auto``: DOP853 handing the run to the
