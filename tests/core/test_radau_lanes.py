@@ -79,7 +79,8 @@ def _kernel_batch(kernel):
 def stiff_batch(request):
     """opening_times of one kernel's near-stick batch, and how many points the Radau IIA
     lanes took (a spy on integrate_radau_lanes: the comparison below must not pass
-    because every point went one by one)."""
+    because every point went one by one). The generic kernel's lanes take batches from
+    RADAU_LANES_MIN stiff points here, as the thesis kernel's do."""
     cases, options = _kernel_batch(request.param)
     in_lanes = []
 
@@ -90,6 +91,7 @@ def stiff_batch(request):
     lanes_radau = batch.integrate_radau_lanes
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(batch, "integrate_radau_lanes", spy)
+        mp.setattr(batch, "RADAU_LANES_MIN_GENERIC", RADAU_LANES_MIN)
         t, s, stats = opening_times(cases, options)
     return cases, options, t, s, stats, in_lanes
 
