@@ -35,20 +35,16 @@ from ..friction_sets import relative_rate, stick_margin, turn_by
 from ..jit_flags import REFCOUNT
 from ..layout import (
     FORM_QUATERNION,
-    FRIC_THESIS_FLIGHT,
-    FRIC_THESIS_RIG,
     P_A,
     P_C,
     P_FORM,
-    P_FRIC,
-    P_SPEED,
     P_SPIN_MODE,
     P_THETA_CR,
     P_WIDTH,
-    SPEED_CONSTANT,
     SPIN_CONSTANT,
 )
 from .contract import Controls, Problem, RawSolution, Status
+from .stick_slip_modes import check_set_valued_law
 
 __all__ = ["integrate"]
 
@@ -67,8 +63,7 @@ def integrate(problem: Problem, controls: Controls) -> RawSolution:
         raise InputError("formulation", "Moreau-Jean integrates 'quaternion' only")
     if p[P_SPIN_MODE] != SPIN_CONSTANT:
         raise InputError("spin_mode", "Moreau-Jean takes a constant spin only")
-    if p[P_FRIC] not in (FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT) or p[P_SPEED] != SPEED_CONSTANT:
-        raise InputError("torque_model", "Moreau-Jean takes the thesis law with constant mu_s")
+    check_set_valued_law(p, "Moreau-Jean")
     if controls.record or controls.t_eval.shape[0] > 0:
         raise InputError("t_eval", "Moreau-Jean returns the opening time only")
     p[P_WIDTH] = 0.0

@@ -61,26 +61,22 @@ from ..dynamics import nutation_angle_of_state, rhs
 from ..friction_sets import (
     breakaway_angle,
     hold_stick,
+    moment_scale,
     turn_by,
     turn_rigidly,
 )
 from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import (
     FORM_QUATERNION,
-    FRIC_THESIS_FLIGHT,
-    FRIC_THESIS_RIG,
     KERNEL_GENERIC,
     N_STATE,
     P_A,
     P_FAMILY,
     P_FORM,
-    P_FRIC,
     P_KERNEL,
-    P_SPEED,
     P_SPIN_MODE,
     P_THETA_CR,
     P_WIDTH,
-    SPEED_CONSTANT,
     SPIN_THESIS_ENERGY,
 )
 from . import AUTO_RADAU_TOL_FACTOR
@@ -92,7 +88,7 @@ from .linalg import lu_solve
 from .radau import _UROUND, _colloc_weights, _dense, _factor, _newton, locate_opening
 from .radau_coefficients import C1, C2, E1, E2, E3
 from .radau_control import _LIM_SHRINK, next_step, step_quotient
-from .stick_slip_modes import HOLD_THROUGH, REKICK
+from .stick_slip_modes import HOLD_THROUGH, REKICK, check_set_valued_law
 from .stick_slip_modes import break_away as _break_away
 from .stick_slip_modes import slip as _slip
 from .stick_slip_modes import slip_rate as _slip_rate
@@ -155,17 +151,14 @@ def integrate(
     ------
     InputError
         For a case outside the solver's scope (Euler-angle formulation, the thesis's
-        energy spin mode, a friction law other than the thesis's, a slip-speed law).
+        energy spin mode, no friction, a slip-speed law, Coulomb point contacts).
     """
     p = np.array(problem.p, dtype=float)
     if p[P_FORM] != FORM_QUATERNION:
         raise InputError("formulation", "the set-valued solver integrates 'quaternion' only")
     if p[P_SPIN_MODE] == SPIN_THESIS_ENERGY:
         raise InputError("spin_mode", "the set-valued solver takes 'constant' or 'free'")
-    if p[P_FRIC] not in (FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT) or p[P_SPEED] != SPEED_CONSTANT:
-        raise InputError(
-            "torque_model", "the set-valued solver takes the thesis law with constant mu_s"
-        )
+    check_set_valued_law(p, "the set-valued solver")
     p[P_KERNEL] = KERNEL_GENERIC
     p[P_WIDTH] = 0.0
     p[P_FAMILY] = 0.0
@@ -242,7 +235,7 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
     status = Status.T_MAX
     t_event = math.nan
     rtol0, atol0 = rtol, atol  # DOP853 stretches take the tolerances as given
-    r_fast = p[P_FRIC + 1] / p[P_A] * h_max * FAST_SLIP
+    r_fast = moment_scale(p) / p[P_A] * h_max * FAST_SLIP
     # Radau IIA at auto's fraction of the tolerances (near-stick t_cr amplifies its
     # local errors), transformed as RADAU5 does (as in .radau)
     rtol *= AUTO_RADAU_TOL_FACTOR
