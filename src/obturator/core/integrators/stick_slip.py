@@ -264,6 +264,7 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
     h_lim = math.inf
     theta = 0.0
     armed = True  # re-stick allowed (after a breakaway: once G_req has left F)
+    took_off = True  # a reversal allowed (after a kick: once |omega_r| has passed r_stick)
     if not sticking:
         r_release = RELEASE_KICK * spin
         if r0 < r_release:  # released at (or near) zero slip with G_req outside F
@@ -299,6 +300,7 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
             t += tau
             sticking = False
             armed = False
+            took_off = False
             rhs(t, y, p, f0)
             nfev += 1
             # first step: the slip's age tau (it about doubles): a longer first step
@@ -453,10 +455,14 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
         rhs(t, y, p, f0)
         nfev += 1
         wx, wy, wz, r = _slip(y)
-        rate = _slip_rate(y, f0) if admissible else 0.0
-        if admissible and r <= r_stick and rate < 0.0:
+        took_off = took_off or r > r_stick
+        rate = _slip_rate(y, f0) if admissible or (took_off and r <= r_stick) else 0.0
+        if (admissible or took_off) and r <= r_stick and rate < 0.0:
             # zero slip at t + tau, tau = r / |r'|; the attitude gets the slip's turn
-            # omega_r tau / 2 and the spin's omega_p tau (error O(r tau^2 |u'|))
+            # omega_r tau / 2 and the spin's omega_p tau (error O(r tau^2 |u'|)). With
+            # G_req inside F that is stick; outside, a reversal through zero slip (the
+            # rig's creep about X under the Coulomb patch law, twice a revolution): the
+            # stick branch finds G_req outside F and kicks the slip out at once
             tau = -r / rate
             turn_by(y, 0.5 * tau * wx, 0.5 * tau * wy, 0.5 * tau * wz)
             turn_rigidly(y, y[7] * tau, ytry)
