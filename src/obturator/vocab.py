@@ -5,7 +5,7 @@ and a tuple of its values (for validation, ``argparse`` choices, config files
 and messages), the tuple derived from the Literal so the two cannot drift.
 
 >>> METHODS
-('auto', 'radau', 'rosenbrock', 'set-valued')
+('auto', 'radau', 'rosenbrock', 'set-valued', 'moreau-jean')
 >>> check_choice("spin_mode", "free", SPIN_MODES)
 'free'
 """
@@ -44,8 +44,9 @@ CaseName = Literal["spin-rig", "flight"]
 #: or Appendix A's energy form.
 SpinMode = Literal["constant", "free", "thesis-energy"]
 #: Compiled integrators (``auto``: DOP853, Radau IIA when stiff; ``set-valued``: the
-#: event-driven stick-slip solver of the unregularised thesis law).
-Method = Literal["auto", "radau", "rosenbrock", "set-valued"]
+#: event-driven stick-slip solver of the unregularised friction law; ``moreau-jean``:
+#: first-order fixed-step time-stepping of the same law, a cross-check).
+Method = Literal["auto", "radau", "rosenbrock", "set-valued", "moreau-jean"]
 #: State formulations of the equations of motion.
 Formulation = Literal["quaternion", "euler"]
 #: Regularisation families of the Coulomb friction magnitude.

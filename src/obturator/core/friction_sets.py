@@ -175,20 +175,74 @@ def coulomb_gauge(gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def exit_slip_direction(gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
-    """Unit slip direction u in which the friction gives way where G leaves F.
+def exit_slip_direction(y: np.ndarray, gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
+    """Unit direction u in which a slip leaves zero slip at state `y` where the reaction
+    G [N m] that stick needs is outside F (or on its boundary).
 
-    The slip whose moment is G: -M ARM(u) u = G, so u = -G / |G| for the thesis law
-    (star-shaped F, radial moments); -grad D(u) = G, so u = -(outward normal of F at
-    G) for the Coulomb patch law (:func:`coulomb_gauge`). (0, 0, 0) for G = 0.
+    Near zero slip omega_r' = I^-1 (G_f(u) - G) with G_f depending on u alone, so a
+    slip leaves zero along a ray: I^-1 (G_f(u) - G) = lambda u, lambda > 0.
+    Thesis law, G_f = -M ARM(u) u and G perpendicular to the hole axis (I^-1 G = G / A):
+    u = -G / |G|. Coulomb patch law, G_f = -grad D(u): the ray is the direction of the
+    minimiser omega* of the strictly convex 1/2 omega^T I omega + D(omega) + G . omega
+    (its stationarity is I omega + grad D(omega) = -G), unique, and zero iff G is in F;
+    found by majorise-minimise steps omega <- -(I + sum_k Q_k / |omega|_{Q_k})^-1 G. On
+    the boundary of F it tends to minus the outward normal (:func:`coulomb_gauge`).
+    (0, 0, 0) for G = 0.
     """
     g = math.sqrt(gx * gx + gy * gy + gz * gz)
     if g == 0.0:
         return 0.0, 0.0, 0.0
-    if p[P_FRIC] == FRIC_COULOMB:
-        _, dx, dy, dz = coulomb_gauge(gx, gy, gz, p)
+    if p[P_FRIC] != FRIC_COULOMB:
+        return -gx / g, -gy / g, -gz / g
+    zx, zy, zz = _hole_axis(y)
+    a, dc = p[P_A], p[P_C] - p[P_A]
+    n = int(p[P_FRIC + 4])
+    mu_n = p[P_FRIC + 1]
+    r2 = p[P_FRIC + 2] * p[P_FRIC + 2]
+    e2 = p[P_FRIC + 5] * p[P_FRIC + 5]
+    _, dx, dy, dz = coulomb_gauge(gx, gy, gz, p)
+    wx, wy, wz = -dx, -dy, -dz  # the boundary's ray, scaled below
+    scale = 0.0
+    for it in range(500):
+        h00 = a + dc * zx * zx
+        h11 = a + dc * zy * zy
+        h22 = a + dc * zz * zz
+        h01 = dc * zx * zy
+        h02 = dc * zx * zz
+        h12 = dc * zy * zz
+        for k in range(n):
+            nx, ny, nz = _contact_normal(k, p)
+            wn = wx * nx + wy * ny + wz * nz
+            s = math.sqrt(max(r2 * (wx * wx + wy * wy + wz * wz - wn * wn) + e2 * wn * wn, 0.0))
+            wk = mu_n / max(s, 1e-300)
+            c = wk * (e2 - r2)
+            h00 += wk * r2 + c * nx * nx
+            h11 += wk * r2 + c * ny * ny
+            h22 += wk * r2 + c * nz * nz
+            h01 += c * nx * ny
+            h02 += c * nx * nz
+            h12 += c * ny * nz
+        c00 = h11 * h22 - h12 * h12
+        c01 = h02 * h12 - h01 * h22
+        c02 = h01 * h12 - h02 * h11
+        c11 = h00 * h22 - h02 * h02
+        c12 = h01 * h02 - h00 * h12
+        c22 = h00 * h11 - h01 * h01
+        det = h00 * c00 + h01 * c01 + h02 * c02
+        vx = -(c00 * gx + c01 * gy + c02 * gz) / det
+        vy = -(c01 * gx + c11 * gy + c12 * gz) / det
+        vz = -(c02 * gx + c12 * gy + c22 * gz) / det
+        v = math.sqrt(vx * vx + vy * vy + vz * vz)
+        if not v > 0.0:
+            break
+        change = math.sqrt((vx - wx) ** 2 + (vy - wy) ** 2 + (vz - wz) ** 2)
+        wx, wy, wz = vx, vy, vz
+        scale = v
+        if it > 0 and change <= 1e-13 * v:
+            break
+    if not scale > 0.0:
         return -dx, -dy, -dz
-    return -gx / g, -gy / g, -gz / g
+    return wx / scale, wy / scale, wz / scale
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")

@@ -449,15 +449,16 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
         if not (y[0] == y[0]):
             status = Status.FAILED
             break
-        admissible = _stick_admissible(y, p)
-        armed = armed or not admissible
-        admissible = admissible and armed
+        inside = _stick_admissible(y, p)
+        armed = armed or not inside
+        admissible = inside and armed
         rhs(t, y, p, f0)
         nfev += 1
         wx, wy, wz, r = _slip(y)
         took_off = took_off or r > r_stick
-        rate = _slip_rate(y, f0) if admissible or (took_off and r <= r_stick) else 0.0
-        if (admissible or took_off) and r <= r_stick and rate < 0.0:
+        reversal = took_off and not inside and r <= r_stick
+        rate = _slip_rate(y, f0) if admissible or reversal else 0.0
+        if (admissible or reversal) and r <= r_stick and rate < 0.0:
             # zero slip at t + tau, tau = r / |r'|; the attitude gets the slip's turn
             # omega_r tau / 2 and the spin's omega_p tau (error O(r tau^2 |u'|)). With
             # G_req inside F that is stick; outside, a reversal through zero slip (the

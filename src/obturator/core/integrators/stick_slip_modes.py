@@ -123,7 +123,7 @@ def break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> f
     Leaving F, the ball slips along the direction in which the friction gives way
     (:func:`~obturator.core.friction_sets.exit_slip_direction`: u = -G_req / |G_req|
     for the thesis law, perpendicular to the hole axis, so the inertia along u is A;
-    the Coulomb patch law's u is taken with the same inertia A) with
+    the Coulomb patch law's ray is taken with the same inertia A for its timing) with
     |omega_r|(tau) = a tau + j tau^2 / 2, a = e / A and j = de/dt / A, e the excess
     of |G_req| over the radius of F.
     The slip starts at |omega_r| = `kick`, i.e. at the tau where that series reaches
@@ -146,7 +146,7 @@ def break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> f
     for i in range(4):
         y[i] = work[i]
     gx, gy, gz = required_reaction(y, p, wp)
-    ux, uy, uz = exit_slip_direction(gx, gy, gz, p)
+    ux, uy, uz = exit_slip_direction(y, gx, gy, gz, p)
     if ux == 0.0 and uy == 0.0 and uz == 0.0:
         return tau
     ux, uy, uz = kick * ux, kick * uy, kick * uz
