@@ -26,6 +26,7 @@ from obturator.core.friction_sets import (
 )
 from obturator.errors import InputError
 from obturator.model.cases import flight_case, rig_case
+from obturator.model.torques import SlipSpeedLaw
 from obturator.reference import THESIS_MU_S
 from obturator.solve import (
     SolverOptions,
@@ -193,7 +194,14 @@ def test_convergence_check_compares_with_the_regularised_path():
 @pytest.mark.parametrize(
     ("case", "field"),
     [
-        (rig_case(200.0, THESIS_MU_S, torque_model="coulomb"), "torque_model"),
+        (
+            rig_case(200.0, THESIS_MU_S, torque_model="coulomb", patch_radius=0.0),
+            "patch_radius",
+        ),
+        (
+            rig_case(200.0, THESIS_MU_S, speed_law=SlipSpeedLaw("weakening", 0.8)),
+            "speed_law",
+        ),
         (rig_case(200.0, THESIS_MU_S, spin_mode="thesis-energy"), "spin_mode"),
     ],
 )

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.optimize import minimize
 
 from obturator.core.friction_sets import (
     breakaway_angle,
@@ -55,38 +56,85 @@ def test_rig_set_is_the_patch_ellipsoid(gx, gy, gz):
         assert (stick_margin(g[0], g[1], g[2], P_RIG) > 0.0) == (ellipsoid < 1.0)
 
 
+def _normals(p: np.ndarray) -> list[np.ndarray]:
+    """Unit contact normals of the packed Coulomb law (ring at beta from +Z)."""
+    beta, n = p[15], int(p[16])
+    return [
+        np.array(
+            [
+                math.sin(beta) * math.cos(2 * math.pi * k / n),
+                math.sin(beta) * math.sin(2 * math.pi * k / n),
+                math.cos(beta),
+            ]
+        )
+        for k in range(n)
+    ]
+
+
 def _support(d: np.ndarray, p: np.ndarray) -> np.ndarray:
     """D(d) = sum_k mu N_k sqrt(R^2 |d x n_k|^2 + eps^2 (d . n_k)^2) for rows d."""
-    mu_n, r, beta, n, eps = p[13], p[14], p[15], int(p[16]), p[17]
+    mu_n, r, eps = p[13], p[14], p[17]
     total = np.zeros(d.shape[0])
-    for k in range(n):
-        gam = 2.0 * math.pi * k / n
-        nk = np.array([math.sin(beta) * math.cos(gam), math.sin(beta) * math.sin(gam), 0.0])
-        nk[2] = math.cos(beta)
+    for nk in _normals(p):
         dn = d @ nk
         total += mu_n * np.sqrt(r * r * (np.sum(d * d, axis=1) - dn * dn) + eps * eps * dn * dn)
     return total
 
 
+def _friction_moment(u: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """-grad D(u) [N m]: the law's moment in slip along u."""
+    mu_n, r, eps = p[13], p[14], p[17]
+    out = np.zeros(3)
+    for nk in _normals(p):
+        un = u @ nk
+        g = math.sqrt(r * r * (u @ u - un * un) + eps * eps * un * un)
+        out -= mu_n * (r * r * (u - un * nk) + eps * eps * un * nk) / g
+    return out
+
+
 @settings(max_examples=30, deadline=None)
 @given(unit, unit, unit)
 def test_ring_gauge_is_the_support_function_bound(gx, gy, gz):
-    """Two patches (flight): the iterated gauge max_d G . d / D(d) against 200,000
-    sampled directions, and its maximiser is the one it reports."""
+    """Two patches (flight): the iterated gauge max_d G . d / D(d) bounds 200,000
+    sampled directions and (to 1e-7) a Nelder-Mead search from the best of them, and
+    is attained at the maximiser it reports."""
     g = np.array([gx, gy, gz])
     if np.linalg.norm(g) < 1e-3:
         return
-    rng = np.random.default_rng(1)
-    d = rng.normal(size=(200_000, 3))
+    d = np.random.default_rng(1).normal(size=(200_000, 3))
     gamma, *dmax = coulomb_gauge(g[0], g[1], g[2], P_FLIGHT)
-    sampled = np.max(d @ g / _support(d, P_FLIGHT))
-    assert sampled <= gamma * (1.0 + 1e-12)
-    assert gamma == pytest.approx(sampled, rel=2e-4)
+    ratio = d @ g / _support(d, P_FLIGHT)
+    assert np.max(ratio) <= gamma * (1.0 + 1e-12)
+    best = minimize(
+        lambda x: -(x @ g) / _support(x[None, :], P_FLIGHT)[0],
+        d[np.argmax(ratio)],
+        method="Nelder-Mead",
+        options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 20_000},
+    )
+    # the majorise-minimise iteration stops within ~1e-8 of the maximum for a ring
+    assert -best.fun <= gamma * (1.0 + 1e-7)
+    assert -best.fun == pytest.approx(gamma, rel=1e-6)
     at = np.array(dmax)[None, :]
     assert (at @ g / _support(at, P_FLIGHT))[0] == pytest.approx(gamma, rel=1e-12)
-    # the slip gives way against the outward normal
-    u = np.array(exit_slip_direction(g[0], g[1], g[2], P_FLIGHT))
-    assert np.allclose(u, -np.array(dmax))
+
+
+@settings(max_examples=30, deadline=None)
+@given(unit, unit, unit, st.floats(1.01, 20.0))
+def test_slip_leaves_zero_along_a_ray(gx, gy, gz, outside):
+    """G_req outside F: the slip's departure u is a ray of omega_r' = I^-1 (G_f(u) - G),
+    i.e. that rate is lambda u with lambda > 0 (inertia A about the hole's normal
+    plane, C along it; here the hole axis along Z)."""
+    g = np.array([gx, gy, gz])
+    if np.linalg.norm(g) < 1e-3:
+        return
+    g = g * outside / coulomb_gauge(g[0], g[1], g[2], P_FLIGHT)[0]
+    y = np.array([1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])
+    u = np.array(exit_slip_direction(y, g[0], g[1], g[2], P_FLIGHT))
+    inertia = np.diag([P_FLIGHT[0], P_FLIGHT[0], P_FLIGHT[1]])
+    rate = np.linalg.solve(inertia, _friction_moment(u, P_FLIGHT) - g)
+    assert np.linalg.norm(u) == pytest.approx(1.0, abs=1e-12)
+    assert rate @ u > 0.0
+    assert np.linalg.norm(np.cross(rate, u)) < 1e-7 * np.linalg.norm(rate)
 
 
 def _attitude(theta: float, psi: float, spin: float) -> np.ndarray:
