@@ -89,10 +89,10 @@ class SolverOptions:
         and ~1e2-1e4x fewer steps in long sticking phases). ``"rosenbrock"``:
         the L-stable Rosenbrock pair of Shampine (ode23s). Radau transforms rtol as RADAU5 does
         (0.1 rtol^(2/3)); t_cr errors stay below ~3e-7 relative at rtol 1e-8.
-        ``"set-valued"``: the thesis law with no width (``friction_width`` and
+        ``"set-valued"``: the friction law with no width (``friction_width`` and
         ``friction_family`` unused): exact stick and event-driven transitions
         (:mod:`obturator.core.integrators.stick_slip`, ``docs/stick_slip.md``); quaternion
-        form, thesis friction, constant or free spin. :func:`convergence_check` then
+        form, constant mu_s, constant or free spin. :func:`convergence_check` then
         compares with the regularised path (``"auto"``) at the narrower width, both
         families. The thesis law, or the Coulomb patch law with a patch (a > 0).
         ``"moreau-jean"``: the same law by first-order event-capturing time-stepping

@@ -1,4 +1,4 @@
-"""Moreau-Jean time-stepping of the thesis friction law with the exact set: a cross-check.
+"""Moreau-Jean time-stepping of the friction law with the exact set: a cross-check.
 
 An event-capturing scheme (Moreau 1988; Jean 1999; Acary and Brogliato, *Numerical
 Methods for Nonsmooth Dynamical Systems*, Springer 2008, ch. 10), independent of the
@@ -56,7 +56,8 @@ def integrate(problem: Problem, controls: Controls) -> RawSolution:
     ------
     InputError
         Outside its scope: not the quaternion formulation, not a constant spin, not
-        the thesis law with constant mu_s, or recorded steps / output times asked for.
+        a law without a set-valued form (:func:`.stick_slip_modes.check_set_valued_law`),
+        or recorded steps / output times asked for.
     """
     p = np.array(problem.p, dtype=float)
     if p[P_FORM] != FORM_QUATERNION:

@@ -1,11 +1,12 @@
-"""Event-driven stick-slip integration of the thesis friction law, with no width.
+"""Event-driven stick-slip integration of the friction laws, with no width.
 
 Formulation: the *switch model* of Leine and Nijmeijer (*Dynamics and Bifurcations
 of Non-Smooth Mechanical Systems*, Springer 2004, ch. 2 and 9), with the exact set of
 admissible moments in place of Leine's stick band (Glocker, *Set-Valued Force Laws*,
 Springer 2001; Acary and Brogliato, *Numerical Methods for Nonsmooth Dynamical
 Systems*, Springer 2008, ch. 7: event-driven schemes). The ball is in one of two
-modes (``docs/stick_slip.md`` derives them from thesis Eqs. 35-36, 56-64, Appendix A):
+modes (``docs/stick_slip.md`` derives them from thesis Eqs. 35-36, 56-64, Appendix A,
+and for the Coulomb patch law from its dissipation function, section 9 there):
 
 * **stick**, omega_r = 0: the ball turns rigidly with the socket, so its attitude is a
   rotation about Z and nothing is integrated; the reaction is G_req =
@@ -35,9 +36,16 @@ Transitions:
   0. Projecting from |omega_r| = r changes the attitude by O(r^2 / a) (a the
   deceleration), far below the step error.
 * stick -> slip: at the breakaway angle; the slip starts with omega_r =
-  :data:`KICK` omega_p along -G_req / |G_req| (the direction in which the saturated
-  friction gives way; Radau IIA needs a defined direction at its first node).
+  :data:`KICK` omega_p along the ray in which the saturated friction gives way
+  (-G_req / |G_req| for the thesis law; Radau IIA needs a defined direction at its
+  first node).
 
+* reversal: a slip that has exceeded :data:`STICK_SLIP` omega_p and falls back to it
+  with G_req outside F passes through zero slip (the rig's creep about X under the
+  Coulomb patch law, twice a revolution): it is set to zero there as for stick and
+  kicked out at once along the departure ray
+  (:func:`~obturator.core.friction_sets.exit_slip_direction`); Radau IIA cannot step
+  across that kink.
 * grazing exit: a kicked slip that cannot take off (|omega_r| below the kick with
   G_req still outside F, Radau IIA's steps collapsed) is held rigidly through the rest of
   the window (:func:`_through_window`); its creep is below the kick's scale.
@@ -46,7 +54,8 @@ The friction moment at zero slip is never evaluated in slip, and the stick react
 is never integrated, so there is no width; Radau IIA's Jacobian alone is taken from a
 copy of the parameters with a tiny width (:data:`JACOBIAN_WIDTH`) so that its
 forward differences stay below the slip speed. Requires the quaternion formulation,
-the thesis friction law (rig or flight), and a constant or free spin.
+the thesis friction law (rig or flight) or the Coulomb patch law with a patch (a > 0),
+constant mu_s, and a constant or free spin.
 """
 
 from __future__ import annotations
