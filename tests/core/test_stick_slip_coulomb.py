@@ -19,13 +19,9 @@ from hypothesis import strategies as st
 from scipy.optimize import minimize
 
 from obturator.core.friction_sets import (
-    breakaway_angle,
     coulomb_gauge,
     exit_slip_direction,
-    hold_stick,
-    required_reaction,
     stick_margin,
-    turn_rigidly,
 )
 from obturator.errors import InputError
 from obturator.model.cases import flight_case, rig_case
@@ -135,46 +131,6 @@ def test_slip_leaves_zero_along_a_ray(gx, gy, gz, outside):
     assert np.linalg.norm(u) == pytest.approx(1.0, abs=1e-12)
     assert rate @ u > 0.0
     assert np.linalg.norm(np.cross(rate, u)) < 1e-7 * np.linalg.norm(rate)
-
-
-def _attitude(theta: float, psi: float, spin: float) -> np.ndarray:
-    ps = psi + 0.5 * math.pi  # z_X = sin(theta) cos(psi)
-    c1, s1 = math.cos(0.5 * ps), math.sin(0.5 * ps)
-    c2, s2 = math.cos(0.5 * theta), math.sin(0.5 * theta)
-    y = np.array([c1 * c2, c1 * s2, s1 * s2, s1 * c2, 0.0, 0.0, 0.0, spin])
-    hold_stick(y, spin)
-    return y
-
-
-@settings(max_examples=40, deadline=None)
-@given(
-    st.floats(0.2, 1.5),
-    st.floats(0.0, 2 * math.pi),
-    st.floats(40.0, 400.0),
-    st.sampled_from(["rig", "flight"]),
-)
-def test_breakaway_angle_is_the_first_exit(theta, psi, spin, which):
-    """The exit angle (closed form for the rig's patch, scanned and bisected for the
-    ring) against sampling the margin along the rigid turn."""
-    p = P_RIG if which == "rig" else P_FLIGHT
-    y = _attitude(theta, psi, spin)
-
-    def margin(angle: float) -> float:
-        out = np.empty(8)
-        turn_rigidly(y, angle, out)
-        return stick_margin(*required_reaction(out, p, spin), p)
-
-    scale = M_T if which == "rig" else 2.0 * p[13] * p[14]
-    if margin(0.0) <= 1e-9 * scale:
-        return
-    angle = breakaway_angle(y, p, spin)
-    grid = np.linspace(0.0, 2.0 * math.pi, 4001)[1:]
-    outside = [a for a in grid if margin(a) < 0.0]
-    if not outside:
-        assert math.isinf(angle)
-        return
-    assert angle <= outside[0] + 1e-12
-    assert abs(margin(angle)) < 1e-9 * scale
 
 
 def test_point_contact_is_refused():

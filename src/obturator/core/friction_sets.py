@@ -130,6 +130,32 @@ def _solve3(h00, h01, h02, h11, h12, h22, bx, by, bz) -> tuple[float, float, flo
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def _majoriser(dx: float, dy: float, dz: float, p: np.ndarray) -> tuple:
+    """D(d) and the entries (h00, h01, h02, h11, h12, h22) of sum_k Q_k / |d|_{Q_k}, the
+    Hessian of the quadratic that majorises D at d (Q_k = (mu N_k)^2 (R_s^2 (1 - n_k
+    n_k^T) + eps^2 n_k n_k^T), so |d|_{Q_k} = mu N_k g_k(d))."""
+    mu_n = p[P_FRIC + 1]
+    r2 = p[P_FRIC + 2] * p[P_FRIC + 2]
+    e2 = p[P_FRIC + 5] * p[P_FRIC + 5]
+    d_norm = 0.0
+    h00 = h01 = h02 = h11 = h12 = h22 = 0.0
+    for k in range(int(p[P_FRIC + 4])):
+        nx, ny, nz = _contact_normal(k, p)
+        dn = dx * nx + dy * ny + dz * nz
+        s = math.sqrt(max(r2 * (dx * dx + dy * dy + dz * dz - dn * dn) + e2 * dn * dn, 0.0))
+        d_norm += mu_n * s
+        wk = mu_n / max(s, 1e-300)
+        c = wk * (e2 - r2)
+        h00 += wk * r2 + c * nx * nx
+        h11 += wk * r2 + c * ny * ny
+        h22 += wk * r2 + c * nz * nz
+        h01 += c * nx * ny
+        h02 += c * nx * nz
+        h12 += c * ny * nz
+    return d_norm, h00, h01, h02, h11, h12, h22
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def coulomb_gauge(gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
     """Gauge gamma(G) = max_d G . d / D(d) of the Coulomb patch set F, and its maximiser.
 
@@ -144,34 +170,16 @@ def coulomb_gauge(gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
     Returns
     -------
     tuple of float
-        (gamma [1 / (N m) x N m = -], d_X, d_Y, d_Z).
+        (gamma [-], d_X, d_Y, d_Z).
     """
     g = math.sqrt(gx * gx + gy * gy + gz * gz)
     if g == 0.0:
         return 0.0, 0.0, 0.0, 0.0
-    n = int(p[P_FRIC + 4])
-    mu_n = p[P_FRIC + 1]
-    r2 = p[P_FRIC + 2] * p[P_FRIC + 2]
-    e2 = p[P_FRIC + 5] * p[P_FRIC + 5]
     dx, dy, dz = gx / g, gy / g, gz / g
     gamma = 0.0
     for _ in range(200):
         # H = sum_k w_k (r2 I + (e2 - r2) n n^T), w_k = mu N_k / sqrt(|d|_{Q_k}^2 / (mu N_k)^2)
-        d_norm = 0.0
-        h00 = h01 = h02 = h11 = h12 = h22 = 0.0
-        for k in range(n):
-            nx, ny, nz = _contact_normal(k, p)
-            dn = dx * nx + dy * ny + dz * nz
-            s = math.sqrt(max(r2 * (dx * dx + dy * dy + dz * dz - dn * dn) + e2 * dn * dn, 0.0))
-            d_norm += mu_n * s
-            wk = mu_n / max(s, 1e-300)
-            c = wk * (e2 - r2)
-            h00 += wk * r2 + c * nx * nx
-            h11 += wk * r2 + c * ny * ny
-            h22 += wk * r2 + c * nz * nz
-            h01 += c * nx * ny
-            h02 += c * nx * nz
-            h12 += c * ny * nz
+        d_norm, h00, h01, h02, h11, h12, h22 = _majoriser(dx, dy, dz, p)
         new = (gx * dx + gy * dy + gz * dz) / d_norm
         if abs(new - gamma) <= 1e-15 * new:
             gamma = new
@@ -207,32 +215,17 @@ def exit_slip_direction(y: np.ndarray, gx: float, gy: float, gz: float, p: np.nd
         return -gx / g, -gy / g, -gz / g
     zx, zy, zz = _hole_axis(y)
     a, dc = p[P_A], p[P_C] - p[P_A]
-    n = int(p[P_FRIC + 4])
-    mu_n = p[P_FRIC + 1]
-    r2 = p[P_FRIC + 2] * p[P_FRIC + 2]
-    e2 = p[P_FRIC + 5] * p[P_FRIC + 5]
     _, dx, dy, dz = coulomb_gauge(gx, gy, gz, p)
     wx, wy, wz = -dx, -dy, -dz  # the boundary's ray, scaled below
     scale = 0.0
     for it in range(500):
-        h00 = a + dc * zx * zx
-        h11 = a + dc * zy * zy
-        h22 = a + dc * zz * zz
-        h01 = dc * zx * zy
-        h02 = dc * zx * zz
-        h12 = dc * zy * zz
-        for k in range(n):
-            nx, ny, nz = _contact_normal(k, p)
-            wn = wx * nx + wy * ny + wz * nz
-            s = math.sqrt(max(r2 * (wx * wx + wy * wy + wz * wz - wn * wn) + e2 * wn * wn, 0.0))
-            wk = mu_n / max(s, 1e-300)
-            c = wk * (e2 - r2)
-            h00 += wk * r2 + c * nx * nx
-            h11 += wk * r2 + c * ny * ny
-            h22 += wk * r2 + c * nz * nz
-            h01 += c * nx * ny
-            h02 += c * nx * nz
-            h12 += c * ny * nz
+        _, h00, h01, h02, h11, h12, h22 = _majoriser(wx, wy, wz, p)  # + I below
+        h00 += a + dc * zx * zx
+        h11 += a + dc * zy * zy
+        h22 += a + dc * zz * zz
+        h01 += dc * zx * zy
+        h02 += dc * zx * zz
+        h12 += dc * zy * zz
         vx, vy, vz = _solve3(h00, h01, h02, h11, h12, h22, -gx, -gy, -gz)
         v = math.sqrt(vx * vx + vy * vy + vz * vz)
         if not v > 0.0:
