@@ -27,6 +27,7 @@ __all__ = [
     "add_flags",
     "add_command",
     "execution_flags",
+    "RESTART",
     "study_flags",
     "parameter_flags",
     "JSON",
@@ -128,6 +129,7 @@ CSV = option(
     "--csv", metavar="FILE.csv", type=OutputFile(example="out.csv"), help="also write a CSV table"
 )
 PLOT = option("--plot", metavar="FILE.png")
+RESTART = switch("--restart", "discard partial results of a different study")
 
 
 def execution_flags() -> tuple[Flag, ...]:
@@ -154,7 +156,7 @@ def execution_flags() -> tuple[Flag, ...]:
             type=Count(1, MAX_POINTS),
             help="points per task (default: automatic)",
         ),
-        switch("--restart", "discard partial results of a different study"),
+        RESTART,
         NO_PROGRESS,
     )
 
