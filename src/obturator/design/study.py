@@ -105,8 +105,9 @@ def _posteriors(
 
 def _exact_tables(
     tasks: list[dict[str, Any]], runner: Runner, label: str
-) -> list[list[list[float | None]]]:
-    return runner.map(
+) -> dict[str, list[list[list[float | None]]]]:
+    """Solve the tasks in one batch; each model's (``task["model"]``) tables in task order."""
+    done = runner.map(
         opening_time_table,
         tasks,
         label=label,
@@ -115,6 +116,10 @@ def _exact_tables(
         probe_first=False,
         warm=_warm,
     )
+    by_model: dict[str, list[list[list[float | None]]]] = {}
+    for task, table in zip(tasks, done, strict=True):
+        by_model.setdefault(task["model"], []).append(table)
+    return by_model
 
 
 def _release_slopes(
@@ -139,10 +144,13 @@ def _release_slopes(
         for i in range(0, len(rows), 4 * _SETTINGS_PER_TASK)
     ]
     done = _exact_tables(tasks, runner, "design: release-angle slopes")
-    per_model: dict[str, list[float]] = {n: [] for n in posts}
-    for task, res in zip(tasks, done, strict=True):
-        per_model[task["model"]] += [np.nan if v is None else v for v in res[0]]
-    slopes = [np.abs(surrogates[n].t0 - np.array(per_model[n])) / RELEASE_STEP_DEG for n in posts]
+    slopes = [
+        np.abs(
+            surrogates[n].t0 - np.array([np.nan if v is None else v for t in done[n] for v in t[0]])
+        )
+        / RELEASE_STEP_DEG
+        for n in posts
+    ]
     return np.nanmean(slopes, axis=0)
 
 
@@ -223,15 +231,11 @@ def design_experiment(
     settings: list[Setting] = list(dict.fromkeys([*grid, *(Setting(w) for w in measured_spins)]))
     index = {s: i for i, s in enumerate(settings)}
 
-    tasks, owners = [], []
-    for n in names:
-        ts = surrogate_tasks(posts[n], settings, t_max, _SETTINGS_PER_TASK)
-        tasks += ts
-        owners += [n] * len(ts)
+    tasks = [
+        t for n in names for t in surrogate_tasks(posts[n], settings, t_max, _SETTINGS_PER_TASK)
+    ]
     done = _exact_tables(tasks, runner, "design: surrogate solves")
-    surrogates = {
-        n: assemble(n, [r for r, o in zip(done, owners, strict=True) if o == n]) for n in names
-    }
+    surrogates = {n: assemble(n, done[n]) for n in names}
     valid = np.all([s.valid for s in surrogates.values()], axis=0)
     t_typical = np.nanmean([s.t0 for s in surrogates.values()], axis=0)
     slope = _release_slopes(posts, surrogates, settings, runner, t_max)
@@ -269,18 +273,21 @@ def design_experiment(
     )
     col_settings = [settings[i].to_dict() for i in columns]
     draws = {n: campaign_draws(posts[n], campaigns, seed, k) for k, n in enumerate(names)}
-    gen_tasks, gen_owner = [], []
-    for n in names:
-        for a in range(0, campaigns, _DRAWS_PER_TASK):
-            vals = [posts[n].to_values(x) for x in draws[n][a : a + _DRAWS_PER_TASK]]
-            gen_tasks.append({"model": n, "values": vals, "settings": col_settings, "t_max": t_max})
-            gen_owner.append(n)
+    gen_tasks = [
+        {
+            "model": n,
+            "values": [posts[n].to_values(x) for x in draws[n][a : a + _DRAWS_PER_TASK]],
+            "settings": col_settings,
+            "t_max": t_max,
+        }
+        for n in names
+        for a in range(0, campaigns, _DRAWS_PER_TASK)
+    ]
     gen = _exact_tables(gen_tasks, runner, "design: simulated campaigns (exact solves)")
     exact: dict[str, NDArray[np.float64]] = {}
     errors: dict[str, dict[str, float]] = {}
     for n in names:
-        rows = [r for r, o in zip(gen, gen_owner, strict=True) if o == n]
-        tab = np.array([[np.nan if v is None else v for v in row] for r in rows for row in r])
+        tab = np.array([[np.nan if v is None else v for v in row] for r in gen[n] for row in r])
         errors[n] = surrogate_error(tab, draws[n], posts[n], surrogates[n], columns, noise)
         full = np.full((campaigns, len(settings)), np.nan)
         full[:, columns] = np.where(np.isfinite(tab), tab, t_max)  # not opened: at the horizon
