@@ -76,11 +76,14 @@ def test_ctrl_c_is_one_line_exit_130_within_a_second(tmp_path, name):
     args = _commands(tmp_path)[name]
     # past start-up, inside the work; for calibrate that is its bootstrap, a Python loop
     # of small NumPy calls where the watcher thread alone waited 2.8-4.5 s for the GIL
-    resumes = name.startswith("sweep")  # a store (--out); the montecarlo here has none
+    # a store (--out): the sweeps and reproduce; the montecarlo here has none
+    resumes = name.startswith("sweep") or name == "reproduce"
     delay = (
         random.Random(name).uniform(0.5, 1.0) if resumes else random.Random(name).uniform(2.0, 3.0)
     )
     store = Path(args[args.index("--out") + 1]) if resumes else None
+    if name == "reproduce":
+        store = store / "report"  # its store: report.partial.jsonl in the --out folder
     rc, err, dt = _interrupt(args, delay, signal.SIGINT, started=store)
     assert rc == 130, err
     hint = "; run the same command again to resume (finished work is kept)"

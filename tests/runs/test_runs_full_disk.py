@@ -199,23 +199,52 @@ def test_real_full_tmpfs(study: str, reference: dict[str, np.ndarray], tmp_path:
         subprocess.run(["umount", str(disk)], check=False)
 
 
-def test_validate_on_a_full_disk_is_one_line_and_leaves_no_partial_file(
+def _validation_models(out: Path) -> str:
+    """validation.json's models, without the wall-clock times."""
+    import json
+
+    def drop_times(x: object) -> object:
+        if isinstance(x, dict):
+            return {k: drop_times(v) for k, v in x.items() if "elapsed" not in k}
+        return [drop_times(v) for v in x] if isinstance(x, list) else x
+
+    models = json.loads((out / "validation.json").read_text())["models"]
+    return json.dumps(drop_times(models), sort_keys=True)
+
+
+def test_validate_enospc_at_every_write_then_resume(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """validate keeps no resume store (its fits take seconds to minutes); its text and
-    JSON files are whole or absent, and a full disk is one line."""
+    """validate keeps its finished fits in validation.partial.jsonl: a full disk at any
+    write (lock, header, a fit's record, validation.txt or .json) is one line, and the
+    same command without --restart resumes and writes what a run that never failed
+    writes."""
     data = tmp_path / "runs.csv"
     w = [150.0, 151.0, 180.0, 230.0, 231.0, 300.0, 302.0, 400.0]
     t = [0.62, 0.61, 0.52, 0.41, 0.42, 0.33, 0.33, 0.26]  # rough rig t_cr [s]
     rows = [f"{a},{b},{int(a > 200)}" for a, b in zip(w, t, strict=True)]
     data.write_text("spin_rate_rad_s,t_cr_s,starred\n" + "\n".join(rows) + "\n")
-    out = tmp_path / "study"
-    argv = ["validate", "--data", str(data), "--models", "mu", "--jobs", "1"]
-    argv += ["--no-profile", "--no-progress", "--out", str(out)]
+
+    def validate(out: Path) -> int:
+        argv = ["validate", "--data", str(data), "--models", "mu", "--jobs", "1"]
+        return main([*argv, "--no-profile", "--no-progress", "--out", str(out)])
+
     with monkeypatch.context() as m:
-        _fail_at(m, 1)  # validation.txt is written, validation.json is not
-        assert main(argv) == 2
-    err = capsys.readouterr().err
-    assert err == f"obturator: error: {out / 'validation.json'}: No space left on device\n"
-    assert (out / "validation.txt").exists() and not (out / "validation.json").exists()
-    assert not list(out.glob(".*.tmp"))
+        writes = _count_writes(m)
+        assert validate(tmp_path / "reference") == 0
+    reference = _validation_models(tmp_path / "reference")
+    assert len(writes) >= 6  # lock, header, fit records, validation.txt and .json
+    capsys.readouterr()
+    for k in range(len(writes)):
+        out = tmp_path / f"k{k}"
+        with monkeypatch.context() as m:
+            _fail_at(m, k)
+            assert validate(out) == 2, k
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("obturator: error: out: cannot write")
+        assert "No space left on device" in err and "free space and rerun" in err
+        assert not list(out.glob("*.lock")) and not list(out.glob(".*.tmp"))
+        assert validate(out) == 0, k  # no --restart
+        assert "different study" not in capsys.readouterr().err
+        assert _validation_models(out) == reference
+        assert not list(out.glob("*.partial.jsonl"))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import json
 import re
 
@@ -196,3 +197,36 @@ def test_calibrate_cli_bad_input_is_one_line_exit_2(tmp_path, capsys, content, a
 def test_calibrate_cli_missing_file(tmp_path, capsys):
     assert main(["calibrate", str(tmp_path / "none.csv")]) == 2
     assert capsys.readouterr().err.startswith("obturator: error:")
+
+
+def test_an_interrupted_reproduce_resumes_its_finished_studies(tmp_path, monkeypatch):
+    """The studies finished before an interruption come from report.partial.jsonl (not
+    recomputed), equal to what they were; the store goes once the report is written."""
+    from obturator.runs import Runner, sidecar_path
+
+    rep = importlib.import_module("obturator.thesis.reproduce")  # the package re-exports
+    calls: list[str] = []
+    couette, density = rep.couette_study, rep.density_study
+
+    def counted(*args, **kwargs):
+        calls.append("couette")
+        return couette(*args, **kwargs)
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(rep, "couette_study", counted)
+    monkeypatch.setattr(rep, "density_study", interrupted)
+    store = tmp_path / "report"
+    with pytest.raises(KeyboardInterrupt):
+        rep.reproduce(tmp_path, quick=True, validation=False, runner=Runner(store=store))
+    assert calls == ["couette", "couette"] and sidecar_path(store).is_file()
+    monkeypatch.setattr(rep, "density_study", density)
+    runner = Runner(store=store)
+    res = rep.reproduce(tmp_path, quick=True, validation=False, runner=runner)
+    assert calls == ["couette", "couette"]  # both Couette studies came from the store
+    assert runner.n_resumed == 4  # Figs. 9-10, Fig. 9 (caption), Figs. 13-14, Fig. 15
+    assert not sidecar_path(store).exists() and res.report_html.is_file()
+    # an independent run of the first study: the restored one is the same, to the bit
+    fresh = couette(n_points=rep._settings(True)["n_points"])
+    assert fresh.identical(res.studies["couette"])

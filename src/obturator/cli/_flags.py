@@ -28,6 +28,7 @@ __all__ = [
     "add_flags",
     "add_command",
     "execution_flags",
+    "RESTART",
     "study_flags",
     "parameter_flags",
     "JSON",
@@ -138,6 +139,7 @@ CSV = option(
     "--csv", metavar="FILE.csv", type=OutputFile(example="out.csv"), help="also write a CSV table"
 )
 PLOT = option("--plot", metavar="FILE.png")
+RESTART = switch("--restart", "discard partial results of a different study")
 
 
 def execution_flags() -> tuple[Flag, ...]:
@@ -156,7 +158,7 @@ def execution_flags() -> tuple[Flag, ...]:
             help="dask.distributed scheduler, e.g. tcp://host:8786",
         ),
         count("--chunk-size", 1, MAX_POINTS, "points per task (default: automatic)"),
-        switch("--restart", "discard partial results of a different study"),
+        RESTART,
         NO_PROGRESS,
     )
 

@@ -33,7 +33,16 @@ _MESSAGES = {signal.SIGINT: ("interrupted", 130), signal.SIGTERM: ("terminated",
 
 #: Commands whose finished work is kept in their ``--out`` store, so that running the
 #: same command again resumes (``envelope`` always has one: its default --out).
-RESUMING = ("sweep", "montecarlo", "envelope", "probability", "sensitivity", "optimize")
+RESUMING = (
+    "sweep",
+    "montecarlo",
+    "envelope",
+    "probability",
+    "sensitivity",
+    "optimize",
+    "validate",
+    "reproduce",
+)
 
 #: Appended to the one line when the running command resumes (set by :func:`note_command`).
 _resume_hint = ""

@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
-from ._flags import NO_PROGRESS, add_command, option, switch
+from ._flags import NO_PROGRESS, RESTART, add_command, option, switch
 from ._kinds import OutputDir
 
 __all__ = ["register"]
@@ -24,9 +25,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             metavar="DIR",
             required=True,
             type=OutputDir(),
-            help="output directory (created)",
+            help="output directory (created; finished studies are kept in "
+            "report.partial.jsonl there until the report is written: a rerun resumes)",
         ),
         switch("--quick", "fewer points and a smaller bootstrap (seconds)"),
+        RESTART,
         NO_PROGRESS,
         switch(
             "--no-validation",
@@ -49,10 +52,12 @@ def _reproduce(args: argparse.Namespace) -> int:
     from ..thesis.reproduce import reproduce
     from ._runner import runner_from_args
 
+    runner = runner_from_args(args, resume=False)
+    runner.store = Path(args.out) / "report"  # its sidecar: report.partial.jsonl
     res = reproduce(
         args.out,
         quick=args.quick,
-        runner=runner_from_args(args, resume=False),
+        runner=runner,
         command=command_line(),
         envelope=args.envelope,
         validation=not args.no_validation,

@@ -10,13 +10,14 @@ writes everything into a folder.
 from __future__ import annotations
 
 import argparse
+from functools import partial
 from pathlib import Path
 
 from ..errors import InputError
 from ..params import Range
 from ..vocab import NOISE_MODELS
 from . import _json
-from ._flags import JSON, NO_PROGRESS, PLOT, T_MAX, add_command, option, switch
+from ._flags import JSON, NO_PROGRESS, PLOT, RESTART, T_MAX, add_command, option, switch
 from ._kinds import Count, InputFile, OutputDir, OutputFile, Quantity, Text
 from ._runner import runner_from_args
 
@@ -56,7 +57,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "--out",
             metavar="DIR",
             type=OutputDir(),
-            help="write validation.json, validation.txt, validation.png",
+            help="write validation.json, validation.txt, validation.png (finished fits are "
+            "kept in validation.partial.jsonl there until then: a rerun resumes)",
         ),
         option(
             "--workers",
@@ -100,6 +102,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "--profile-all",
             "profile-likelihood intervals for every candidate (default: the recommended one)",
         ),
+        RESTART,
         NO_PROGRESS,
     )
 
@@ -152,10 +155,13 @@ def _run(args: argparse.Namespace) -> int:
         if exc.field != "path":
             raise
         raise InputError("data", str(exc).split(": ", 1)[1]) from None
+    runner = runner_from_args(args, workers=jobs, resume=False)
+    if out is not None:
+        runner.store = out / "validation"  # its sidecar: validation.partial.jsonl
     result = run_validation(
         data,
         models=[c.name for c in names],
-        runner=runner_from_args(args, workers=jobs, resume=False),
+        runner=runner,
         t_max=t_max,
         spin_sd=spin_sd,
         gap=gap,
@@ -166,17 +172,19 @@ def _run(args: argparse.Namespace) -> int:
     from ..validation.textreport import format_report
 
     text = format_report(result)
-    if plot is not None or out is not None:
-        from ..validation.plotting import save_validation_figure
+    from ..validation.plotting import save_validation_figure
 
-        if plot is not None:
-            save_validation_figure(result, plot)
-        if out is not None:
-            save_validation_figure(result, out / "validation.png")
-            atomic_write_text(out / "validation.txt", text + "\n")
-            atomic_write_text(
-                out / "validation.json", _json.dumps(result.to_dict(), indent=1) + "\n"
-            )
+    if plot is not None:
+        save_validation_figure(result, plot)
+    if out is not None:  # then the resume store goes (kept if a write fails)
+        as_json = _json.dumps(result.to_dict(), indent=1) + "\n"
+        runner.write_outputs(
+            [
+                (out / "validation.png", partial(save_validation_figure, result)),
+                (out / "validation.txt", lambda path: atomic_write_text(path, text + "\n")),
+                (out / "validation.json", lambda path: atomic_write_text(path, as_json)),
+            ]
+        )
     if args.json:
         print(_json.dumps(result.to_dict()))
     else:

@@ -238,6 +238,7 @@ class Runner:
                 track = partial(self.reporter.track, label, n_tasks, n_tasks - left, unit)
                 executor.run(job, chunks, sink, track)
         except BaseException:
+            self.n_computed += computed[0]  # kept in the store: a rerun resumes them
             self.close()
             raise
         self.n_computed += computed[0]
@@ -257,6 +258,7 @@ class Runner:
         chunk_size: int | None = None,
         probe_first: bool = True,
         batched: bool = False,
+        pickled: bool = False,
     ) -> list[Any]:
         """``[fn(t) for t in tasks]``, computed as :meth:`run` computes.
 
@@ -279,8 +281,11 @@ class Runner:
         batched : bool
             `fn` takes a chunk's tasks at once; a task's result may then depend on its
             chunk at the rounding level, so a probe only times (``Job.separable``).
+        pickled : bool
+            Tasks and results need not be JSON-ready: tasks are keyed by their canonical
+            content, results stored pickled (:mod:`.results`).
         """
-        results = MapResults(tasks, keyed=self.sidecar is not None)
+        results = MapResults(tasks, keyed=self.sidecar is not None, pickled=pickled)
         if batched:
             job = Job(fn, lambda idx: ([tasks[i] for i in idx.tolist()],), warm, separable=False)
         else:
@@ -295,3 +300,27 @@ class Runner:
             probe_first=probe_first,
         )
         return results.values()
+
+    def memo(self, identity: Any, compute: Callable[[], Any]) -> Any:
+        """``compute()`` in this process, or its value from the resume store when a run of
+        the same study finished it before (a step of a study that runs its own steps in
+        order, such as a section of ``reproduce``). `identity` describes the step (its
+        content is the key); the value is stored pickled.
+        """
+        results = MapResults([identity], keyed=self.sidecar is not None, pickled=True)
+        if self.sidecar is not None:
+            for keys, values in self.sidecar.records:
+                results.restore(keys, values)
+        if results.todo().size == 0:
+            self.n_resumed += 1
+            return results.values()[0]
+        value = compute()
+        keys, values = results.put(np.zeros(1, dtype=np.intp), [value])
+        if self.sidecar is not None:
+            try:
+                self.sidecar.append(keys, values)
+            except BaseException:
+                self.close()
+                raise
+        self.n_computed += 1
+        return value

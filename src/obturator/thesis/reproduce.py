@@ -19,10 +19,11 @@ from typing import Any
 
 import numpy as np
 
+from .. import __version__
 from .. import calibration as cal
 from ..model.cases import rig_case
 from ..reference import TABLE1, THESIS_MU_S
-from ..runs import Progress, Runner
+from ..runs import Progress, Runner, study_digest
 from ..runs.store import atomic_write_text
 from ..solve import SolverOptions, opening_times
 from .explorer import explorer_data
@@ -310,7 +311,13 @@ def reproduce(
     from ..plotting import save
 
     runner = runner or Runner(workers=2)
+    if runner.store is not None:  # finished studies kept in report.partial.jsonl
+        identity = {"study": "reproduce", "version": __version__, "quick": quick}
+        identity |= {"options": opts, "validation": validation}
+        runner.open(study_digest(identity))
     quiet = replace(runner, progress=Progress("off"))  # one display at a time: the report's
+    # the envelope and design sections are separate studies, run without the store
+    storeless = replace(quiet, store=None, sidecar=None)
     total = len(tasks) + 1 + int(validation)
     runner.reporter.plan(
         "reproduce",
@@ -322,22 +329,26 @@ def reproduce(
     )
     with runner.reporter.track("reproduce", total, unit="steps") as step:
 
-        def run(label: str, fn: Callable[[], Any]) -> Any:
+        def run(key: str, label: str, fn: Callable[[], Any]) -> Any:
             step.describe(label)
-            value = fn()
+            value = runner.memo({"study": key}, fn)  # from the store after an interruption
             step(1)
             return value
 
         for key, label, fn in tasks:
-            res[key] = run(label, fn)
+            res[key] = run(key, label, fn)
         if validation:
             from ..validation.report import run_for_report
 
+            # its fits go to the same store one by one, so an interruption inside it
+            # keeps the finished fits too
             res["validation"] = run(
-                "validation (all 54 runs)", lambda: run_for_report(quick, quiet)
+                "validation", "validation (all 54 runs)", lambda: run_for_report(quick, quiet)
             )
         figs = _figures(res)
-        run("figures", lambda: paths.extend(save(make(), out / name) for name, _, make in figs))
+        step.describe("figures")
+        paths.extend(save(make(), out / name) for name, _, make in figs)
+        step(1)
     from .explorer import explorer_html
 
     rows = checkable_rows(res)
@@ -352,19 +363,24 @@ def reproduce(
     if envelope:
         from ..envelope.report import envelope_section
 
-        section = envelope_section(out, quick=quick, runner=quiet)
+        section = envelope_section(out, quick=quick, runner=storeless)
         ctx["sections"].append(section)
         paths.extend(out / name for name, _ in section.figures)
     if design:
         from ..design.report import design_section
 
         fits = {m.name: m.fit for m in res["validation"].models} if validation else None
-        dsec = design_section(out, quick=quick, runner=quiet, fits=fits)
+        dsec = design_section(out, quick=quick, runner=storeless, fits=fits)
         ctx["sections"].append(dsec)
         paths.extend(out / name for name, _ in dsec.figures)
     ctx["images"] = {p.name: base64.b64encode(p.read_bytes()).decode("ascii") for p in paths}
     ctx["explorer"] = explorer_html(res["explorer"])
     md, hp = out / "report.md", out / "report.html"
-    atomic_write_text(md, to_markdown(ctx))  # whole or absent, also on a full disk
-    atomic_write_text(hp, to_html(ctx))
+    # whole or absent, also on a full disk; then the store goes (kept if a write fails)
+    runner.write_outputs(
+        [
+            (md, lambda path: atomic_write_text(path, to_markdown(ctx))),
+            (hp, lambda path: atomic_write_text(path, to_html(ctx))),
+        ]
+    )
     return ReproduceResult(out, paths, md, hp, rows, res["fit"], elapsed, res)

@@ -17,7 +17,8 @@ the spread of its t_cr over the release phase psi_0.
 
 Work is spread over the runner's processes (:class:`obturator.runs.Runner`; each task is one fit,
 one curve or one profile side), each with its own t_cr cache; subset fits start
-from the all-run fit.
+from the all-run fit. A runner with a store keeps every finished task (keyed by its
+content, stored pickled) so that an interrupted study resumes where it stopped.
 
 Recommendation rule: :mod:`obturator.validation.recommend`.
 """
@@ -34,9 +35,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import __version__
 from ..calibration.data import SpinRigData, load_thesis_data
 from ..errors import InputError, check_range
-from ..runs import Runner
+from ..runs import Runner, study_digest
 from ..solve import SolverOptions, convergence_checks, opening_times
 from ..vocab import NOISE_MODELS, check_choice
 from .candidates import CANDIDATES, Candidate, get_candidates
@@ -246,7 +248,9 @@ def run_validation(
     runner : Runner, optional
         Where the fits, profiles and curves run (:class:`obturator.runs.Runner`; default
         two worker processes, no progress display). Each task (one fit, one curve or
-        one profile side) is one chunk.
+        one profile side) is one chunk. With a ``store``, the study opens it under its
+        digest and finished tasks are kept there (the caller removes it with
+        :meth:`~obturator.runs.Runner.write_outputs` once its outputs are written).
     t_max : float
         Horizon [s]; runs not opened by then are censored.
     spin_sd : float
@@ -304,6 +308,18 @@ def run_validation(
     if len(w) < 5:
         raise InputError("data", f"{len(w)} runs; the study needs at least 5")
     common = (spin_sd, t_max, options, noise)
+    if runner.sidecar is None:  # else a study that holds this one (reproduce) keeps the fits
+        runner.open(
+            study_digest(
+                {
+                    "study": "validate",
+                    "version": __version__,
+                    "data": data,
+                    "models": [c.name for c in cands],
+                    "settings": [*common, gap, profile, profile_all, curve_points],
+                }
+            )
+        )
     grid = np.geomspace(0.9 * float(w.min()), 1.05 * float(w.max()), int(curve_points))
 
     # on the thesis data the starred runs are exactly the high half: fit once
@@ -323,6 +339,7 @@ def run_validation(
         chunk_size=1,
         probe_first=False,
         warm=partial(_warm, options),
+        pickled=True,
     )
     fits = {cands[i].name: res[0] for i, res in zip(order, fitted_ordered, strict=True)}
     timings["all_run_fits"] = time.perf_counter() - t_start
@@ -375,6 +392,7 @@ def run_validation(
         chunk_size=1,
         probe_first=False,
         warm=partial(_warm, options),
+        pickled=True,
     )
     sub: dict[str, dict[str, Any]] = {c.name: {} for c in cands}
     prof: dict[str, dict[str, dict[int, float]]] = {}
