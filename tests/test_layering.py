@@ -35,6 +35,10 @@ FORBIDDEN: dict[str, tuple[str, ...]] = {
     "vocab": (*EDGE, "core", "model", "solve"),
     "errors": (*EDGE, "core", "model", "solve"),
     "params": (*EDGE, "core", "model", "solve"),
+    # leaf helpers of the vocabulary: docstring fragments, JSON numbers, a report section
+    "_docs": (*EDGE, "core", "model", "solve"),
+    "json_values": (*EDGE, "core", "model", "solve"),
+    "report_section": (*EDGE, "core", "model", "solve"),
     "reference": (*EDGE, "core", "model", "solve", "calibration"),
     "model": (*EDGE, "solve", "result", "calibration", "fitting"),
     "solve": (*EDGE, "calibration", "fitting"),

@@ -6,12 +6,15 @@ command line can print it as one readable line.
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from typing import Any, TypeVar
 
 __all__ = [
     "InputError",
     "SolverError",
     "check_range",
+    "replace_fields",
     "EXIT_INPUT",
     "EXIT_SOLVER",
     "EXIT_INTERNAL",
@@ -78,6 +81,33 @@ def _fmt_interval(lo: float, hi: float, lo_open: bool, hi_open: bool) -> str:
     left = "(" if lo_open or math.isinf(lo) else "["
     right = ")" if hi_open or math.isinf(hi) else "]"
     return f"{left}{lo:g}, {hi:g}{right}"
+
+
+_D = TypeVar("_D")
+
+
+def replace_fields(obj: _D, field: str, changes: dict[str, Any]) -> _D:
+    """``dataclasses.replace(obj, **changes)`` after checking that each name is a field.
+
+    Parameters
+    ----------
+    obj : dataclass instance
+        The value to copy (its ``__post_init__`` checks the new values).
+    field : str
+        Field named by the error.
+    changes : dict
+        New values by field name.
+
+    Raises
+    ------
+    InputError
+        Naming the first unknown field and the allowed ones.
+    """
+    names = [f.name for f in dataclasses.fields(obj)]  # type: ignore[arg-type]
+    for k in changes:
+        if k not in names:
+            raise InputError(field, f"unknown field {k!r}; allowed: {', '.join(names)}")
+    return dataclasses.replace(obj, **changes)  # type: ignore[type-var]
 
 
 def check_range(

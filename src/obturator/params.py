@@ -186,6 +186,7 @@ _PHYSICAL: tuple[Param, ...] = (
     Param("t_max", "s", "integration horizon t_max", "t_max"),
     Param("rtol", "1", "relative tolerance", "solver.rtol"),
     Param("atol", "1", "absolute tolerance (rates in omega_p0)", "solver.atol"),
+    Param("fixed_step", "s", "step of method moreau-jean", "solver.fixed_step"),
     Param(
         "friction_width",
         "1",
@@ -433,6 +434,7 @@ _CONFIG_ORDER = (
     "flight.bore_radius",
     "solver.rtol",
     "solver.atol",
+    "solver.fixed_step",
     "solver.friction_width",
     "solver.friction_family",
     "solver.method",

@@ -5,7 +5,7 @@ and a tuple of its values (for validation, ``argparse`` choices, config files
 and messages), the tuple derived from the Literal so the two cannot drift.
 
 >>> METHODS
-('auto', 'radau', 'rosenbrock', 'set-valued')
+('auto', 'radau', 'rosenbrock', 'set-valued', 'moreau-jean')
 >>> check_choice("spin_mode", "free", SPIN_MODES)
 'free'
 """
@@ -29,6 +29,7 @@ __all__ = [
     "CASE_NAMES",
     "SPIN_MODES",
     "METHODS",
+    "SET_VALUED_METHODS",
     "FORMULATIONS",
     "FRICTION_FAMILIES",
     "TORQUE_MODELS",
@@ -44,8 +45,9 @@ CaseName = Literal["spin-rig", "flight"]
 #: or Appendix A's energy form.
 SpinMode = Literal["constant", "free", "thesis-energy"]
 #: Compiled integrators (``auto``: DOP853, Radau IIA when stiff; ``set-valued``: the
-#: event-driven stick-slip solver of the unregularised thesis law).
-Method = Literal["auto", "radau", "rosenbrock", "set-valued"]
+#: event-driven stick-slip solver of the unregularised friction law; ``moreau-jean``:
+#: first-order fixed-step time-stepping of the same law, a cross-check).
+Method = Literal["auto", "radau", "rosenbrock", "set-valued", "moreau-jean"]
 #: State formulations of the equations of motion.
 Formulation = Literal["quaternion", "euler"]
 #: Regularisation families of the Coulomb friction magnitude.
@@ -63,6 +65,8 @@ NoiseModel = Literal["band", "pooled"]
 CASE_NAMES: tuple[str, ...] = get_args(CaseName)
 SPIN_MODES: tuple[str, ...] = get_args(SpinMode)
 METHODS: tuple[str, ...] = get_args(Method)
+#: The methods of the set-valued friction law: no regularisation width.
+SET_VALUED_METHODS: tuple[str, ...] = ("set-valued", "moreau-jean")
 FORMULATIONS: tuple[str, ...] = get_args(Formulation)
 FRICTION_FAMILIES: tuple[str, ...] = get_args(FrictionFamily)
 TORQUE_MODELS: tuple[str, ...] = get_args(TorqueName)

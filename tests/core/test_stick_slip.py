@@ -26,6 +26,7 @@ from obturator.core.friction_sets import (
 )
 from obturator.errors import InputError
 from obturator.model.cases import flight_case, rig_case
+from obturator.model.torques import SlipSpeedLaw
 from obturator.reference import THESIS_MU_S
 from obturator.solve import (
     SolverOptions,
@@ -73,11 +74,22 @@ def _attitude(theta: float, psi: float) -> np.ndarray:
     return y
 
 
-@settings(max_examples=60, deadline=None)
-@given(st.floats(0.2, 1.5), st.floats(0.0, 2 * math.pi), st.sampled_from(["rig", "flight"]))
+P_BY_LAW = {
+    "rig": P_RIG,
+    "flight": P_FLIGHT,
+    # the Coulomb patch law: closed form for the rig's one patch, scanned for the ring
+    "coulomb rig": pack_parameters(
+        rig_case(200.0, THESIS_MU_S, torque_model="coulomb"), SET_VALUED
+    ),
+    "coulomb flight": pack_parameters(flight_case(torque_model="coulomb"), SET_VALUED),
+}
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.floats(0.2, 1.5), st.floats(0.0, 2 * math.pi), st.sampled_from(list(P_BY_LAW)))
 def test_breakaway_angle_is_the_first_exit_from_the_set(theta, psi, which):
-    """The closed-form exit angle against sampling the margin along the rigid turn."""
-    p = P_RIG if which == "rig" else P_FLIGHT
+    """The exit angle against sampling the margin along the rigid turn."""
+    p = P_BY_LAW[which]
     y = _attitude(theta, psi)
     wp = RIG.spin_rate
 
@@ -193,7 +205,14 @@ def test_convergence_check_compares_with_the_regularised_path():
 @pytest.mark.parametrize(
     ("case", "field"),
     [
-        (rig_case(200.0, THESIS_MU_S, torque_model="coulomb"), "torque_model"),
+        (
+            rig_case(200.0, THESIS_MU_S, torque_model="coulomb", patch_radius=0.0),
+            "patch_radius",
+        ),
+        (
+            rig_case(200.0, THESIS_MU_S, speed_law=SlipSpeedLaw("weakening", 0.8)),
+            "speed_law",
+        ),
         (rig_case(200.0, THESIS_MU_S, spin_mode="thesis-energy"), "spin_mode"),
     ],
 )

@@ -17,9 +17,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import fill_doc
 from ..errors import InputError
 from ..model.case import Case
-from ..model.cases import rig_case
+from ..model.cases import CASE_INPUTS_DOC, rig_case
 from ..model.geometry import BoredBall
 from ..reference import TABLE1
 from ..solve import SolverOptions, opening_times
@@ -153,6 +154,7 @@ def apply_run_settings(
     return case
 
 
+@fill_doc(case_inputs=CASE_INPUTS_DOC)
 def rig_model_case(
     spin_rate: float,
     *,
@@ -177,12 +179,7 @@ def rig_model_case(
 
     Parameters
     ----------
-    spin_rate : float
-        omega_p [rad/s].
-    mu_s : float
-        Sliding friction coefficient [-].
-    theta0_deg : float
-        theta_0 [deg].
+    {case_inputs}
     shear_constant : float
         Viscous constant S of Eq. (42) [N m s].
     weight : float

@@ -23,6 +23,7 @@ from ._kinds import Count, InputFile, OutputFile, Quantity, Text
 __all__ = [
     "Flag",
     "option",
+    "count",
     "switch",
     "add_flags",
     "add_command",
@@ -61,6 +62,15 @@ class Flag:
 def option(*names: str, **settings: Any) -> Flag:
     """A :class:`Flag` with these names and ``add_argument`` settings."""
     return Flag(names, MappingProxyType(settings))
+
+
+def count(
+    name: str, lo: int, hi: int, text: str, *, example: int | None = None, **settings: Any
+) -> Flag:
+    """A whole-number option N in [lo, hi] (:class:`._kinds.Count`) with its help `text`;
+    `example` is the value the contract tests try (default `lo`)."""
+    kind = Count(lo, hi, example=str(lo if example is None else example))
+    return option(name, metavar="N", type=kind, help=text, **settings)
 
 
 def switch(name: str, text: str) -> Flag:
@@ -138,11 +148,8 @@ def execution_flags() -> tuple[Flag, ...]:
     from ..sweeps.grid import MAX_POINTS  # not at import: start-up time
 
     return (
-        option(
-            "--workers",
-            metavar="N",
-            type=Count(1, MAX_WORKERS),
-            help="local worker processes (default: all CPUs; 1: in-process)",
+        count(
+            "--workers", 1, MAX_WORKERS, "local worker processes (default: all CPUs; 1: in-process)"
         ),
         option(
             "--scheduler",
@@ -150,12 +157,7 @@ def execution_flags() -> tuple[Flag, ...]:
             type=Text(example="tcp://127.0.0.1:1"),
             help="dask.distributed scheduler, e.g. tcp://host:8786",
         ),
-        option(
-            "--chunk-size",
-            metavar="N",
-            type=Count(1, MAX_POINTS),
-            help="points per task (default: automatic)",
-        ),
+        count("--chunk-size", 1, MAX_POINTS, "points per task (default: automatic)"),
         RESTART,
         NO_PROGRESS,
     )

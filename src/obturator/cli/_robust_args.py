@@ -17,6 +17,7 @@ from ._flags import (
     VARY,
     add_command,
     add_flags,
+    count,
     option,
     switch,
 )
@@ -29,7 +30,7 @@ from ._flight_args import (
     add_execution_arguments,
     add_model_arguments,
 )
-from ._kinds import Count, Quantity, Text
+from ._kinds import Quantity, Text
 
 __all__ = [
     "add_robust_commands",
@@ -106,27 +107,16 @@ def _add_probability(
         REQUIREMENT_FLAG,
         _EVENT,
         option("--method", choices=("is", "mc", "both"), default="is"),
-        option(
+        count(
             "--samples",
+            1,
+            MAX_SAMPLES,
+            f"brute-force samples (at most {MAX_SAMPLES}, as montecarlo)",
+            example=20,
             default="2000",
-            metavar="N",
-            type=Count(1, MAX_SAMPLES, example="20"),
-            help=f"brute-force samples (at most {MAX_SAMPLES}, as montecarlo)",
         ),
-        option(
-            "--stage-samples",
-            default="500",
-            metavar="N",
-            type=Count(20, MAX_SAMPLES, example="20"),
-            help="IS samples per stage",
-        ),
-        option(
-            "--final-samples",
-            default="1000",
-            metavar="N",
-            type=Count(20, MAX_SAMPLES, example="20"),
-            help="IS final samples",
-        ),
+        count("--stage-samples", 20, MAX_SAMPLES, "IS samples per stage", default="500"),
+        count("--final-samples", 20, MAX_SAMPLES, "IS final samples", default="1000"),
         option(
             "--rho",
             default="0.1",
@@ -166,21 +156,15 @@ def _add_sensitivity(
             help="altitude [m] (0)",
         ),
         VARY,
-        option(
+        count(
             "--samples",
+            8,
+            MAX_SOBOL_BASE,
+            f"SALib base N (power of 2; at most {MAX_SOBOL_BASE}: N (2 D + 2) runs)",
             default="256",
-            metavar="N",
-            type=Count(8, MAX_SOBOL_BASE, example="8"),
-            help=f"SALib base N (power of 2; at most {MAX_SOBOL_BASE}: N (2 D + 2) runs)",
         ),
         _EVENT,
-        option(
-            "--resamples",
-            default="1000",
-            metavar="N",
-            type=Count(10, 100_000, example="10"),
-            help="bootstrap resamples (at most 100000)",
-        ),
+        count("--resamples", 10, 100_000, "bootstrap resamples (at most 100000)", default="1000"),
         SEED_FLAG,
         CONFIDENCE,
         FIGURE_FLAG.but(help="bar chart"),
@@ -241,27 +225,22 @@ def _add_optimize(
             type=Quantity("deg", Range(0.0, 90.0, False, True), "2 deg"),
             help="theta0-beta-beta_s",
         ),
-        option(
+        count(
             "--popsize",
+            2,
+            1000,
+            "differential-evolution population per variable (at most 1000)",
             default="10",
-            metavar="N",
-            type=Count(2, 1000, example="2"),
-            help="differential-evolution population per variable (at most 1000)",
         ),
-        option(
+        count(
             "--maxiter",
+            1,
+            10_000,
+            "differential-evolution generations (at most 10000)",
             default="30",
-            metavar="N",
-            type=Count(1, 10_000, example="1"),
-            help="differential-evolution generations (at most 10000)",
         ),
         SEED_FLAG,
         switch("--no-polish", "skip the SLSQP polish"),
-        option(
-            "--pareto",
-            metavar="N",
-            type=Count(2, 100, example="2"),
-            help="trace the t_cr-mass Pareto front with N points (at most 100)",
-        ),
+        count("--pareto", 2, 100, "trace the t_cr-mass Pareto front with N points (at most 100)"),
         FIGURE_FLAG.but(help="Pareto front figure (with --pareto)"),
     )

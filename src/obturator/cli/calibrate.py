@@ -9,8 +9,8 @@ import sys
 from ..params import Range
 from ..reference import TABLE1
 from ._args import quantity_of, solver_options
-from ._flags import CONFIG, JSON, PLOT, SEED_FLAG, add_command, option
-from ._kinds import Count, InputFile, OutputFile, Quantity, Text
+from ._flags import CONFIG, JSON, PLOT, SEED_FLAG, add_command, count, option
+from ._kinds import InputFile, OutputFile, Quantity, Text
 
 __all__ = ["register"]
 
@@ -60,12 +60,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             "(bounds and their reasons: obturator.params.FIT_SPECS)",
         ),
         # 1e5 resamples give percentile intervals to ~1e-3 of their width; more is wasted
-        option(
-            "--bootstrap",
-            metavar="N",
-            type=Count(0, 100_000, example="0"),
-            default=200,
-            help="bootstrap resamples (0: none; at most 100000)",
+        count(
+            "--bootstrap", 0, 100_000, "bootstrap resamples (0: none; at most 100000)", default=200
         ),
         SEED_FLAG.but(metavar="N", default=0, help="bootstrap seed"),
         JSON,

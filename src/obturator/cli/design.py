@@ -17,7 +17,17 @@ import time
 from ..errors import InputError
 from ..params import Range
 from . import _json
-from ._flags import JSON, OUT_NETCDF, SEED_FLAG, T_MAX, Flag, add_command, execution_flags, option
+from ._flags import (
+    JSON,
+    OUT_NETCDF,
+    SEED_FLAG,
+    T_MAX,
+    Flag,
+    add_command,
+    count,
+    execution_flags,
+    option,
+)
 from ._kinds import Count, InputFile, OutputFile, Quantity, Text
 from ._runner import study_runner, write_dataset
 
@@ -39,13 +49,8 @@ def _pair(name: str, unit: str, rng: Range, what: str, ex: str) -> tuple[Flag, .
 
 
 def _points(name: str, default: str, what: str) -> Flag:
-    return option(
-        f"--{name}-points",
-        metavar="N",
-        default=default,
-        type=Count(1, 50, example="2"),
-        help=f"grid points of the {what} ({default}; the Table 1 value is added)",
-    )
+    text = f"grid points of the {what} ({default}; the Table 1 value is added)"
+    return count(f"--{name}-points", 1, 50, text, example=2, default=default)
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -71,12 +76,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             type=Text(example="5,10"),
             help="campaign sizes to plan and simulate (1,2,3,5,10,20; each 1-200)",
         ),
-        option(
+        count(
             "--campaigns",
-            metavar="N",
+            10,
+            100_000,
+            "simulated campaigns per generating model and plan (200; at least 10)",
             default="200",
-            type=Count(10, 100_000, example="10"),
-            help="simulated campaigns per generating model and plan (200; at least 10)",
         ),
         SEED_FLAG.but(default="1", type=Count(0, 2**32 - 1), help="random seed (1)"),
         *_pair("spin", "rad/s", Range(20.0, 2000.0), "spin rate (90, 450)", "200 rad/s"),

@@ -43,12 +43,13 @@ from ._flags import (
     SEED_FLAG,
     VARY,
     add_command,
+    count,
     option,
     parameter_flags,
     study_flags,
     switch,
 )
-from ._kinds import Count, Text
+from ._kinds import Text
 from ._runner import runner_from_args
 
 __all__ = ["register"]
@@ -63,12 +64,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "Sample uncertain inputs (--vary NAME=KIND:ARGS, KIND one of normal:MEAN,SD "
         "uniform:LO,HI lognormal:MEDIAN,SIGMA_LN truncnormal:MEAN,SD,LO,HI) and report t_cr "
         "quantiles with order-statistic confidence intervals.",
-        option(
+        count(
             "--samples",
-            metavar="N",
+            1,
+            MAX_SAMPLES,
+            f"number of samples (at most {MAX_SAMPLES}: see obturator.sweeps.MAX_SAMPLES)",
+            example=2,
             required=True,
-            type=Count(1, MAX_SAMPLES, example="2"),
-            help=f"number of samples (at most {MAX_SAMPLES}: see obturator.sweeps.MAX_SAMPLES)",
         ),
         SEED_FLAG.but(help="root seed (default 0)"),
         VARY.but(

@@ -307,6 +307,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
     )
     from ..envelope.pareto import pareto_front
     from ..sweeps import parse_axis
+    from ..sweeps.distributions import split_assignment
 
     _check_out(args)
     event, aggregate = split_objective(args.objective)
@@ -318,13 +319,10 @@ def _run_optimize(args: argparse.Namespace) -> int:
             raise InputError("--variables", f"{name!r}; allowed: {', '.join(DESIGN_VARIABLES)}")
         bounds[name] = DEFAULT_BOUNDS[name]
     for text in args.bound or []:
-        if "=" not in text or "," not in text:
-            raise InputError("--bound", f"malformed {text!r}: expected NAME=LO,HI")
-        name, rng = text.split("=", 1)
+        name, lo, hi = split_assignment(text, "--bound", "NAME=LO,HI", ",")
         name = name.strip().replace("-", "_")
         if name not in bounds:
             raise InputError("--bound", f"{name!r} is not among --variables")
-        lo, hi = rng.split(",", 1)
         unit = DESIGN_VARIABLES[name].replace("1", "")
         bounds[name] = (quantity(name, lo, unit), quantity(name, hi, unit))
     machs = parse_axis(args.grid_mach, "--mach")

@@ -5,8 +5,7 @@ from __future__ import annotations
 import argparse
 
 from . import _json
-from ._flags import JSON, add_command, option, switch
-from ._kinds import Count
+from ._flags import JSON, add_command, count, switch
 
 __all__ = ["register"]
 
@@ -22,12 +21,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "store the machine code in numba's cache, so that the first simulation or sweep "
         "starts warm. Says whether each was compiled or loaded from the cache, and where "
         "the cache is.",
-        option(
+        count(
             "--jobs",
-            metavar="N",
+            1,
+            64,
+            "processes compiling at once (2; at most 64: one per integrator is all it uses)",
+            example=2,
             default=2,
-            type=Count(1, 64, example="2"),
-            help="processes compiling at once (2; at most 64: one per integrator is all it uses)",
         ),
         switch("--all", "also the Rosenbrock method"),
         JSON,

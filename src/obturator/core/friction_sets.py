@@ -26,6 +26,29 @@ X-Y plane (so a free projectile's spin does not change in stick either:
 I_p omega_p' = -G_Z = 0) and turns with the ball at omega_p, so stick is kept while
 G_req is in F and ends when |cos(psi)| falls to the closed-form level of
 :func:`breakaway_angle` (psi the azimuth of z about Z).
+
+The Coulomb patch law (``torque_model="coulomb"``, :func:`obturator.core.dynamics.
+applied_torque`): contact k (unit normal n_k, fixed in inertial axes, load N_k)
+dissipates mu N_k g_k with g_k(omega_r) = sqrt(R_s^2 |omega_r x n_k|^2 +
+eps^2 (omega_r . n_k)^2), eps = 3 pi a / 16 the pivot arm of a Hertzian patch of
+radius a (Contensou's coupling of sliding and pivoting in the elliptic form of Leine
+and Glocker, *Eur. J. Mech. A/Solids* 22, 2003, 193-216). Its moment in slip is
+G_f = -grad D(omega_r), D = sum_k mu N_k g_k, a norm of omega_r for eps > 0: the law
+is the subdifferential of a convex dissipation function (Moreau; Glocker 2001,
+ch. 7), so its set at zero slip is the subdifferential there, the convex set
+
+    F = -dD(0) = E_1 + ... + E_n  (Minkowski sum),
+    E_k = {G : |G x n_k|^2 / (mu N_k R_s)^2 + (G . n_k)^2 / (mu N_k eps)^2 <= 1},
+
+each E_k the moments a patch can transmit: up to mu N_k R_s from its friction force
+(perpendicular to n_k), up to mu N_k eps of pivot moment about n_k, coupled
+elliptically. Its support function is D itself, so G is in F iff its gauge
+gamma(G) = max_d G . d / D(d) <= 1 (:func:`coulomb_gauge`, closed form for one
+contact, an iteration for several). With a = 0 (point contacts) E_k degenerates
+to a flat disc in the plane of n_k: the rig's single contact then holds no moment
+about X at all, stick is a set of measure zero along the rigid turn, and the
+regularised t_cr does not converge as its width shrinks; the set-valued solver
+refuses that case.
 """
 
 from __future__ import annotations
@@ -37,12 +60,15 @@ from numba import njit
 
 from .jit_cache import configure_cache
 from .jit_flags import NO_REFCOUNT
-from .layout import FRIC_THESIS_FLIGHT, FRIC_THESIS_RIG, P_A, P_C, P_FRIC
+from .layout import FRIC_COULOMB, FRIC_THESIS_FLIGHT, FRIC_THESIS_RIG, P_A, P_C, P_FRIC
 
 configure_cache()
 
 __all__ = [
     "arm_coefficients",
+    "moment_scale",
+    "coulomb_gauge",
+    "exit_slip_direction",
     "required_reaction",
     "stick_margin",
     "breakaway_angle",
@@ -63,6 +89,203 @@ def arm_coefficients(p: np.ndarray) -> tuple[float, float]:
     if p[P_FRIC] == FRIC_THESIS_RIG:
         return 0.0, 1.0
     return 1.0, 1.0  # no friction: the set is {0}; never used with stick
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def moment_scale(p: np.ndarray) -> float:
+    """Largest friction moment scale [N m]: M of the thesis law, n mu N_k R_s of contacts."""
+    if p[P_FRIC] == FRIC_COULOMB:
+        return p[P_FRIC + 1] * p[P_FRIC + 2] * p[P_FRIC + 4]
+    return p[P_FRIC + 1]
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def _contact_normal(k: int, p: np.ndarray) -> tuple[float, float, float]:
+    """Unit normal n_k of contact k, placed as :func:`~.dynamics.applied_torque` does."""
+    gam = 2.0 * math.pi * k / p[P_FRIC + 4]
+    beta = p[P_FRIC + 3]
+    if beta >= 0.5 * math.pi - 1e-12:  # the rig: bottom of the socket, gravity along -X
+        return -math.cos(gam), -math.sin(gam), 0.0
+    sb = math.sin(beta)
+    return sb * math.cos(gam), sb * math.sin(gam), math.cos(beta)
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def _solve3(h00, h01, h02, h11, h12, h22, bx, by, bz) -> tuple[float, float, float]:
+    """H^-1 b for a symmetric 3 x 3 H (cofactors); nan where H is singular."""
+    c00 = h11 * h22 - h12 * h12
+    c01 = h02 * h12 - h01 * h22
+    c02 = h01 * h12 - h02 * h11
+    c11 = h00 * h22 - h02 * h02
+    c12 = h01 * h02 - h00 * h12
+    c22 = h00 * h11 - h01 * h01
+    det = h00 * c00 + h01 * c01 + h02 * c02
+    if det == 0.0:
+        return math.nan, math.nan, math.nan
+    return (
+        (c00 * bx + c01 * by + c02 * bz) / det,
+        (c01 * bx + c11 * by + c12 * bz) / det,
+        (c02 * bx + c12 * by + c22 * bz) / det,
+    )
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def _majoriser(dx: float, dy: float, dz: float, p: np.ndarray) -> tuple:
+    """D(d) and the entries (h00, h01, h02, h11, h12, h22) of sum_k Q_k / |d|_{Q_k}, the
+    Hessian of the quadratic that majorises D at d (Q_k = (mu N_k)^2 (R_s^2 (1 - n_k
+    n_k^T) + eps^2 n_k n_k^T), so |d|_{Q_k} = mu N_k g_k(d))."""
+    mu_n = p[P_FRIC + 1]
+    r2 = p[P_FRIC + 2] * p[P_FRIC + 2]
+    e2 = p[P_FRIC + 5] * p[P_FRIC + 5]
+    d_norm = 0.0
+    h00 = h01 = h02 = h11 = h12 = h22 = 0.0
+    for k in range(int(p[P_FRIC + 4])):
+        nx, ny, nz = _contact_normal(k, p)
+        dn = dx * nx + dy * ny + dz * nz
+        s = math.sqrt(max(r2 * (dx * dx + dy * dy + dz * dz - dn * dn) + e2 * dn * dn, 0.0))
+        d_norm += mu_n * s
+        wk = mu_n / max(s, 1e-300)
+        c = wk * (e2 - r2)
+        h00 += wk * r2 + c * nx * nx
+        h11 += wk * r2 + c * ny * ny
+        h22 += wk * r2 + c * nz * nz
+        h01 += c * nx * ny
+        h02 += c * nx * nz
+        h12 += c * ny * nz
+    return d_norm, h00, h01, h02, h11, h12, h22
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def coulomb_gauge(gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
+    """Gauge gamma(G) = max_d G . d / D(d) of the Coulomb patch set F, and its maximiser.
+
+    G [N m] is in F iff gamma <= 1; F's radius along G is |G| / gamma, and the
+    maximiser d (returned unit) is F's outward normal at G / gamma. D(d) = sum_k
+    sqrt(d^T Q_k d), Q_k = (mu N_k)^2 (R_s^2 (1 - n_k n_k^T) + eps^2 n_k n_k^T). The
+    maximiser solves sum_k Q_k d / sqrt(d^T Q_k d) ~ G; the iteration
+    d <- (sum_k Q_k / sqrt(d^T Q_k d))^-1 G is a majorise-minimise step of
+    min D(d) subject to G . d = 1 (monotone), exact at once for one contact; for a
+    ring it stops (gamma still for 1e-15, or 200 steps) within ~1e-8 of the maximum.
+
+    Returns
+    -------
+    tuple of float
+        (gamma [-], d_X, d_Y, d_Z).
+    """
+    g = math.sqrt(gx * gx + gy * gy + gz * gz)
+    if g == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    dx, dy, dz = gx / g, gy / g, gz / g
+    gamma = 0.0
+    for _ in range(200):
+        # H = sum_k w_k (r2 I + (e2 - r2) n n^T), w_k = mu N_k / sqrt(|d|_{Q_k}^2 / (mu N_k)^2)
+        d_norm, h00, h01, h02, h11, h12, h22 = _majoriser(dx, dy, dz, p)
+        new = (gx * dx + gy * dy + gz * dz) / d_norm
+        if abs(new - gamma) <= 1e-15 * new:
+            gamma = new
+            break
+        gamma = new
+        ex, ey, ez = _solve3(h00, h01, h02, h11, h12, h22, gx, gy, gz)  # d = H^-1 G
+        e = math.sqrt(ex * ex + ey * ey + ez * ez)
+        if not e > 0.0:
+            break
+        dx, dy, dz = ex / e, ey / e, ez / e
+    return gamma, dx, dy, dz
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def exit_slip_direction(y: np.ndarray, gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
+    """Unit direction u in which a slip leaves zero slip at state `y` where the reaction
+    G [N m] that stick needs is outside F (or on its boundary).
+
+    Near zero slip omega_r' = I^-1 (G_f(u) - G) with G_f depending on u alone, so a
+    slip leaves zero along a ray: I^-1 (G_f(u) - G) = lambda u, lambda > 0.
+    Thesis law, G_f = -M ARM(u) u and G perpendicular to the hole axis (I^-1 G = G / A):
+    u = -G / |G|. Coulomb patch law, G_f = -grad D(u): the ray is the direction of the
+    minimiser omega* of the strictly convex 1/2 omega^T I omega + D(omega) + G . omega
+    (its stationarity is I omega + grad D(omega) = -G), unique, and zero iff G is in F;
+    found by majorise-minimise steps omega <- -(I + sum_k Q_k / |omega|_{Q_k})^-1 G. On
+    the boundary of F it tends to minus the outward normal (:func:`coulomb_gauge`).
+    (0, 0, 0) for G = 0.
+    """
+    g = math.sqrt(gx * gx + gy * gy + gz * gz)
+    if g == 0.0:
+        return 0.0, 0.0, 0.0
+    if p[P_FRIC] != FRIC_COULOMB:
+        return -gx / g, -gy / g, -gz / g
+    zx, zy, zz = _hole_axis(y)
+    a, dc = p[P_A], p[P_C] - p[P_A]
+    _, dx, dy, dz = coulomb_gauge(gx, gy, gz, p)
+    wx, wy, wz = -dx, -dy, -dz  # the boundary's ray, scaled below
+    scale = 0.0
+    for it in range(500):
+        _, h00, h01, h02, h11, h12, h22 = _majoriser(wx, wy, wz, p)  # + I below
+        h00 += a + dc * zx * zx
+        h11 += a + dc * zy * zy
+        h22 += a + dc * zz * zz
+        h01 += dc * zx * zy
+        h02 += dc * zx * zz
+        h12 += dc * zy * zz
+        vx, vy, vz = _solve3(h00, h01, h02, h11, h12, h22, -gx, -gy, -gz)
+        v = math.sqrt(vx * vx + vy * vy + vz * vz)
+        if not v > 0.0:
+            break
+        change = math.sqrt((vx - wx) ** 2 + (vy - wy) ** 2 + (vz - wz) ** 2)
+        wx, wy, wz = vx, vy, vz
+        scale = v
+        if it > 0 and change <= 1e-13 * v:
+            break
+    if not scale > 0.0:
+        return -dx, -dy, -dz
+    # Newton's method polishes what majorise-minimise leaves (it slows near F's boundary)
+    res = _departure_residual(wx, wy, wz, gx, gy, gz, zx, zy, zz, p)
+    for _ in range(30):
+        ox, oy, oz = _solve3(res[3], res[4], res[5], res[6], res[7], res[8], res[0], res[1], res[2])
+        nx, ny, nz = wx - ox, wy - oy, wz - oz
+        new = _departure_residual(nx, ny, nz, gx, gy, gz, zx, zy, zz, p)
+        if not (new[9] < res[9]):
+            break
+        wx, wy, wz, res = nx, ny, nz, new
+    scale = math.sqrt(wx * wx + wy * wy + wz * wz)
+    return wx / scale, wy / scale, wz / scale
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def _departure_residual(wx, wy, wz, gx, gy, gz, zx, zy, zz, p) -> tuple:
+    """Gradient I w + grad D(w) + G of the departure's convex function, its Hessian
+    I + sum_k mu N_k (Q_k / s_k - Q_k w w^T Q_k / s_k^3) (Q_k = R^2 (1 - n n^T) +
+    eps^2 n n^T, s_k = |w|_{Q_k}) and the gradient's norm: (r_X, r_Y, r_Z, h00, h01,
+    h02, h11, h12, h22, |r|)."""
+    a, dc = p[P_A], p[P_C] - p[P_A]
+    mu_n = p[P_FRIC + 1]
+    r2 = p[P_FRIC + 2] * p[P_FRIC + 2]
+    e2 = p[P_FRIC + 5] * p[P_FRIC + 5]
+    zw = zx * wx + zy * wy + zz * wz
+    rx = a * wx + dc * zx * zw + gx
+    ry = a * wy + dc * zy * zw + gy
+    rz = a * wz + dc * zz * zw + gz
+    h00, h11, h22 = a + dc * zx * zx, a + dc * zy * zy, a + dc * zz * zz
+    h01, h02, h12 = dc * zx * zy, dc * zx * zz, dc * zy * zz
+    for k in range(int(p[P_FRIC + 4])):
+        nx, ny, nz = _contact_normal(k, p)
+        wn = wx * nx + wy * ny + wz * nz
+        qx = r2 * (wx - wn * nx) + e2 * wn * nx  # Q_k w
+        qy = r2 * (wy - wn * ny) + e2 * wn * ny
+        qz = r2 * (wz - wn * nz) + e2 * wn * nz
+        s = math.sqrt(max(qx * wx + qy * wy + qz * wz, 1e-300))
+        f = mu_n / s
+        rx += f * qx
+        ry += f * qy
+        rz += f * qz
+        c = f * (e2 - r2)
+        f3 = f / (s * s)
+        h00 += f * r2 + c * nx * nx - f3 * qx * qx
+        h11 += f * r2 + c * ny * ny - f3 * qy * qy
+        h22 += f * r2 + c * nz * nz - f3 * qz * qz
+        h01 += c * nx * ny - f3 * qx * qy
+        h02 += c * nx * nz - f3 * qx * qz
+        h12 += c * ny * nz - f3 * qy * qz
+    return rx, ry, rz, h00, h01, h02, h11, h12, h22, math.sqrt(rx * rx + ry * ry + rz * rz)
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
@@ -87,45 +310,109 @@ def required_reaction(y: np.ndarray, p: np.ndarray, wp: float) -> tuple[float, f
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def stick_margin(gx: float, gy: float, gz: float, p: np.ndarray) -> float:
-    """M ARM(u) - |G| [N m] for the moment G with u = -G / |G|: > 0 inside F.
+    """Radius of F along the moment G minus |G| [N m]: > 0 inside F.
 
-    ARM is even in u, so the radius of F along G is M ARM(G / |G|).
+    Thesis law: ARM is even in u, so the radius along G is M ARM(G / |G|). Coulomb
+    patch law: |G| / gamma(G) (:func:`coulomb_gauge`).
     """
     g = math.sqrt(gx * gx + gy * gy + gz * gz)
-    m = p[P_FRIC + 1]
     if g == 0.0:
-        return m
+        return moment_scale(p)
+    if p[P_FRIC] == FRIC_COULOMB:
+        return g / coulomb_gauge(gx, gy, gz, p)[0] - g
+    m = p[P_FRIC + 1]
     b_x, b_z = arm_coefficients(p)
     arm2 = (b_x * gx * gx + gy * gy + b_z * gz * gz) / (g * g)
     return m * math.sqrt(max(arm2, 0.0)) - g
+
+
+#: Samples per half turn of the rigid-turn scan for the exits of a Coulomb set of
+#: several contacts (no closed form); an exit window narrower than pi / this is missed.
+EXIT_SCAN = 512
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def _exit_level(k_req: float, p: np.ndarray) -> float:
+    """c^2 such that G_req (magnitude `k_req` [N m]) is in F while cos^2 psi >= c^2;
+    nan where F has no such closed form (Coulomb contacts other than the rig's one).
+
+    Thesis law: b_X sin^2 psi + cos^2 psi >= kappa^2, kappa = k_req / M. The rig's one
+    Coulomb patch (n = -X; moment K cos psi in its tangent plane, K sin psi about n):
+    K^2 cos^2 psi / M_t^2 + K^2 sin^2 psi / M_e^2 <= 1, M_t = mu N R_s, M_e = mu N eps.
+    """
+    if p[P_FRIC] == FRIC_COULOMB:
+        if p[P_FRIC + 4] != 1.0 or p[P_FRIC + 3] < 0.5 * math.pi - 1e-12:
+            return math.nan
+        inv_t = 1.0 / (p[P_FRIC + 1] * p[P_FRIC + 2]) ** 2
+        m_e = p[P_FRIC + 1] * p[P_FRIC + 5]
+        if m_e == 0.0:  # point contact: a flat disc, G_req must lie in it
+            return 1.0
+        inv_e = 1.0 / (m_e * m_e)
+        return (inv_e - 1.0 / (k_req * k_req)) / (inv_e - inv_t)
+    kappa = k_req / p[P_FRIC + 1]
+    b_x, _ = arm_coefficients(p)
+    if b_x >= 1.0:
+        return -math.inf
+    return (kappa * kappa - b_x) / (1.0 - b_x)
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def _outside(k_req: float, psi: float, p: np.ndarray) -> bool:
+    """G_req = k_req (-sin psi, cos psi, 0) outside F (Coulomb set, by its gauge)."""
+    return k_req * coulomb_gauge(-math.sin(psi), math.cos(psi), 0.0, p)[0] > 1.0
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def _scanned_exit(k_req: float, psi: float, p: np.ndarray) -> float:
+    """:func:`breakaway_angle` by sampling the gauge along the turn (period pi: F = -F)
+    and bisecting the first change to the last bit."""
+    out0 = _outside(k_req, psi, p)
+    step = math.pi / EXIT_SCAN
+    lo = 0.0
+    for i in range(1, EXIT_SCAN + 1):
+        hi = i * step
+        if _outside(k_req, psi + hi, p) != out0:
+            for _ in range(64):
+                mid = 0.5 * (lo + hi)
+                if mid <= lo or mid >= hi:
+                    break
+                if _outside(k_req, psi + mid, p) == out0:
+                    lo = mid
+                else:
+                    hi = mid
+            return -hi if out0 else lo
+        lo = hi
+    return 0.0 if out0 else math.inf
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def breakaway_angle(y: np.ndarray, p: np.ndarray, wp: float) -> float:
     """Rotation angle [rad] of rigid stick from `y` after which G_req leaves F.
 
-    With G_req = g (-z_Y, z_X, 0), |G_req| = |g| sin(theta) and z_X = sin(theta) cos(psi),
-    G_req is in F while b_X sin^2 psi + cos^2 psi >= kappa^2, kappa = |g| sin(theta) / M,
-    i.e. while cos^2 psi >= c^2 = (kappa^2 - b_X) / (1 - b_X). Returns inf when stick is
-    never lost (c^2 < 0, or theta = 0 / 90 deg exactly), 0 when G_req is outside F
-    everywhere, and minus the angle to the end of the window when `y` is in one.
+    With G_req = g (-z_Y, z_X, 0), |G_req| = K = |g| sin(theta) and
+    z_X = sin(theta) cos(psi), G_req is in F while cos^2 psi >= c^2 with c^2 from the
+    law (:func:`_exit_level`; the thesis law: c^2 = (kappa^2 - b_X) / (1 - b_X),
+    kappa = K / M). Returns inf when stick is never lost (c^2 < 0, or theta = 0 / 90
+    deg exactly), 0 when G_req is outside F everywhere, and minus the angle to the end
+    of the window when `y` is in one. A Coulomb set of several contacts has no closed
+    form: its exits are sampled (:data:`EXIT_SCAN`) and bisected.
     """
     zx, zy, zz = _hole_axis(y)
     sin_th = math.sqrt(zx * zx + zy * zy)
-    g = abs(wp * wp * (p[P_C] - p[P_A]) * zz)
-    kappa = g * sin_th / p[P_FRIC + 1]
-    b_x, _ = arm_coefficients(p)
-    if kappa == 0.0 or b_x >= 1.0:
+    k_req = abs(wp * wp * (p[P_C] - p[P_A]) * zz) * sin_th
+    if k_req == 0.0:
         return math.inf
-    c2 = (kappa * kappa - b_x) / (1.0 - b_x)
+    psi = math.atan2(zy, zx)
+    if wp < 0.0:  # the azimuth decreases: mirror (F is symmetric about the X-Z plane)
+        psi = -psi
+    c2 = _exit_level(k_req, p)
+    if c2 != c2:
+        return _scanned_exit(k_req, psi, p)
     if c2 < 0.0:
         return math.inf
     if c2 >= 1.0:
         return 0.0
     psi1 = math.acos(math.sqrt(c2))  # |cos psi| = c at psi1 and pi - psi1 (mod pi)
-    psi = math.atan2(zy, zx)
-    if wp < 0.0:  # the azimuth decreases: mirror (|cos| is even)
-        psi = -psi
     psi = psi % math.pi
     if psi <= psi1:
         return psi1 - psi

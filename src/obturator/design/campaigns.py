@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -93,14 +93,10 @@ class Rates:
     median_log10_bf: float
 
     def to_dict(self) -> dict[str, Any]:
-        """JSON-ready."""
-        return {
-            "p_decisive": self.p_decisive,
-            "p_picked": self.p_picked,
-            "p_misleading": self.p_misleading,
-            "n_campaigns": self.n_campaigns,
-            "median_log10_bayes_factor": self.median_log10_bf,
-        }
+        """JSON-ready (the fields; the Bayes factor's spelled out)."""
+        out: dict[str, Any] = asdict(self)
+        out["median_log10_bayes_factor"] = out.pop("median_log10_bf")
+        return out
 
 
 def decision_rates(

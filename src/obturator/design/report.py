@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import json
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 
+from ..report_section import ReportSection
 from ..runs import Runner
 from ..runs.store import atomic_write_text
 from ..validation.results import CandidateFit
@@ -23,14 +23,8 @@ from .textreport import decision_table, mechanism_note, plan_table
 __all__ = ["DesignSection", "design_section"]
 
 
-@dataclass(frozen=True)
-class DesignSection:
-    """A report section: title, paragraphs, preformatted blocks and figures."""
-
-    title: str
-    paragraphs: tuple[str, ...]
-    figures: tuple[tuple[str, str], ...]
-    pre: tuple[str, ...] = ()
+#: This study's section of the report.
+DesignSection = ReportSection
 
 
 def design_section(

@@ -52,6 +52,14 @@ _RHO = float(TABLE1["density"])
 #: Largest hole radius the bored sphere allows: r_s <= R_s / sqrt(2) [m].
 _HOLE_MAX = float(TABLE1["ball_radius"]) / math.sqrt(2.0)
 
+#: (field of :class:`Setting`, its key in JSON with the unit).
+_SETTING_KEYS = (
+    ("spin_rate", "spin_rate_rad_s"),
+    ("theta0_deg", "theta0_set_deg"),
+    ("hole_radius", "hole_radius_m"),
+    ("density", "density_kg_m3"),
+)
+
 
 @dataclass(frozen=True)
 class Setting:
@@ -76,22 +84,12 @@ class Setting:
 
     def to_dict(self) -> dict[str, float]:
         """JSON-ready, unit-suffixed keys."""
-        return {
-            "spin_rate_rad_s": self.spin_rate,
-            "theta0_set_deg": self.theta0_deg,
-            "hole_radius_m": self.hole_radius,
-            "density_kg_m3": self.density,
-        }
+        return {key: getattr(self, name) for name, key in _SETTING_KEYS}
 
     @classmethod
     def from_dict(cls, d: Mapping[str, float]) -> Setting:
         """Inverse of :meth:`to_dict`."""
-        return cls(
-            float(d["spin_rate_rad_s"]),
-            float(d["theta0_set_deg"]),
-            float(d["hole_radius_m"]),
-            float(d["density_kg_m3"]),
-        )
+        return cls(**{name: float(d[key]) for name, key in _SETTING_KEYS})
 
     @property
     def n_changes(self) -> int:

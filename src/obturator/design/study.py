@@ -18,7 +18,7 @@ store keeps every finished task, so an interrupted study resumes):
 from __future__ import annotations
 
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -105,8 +105,9 @@ def _posteriors(
 
 def _exact_tables(
     tasks: list[dict[str, Any]], runner: Runner, label: str
-) -> list[list[list[float | None]]]:
-    return runner.map(
+) -> dict[str, list[list[list[float | None]]]]:
+    """Solve the tasks in one batch; each model's (``task["model"]``) tables in task order."""
+    done = runner.map(
         opening_time_table,
         tasks,
         label=label,
@@ -115,6 +116,10 @@ def _exact_tables(
         probe_first=False,
         warm=_warm,
     )
+    by_model: dict[str, list[list[list[float | None]]]] = {}
+    for task, table in zip(tasks, done, strict=True):
+        by_model.setdefault(task["model"], []).append(table)
+    return by_model
 
 
 def _release_slopes(
@@ -139,11 +144,67 @@ def _release_slopes(
         for i in range(0, len(rows), 4 * _SETTINGS_PER_TASK)
     ]
     done = _exact_tables(tasks, runner, "design: release-angle slopes")
-    per_model: dict[str, list[float]] = {n: [] for n in posts}
-    for task, res in zip(tasks, done, strict=True):
-        per_model[task["model"]] += [np.nan if v is None else v for v in res[0]]
-    slopes = [np.abs(surrogates[n].t0 - np.array(per_model[n])) / RELEASE_STEP_DEG for n in posts]
+    slopes = [
+        np.abs(
+            surrogates[n].t0 - np.array([np.nan if v is None else v for t in done[n] for v in t[0]])
+        )
+        / RELEASE_STEP_DEG
+        for n in posts
+    ]
     return np.nanmean(slopes, axis=0)
+
+
+def _campaign_tasks(
+    posts: Mapping[str, Posterior],
+    draws: Mapping[str, NDArray[np.float64]],
+    settings: list[dict[str, float]],
+    t_max: float,
+) -> list[dict[str, Any]]:
+    """Runner tasks of the simulated campaigns' exact solves: each model's posterior
+    draws (rows of ``draws[model]``), in chunks, at the `settings` of the plans."""
+    return [
+        {
+            "model": n,
+            "values": [post.to_values(x) for x in draws[n][a : a + _DRAWS_PER_TASK]],
+            "settings": settings,
+            "t_max": t_max,
+        }
+        for n, post in posts.items()
+        for a in range(0, len(draws[n]), _DRAWS_PER_TASK)
+    ]
+
+
+def _model_names(models: Sequence[str] | str | None) -> list[str]:
+    """The candidates to discriminate: at least two, each fitting a parameter."""
+    cands = get_candidates(models if models is not None else DEFAULT_DESIGN_MODELS)
+    if len(cands) < 2:
+        raise InputError("models", "needs at least two candidates to discriminate")
+    for c in cands:
+        if not c.params:
+            raise InputError("models", f"{c.name!r} fits no parameter; choose fitted candidates")
+    return [c.name for c in cands]
+
+
+def _best_plans(
+    sizes: Sequence[int],
+    candidates: list[int],
+    value: Callable[[list[int]], float],
+    settings: Sequence[Setting],
+    runner: Runner,
+) -> dict[int, tuple[list[int], float]]:
+    """The best plan of each size among the `candidates` (indices into `settings`), and its
+    value; near-ties go to the simpler experiment (fewer changes from the Table 1 rig)."""
+    changes = np.array([s.n_changes for s in settings], dtype=float)
+
+    def preferred(plan: list[int]) -> float:
+        return value(plan) * (1.0 - SIMPLICITY * float(np.mean(changes[plan])) / 3.0)
+
+    plans = {}
+    for n in sizes:
+        runner.reporter.note(f"design: searching the best {n}-run plan")
+        plan, _ = greedy_exchange(n, candidates, preferred)
+        plans[n] = (plan, value(plan))
+    return plans
 
 
 def design_experiment(
@@ -195,13 +256,7 @@ def design_experiment(
     DesignResult
     """
     t_start = time.perf_counter()
-    cands = get_candidates(models if models is not None else DEFAULT_DESIGN_MODELS)
-    names = [c.name for c in cands]
-    if len(names) < 2:
-        raise InputError("models", "needs at least two candidates to discriminate")
-    for c in cands:
-        if not c.params:
-            raise InputError("models", f"{c.name!r} fits no parameter; choose fitted candidates")
+    names = _model_names(models)
     sizes = sorted({int(n) for n in n_runs})
     for n in sizes:
         check_range("n_runs", n, 1, 200)
@@ -223,15 +278,11 @@ def design_experiment(
     settings: list[Setting] = list(dict.fromkeys([*grid, *(Setting(w) for w in measured_spins)]))
     index = {s: i for i, s in enumerate(settings)}
 
-    tasks, owners = [], []
-    for n in names:
-        ts = surrogate_tasks(posts[n], settings, t_max, _SETTINGS_PER_TASK)
-        tasks += ts
-        owners += [n] * len(ts)
+    tasks = [
+        t for n in names for t in surrogate_tasks(posts[n], settings, t_max, _SETTINGS_PER_TASK)
+    ]
     done = _exact_tables(tasks, runner, "design: surrogate solves")
-    surrogates = {
-        n: assemble(n, [r for r, o in zip(done, owners, strict=True) if o == n]) for n in names
-    }
+    surrogates = {n: assemble(n, done[n]) for n in names}
     valid = np.all([s.valid for s in surrogates.values()], axis=0)
     t_typical = np.nanmean([s.t0 for s in surrogates.values()], axis=0)
     slope = _release_slopes(posts, surrogates, settings, runner, t_max)
@@ -251,17 +302,7 @@ def design_experiment(
     def value(plan: list[int]) -> float:
         return plan_value(surrogates.values(), noise, plan)
 
-    changes = np.array([s.n_changes for s in settings], dtype=float)
-
-    def preferred(plan: list[int]) -> float:
-        # near-ties go to the simpler experiment (fewer changes from the Table 1 rig)
-        return value(plan) * (1.0 - SIMPLICITY * float(np.mean(changes[plan])) / 3.0)
-
-    plans = {}
-    for n in sizes:
-        runner.reporter.note(f"design: searching the best {n}-run plan")
-        plan, _ = greedy_exchange(n, candidates, preferred)
-        plans[n] = (plan, value(plan))
+    plans = _best_plans(sizes, candidates, value, settings, runner)
 
     naive = {n: [index[s] for s in naive_plan(n, data.spin_rate)] for n in naive_sizes}
     columns = sorted(
@@ -269,18 +310,12 @@ def design_experiment(
     )
     col_settings = [settings[i].to_dict() for i in columns]
     draws = {n: campaign_draws(posts[n], campaigns, seed, k) for k, n in enumerate(names)}
-    gen_tasks, gen_owner = [], []
-    for n in names:
-        for a in range(0, campaigns, _DRAWS_PER_TASK):
-            vals = [posts[n].to_values(x) for x in draws[n][a : a + _DRAWS_PER_TASK]]
-            gen_tasks.append({"model": n, "values": vals, "settings": col_settings, "t_max": t_max})
-            gen_owner.append(n)
+    gen_tasks = _campaign_tasks(posts, draws, col_settings, t_max)
     gen = _exact_tables(gen_tasks, runner, "design: simulated campaigns (exact solves)")
     exact: dict[str, NDArray[np.float64]] = {}
     errors: dict[str, dict[str, float]] = {}
     for n in names:
-        rows = [r for r, o in zip(gen, gen_owner, strict=True) if o == n]
-        tab = np.array([[np.nan if v is None else v for v in row] for r in rows for row in r])
+        tab = np.array([[np.nan if v is None else v for v in row] for r in gen[n] for row in r])
         errors[n] = surrogate_error(tab, draws[n], posts[n], surrogates[n], columns, noise)
         full = np.full((campaigns, len(settings)), np.nan)
         full[:, columns] = np.where(np.isfinite(tab), tab, t_max)  # not opened: at the horizon

@@ -42,6 +42,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError, check_range
+from ..json_values import finite_or_none
 from ..model.case import Case, initial_state
 from ..solve import (
     SolverOptions,
@@ -442,13 +443,10 @@ class CoupledConvergence:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (None for NaN / inf)."""
 
-        def clean(x: float) -> float | None:
-            return x if math.isfinite(x) else None
-
         out: dict[str, Any] = {"converged": self.converged, "threshold": self.threshold}
         for k in self.variants:
-            out[f"t_cr_{k}_s"] = clean(self.variants[k])
-            out[f"{k}_rel_change"] = clean(self.change(k))
+            out[f"t_cr_{k}_s"] = finite_or_none(self.variants[k])
+            out[f"{k}_rel_change"] = finite_or_none(self.change(k))
         return out
 
 

@@ -12,10 +12,10 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, fields
 from typing import Any
 
-from ..errors import InputError, check_range
+from ..errors import check_range, replace_fields
 from ..flow import pressure_force
 from ..model.case import Case
 from ..model.cases import TABLE1, flight_case
@@ -142,11 +142,7 @@ class ObturatorDesign:
 
     def with_(self, **changes: Any) -> ObturatorDesign:
         """A copy with fields replaced (validated again)."""
-        names = {f.name for f in fields(self)}
-        for k in changes:
-            if k not in names:
-                raise InputError("design", f"unknown field {k!r}; allowed: {', '.join(names)}")
-        return replace(self, **changes)
+        return replace_fields(self, "design", changes)
 
     def to_dict(self) -> dict[str, Any]:
         """Field values (SI) as a JSON-ready dict."""

@@ -13,12 +13,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict, dataclass, field, fields, replace
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
 
-from ..errors import InputError, check_range
+from ..errors import InputError, check_range, replace_fields
 from ..model.case import Case
 from ..solve import SolverOptions, convergence_checks, opening_times
 from ..status import Status
@@ -355,8 +355,4 @@ class FlightModel:
 
     def with_(self, **changes: Any) -> FlightModel:
         """A copy with fields replaced."""
-        names = {f.name for f in fields(self)}
-        for k in changes:
-            if k not in names:
-                raise InputError("model", f"unknown field {k!r}")
-        return replace(self, **changes)
+        return replace_fields(self, "model", changes)

@@ -8,12 +8,12 @@ total Sobol indices of t_cr in flight (:func:`~obturator.envelope.sensitivity.so
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..reference import FLIGHT_SOBOL_RANGES
+from ..report_section import ReportSection
 from ..runs import Runner
 from .envelope import EnvelopeSpec, envelope_summary, run_envelope
 from .figures import plot_envelope, plot_sobol
@@ -27,13 +27,8 @@ __all__ = ["EnvelopeSection", "SOBOL_RANGES", "envelope_section"]
 SOBOL_RANGES = FLIGHT_SOBOL_RANGES
 
 
-@dataclass(frozen=True)
-class EnvelopeSection:
-    """A report section: title, paragraphs and figures (file name, caption)."""
-
-    title: str
-    paragraphs: tuple[str, ...]
-    figures: tuple[tuple[str, str], ...]
+#: This study's section of the report.
+EnvelopeSection = ReportSection
 
 
 def envelope_section(

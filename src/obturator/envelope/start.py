@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from ..json_values import finite_or_none
 from ..model.start import start_condition
 from ..solve import start_times
 from .coupled import STATUS_FLAGS, constant_case, coupled_convergence, coupled_opening
@@ -59,19 +60,16 @@ def trajectory_start(model: FlightModel, flight: Trajectory, spin0: float) -> di
     const = start_times(constant_case(design, launch, model.t_max), cond, model.options)
     theta_end = angle(res.mach_end) if math.isfinite(res.mach_end) else math.nan
 
-    def clean(x: float) -> float | None:
-        return x if math.isfinite(x) else None
-
     return {
-        "t_start_coupled_s": clean(res.t_cr),
+        "t_start_coupled_s": finite_or_none(res.t_cr),
         "status_start_coupled": STATUS_FLAGS[res.status],
         "convergence_start_coupled": None if conv is None else conv.to_dict(),
-        "theta_start_at_start_deg": clean(math.degrees(theta_end)),
-        "mach_at_start": clean(res.mach_end),
-        "t_start_constant_s": clean(const.t_start),
-        "theta_start_muzzle_deg": clean(math.degrees(cond.theta_start)),
-        "t_start_constant_high_load_s": clean(const.t_start_high_load),
-        "t_start_constant_low_load_s": clean(const.t_start_low_load),
+        "theta_start_at_start_deg": finite_or_none(math.degrees(theta_end)),
+        "mach_at_start": finite_or_none(res.mach_end),
+        "t_start_constant_s": finite_or_none(const.t_start),
+        "theta_start_muzzle_deg": finite_or_none(math.degrees(cond.theta_start)),
+        "t_start_constant_high_load_s": finite_or_none(const.t_start_high_load),
+        "t_start_constant_low_load_s": finite_or_none(const.t_start_low_load),
         "inlet_at_muzzle": cond.verdict,
         "choke_mach": cond.choke_mach,
     }

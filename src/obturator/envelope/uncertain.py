@@ -26,6 +26,7 @@ from ..errors import InputError
 from ..runs import Runner
 from ..solve import SolverOptions
 from ..sweeps import Distribution, SweepSpec
+from ..sweeps.distributions import split_assignment
 from .model import INPUTS, opening_rows, warm_integrators
 
 __all__ = [
@@ -56,14 +57,10 @@ def parse_input_distribution(
     allowed : sequence of str
         Input names accepted (hyphens in NAME are read as underscores).
     """
-    s = text.strip() if isinstance(text, str) else ""
-    if "=" not in s or ":" not in s.split("=", 1)[1]:
-        raise InputError("vary", f"malformed {text!r}: expected NAME=KIND:ARGS ({_HELP})")
-    name, rest = s.split("=", 1)
+    name, kind, args = split_assignment(text, "vary", f"NAME=KIND:ARGS ({_HELP})", ":")
     name = name.strip().replace("-", "_")
     if name not in allowed:
         raise InputError("vary", f"unknown input {name!r}; allowed: {', '.join(allowed)}")
-    kind, args = rest.split(":", 1)
     try:
         numbers = tuple(float(a) for a in args.split(","))
     except ValueError:

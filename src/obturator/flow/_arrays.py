@@ -22,6 +22,8 @@ from ..errors import InputError, check_range
 __all__ = [
     "MACH_MAX",
     "AREA_RATIO_MAX",
+    "GAMMA_DOC",
+    "ratio_doc",
     "as_output",
     "broadcast",
     "check_branch",
@@ -99,6 +101,19 @@ MACH_MAX = 1e6
 #: Largest area ratio A/A* accepted [-] (a projectile's
 #: capture-to-throat ratio is of order 1-10). Far above it the inversion overflows.
 AREA_RATIO_MAX = 1e100
+
+
+#: Docstring text of the ``gamma`` argument of every flow relation
+#: (:func:`obturator._docs.fill_doc`).
+GAMMA_DOC = """\
+gamma : array_like, optional
+    Ratio of specific heats, > 1."""
+
+
+def ratio_doc(*arguments: str) -> str:
+    """Parameters and return type of a relation of (``*arguments``, gamma), as docstring text."""
+    params = "\n".join((*arguments, GAMMA_DOC))
+    return f"Parameters\n----------\n{params}\n\nReturns\n-------\nfloat or numpy.ndarray"
 
 
 def check_mach(value: ArrayLike, *, supersonic: bool = False, field: str = "mach") -> NDArray:

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
+from .._docs import fill_doc
 from ..errors import InputError, check_range
 from ..reference import THESIS_REYNOLDS, THESIS_REYNOLDS_MACH
 from ._arrays import (
@@ -28,6 +29,7 @@ from ._arrays import (
     check_mach,
     checked_array,
     first_bad,
+    ratio_doc,
 )
 from .atmosphere import MAX_ALTITUDE, standard_atmosphere
 
@@ -87,19 +89,13 @@ def fanno_fld(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     return as_output(_fanno_raw(check_mach(mach), check_gamma(gamma)))
 
 
+@fill_doc(params=ratio_doc())
 def fanno_fld_limit(gamma: ArrayLike = 1.4) -> Any:
     """Supremum of f_D L*/D on the supersonic branch (M -> infinity).
 
     (gamma+1)/(2 gamma) ln((gamma+1)/(gamma-1)) - 1/gamma, 0.8215 for gamma = 1.4.
 
-    Parameters
-    ----------
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
-
-    Returns
-    -------
-    float or numpy.ndarray
+    {params}
         Limit of f_D L*/D.
     """
     g = check_gamma(gamma)

@@ -11,6 +11,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import brentq
 
+from .._docs import fill_doc
 from ..errors import InputError
 from ._arrays import (
     AREA_RATIO_MAX,
@@ -21,6 +22,7 @@ from ._arrays import (
     check_mach,
     checked_array,
     first_bad,
+    ratio_doc,
 )
 from .shock import normal_shock_mach
 
@@ -33,6 +35,8 @@ __all__ = [
     "start_mach",
     "unstart_mach",
 ]
+
+_FLIGHT = ratio_doc("mach : array_like\n    Flight Mach number M_1 >= 1.")
 
 
 def _area_ratio_raw(m: Any, g: Any) -> Any:
@@ -109,6 +113,7 @@ def mach_from_area_ratio(
     return as_output(solve(r, g))
 
 
+@fill_doc(params=_FLIGHT)
 def swallow_area_ratio(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     """Largest A_c/A_t that swallows the bow shock at flight Mach M_1 (thesis Eq. 2).
 
@@ -116,21 +121,13 @@ def swallow_area_ratio(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     throat must pass the post-shock flow at M = 1, so A_c/A_t = A/A*(M_2)
     with M_2 from Eq. 3 (equivalently A/A*(M_1) p_02/p_01).
 
-    Parameters
-    ----------
-    mach : array_like
-        Flight Mach number M_1 >= 1.
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
-
-    Returns
-    -------
-    float or numpy.ndarray
+    {params}
         A_c/A_t; rises from 1 at M_1 = 1 towards :func:`swallow_area_ratio_limit`.
     """
     return area_ratio(normal_shock_mach(mach, gamma), gamma)
 
 
+@fill_doc(params=_FLIGHT)
 def regurgitate_area_ratio(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     """A_c/A_t at which a started inlet regurgitates its shock (unstarts) at M_1 (Eq. 4).
 
@@ -138,34 +135,19 @@ def regurgitate_area_ratio(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     where this equals the geometric ratio the throat can no longer pass the
     captured flow shock-free.
 
-    Parameters
-    ----------
-    mach : array_like
-        Flight Mach number M_1 >= 1.
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
-
-    Returns
-    -------
-    float or numpy.ndarray
+    {params}
         A_c/A_t >= 1.
     """
     return area_ratio(check_mach(mach, supersonic=True), gamma)
 
 
+@fill_doc(params=ratio_doc())
 def swallow_area_ratio_limit(gamma: ArrayLike = 1.4) -> Any:
     """Limit of Eq. 2 as M_1 -> infinity: A/A* at M_2 = sqrt((gamma-1)/(2 gamma)).
 
     About 1.6661 for gamma = 1.4; a contraction at or above it never self-starts.
 
-    Parameters
-    ----------
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
-
-    Returns
-    -------
-    float or numpy.ndarray
+    {params}
         Supremum of :func:`swallow_area_ratio` over M_1.
     """
     g = check_gamma(gamma)

@@ -16,13 +16,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .._docs import fill_doc
 from ..errors import InputError
 from ._arrays import (
+    GAMMA_DOC,
     as_output,
     broadcast,
     check_gamma,
     check_mach,
     checked_array,
+    ratio_doc,
 )
 from .atmosphere import standard_atmosphere
 
@@ -38,22 +41,19 @@ __all__ = [
     "flight_pressure_force",
 ]
 
+_UPSTREAM_MACH = """\
+mach : array_like
+    Upstream Mach number M_1 >= 1."""
+_UPSTREAM = ratio_doc(_UPSTREAM_MACH)
 
+
+@fill_doc(params=_UPSTREAM)
 def normal_shock_mach(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     """Mach number M_2 behind a normal shock (thesis Eq. 3).
 
     M_2^2 = (2/(gamma-1) + M_1^2) / (2 gamma/(gamma-1) M_1^2 - 1)
 
-    Parameters
-    ----------
-    mach : array_like
-        Upstream Mach number M_1 >= 1.
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
-
-    Returns
-    -------
-    float or numpy.ndarray
+    {params}
         Downstream Mach number M_2 <= 1.
     """
     m, g = check_mach(mach, supersonic=True), check_gamma(gamma)
@@ -61,62 +61,38 @@ def normal_shock_mach(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     return as_output(np.sqrt(m2))
 
 
+@fill_doc(params=_UPSTREAM)
 def normal_shock_pressure_ratio(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     """Static-pressure ratio P_2/P_1 across a normal shock (thesis Eq. 1).
 
     Eq. 1, (1 + gamma M_1^2)/(1 + gamma M_2^2) with M_2 from Eq. 3, reduces to
     1 + 2 gamma/(gamma+1) (M_1^2 - 1), evaluated here.
 
-    Parameters
-    ----------
-    mach : array_like
-        Upstream Mach number M_1 >= 1.
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
-
-    Returns
-    -------
-    float or numpy.ndarray
+    {params}
         P_2/P_1 >= 1.
     """
     m, g = check_mach(mach, supersonic=True), check_gamma(gamma)
     return as_output(1.0 + 2.0 * g / (g + 1.0) * (m * m - 1.0))
 
 
+@fill_doc(params=_UPSTREAM)
 def normal_shock_density_ratio(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     """Density ratio rho_2/rho_1 = u_1/u_2 across a normal shock.
 
     rho_2/rho_1 = (gamma+1) M_1^2 / ((gamma-1) M_1^2 + 2)
 
-    Parameters
-    ----------
-    mach : array_like
-        Upstream Mach number M_1 >= 1.
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
-
-    Returns
-    -------
-    float or numpy.ndarray
+    {params}
         rho_2/rho_1, between 1 and (gamma+1)/(gamma-1).
     """
     m, g = check_mach(mach, supersonic=True), check_gamma(gamma)
     return as_output((g + 1.0) * m * m / ((g - 1.0) * m * m + 2.0))
 
 
+@fill_doc(params=_UPSTREAM)
 def normal_shock_temperature_ratio(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     """Static-temperature ratio T_2/T_1 = (P_2/P_1)/(rho_2/rho_1) across a normal shock.
 
-    Parameters
-    ----------
-    mach : array_like
-        Upstream Mach number M_1 >= 1.
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
-
-    Returns
-    -------
-    float or numpy.ndarray
+    {params}
         T_2/T_1 >= 1.
     """
     return as_output(
@@ -125,22 +101,14 @@ def normal_shock_temperature_ratio(mach: ArrayLike, gamma: ArrayLike = 1.4) -> A
     )
 
 
+@fill_doc(params=_UPSTREAM)
 def normal_shock_stagnation_pressure_ratio(mach: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
     """Stagnation-pressure ratio p_02/p_01 across a normal shock.
 
     p_02/p_01 = (rho_2/rho_1)^(gamma/(gamma-1)) (P_2/P_1)^(-1/(gamma-1)),
     from the isentropic relation on each side with T_0 conserved.
 
-    Parameters
-    ----------
-    mach : array_like
-        Upstream Mach number M_1 >= 1.
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
-
-    Returns
-    -------
-    float or numpy.ndarray
+    {params}
         p_02/p_01 <= 1 (the entropy rise across the shock).
     """
     g = check_gamma(gamma)
@@ -175,15 +143,14 @@ class NormalShock:
     stagnation_pressure_ratio: Any
 
 
+@fill_doc(mach=_UPSTREAM_MACH, gamma=GAMMA_DOC)
 def normal_shock(mach: ArrayLike, gamma: ArrayLike = 1.4) -> NormalShock:
     """Normal-shock state behind upstream Mach ``mach`` (thesis Eqs. 1 and 3).
 
     Parameters
     ----------
-    mach : array_like
-        Upstream Mach number M_1 >= 1.
-    gamma : array_like, optional
-        Ratio of specific heats, > 1.
+    {mach}
+    {gamma}
 
     Returns
     -------

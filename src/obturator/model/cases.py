@@ -12,6 +12,7 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Any
 
+from .._docs import fill_doc
 from ..errors import InputError, check_range
 from ..params import PARAMS
 from ..reference import COUETTE_P52, TABLE1
@@ -83,7 +84,19 @@ def _check_model(torque_model: str) -> None:
     check_choice("torque_model", torque_model, TORQUE_MODELS)
 
 
+#: Docstring text of the inputs every case constructor takes first
+#: (:func:`obturator._docs.fill_doc`).
+CASE_INPUTS_DOC = """\
+spin_rate : float
+    omega_p [rad/s].
+mu_s : float
+    Sliding friction coefficient [-].
+theta0_deg : float
+    theta_0 [deg]."""
+
+
 @_accepts_quantities
+@fill_doc(case_inputs=CASE_INPUTS_DOC)
 def rig_case(
     spin_rate: float = TABLE1["rig_spin_rate"],
     mu_s: float = TABLE1["mu_s"],
@@ -106,12 +119,7 @@ def rig_case(
 
     Parameters
     ----------
-    spin_rate : float
-        omega_p [rad/s].
-    mu_s : float
-        Sliding friction coefficient [-].
-    theta0_deg : float
-        theta_0 [deg].
+    {case_inputs}
     torque_model : {"thesis", "coulomb"}
         Eq. (61) or exact Coulomb friction at the single bottom contact.
     spin_mode : {"constant", "free", "thesis-energy"}
@@ -179,6 +187,7 @@ def rig_case(
 
 
 @_accepts_quantities
+@fill_doc(case_inputs=CASE_INPUTS_DOC)
 def flight_case(
     spin_rate: float = TABLE1["flight_spin_rate"],
     mu_s: float = TABLE1["mu_s"],
@@ -207,6 +216,7 @@ def flight_case(
 
     Parameters
     ----------
+    {case_inputs}
     torque_model : {"thesis", "coulomb"}
         Appendix A's two-point arm, or exact Coulomb friction at ``n_contacts``
         ring points.

@@ -53,6 +53,13 @@ AIR_DENSITY = 1.225
 MIN_GAP = 1e-7
 
 
+def _check_film(ball_radius: float, gap: float, viscosity: float) -> None:
+    """The inputs of every viscous-film model: R_s, gap h [m] (below R_s), mu_f [Pa s]."""
+    check_range("ball_radius", ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+    check_range("gap", gap, MIN_GAP, ball_radius, hi_open=True, unit="m")
+    check_range("viscosity", viscosity, 0.0, unit="Pa s")
+
+
 @dataclass(frozen=True)
 class CouetteViscous:
     """Viscous torque of plane Couette flow in the gap, thesis Eqs. (32)-(34).
@@ -77,9 +84,7 @@ class CouetteViscous:
     scale: float = 1.0
 
     def __post_init__(self) -> None:
-        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
-        check_range("gap", self.gap, MIN_GAP, self.ball_radius, hi_open=True, unit="m")
-        check_range("viscosity", self.viscosity, 0.0, unit="Pa s")
+        _check_film(self.ball_radius, self.gap, self.viscosity)
         check_range("scale", self.scale, 0.0)
 
     @property
@@ -130,9 +135,7 @@ class NakabayashiViscous:
     scale: float = 1.0
 
     def __post_init__(self) -> None:
-        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
-        check_range("gap", self.gap, MIN_GAP, self.ball_radius, hi_open=True, unit="m")
-        check_range("viscosity", self.viscosity, 0.0, unit="Pa s")
+        _check_film(self.ball_radius, self.gap, self.viscosity)
         check_range("fluid_density", self.fluid_density, 0.0, math.inf, lo_open=True, unit="kg/m^3")
         check_range("scale", self.scale, 0.0)
 
@@ -192,6 +195,15 @@ def _check_mu(mu_s: float) -> float:
     return check_range("mu_s", mu_s, 0.0, MAX_MU)
 
 
+def _check_contact(
+    mu_s: float, load_field: str, load: float, max_load: float, radius: float
+) -> None:
+    """The inputs of every sliding-friction model: mu_s, the normal load [N], R_s [m]."""
+    _check_mu(mu_s)
+    check_range(load_field, load, 0.0, max_load, unit="N")
+    check_range("ball_radius", radius, 0.0, math.inf, lo_open=True, unit="m")
+
+
 @dataclass(frozen=True)
 class ThesisRigFriction:
     """Sliding friction on the spin rig, thesis Eqs. (56)-(61).
@@ -215,9 +227,7 @@ class ThesisRigFriction:
     ball_radius: float
 
     def __post_init__(self) -> None:
-        _check_mu(self.mu_s)
-        check_range("weight", self.weight, 0.0, MAX_RIG_WEIGHT, unit="N")
-        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+        _check_contact(self.mu_s, "weight", self.weight, MAX_RIG_WEIGHT, self.ball_radius)
 
     @property
     def moment_scale(self) -> float:
@@ -264,9 +274,7 @@ class ThesisFlightFriction:
     contact_angle: float
 
     def __post_init__(self) -> None:
-        _check_mu(self.mu_s)
-        check_range("pressure_force", self.pressure_force, 0.0, MAX_LOAD, unit="N")
-        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+        _check_contact(self.mu_s, "pressure_force", self.pressure_force, MAX_LOAD, self.ball_radius)
         check_range(
             "contact_angle",
             self.contact_angle,
@@ -357,9 +365,7 @@ class CoulombContactFriction:
     patch_radius: float = 0.0
 
     def __post_init__(self) -> None:
-        _check_mu(self.mu_s)
-        check_range("normal_force", self.normal_force, 0.0, MAX_LOAD, unit="N")
-        check_range("ball_radius", self.ball_radius, 0.0, math.inf, lo_open=True, unit="m")
+        _check_contact(self.mu_s, "normal_force", self.normal_force, MAX_LOAD, self.ball_radius)
         check_range("contact_angle", self.contact_angle, 0.0, math.pi / 2, lo_open=True, unit="rad")
         if not isinstance(self.n_contacts, int) or not 1 <= self.n_contacts <= 1000:
             raise InputError(

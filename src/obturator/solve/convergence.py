@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..json_values import finite_or_none
 from ..model.case import Case
 from ..vocab import FRICTION_FAMILIES, check_choice
 from .one import opening_time
@@ -96,17 +97,14 @@ class ConvergenceCheck:
     def to_dict(self) -> dict[str, object]:
         """JSON-ready summary (None for NaN/inf)."""
 
-        def clean(x: float) -> float | None:
-            return x if math.isfinite(x) else None
-
         return {
             "converged": self.converged,
-            "tolerance_rel_change": clean(self.tolerance_change),
-            "width_rel_change": clean(self.width_change),
-            "family_rel_change": clean(self.family_change),
-            "t_cr_tighter_tolerance_s": clean(self.tighter_tolerance),
-            "t_cr_narrower_width_s": clean(self.narrower_width),
-            "t_cr_other_family_s": clean(self.other_family),
+            "tolerance_rel_change": finite_or_none(self.tolerance_change),
+            "width_rel_change": finite_or_none(self.width_change),
+            "family_rel_change": finite_or_none(self.family_change),
+            "t_cr_tighter_tolerance_s": finite_or_none(self.tighter_tolerance),
+            "t_cr_narrower_width_s": finite_or_none(self.narrower_width),
+            "t_cr_other_family_s": finite_or_none(self.other_family),
             "other_family": self.family,
             "factor": self.factor,
             "threshold": self.threshold,

@@ -70,7 +70,7 @@ class SolverOptions:
     max_step : float or None
         Largest step [s]; default :func:`max_step_periods` of a spin period (a
         twentieth on the rig, a tenth in flight).
-    method : {"auto", "radau", "rosenbrock", "set-valued"}
+    method : {"auto", "radau", "rosenbrock", "set-valued", "moreau-jean"}
         Compiled integrator. ``"auto"`` (default): the explicit eighth-order
         Dormand-Prince pair DOP853 (no Jacobian; the problem is not stiff
         outside sticking), handing the run over to Radau IIA (at a third of the
@@ -89,12 +89,21 @@ class SolverOptions:
         and ~1e2-1e4x fewer steps in long sticking phases). ``"rosenbrock"``:
         the L-stable Rosenbrock pair of Shampine (ode23s). Radau transforms rtol as RADAU5 does
         (0.1 rtol^(2/3)); t_cr errors stay below ~3e-7 relative at rtol 1e-8.
-        ``"set-valued"``: the thesis law with no width (``friction_width`` and
+        ``"set-valued"``: the friction law with no width (``friction_width`` and
         ``friction_family`` unused): exact stick and event-driven transitions
         (:mod:`obturator.core.integrators.stick_slip`, ``docs/stick_slip.md``); quaternion
-        form, thesis friction, constant or free spin. :func:`convergence_check` then
+        form, constant mu_s, constant or free spin. :func:`convergence_check` then
         compares with the regularised path (``"auto"``) at the narrower width, both
-        families.
+        families. The thesis law, or the Coulomb patch law with a patch (a > 0).
+        ``"moreau-jean"``: the same law by first-order event-capturing time-stepping
+        (:mod:`obturator.core.integrators.moreau_jean`) with the fixed step
+        ``fixed_step``: an independent cross-check of ``"set-valued"`` (no modes, no
+        events), first order in the step (t_cr 1e-4..1e-2 relative off at
+        5e-6 s on the rig, ``docs/stick_slip.md``); constant spin, t_cr only (no time
+        history: :func:`~obturator.solve.simulate` with it is refused).
+    fixed_step : float or None
+        Step of ``method="moreau-jean"`` [s], > 0; default None: 1e-4 of a spin period
+        (the initial step of the adaptive methods). Only with that method.
     """
 
     rtol: float = 1e-8
@@ -106,6 +115,7 @@ class SolverOptions:
     event_tol: float = 1e-12
     max_step: float | None = None
     method: Method = "auto"
+    fixed_step: float | None = None
 
     def __post_init__(self) -> None:
         # DOP853 works at 0.01 rtol, floored at 1e-14: a smaller rtol would be clamped.
@@ -120,6 +130,10 @@ class SolverOptions:
         check_choice("method", self.method, METHODS)
         if self.max_step is not None:
             check_range("max_step", self.max_step, 0.0, math.inf, lo_open=True, unit="s")
+        if self.fixed_step is not None:
+            if self.method != "moreau-jean":
+                raise InputError("fixed_step", "applies to method 'moreau-jean' only")
+            check_range("fixed_step", self.fixed_step, 0.0, 1.0, lo_open=True, unit="s")
 
     @classmethod
     def for_opening_time_accuracy(cls, tcr_rtol: float, **kw: Any) -> SolverOptions:

@@ -108,7 +108,8 @@ def integration_setup(
 ) -> tuple[Problem, Controls]:
     """What the compiled integrators take for one case: the packed problem and controls.
 
-    The initial step is 1e-4 spin periods and the largest ``options.max_step`` or
+    The initial step is 1e-4 spin periods (``options.fixed_step`` where given: the
+    fixed step of ``"moreau-jean"``) and the largest ``options.max_step`` or
     :func:`max_step_periods` of a period. Shared by the one-trajectory path and the batched lanes
     (:mod:`obturator.solve.many`), so both start from the same numbers.
 
@@ -129,7 +130,7 @@ def integration_setup(
     controls = integration_controls(
         options,
         float(case.t_max),
-        1e-4 * period,
+        options.fixed_step if options.fixed_step is not None else 1e-4 * period,
         options.max_step if options.max_step is not None else max_step_periods(case) * period,
         t_eval=te,
         record=record,

@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from ..json_values import finite_or_none
 from ..model.case import Case
 from ..model.start import StartCondition
 from ..model.torques import CoulombContactFriction, ThesisFlightFriction
@@ -63,16 +64,13 @@ class StartTimes:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary (NaN as None), the start condition included."""
 
-        def clean(x: float) -> float | None:
-            return x if math.isfinite(x) else None
-
         low, high = self.condition.spill_load_factors()
         return {
-            "t_cr_s": clean(self.t_cr),
-            "t_start_s": clean(self.t_start),
-            "delay_s": clean(self.delay),
-            "t_start_low_load_s": clean(self.t_start_low_load),
-            "t_start_high_load_s": clean(self.t_start_high_load),
+            "t_cr_s": finite_or_none(self.t_cr),
+            "t_start_s": finite_or_none(self.t_start),
+            "delay_s": finite_or_none(self.delay),
+            "t_start_low_load_s": finite_or_none(self.t_start_low_load),
+            "t_start_high_load_s": finite_or_none(self.t_start_high_load),
             "spill_load_factors": [low, high],
             **self.condition.to_dict(),
         }

@@ -125,6 +125,38 @@ def _truncnormal(mean: float, sd: float, lo: float, hi: float, u: float) -> floa
     return min(max(mean + sd * z, lo), hi)
 
 
+def split_assignment(text: object, field: str, form: str, sep: str) -> tuple[str, str, str]:
+    """Split ``NAME=LEFT<sep>RIGHT`` (a command-line item) into its three texts.
+
+    Parameters
+    ----------
+    text : str
+        The item as given.
+    field : str
+        Field named by the error.
+    form : str
+        The expected form, for the error (``"NAME=LO,HI"``).
+    sep : str
+        Separator of LEFT and RIGHT after the ``=``.
+
+    Returns
+    -------
+    (str, str, str)
+        NAME as written (the caller canonicalises it), LEFT, RIGHT.
+
+    Raises
+    ------
+    InputError
+        If `text` is not a string holding ``=`` with `sep` after it.
+    """
+    s = text.strip() if isinstance(text, str) else ""
+    name, eq, rest = s.partition("=")
+    if not eq or sep not in rest:
+        raise InputError(field, f"malformed {text!r}: expected {form}")
+    left, right = rest.split(sep, 1)
+    return name, left, right
+
+
 def parse_distribution(text: str) -> tuple[str, Distribution]:
     """Parse ``name=kind:args``, e.g. ``mu_s=normal:0.5473,0.03``.
 
@@ -139,12 +171,8 @@ def parse_distribution(text: str) -> tuple[str, Distribution]:
     -------
     (str, Distribution)
     """
-    s = text.strip() if isinstance(text, str) else ""
-    if "=" not in s or ":" not in s.split("=", 1)[1]:
-        raise InputError("vary", f"malformed {text!r}: expected NAME=KIND:ARGS ({_DIST_HELP})")
-    name_text, rest = s.split("=", 1)
+    name_text, kind, args = split_assignment(text, "vary", f"NAME=KIND:ARGS ({_DIST_HELP})", ":")
     name = canonical_name(name_text)
-    kind, args = rest.split(":", 1)
     kind = kind.strip().lower()
     if kind not in _DIST_ARGS:
         raise InputError(name, f"unknown distribution {kind!r}; allowed: {_DIST_HELP}")

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import check_range
+from ..json_values import finite_or_none
 from ..status import Status
 
 __all__ = [
@@ -49,14 +50,11 @@ class QuantileEstimate:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready; non-finite bounds become None with flags."""
 
-        def f(x: float) -> float | None:
-            return x if math.isfinite(x) else None
-
         return {
             "probability": self.probability,
-            "t_cr_s": f(self.value),
-            "lower_s": f(self.lower),
-            "upper_s": f(self.upper),
+            "t_cr_s": finite_or_none(self.value),
+            "lower_s": finite_or_none(self.lower),
+            "upper_s": finite_or_none(self.upper),
             "coverage": self.coverage,
             "beyond_t_max": bool(self.value == math.inf),
         }
@@ -112,8 +110,8 @@ class MonteCarloSummary:
             )
         }
         d["fraction_not_opened_ci"] = list(self.fraction_not_opened_ci)
-        d["mean_s"] = self.mean_s if math.isfinite(self.mean_s) else None
-        d["std_s"] = self.std_s if math.isfinite(self.std_s) else None
+        d["mean_s"] = finite_or_none(self.mean_s)
+        d["std_s"] = finite_or_none(self.std_s)
         d["quantiles"] = [q.to_dict() for q in self.quantiles]
         d["ci_method"] = CI_METHOD
         return d

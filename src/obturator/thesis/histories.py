@@ -35,6 +35,7 @@ from typing import Any, Literal
 import numpy as np
 import xarray as xr
 
+from .._docs import fill_doc
 from ..errors import InputError, SolverError, check_range
 from ..model.case import Case
 from ..model.cases import couette_case, flight_case, rig_case, table1_ball
@@ -294,17 +295,32 @@ def exact_vs_approximate(
 # Figs. 16-17
 
 
+#: The rig inputs of the Figs. 16-17 studies besides the varied ball property.
+_RIG_INPUTS = """\
+spin_rate : float
+    omega_p [rad/s].
+mu_s : float
+    Sliding friction coefficient [-].
+n_points : int
+options : SolverOptions, optional"""
+
+
 def _geometry_study(
-    dim: str,
+    dim: Literal["density", "hole_radius"],
     values: Sequence[float],
     unit: str,
-    make_case,
+    figure: str,
+    title: str,
+    spin_rate: float,
+    mu_s: float,
     n_points: int,
     options: SolverOptions | None,
-    attrs: dict[str, Any],
 ) -> xr.Dataset:
-    """Rig histories over one geometry parameter `dim`; `attrs` label the Dataset."""
-    cases = [make_case(v) for v in values]
+    """Rig histories over the ball property `dim` (a :func:`table1_ball` keyword).
+
+    The weight follows the ball (``weight=None``); every other input is Table 1's.
+    """
+    cases = [rig_case(spin_rate, mu_s, ball=table1_ball(**{dim: v}), weight=None) for v in values]
     tcr = opening_times(cases, options, strict=True)[0].tolist()
     finite = [x for x in tcr if math.isfinite(x)]
     t_end = 1.3 * max(finite) if finite else STICK_T_END
@@ -330,10 +346,12 @@ def _geometry_study(
         coords={dim: (dim, np.asarray(values, dtype=float), {"units": unit}), "t": runs[0][0]},
     )
     ds["t"].attrs["units"] = "s"
+    attrs = {"figures": figure, "title": title, "spin_rate": spin_rate, "mu_s": mu_s}
     ds.attrs.update(attrs, **solver_attrs(options))
     return ds
 
 
+@fill_doc(rig_inputs=_RIG_INPUTS)
 def density_study(
     densities: Sequence[float] = (6000.0, 10000.0),
     *,
@@ -351,12 +369,7 @@ def density_study(
     ----------
     densities : sequence of float
         rho [kg/m^3] (Fig. 16: 6000 and 10000).
-    spin_rate : float
-        omega_p [rad/s].
-    mu_s : float
-        Sliding friction coefficient [-].
-    n_points : int
-    options : SolverOptions, optional
+    {rig_inputs}
 
     Returns
     -------
@@ -368,13 +381,16 @@ def density_study(
         "density",
         densities,
         "kg/m^3",
-        lambda rho: rig_case(spin_rate, mu_s, ball=table1_ball(density=rho), weight=None),
+        "16",
+        "Effect of ball density",
+        spin_rate,
+        mu_s,
         n_points,
         options,
-        {"figures": "16", "title": "Effect of ball density", "spin_rate": spin_rate, "mu_s": mu_s},
     )
 
 
+@fill_doc(rig_inputs=_RIG_INPUTS)
 def hole_radius_study(
     hole_radii: Sequence[float] = (3.75e-3, 5.58e-3),
     *,
@@ -392,12 +408,7 @@ def hole_radius_study(
     ----------
     hole_radii : sequence of float
         r_s [m] (Fig. 17: 3.75 and 5.58 mm), below R_s / sqrt(2).
-    spin_rate : float
-        omega_p [rad/s].
-    mu_s : float
-        Sliding friction coefficient [-].
-    n_points : int
-    options : SolverOptions, optional
+    {rig_inputs}
 
     Returns
     -------
@@ -409,10 +420,12 @@ def hole_radius_study(
         "hole_radius",
         hole_radii,
         "m",
-        lambda r: rig_case(spin_rate, mu_s, ball=table1_ball(hole_radius=r), weight=None),
+        "17",
+        "Effect of hole radius",
+        spin_rate,
+        mu_s,
         n_points,
         options,
-        {"figures": "17", "title": "Effect of hole radius", "spin_rate": spin_rate, "mu_s": mu_s},
     )
 
 

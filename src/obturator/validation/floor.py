@@ -46,6 +46,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InputError, check_range
+from ..json_values import finite_or_none
 
 __all__ = [
     "BANDS",
@@ -177,18 +178,15 @@ class BandFloor:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (None for NaN)."""
 
-        def c(x: float) -> float | None:
-            return float(x) if math.isfinite(x) else None
-
         return {
             "label": self.label,
             "n_runs": self.n_runs,
             "n_clusters": self.n_clusters,
             "dof": self.dof,
-            "ss_pe_s2": c(self.ss_pe),
-            "pooled_sd_s": c(self.pooled_sd),
-            "saturated_rms_s": c(self.saturated_rms),
-            "floor_rms_s": c(self.floor_rms),
+            "ss_pe_s2": finite_or_none(self.ss_pe),
+            "pooled_sd_s": finite_or_none(self.pooled_sd),
+            "saturated_rms_s": finite_or_none(self.saturated_rms),
+            "floor_rms_s": finite_or_none(self.floor_rms),
         }
 
 
@@ -292,9 +290,6 @@ class ReplicateFloor:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready summary."""
 
-        def c(x: float) -> float | None:
-            return float(x) if math.isfinite(x) else None
-
         return {
             "rule": f"single linkage in omega_p, gap {self.gap:.4g} rad/s",
             "gap_rad_s": self.gap,
@@ -305,7 +300,7 @@ class ReplicateFloor:
             "overall": self.overall.to_dict(),
             "bands": {k: v.to_dict() for k, v in self.bands.items()},
             "clusters": [
-                {k: c(v) if isinstance(v, float) else v for k, v in r.items()}
+                {k: finite_or_none(v) if isinstance(v, float) else v for k, v in r.items()}
                 for r in self.cluster_table()
             ],
         }

@@ -7,9 +7,9 @@ intervals); ``--quick`` runs :data:`QUICK_MODELS` without profiles and says so.
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
 from pathlib import Path
 
+from ..report_section import ReportSection
 from ..runs import Runner
 from ..runs.store import atomic_write_text
 from .plotting import save_validation_figure
@@ -23,14 +23,8 @@ __all__ = ["QUICK_MODELS", "ValidationSection", "validation_section", "run_for_r
 QUICK_MODELS = ("thesis-1980", "mu", "strengthening")
 
 
-@dataclass(frozen=True)
-class ValidationSection:
-    """A report section: title, paragraphs, preformatted blocks and figures."""
-
-    title: str
-    paragraphs: tuple[str, ...]
-    figures: tuple[tuple[str, str], ...]
-    pre: tuple[str, ...] = ()
+#: This study's section of the report.
+ValidationSection = ReportSection
 
 
 def run_for_report(quick: bool, runner: Runner | None = None) -> ValidationResult:

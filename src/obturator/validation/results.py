@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..fitting import FitParameter
+from ..json_values import finite_or_none
 from .candidates import CANDIDATES, PARAMETERS
 from .floor import ReplicateFloor, band_labels
 
@@ -36,7 +37,7 @@ def _clean(x: Any) -> Any:
     if isinstance(x, (int, np.integer)):
         return int(x)
     if isinstance(x, (float, np.floating)):
-        return float(x) if math.isfinite(float(x)) else None
+        return finite_or_none(x)
     return x
 
 

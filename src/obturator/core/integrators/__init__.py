@@ -58,6 +58,7 @@ _MODULES = {
     "radau": "radau",
     "rosenbrock": "rosenbrock",
     "set-valued": "stick_slip",
+    "moreau-jean": "moreau_jean",
 }
 
 

@@ -1,4 +1,4 @@
-"""Moreau-Jean time-stepping of the thesis friction law with the exact set: a cross-check.
+"""Moreau-Jean time-stepping of the friction law with the exact set: a cross-check.
 
 An event-capturing scheme (Moreau 1988; Jean 1999; Acary and Brogliato, *Numerical
 Methods for Nonsmooth Dynamical Systems*, Springer 2008, ch. 10), independent of the
@@ -35,20 +35,16 @@ from ..friction_sets import relative_rate, stick_margin, turn_by
 from ..jit_flags import REFCOUNT
 from ..layout import (
     FORM_QUATERNION,
-    FRIC_THESIS_FLIGHT,
-    FRIC_THESIS_RIG,
     P_A,
     P_C,
     P_FORM,
-    P_FRIC,
-    P_SPEED,
     P_SPIN_MODE,
     P_THETA_CR,
     P_WIDTH,
-    SPEED_CONSTANT,
     SPIN_CONSTANT,
 )
 from .contract import Controls, Problem, RawSolution, Status
+from .stick_slip_modes import check_set_valued_law
 
 __all__ = ["integrate"]
 
@@ -60,15 +56,15 @@ def integrate(problem: Problem, controls: Controls) -> RawSolution:
     ------
     InputError
         Outside its scope: not the quaternion formulation, not a constant spin, not
-        the thesis law with constant mu_s, or recorded steps / output times asked for.
+        a law without a set-valued form (:func:`.stick_slip_modes.check_set_valued_law`),
+        or recorded steps / output times asked for.
     """
     p = np.array(problem.p, dtype=float)
     if p[P_FORM] != FORM_QUATERNION:
         raise InputError("formulation", "Moreau-Jean integrates 'quaternion' only")
     if p[P_SPIN_MODE] != SPIN_CONSTANT:
         raise InputError("spin_mode", "Moreau-Jean takes a constant spin only")
-    if p[P_FRIC] not in (FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT) or p[P_SPEED] != SPEED_CONSTANT:
-        raise InputError("torque_model", "Moreau-Jean takes the thesis law with constant mu_s")
+    check_set_valued_law(p, "Moreau-Jean")
     if controls.record or controls.t_eval.shape[0] > 0:
         raise InputError("t_eval", "Moreau-Jean returns the opening time only")
     p[P_WIDTH] = 0.0

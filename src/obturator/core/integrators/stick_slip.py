@@ -1,11 +1,12 @@
-"""Event-driven stick-slip integration of the thesis friction law, with no width.
+"""Event-driven stick-slip integration of the friction laws, with no width.
 
 Formulation: the *switch model* of Leine and Nijmeijer (*Dynamics and Bifurcations
 of Non-Smooth Mechanical Systems*, Springer 2004, ch. 2 and 9), with the exact set of
 admissible moments in place of Leine's stick band (Glocker, *Set-Valued Force Laws*,
 Springer 2001; Acary and Brogliato, *Numerical Methods for Nonsmooth Dynamical
 Systems*, Springer 2008, ch. 7: event-driven schemes). The ball is in one of two
-modes (``docs/stick_slip.md`` derives them from thesis Eqs. 35-36, 56-64, Appendix A):
+modes (``docs/stick_slip.md`` derives them from thesis Eqs. 35-36, 56-64, Appendix A,
+and for the Coulomb patch law from its dissipation function, section 9 there):
 
 * **stick**, omega_r = 0: the ball turns rigidly with the socket, so its attitude is a
   rotation about Z and nothing is integrated; the reaction is G_req =
@@ -35,9 +36,16 @@ Transitions:
   0. Projecting from |omega_r| = r changes the attitude by O(r^2 / a) (a the
   deceleration), far below the step error.
 * stick -> slip: at the breakaway angle; the slip starts with omega_r =
-  :data:`KICK` omega_p along -G_req / |G_req| (the direction in which the saturated
-  friction gives way; Radau IIA needs a defined direction at its first node).
+  :data:`KICK` omega_p along the ray in which the saturated friction gives way
+  (-G_req / |G_req| for the thesis law; Radau IIA needs a defined direction at its
+  first node).
 
+* reversal: a slip that has exceeded :data:`STICK_SLIP` omega_p and falls back to it
+  with G_req outside F passes through zero slip (the rig's creep about X under the
+  Coulomb patch law, twice a revolution): it is set to zero there as for stick and
+  kicked out at once along the departure ray
+  (:func:`~obturator.core.friction_sets.exit_slip_direction`); Radau IIA cannot step
+  across that kink.
 * grazing exit: a kicked slip that cannot take off (|omega_r| below the kick with
   G_req still outside F, Radau IIA's steps collapsed) is held rigidly through the rest of
   the window (:func:`_through_window`); its creep is below the kick's scale.
@@ -46,7 +54,8 @@ The friction moment at zero slip is never evaluated in slip, and the stick react
 is never integrated, so there is no width; Radau IIA's Jacobian alone is taken from a
 copy of the parameters with a tiny width (:data:`JACOBIAN_WIDTH`) so that its
 forward differences stay below the slip speed. Requires the quaternion formulation,
-the thesis friction law (rig or flight), and a constant or free spin.
+the thesis friction law (rig or flight) or the Coulomb patch law with a patch (a > 0),
+constant mu_s, and a constant or free spin.
 """
 
 from __future__ import annotations
@@ -61,26 +70,22 @@ from ..dynamics import nutation_angle_of_state, rhs
 from ..friction_sets import (
     breakaway_angle,
     hold_stick,
+    moment_scale,
     turn_by,
     turn_rigidly,
 )
 from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import (
     FORM_QUATERNION,
-    FRIC_THESIS_FLIGHT,
-    FRIC_THESIS_RIG,
     KERNEL_GENERIC,
     N_STATE,
     P_A,
     P_FAMILY,
     P_FORM,
-    P_FRIC,
     P_KERNEL,
-    P_SPEED,
     P_SPIN_MODE,
     P_THETA_CR,
     P_WIDTH,
-    SPEED_CONSTANT,
     SPIN_THESIS_ENERGY,
 )
 from . import AUTO_RADAU_TOL_FACTOR
@@ -92,7 +97,7 @@ from .linalg import lu_solve
 from .radau import _UROUND, _colloc_weights, _dense, _factor, _newton, locate_opening
 from .radau_coefficients import C1, C2, E1, E2, E3
 from .radau_control import _LIM_SHRINK, next_step, step_quotient
-from .stick_slip_modes import HOLD_THROUGH, REKICK
+from .stick_slip_modes import HOLD_THROUGH, REKICK, check_set_valued_law
 from .stick_slip_modes import break_away as _break_away
 from .stick_slip_modes import slip as _slip
 from .stick_slip_modes import slip_rate as _slip_rate
@@ -155,17 +160,14 @@ def integrate(
     ------
     InputError
         For a case outside the solver's scope (Euler-angle formulation, the thesis's
-        energy spin mode, a friction law other than the thesis's, a slip-speed law).
+        energy spin mode, no friction, a slip-speed law, Coulomb point contacts).
     """
     p = np.array(problem.p, dtype=float)
     if p[P_FORM] != FORM_QUATERNION:
         raise InputError("formulation", "the set-valued solver integrates 'quaternion' only")
     if p[P_SPIN_MODE] == SPIN_THESIS_ENERGY:
         raise InputError("spin_mode", "the set-valued solver takes 'constant' or 'free'")
-    if p[P_FRIC] not in (FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT) or p[P_SPEED] != SPEED_CONSTANT:
-        raise InputError(
-            "torque_model", "the set-valued solver takes the thesis law with constant mu_s"
-        )
+    check_set_valued_law(p, "the set-valued solver")
     p[P_KERNEL] = KERNEL_GENERIC
     p[P_WIDTH] = 0.0
     p[P_FAMILY] = 0.0
@@ -242,7 +244,7 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
     status = Status.T_MAX
     t_event = math.nan
     rtol0, atol0 = rtol, atol  # DOP853 stretches take the tolerances as given
-    r_fast = p[P_FRIC + 1] / p[P_A] * h_max * FAST_SLIP
+    r_fast = moment_scale(p) / p[P_A] * h_max * FAST_SLIP
     # Radau IIA at auto's fraction of the tolerances (near-stick t_cr amplifies its
     # local errors), transformed as RADAU5 does (as in .radau)
     rtol *= AUTO_RADAU_TOL_FACTOR
@@ -271,6 +273,7 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
     h_lim = math.inf
     theta = 0.0
     armed = True  # re-stick allowed (after a breakaway: once G_req has left F)
+    took_off = True  # a reversal allowed (after a kick: once |omega_r| has passed r_stick)
     if not sticking:
         r_release = RELEASE_KICK * spin
         if r0 < r_release:  # released at (or near) zero slip with G_req outside F
@@ -306,6 +309,7 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
             t += tau
             sticking = False
             armed = False
+            took_off = False
             rhs(t, y, p, f0)
             nfev += 1
             # first step: the slip's age tau (it about doubles): a longer first step
@@ -454,16 +458,21 @@ def _integrate(problem, controls, p_jac, stick_slip, kick, cycle_end):
         if not (y[0] == y[0]):
             status = Status.FAILED
             break
-        admissible = _stick_admissible(y, p)
-        armed = armed or not admissible
-        admissible = admissible and armed
+        inside = _stick_admissible(y, p)
+        armed = armed or not inside
+        admissible = inside and armed
         rhs(t, y, p, f0)
         nfev += 1
         wx, wy, wz, r = _slip(y)
-        rate = _slip_rate(y, f0) if admissible else 0.0
-        if admissible and r <= r_stick and rate < 0.0:
+        took_off = took_off or r > r_stick
+        reversal = took_off and not inside and r <= r_stick
+        rate = _slip_rate(y, f0) if admissible or reversal else 0.0
+        if (admissible or reversal) and r <= r_stick and rate < 0.0:
             # zero slip at t + tau, tau = r / |r'|; the attitude gets the slip's turn
-            # omega_r tau / 2 and the spin's omega_p tau (error O(r tau^2 |u'|))
+            # omega_r tau / 2 and the spin's omega_p tau (error O(r tau^2 |u'|)). With
+            # G_req inside F that is stick; outside, a reversal through zero slip (the
+            # rig's creep about X under the Coulomb patch law, twice a revolution): the
+            # stick branch finds G_req outside F and kicks the slip out at once
             tau = -r / rate
             turn_by(y, 0.5 * tau * wx, 0.5 * tau * wy, 0.5 * tau * wz)
             turn_rigidly(y, y[7] * tau, ytry)

@@ -15,20 +15,32 @@ import math
 import numpy as np
 from numba import njit
 
+from ...errors import InputError
 from ..friction_sets import (
     breakaway_angle,
+    exit_slip_direction,
+    moment_scale,
     relative_rate,
     required_reaction,
     stick_margin,
     turn_rigidly,
 )
 from ..jit_flags import NO_REFCOUNT
-from ..layout import P_A, P_FRIC
+from ..layout import (
+    FRIC_COULOMB,
+    FRIC_THESIS_FLIGHT,
+    FRIC_THESIS_RIG,
+    P_A,
+    P_FRIC,
+    P_SPEED,
+    SPEED_CONSTANT,
+)
 
 __all__ = [
     "HOLD_THROUGH",
     "REKICK",
     "break_away",
+    "check_set_valued_law",
     "excess",
     "slip",
     "slip_rate",
@@ -45,6 +57,26 @@ HOLD_THROUGH = 1e-4
 _MARGIN = 1e-9
 
 
+def check_set_valued_law(p: np.ndarray, solver: str) -> None:
+    """Refuse a friction law without a set-valued form here (InputError naming it).
+
+    Taken: the thesis law (rig, flight) and the Coulomb patch law with a patch
+    (a > 0), each with constant mu_s. A Coulomb point contact (a = 0) has a flat
+    disc for its set (:mod:`obturator.core.friction_sets`): no limit to integrate.
+    """
+    code = p[P_FRIC]
+    if code not in (FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT, FRIC_COULOMB):
+        raise InputError("torque_model", f"{solver} takes the thesis or the Coulomb patch law")
+    if p[P_SPEED] != SPEED_CONSTANT:
+        raise InputError("speed_law", f"{solver} takes a constant mu_s only")
+    if code == FRIC_COULOMB and not p[P_FRIC + 5] > 0.0:
+        raise InputError(
+            "patch_radius",
+            f"0 m: {solver} needs a contact patch (> 0 m); a point contact's set at "
+            "zero slip is a flat disc and its t_cr has no limit as the width shrinks",
+        )
+
+
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
 def slip(y: np.ndarray) -> tuple[float, float, float, float]:
     """omega_r (inertial) and |omega_r| [rad/s] of a state."""
@@ -56,7 +88,7 @@ def slip(y: np.ndarray) -> tuple[float, float, float, float]:
 def stick_admissible(y: np.ndarray, p: np.ndarray) -> bool:
     """G_req of `y` inside F with the relative margin _MARGIN."""
     gx, gy, gz = required_reaction(y, p, y[7])
-    return stick_margin(gx, gy, gz, p) > _MARGIN * p[P_FRIC + 1]
+    return stick_margin(gx, gy, gz, p) > _MARGIN * moment_scale(p)
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
@@ -88,9 +120,12 @@ def excess(y: np.ndarray, p: np.ndarray) -> float:
 def break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> float:
     """Start a slip from zero slip at `y` (in place); returns the time it takes [s].
 
-    Leaving F, the ball slips along u = -G_req / |G_req| (perpendicular to the hole
-    axis, so the inertia along u is A) with |omega_r|(tau) = a tau + j tau^2 / 2,
-    a = e / A and j = de/dt / A, e the excess of |G_req| over the radius of F.
+    Leaving F, the ball slips along the direction in which the friction gives way
+    (:func:`~obturator.core.friction_sets.exit_slip_direction`: u = -G_req / |G_req|
+    for the thesis law, perpendicular to the hole axis, so the inertia along u is A;
+    the Coulomb patch law's ray is taken with the same inertia A for its timing) with
+    |omega_r|(tau) = a tau + j tau^2 / 2, a = e / A and j = de/dt / A, e the excess
+    of |G_req| over the radius of F.
     The slip starts at |omega_r| = `kick`, i.e. at the tau where that series reaches
     it, from the rigid motion turned on by omega_p tau (the slip's own turn there,
     ~ kick tau / 3, is dropped).
@@ -111,10 +146,10 @@ def break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> f
     for i in range(4):
         y[i] = work[i]
     gx, gy, gz = required_reaction(y, p, wp)
-    g = math.sqrt(gx * gx + gy * gy + gz * gz)
-    if g == 0.0:
+    ux, uy, uz = exit_slip_direction(y, gx, gy, gz, p)
+    if ux == 0.0 and uy == 0.0 and uz == 0.0:
         return tau
-    ux, uy, uz = -kick * gx / g, -kick * gy / g, -kick * gz / g
+    ux, uy, uz = kick * ux, kick * uy, kick * uz
     q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
     s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
     # body rates += R^T u

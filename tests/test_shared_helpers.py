@@ -1,0 +1,109 @@
+"""The small helpers several packages share: docstring fragments, checked dataclass
+copies, ``NAME=A<sep>B`` items, JSON numbers."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import pytest
+
+from obturator._docs import fill_doc
+from obturator.errors import InputError, replace_fields
+from obturator.json_values import finite_or_none
+from obturator.sweeps.distributions import split_assignment
+
+
+def test_fill_doc_indents_the_fragment_as_its_placeholder() -> None:
+    @fill_doc(params="x : float\n    Abscissa [m].")
+    def f(x: float) -> float:
+        """Identity.
+
+        Parameters
+        ----------
+        {params}
+        """
+        return x
+
+    lines = f.__doc__.splitlines()
+    i = next(k for k, line in enumerate(lines) if line.strip() == "x : float")
+    indent = len(lines[i]) - len(lines[i].lstrip())
+    assert lines[i + 1] == " " * (indent + 4) + "Abscissa [m]."
+    assert lines[i - 1].strip() == "----------"
+    assert "{params}" not in f.__doc__
+
+
+def test_fill_doc_leaves_braces_that_are_not_placeholders() -> None:
+    @fill_doc()
+    def f() -> None:
+        """Choice {"a", "b"} and a set ``{x}`` in running text."""
+
+    assert f.__doc__ == 'Choice {"a", "b"} and a set ``{x}`` in running text.'
+
+
+def test_fill_doc_names_a_missing_fragment() -> None:
+    with pytest.raises(KeyError, match="absent"):
+
+        @fill_doc()
+        def f() -> None:
+            """Text.
+
+            {absent}
+            """
+
+
+def test_the_case_constructors_share_the_input_docs() -> None:
+    from obturator.calibration.rig_model import rig_model_case
+    from obturator.model.cases import flight_case, rig_case
+
+    for fn in (rig_case, flight_case, rig_model_case):
+        assert "Sliding friction coefficient [-]." in fn.__doc__
+        assert "{case_inputs}" not in fn.__doc__
+
+
+@dataclass(frozen=True)
+class _Pair:
+    a: float
+    b: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.b <= 0:
+            raise InputError("b", "must be > 0")
+
+
+def test_replace_fields_copies_and_checks_again() -> None:
+    assert replace_fields(_Pair(1.0), "pair", {"b": 2.0}) == _Pair(1.0, 2.0)
+    with pytest.raises(InputError, match="b: must be > 0"):
+        replace_fields(_Pair(1.0), "pair", {"b": -1.0})
+
+
+def test_replace_fields_names_the_unknown_field_and_the_allowed_ones() -> None:
+    with pytest.raises(InputError, match=r"pair: unknown field 'c'; allowed: a, b"):
+        replace_fields(_Pair(1.0), "pair", {"c": 2.0})
+
+
+@pytest.mark.parametrize(
+    "text,expected",
+    [
+        ("mu_s=0.3,0.4", ("mu_s", "0.3", "0.4")),
+        ("  spin-rate=1,2,3 ", ("spin-rate", "1", "2,3")),
+    ],
+)
+def test_split_assignment(text: str, expected: tuple[str, str, str]) -> None:
+    assert split_assignment(text, "--bound", "NAME=LO,HI", ",") == expected
+
+
+@pytest.mark.parametrize("text", ["mu_s", "mu_s=0.3", "a,b=1", "", None])
+def test_split_assignment_names_the_expected_form(text: object) -> None:
+    with pytest.raises(InputError, match=r"--bound: malformed .*: expected NAME=LO,HI"):
+        split_assignment(text, "--bound", "NAME=LO,HI", ",")
+
+
+def test_finite_or_none() -> None:
+    import numpy as np
+
+    assert finite_or_none(np.float64(2.5)) == 2.5
+    assert type(finite_or_none(np.float64(2.5))) is float
+    assert finite_or_none(math.inf) is None
+    assert finite_or_none(-math.inf) is None
+    assert finite_or_none(math.nan) is None
