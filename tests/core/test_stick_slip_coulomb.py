@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import minimize
 
@@ -90,10 +90,14 @@ def _friction_moment(u: np.ndarray, p: np.ndarray) -> np.ndarray:
 
 @settings(max_examples=30, deadline=None)
 @given(unit, unit, unit)
+@example(0.0078125, 0.0, 1.0)  # found by hypothesis: 200 majorise-minimise steps fell 1.6e-6 short
+@example(1.0, 0.0, 0.0078125)  # and 1.8e-9 short here
 def test_ring_gauge_is_the_support_function_bound(gx, gy, gz):
-    """Two patches (flight): the iterated gauge max_d G . d / D(d) bounds 200,000
-    sampled directions and (to 1e-7) a Nelder-Mead search from the best of them, and
-    is attained at the maximiser it reports."""
+    """Two patches (flight): the gauge max_d G . d / D(d) bounds 200,000 sampled
+    directions and, to the 1e-12 that coulomb_gauge states, equals a Nelder-Mead
+    search from the best of them; it is attained at the maximiser it reports, where
+    the optimality residual |G + gamma G_f(d)| / |G| (G_f = -grad D, written here
+    independently) is below the stated 1e-12."""
     g = np.array([gx, gy, gz])
     if np.linalg.norm(g) < 1e-3:
         return
@@ -107,11 +111,12 @@ def test_ring_gauge_is_the_support_function_bound(gx, gy, gz):
         method="Nelder-Mead",
         options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 20_000},
     )
-    # the majorise-minimise iteration stops within ~1e-8 of the maximum for a ring
-    assert -best.fun <= gamma * (1.0 + 1e-7)
-    assert -best.fun == pytest.approx(gamma, rel=1e-6)
-    at = np.array(dmax)[None, :]
-    assert (at @ g / _support(at, P_FLIGHT))[0] == pytest.approx(gamma, rel=1e-12)
+    assert -best.fun <= gamma * (1.0 + 1e-12)
+    assert -best.fun == pytest.approx(gamma, rel=1e-12)
+    at = np.array(dmax)
+    assert (at @ g / _support(at[None, :], P_FLIGHT))[0] == pytest.approx(gamma, rel=1e-12)
+    residual = np.linalg.norm(g + gamma * _friction_moment(at, P_FLIGHT)) / np.linalg.norm(g)
+    assert residual <= 1e-12
 
 
 @settings(max_examples=30, deadline=None)
