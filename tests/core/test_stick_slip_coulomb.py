@@ -95,7 +95,7 @@ def _friction_moment(u: np.ndarray, p: np.ndarray) -> np.ndarray:
 def test_ring_gauge_is_the_support_function_bound(gx, gy, gz):
     """Two patches (flight): the gauge max_d G . d / D(d) bounds 200,000 sampled
     directions and, to the 1e-12 that coulomb_gauge states, equals a Nelder-Mead
-    search from the best of them; it is attained at the maximiser it reports, where
+    search from the best of them (restarted once); it is attained at the maximiser it reports, where
     the optimality residual |G + gamma G_f(d)| / |G| (G_f = -grad D, written here
     independently) is below the stated 1e-12."""
     g = np.array([gx, gy, gz])
@@ -105,12 +105,15 @@ def test_ring_gauge_is_the_support_function_bound(gx, gy, gz):
     gamma, *dmax = coulomb_gauge(g[0], g[1], g[2], P_FLIGHT)
     ratio = d @ g / _support(d, P_FLIGHT)
     assert np.max(ratio) <= gamma * (1.0 + 1e-12)
-    best = minimize(
-        lambda x: -(x @ g) / _support(x[None, :], P_FLIGHT)[0],
-        d[np.argmax(ratio)],
-        method="Nelder-Mead",
-        options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 20_000},
-    )
+    start = d[np.argmax(ratio)]
+    for _ in range(2):  # restarted once from its result: one run can stall 2e-10 short
+        best = minimize(
+            lambda x: -(x @ g) / _support(x[None, :], P_FLIGHT)[0],
+            start / np.linalg.norm(start),
+            method="Nelder-Mead",
+            options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 20_000},
+        )
+        start = best.x
     assert -best.fun <= gamma * (1.0 + 1e-12)
     assert -best.fun == pytest.approx(gamma, rel=1e-12)
     at = np.array(dmax)
