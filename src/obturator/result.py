@@ -173,6 +173,7 @@ class NutationResult:
             ),
             "spin_mode": c.spin_mode,
             "formulation": self.options.formulation,
+            "method": self.options.method,
             "rtol": self.options.rtol,
             "atol": self.options.atol,
             "friction_width": self.options.friction_width,

@@ -29,6 +29,7 @@ __all__ = [
     "CASE_NAMES",
     "SPIN_MODES",
     "METHODS",
+    "SET_VALUED_METHODS",
     "FORMULATIONS",
     "FRICTION_FAMILIES",
     "TORQUE_MODELS",
@@ -64,6 +65,8 @@ NoiseModel = Literal["band", "pooled"]
 CASE_NAMES: tuple[str, ...] = get_args(CaseName)
 SPIN_MODES: tuple[str, ...] = get_args(SpinMode)
 METHODS: tuple[str, ...] = get_args(Method)
+#: The methods of the set-valued friction law: no regularisation width.
+SET_VALUED_METHODS: tuple[str, ...] = ("set-valued", "moreau-jean")
 FORMULATIONS: tuple[str, ...] = get_args(Formulation)
 FRICTION_FAMILIES: tuple[str, ...] = get_args(FrictionFamily)
 TORQUE_MODELS: tuple[str, ...] = get_args(TorqueName)

@@ -1,4 +1,6 @@
-"""The batched Radau IIA (stiff points of a sweep in lanes) against the scalar Radau IIA.
+"""The batched Radau IIA (stiff points of a sweep in lanes) against the scalar Radau IIA,
+for the thesis kernel and the generic right-hand side (Coulomb contact patch, the tanh
+and linear friction families, rig and flight: ``KERNELS``).
 
 References are not produced by the code under test: every t_cr is compared with
 :func:`obturator.solve.opening_time` (``auto``: DOP853 handing the run to the
@@ -17,13 +19,14 @@ the tolerances, rtol 1e-8 left single near-stick points up to 1.7e-4 apart.)
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from obturator.core.integrators.lanes import LANES, integrate_radau_lanes
 from obturator.errors import InputError
-from obturator.model.cases import rig_case
+from obturator.model.cases import flight_case, rig_case
 from obturator.solve import (
     OPENING_TIME_ACCURACY,
     SolverOptions,
@@ -38,6 +41,9 @@ from obturator.status import Status
 MU_S = 0.5473  # thesis's rig value
 # near-stick band of the rig at the thesis's mu_s: DOP853 reports stiffness below ~215 rad/s
 STIFF_BAND = np.linspace(100.0, 210.0, 40)
+# flight with Coulomb contacts at the same mu_s: DOP853 reports stiffness at every point of
+# 4000-6500 rad/s; the ball opens by t_max = 0.5 s only at the top of the band
+FLIGHT_STIFF_BAND = np.linspace(4000.0, 6500.0, 40)
 
 
 ACCURATE = SolverOptions.for_opening_time_accuracy(1e-6)
@@ -47,37 +53,81 @@ def _scalar(case, options=ACCURATE):
     return opening_time(case, options)
 
 
-@pytest.fixture(scope="module")
-def stiff_batch():
-    cases = [rig_case(float(w), MU_S) for w in STIFF_BAND]
-    t, s, stats = opening_times(cases, ACCURATE)
-    return cases, t, s, stats
+# The kernels the Radau IIA lanes meet, each on near-stick points that DOP853 hands over:
+# (case builder, its keywords, SolverOptions keywords). "thesis" runs the specialised
+# kernel; the others the generic right-hand side (Coulomb contact with pivot friction of a
+# finite patch, the tanh and linear regularisation families of Eq. 61's magnitude).
+KERNELS = {
+    "thesis": (rig_case, {}, {}),
+    "coulomb-patch": (rig_case, {"torque_model": "coulomb"}, {}),
+    "tanh": (rig_case, {}, {"friction_family": "tanh"}),
+    "linear": (rig_case, {}, {"friction_family": "linear"}),
+    "flight-coulomb": (flight_case, {"torque_model": "coulomb"}, {}),
+}
+
+
+def _kernel_batch(kernel):
+    """Cases and options of KERNELS[kernel] over the near-stick band (thesis's mu_s)."""
+    make, kw, opt = KERNELS[kernel]
+    band = FLIGHT_STIFF_BAND if make is flight_case else STIFF_BAND
+    return [make(float(w), MU_S, **kw) for w in band], SolverOptions.for_opening_time_accuracy(
+        1e-6, **opt
+    )
+
+
+@pytest.fixture(scope="module", params=list(KERNELS))
+def stiff_batch(request):
+    """opening_times of one kernel's near-stick batch, and how many points the Radau IIA
+    lanes took (a spy on integrate_radau_lanes: the comparison below must not pass
+    because every point went one by one). The generic kernel's lanes take batches from
+    RADAU_LANES_MIN stiff points here, as the thesis kernel's do."""
+    cases, options = _kernel_batch(request.param)
+    in_lanes = []
+
+    def spy(y0, *rest):
+        in_lanes.append(y0.shape[0])
+        return lanes_radau(y0, *rest)
+
+    lanes_radau = batch.integrate_radau_lanes
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(batch, "integrate_radau_lanes", spy)
+        mp.setattr(batch, "RADAU_LANES_MIN_GENERIC", RADAU_LANES_MIN)
+        t, s, stats = opening_times(cases, options)
+    return cases, options, t, s, stats, in_lanes
 
 
 def test_every_stiff_point_matches_scalar_radau(stiff_batch):
-    cases, t, s, stats = stiff_batch
-    assert stats["n_stiff"] >= RADAU_LANES_MIN  # the Radau lanes ran (not the fallback)
-    assert stats["n_hand_backs"] > 0  # and points went back to the DOP853 lanes
-    assert np.all(s == Status.OPENED)
-    ref = np.array([_scalar(c) for c in cases])
-    np.testing.assert_allclose(t, ref, rtol=1e-6, atol=0.0)
+    """Every kernel: each t_cr within 1e-6 of the scalar ``auto`` path (DOP853 handing
+    over to the one-trajectory Radau IIA, an independent implementation), not opened
+    (NaN) where it is not; the lanes ran on at least RADAU_LANES_MIN points. On the rig
+    every point opens and points went back to the DOP853 lanes; in flight the top of
+    the band opens."""
+    cases, options, t, s, stats, in_lanes = stiff_batch
+    assert stats["n_stiff"] >= RADAU_LANES_MIN and in_lanes[0] >= RADAU_LANES_MIN
+    if cases[0].name == "spin-rig":
+        assert stats["n_hand_backs"] > 0 and np.all(s == Status.OPENED)
+    else:
+        assert set(s) == {Status.OPENED, Status.T_MAX}
+    ref = np.array([_scalar(c, options) for c in cases])
+    np.testing.assert_allclose(t, ref, rtol=1e-6, atol=0.0)  # NaN where ref is NaN
 
 
 def test_same_as_one_by_one_hand_over(stiff_batch, monkeypatch):
     """OBTURATOR_RADAU_LANES=0 continues the same points one by one (scalar Radau IIA)."""
-    cases, t, s, _ = stiff_batch
+    cases, options, t, s, _, _ = stiff_batch
     monkeypatch.setenv("OBTURATOR_RADAU_LANES", "0")
-    t1, s1, stats = opening_times(cases, ACCURATE)
+    t1, s1, stats = opening_times(cases, options)
     np.testing.assert_array_equal(s, s1)
     np.testing.assert_allclose(t, t1, rtol=1e-6, atol=0.0)
 
 
+@pytest.mark.parametrize("stiff_batch", ["thesis"], indirect=True)
 @pytest.mark.parametrize("w", [100.0, 150.0, 205.0])
 def test_against_tight_radau(stiff_batch, w):
     """Accuracy, not only agreement: within 1e-6 of Radau IIA at rtol 1e-11."""
-    cases, t, _, _ = stiff_batch
+    cases, options, t, _, _, _ = stiff_batch
     k = int(np.argmin(np.abs(STIFF_BAND - w)))
-    tight = _scalar(cases[k], SolverOptions(method="radau", rtol=1e-11, atol=1e-13))
+    tight = _scalar(cases[k], replace(options, method="radau", rtol=1e-11, atol=1e-13))
     assert t[k] == pytest.approx(tight, rel=1e-6)
 
 

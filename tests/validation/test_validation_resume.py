@@ -10,7 +10,7 @@ from obturator.calibration.data import load_spin_rig_csv
 from obturator.cli import main
 from obturator.runs import Runner, sidecar_path
 from obturator.validation import run_validation
-from obturator.validation import study as validation_study
+from obturator.validation import tasks as validation_tasks
 
 MODELS = "thesis-1980,mu"
 
@@ -30,7 +30,7 @@ def test_an_interrupted_study_resumes_with_the_same_result(tiny_csv, tmp_path, m
     data = load_spin_rig_csv(tiny_csv)
     fresh = run_validation(data, models=MODELS, runner=Runner(workers=1), profile="none")
     fits = []
-    original_fit = validation_study.fit_candidate
+    original_fit = validation_tasks.fit_candidate
 
     def counted(cand, *args, **kwargs):
         fits.append(kwargs.get("selection"))
@@ -39,8 +39,8 @@ def test_an_interrupted_study_resumes_with_the_same_result(tiny_csv, tmp_path, m
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(validation_study, "fit_candidate", counted)
-    monkeypatch.setattr(validation_study, "_curve_task", interrupted)
+    monkeypatch.setattr(validation_tasks, "fit_candidate", counted)
+    monkeypatch.setattr(validation_tasks, "curve_task", interrupted)
     store = tmp_path / "validation"
     first = Runner(workers=1, store=store)
     with pytest.raises(KeyboardInterrupt):
@@ -49,7 +49,7 @@ def test_an_interrupted_study_resumes_with_the_same_result(tiny_csv, tmp_path, m
     assert fits.count("all") == 2 and first.n_computed > 2 and sidecar_path(store).is_file()
     done_before = first.n_computed
     monkeypatch.undo()
-    monkeypatch.setattr(validation_study, "fit_candidate", counted)
+    monkeypatch.setattr(validation_tasks, "fit_candidate", counted)
     fits.clear()
     again = Runner(workers=1, store=store)
     res = run_validation(data, models=MODELS, runner=again, profile="none")

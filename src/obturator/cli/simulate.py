@@ -30,6 +30,7 @@ from ..vocab import (
     CASE_NAMES,
     FORMULATIONS,
     FRICTION_FAMILIES,
+    SET_VALUED_METHODS,
     SPEED_LAWS,
     SPIN_MODES,
 )
@@ -204,9 +205,13 @@ def _print_table(
         ("opening time t_cr", f"{t_cr:.6g} s" if res.opened else "not opened by t_max", ""),
         *(start or []),
         (
-            "friction regularisation",
-            f"{s['friction_family']}, width {s['friction_width']:g}",
-            "omega_p",
+            (
+                "friction regularisation",
+                f"{s['friction_family']}, width {s['friction_width']:g}",
+                "omega_p",
+            )
+            if s["method"] not in SET_VALUED_METHODS
+            else ("friction law", f"set-valued, no width (method {s['method']})", "")
         ),
         ("status", f"{res.status}: {res.message}", ""),
         ("steps / RHS evaluations", f"{res.n_steps} / {res.nfev}", ""),
@@ -214,8 +219,11 @@ def _print_table(
     if check is not None:
         verdict = "converged" if check.converged else "NOT converged"
         rows.append(
-            (
-                f"convergence (tol / 10, width / 10, {check.family})",
+            (  # set-valued methods: checked against the regularised limit
+                f"convergence (tol / 10, width / 10, {check.family})"
+                if s["method"] not in SET_VALUED_METHODS
+                else f"convergence (tol / 10; regularised: width {s['friction_width'] / 10:g}, "
+                f"{check.family})",
                 f"{verdict}: relative change {check.tolerance_change:.1e}, "
                 f"{check.width_change:.1e}, {check.family_change:.1e}",
                 "",

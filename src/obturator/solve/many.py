@@ -17,8 +17,8 @@ t_cr and status per case:
    accepted state, as :func:`obturator.core.integrators.integrate` does for one
    trajectory: in Radau IIA lanes
    (:func:`obturator.core.integrators.lanes.integrate_radau_lanes`) when
-   the batch has at least :data:`RADAU_LANES_MIN` such points and the thesis
-   kernel, else one by one;
+   the batch has at least :data:`RADAU_LANES_MIN` such points
+   (:data:`RADAU_LANES_MIN_GENERIC` for the generic right-hand side), else one by one;
 4. a Radau IIA lane whose ball slides again (status ``NONSTIFF``, the end of the
    stick-slip phase; :func:`obturator.core.integrators.continue_auto`) goes back
    to the DOP853 lanes, in rounds until every point has ended.
@@ -61,6 +61,7 @@ __all__ = [
     "PACKED_WIDTHS",
     "POINT_STATUSES",
     "RADAU_LANES_MIN",
+    "RADAU_LANES_MIN_GENERIC",
     "Advanced",
     "PackedPoints",
     "advance",
@@ -80,6 +81,14 @@ BATCH_METHODS = ("auto",)
 #: on 10,000 rig points in strided chunks, ~11 stiff points per chunk took 9.2 s in
 #: lanes against 7.0 s one by one, ~23 broke even, ~46 took 5.1 s against 6.4 s.
 RADAU_LANES_MIN = 32
+#: The same for the generic right-hand side (every kernel but the thesis's). Its lanes
+#: evaluate the right-hand side lane by lane (as the scalar code does), so they save only
+#: the vectorised LU: measured on a loaded 2-core Zen 4, Radau IIA alone from release on
+#: 64 coulomb-patch rig points 1.21-1.26x faster than one by one, 1.05x on 8; in
+#: opening_times with its hand-back rounds (64 points) and in validate's coulomb-patch
+#: fits (32-56 stiff points a batch: 60-62 s against 57-59 s CPU) no gain. Only large
+#: batches (sweeps) take them.
+RADAU_LANES_MIN_GENERIC = 128
 
 
 def env_switch(name: str) -> bool:
@@ -375,8 +384,8 @@ def integrate_packed(
 def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.ndarray, np.ndarray]:
     """Points of one kernel: DOP853 lanes, stiff points on in Radau IIA lanes, the points
     where sliding resumed back in DOP853 lanes, and so on, as :func:`continue_auto` does
-    for one point; stiff points too few for Radau IIA lanes (or of another kernel)
-    finish one by one through :func:`continue_auto` itself."""
+    for one point; stiff points too few for Radau IIA lanes finish one by one through
+    :func:`continue_auto` itself."""
     n = idx.size
     p, scale, spin = packed.p, packed.scale, packed.spin
     t_max, h0, h_max = packed.t_max, packed.h0, packed.h_max
@@ -388,7 +397,9 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
     end_status = np.zeros(n, dtype=np.int8)
     t_event = np.full(n, math.nan)
     went_stiff = np.zeros(n, dtype=bool)
-    radau_lanes = p[0, P_KERNEL] == KERNEL_THESIS and env_switch("OBTURATOR_RADAU_LANES")
+    radau_lanes = env_switch("OBTURATOR_RADAU_LANES")
+    thesis = p[0, P_KERNEL] == KERNEL_THESIS
+    fewest = RADAU_LANES_MIN if thesis else RADAU_LANES_MIN_GENERIC
     pending = np.arange(n)
     while pending.size:
         sel = pending
@@ -401,7 +412,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
         stiff = sel[st == Status.STIFF]
         went_stiff[stiff] = True
         in_lanes = stiff[np.all(np.isfinite(y[stiff]), axis=1) & (t[stiff] > 0.0)]
-        if in_lanes.size < RADAU_LANES_MIN or not radau_lanes:
+        if in_lanes.size < fewest or not radau_lanes:
             in_lanes = in_lanes[:0]
         for g in np.setdiff1d(stiff, in_lanes):
             problem = Problem(packed.y0[g], p[g], scale[g])

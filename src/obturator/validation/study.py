@@ -25,7 +25,6 @@ Recommendation rule: :mod:`obturator.validation.recommend`.
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Sequence
 from dataclasses import replace
@@ -33,195 +32,32 @@ from functools import partial
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from .. import __version__
 from ..calibration.data import SpinRigData, load_thesis_data
 from ..errors import InputError, check_range
 from ..runs import Runner, study_digest
-from ..solve import SolverOptions, convergence_checks, opening_times
+from ..solve import SolverOptions
 from ..vocab import NOISE_MODELS, check_choice
-from .candidates import CANDIDATES, Candidate, get_candidates
-from .evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS, ModelEvaluator
-from .fit import Conditions, fit_candidate, predict, profile_interval
-from .floor import DEFAULT_CLUSTER_GAP, ReplicateFloor, band_of, lack_of_fit, replicate_floor
-from .goodness import goodness_summary
+from .candidates import Candidate, get_candidates
+from .evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS
+from .floor import DEFAULT_CLUSTER_GAP, ReplicateFloor, band_of, replicate_floor
 from .likelihood import SPIN_SD
 from .recommend import OUT_OF_BAND_SPLIT, model_aic, recommend
 from .results import CandidateFit, ModelResult, ValidationResult
+from .tasks import (
+    Observations,
+    call,
+    cost_rank,
+    fit_task,
+    phase_task,
+    profile_task,
+    warm_up,
+)
 
 __all__ = ["OUT_OF_BAND_SPLIT", "recommend", "run_validation"]
 
 _CURVE_POINTS = 48
-_PHASES = 8
-
-
-# --------------------------------------------------------------------------- tasks
-# Module-level functions so that a process pool can run them.
-
-
-def _fit_task(
-    name: str,
-    selection: str,
-    w: NDArray[np.float64],
-    y: NDArray[np.float64],
-    band: NDArray[np.str_],
-    run: NDArray[np.int64],
-    start: dict[str, float] | None,
-    predict_w: NDArray[np.float64] | None,
-    spin_sd: float,
-    t_max: float,
-    options: SolverOptions | None,
-    noise: str = "band",
-    conditions: list[Conditions] | None = None,
-    predict_conditions: list[Conditions] | None = None,
-) -> tuple[CandidateFit, NDArray[np.float64] | None]:
-    cand = CANDIDATES[name]
-    ev = ModelEvaluator(cand, t_max, options)
-    fit = fit_candidate(
-        cand,
-        w,
-        y,
-        band=band,
-        run=run,
-        selection=selection,
-        start=start,
-        spin_sd=spin_sd,
-        t_max=t_max,
-        options=options,
-        evaluator=ev,
-        noise=noise,
-        conditions=conditions,
-    )
-    pred = None
-    if predict_w is not None:
-        pred = predict(cand, fit.values, predict_w, evaluator=ev, conditions=predict_conditions)
-    return fit, pred
-
-
-def _curve_task(
-    name: str,
-    values: dict[str, float],
-    grid: NDArray[np.float64],
-    run_w: NDArray[np.float64],
-    run_t: NDArray[np.float64],
-    t_max: float,
-    options: SolverOptions | None,
-    conditions: list[Conditions] | None = None,
-) -> tuple[NDArray[np.float64], dict[str, Any]]:
-    cand = CANDIDATES[name]
-    ev = ModelEvaluator(cand, t_max, options)
-    curve = ev.opening_times([values[k] for k in cand.params], grid)
-    tol = wid = fam = 0.0
-    n_bad = 0
-    worst_w = math.nan
-    conds = conditions or [()] * len(run_w)
-    at_runs = [replace(cand, conditions=c) if c else cand for c in conds]
-    checks = convergence_checks(
-        [at.build(float(w), values, t_max) for at, w in zip(at_runs, run_w, strict=True)],
-        options,
-        opening_times_s=run_t,
-    )
-    for w, chk in zip(run_w, checks, strict=True):
-        change = max(chk.tolerance_change, chk.width_change, chk.family_change)
-        if change > max(tol, wid, fam):
-            worst_w = float(w)
-        tol = max(tol, chk.tolerance_change)
-        wid = max(wid, chk.width_change)
-        fam = max(fam, chk.family_change)
-        n_bad += int(not chk.converged)
-    conv = {
-        "n_runs": int(run_w.size),
-        "max_tolerance_rel_change": tol,
-        "max_width_rel_change": wid,
-        "max_family_rel_change": fam,
-        "max_rel_change": max(tol, wid, fam),
-        "worst_spin_rate_rad_s": worst_w,
-        "n_not_converged": n_bad,
-        "threshold": 1e-3,
-        "other_family": "linear",
-    }
-    return curve, conv
-
-
-def _profile_task(
-    fit: CandidateFit,
-    name: str,
-    param: str,
-    side: int,
-    spin_sd: float,
-    options: SolverOptions | None,
-) -> tuple[str, int, float]:
-    lo, hi = profile_interval(
-        fit, CANDIDATES[name], param, spin_sd=spin_sd, options=options, sides=(side,)
-    )
-    return param, side, lo if side < 0 else hi
-
-
-def _phase_task(
-    name: str,
-    values: dict[str, float],
-    spins: NDArray[np.float64],
-    t_max: float,
-    options: SolverOptions | None,
-) -> dict[str, Any]:
-    cand = CANDIDATES[name]
-    phases = np.linspace(0.0, math.pi, _PHASES, endpoint=False)
-    cases = [
-        cand.build(float(w), {**values, "release_phase": float(ph)}, t_max)
-        for w in spins
-        for ph in phases
-    ]
-    table = opening_times(cases, options)[0].reshape(len(spins), -1)
-    sd = np.nanstd(table, axis=1, ddof=1)
-    return {
-        "model": name,
-        "phases_rad": phases.tolist(),
-        "spin_rate_rad_s": spins.tolist(),
-        "t_cr_s": table.tolist(),
-        "sd_over_phase_s": sd.tolist(),
-        "note": "psi_0 uniform per run (switch thrown at an arbitrary instant): "
-        "this SD is part of the replicate scatter the model itself predicts",
-    }
-
-
-# --------------------------------------------------------------------------- tasks
-
-
-def _cost_rank(cand: Candidate) -> tuple[bool, bool, int]:
-    """Sort key of a candidate's fit cost: the exact Coulomb contact and the slip-speed
-    laws run on the generic kernel (no Radau IIA lanes; measured on the thesis data the
-    Coulomb fits took 4-10 times a thesis-kernel fit), then more parameters."""
-    return (cand.torque_model == "coulomb", cand.speed_law != "constant", cand.n_params)
-
-
-def _warm(options: SolverOptions) -> None:
-    """Load the compiled integrators once in this process, so that the forked workers of
-    both phases inherit them (instead of each loading them)."""
-    from ..model.cases import rig_case
-
-    opening_times([rig_case(spin_rate=300.0, mu_s=0.55)], options)
-
-
-def _call(task: tuple[Any, ...]) -> Any:
-    """Run one study task ``(function, *args)`` (module level: pools pickle it)."""
-    fn, *args = task
-    return fn(*args)
-
-
-def _subset(mask: NDArray[np.bool_], *arrays: NDArray[Any]) -> list[NDArray[Any]]:
-    return [a[mask] for a in arrays]
-
-
-def _resid(pred: NDArray[np.float64], y: NDArray[np.float64], t_max: float) -> NDArray[np.float64]:
-    return np.where(np.isfinite(pred), pred, t_max) - y
-
-
-def _oob_rms(pred: NDArray[np.float64] | None, y: NDArray[np.float64], t_max: float) -> float:
-    if pred is None or pred.size == 0:
-        return math.nan
-    r = np.where(np.isfinite(pred), pred, t_max) - y
-    return float(np.sqrt(np.mean(r * r)))
 
 
 def run_validation(
@@ -287,27 +123,9 @@ def run_validation(
         profile_all = False
     check_range("curve_points", curve_points, 2, 10_000)
     check_choice("noise", noise, NOISE_MODELS)
-    w, y, run = data.spin_rate, data.opening_time, data.run
-    # runs with another ball or load (a data file's columns) are no replicates; a
-    # theta_0 read per run varies like the spin within its band and does not split
-    settings = [
-        tuple(kv for kv in r if kv[0] in ("hole_radius", "density", "ball_mass"))
-        for r in data.run_settings()
-    ]
-    floor: ReplicateFloor = replicate_floor(
-        w, y, gap=gap, groups=settings if any(settings) else None
-    )
-    mean_w = floor.cluster_mean_spin()
-    band = band_of(mean_w)
-    high = mean_w >= OUT_OF_BAND_SPLIT
-    n_runs = len(w)
-    starred = data.starred
-    # a data file's own settings per run, and its times to intermediate angles as
-    # further observations of the same runs (the floor and its clusters stay t_cr's)
-    w, y, run, band, high, starred, conds = _observations(data, band, high)
-    if len(w) < 5:
-        raise InputError("data", f"{len(w)} runs; the study needs at least 5")
     common = (spin_sd, t_max, options, noise)
+    floor, obs = _observations(data, gap, common, curve_points)
+    w, y, run, band, conds = obs.w, obs.y, obs.run, obs.band, obs.conds
     if runner.sidecar is None:  # else a study that holds this one (reproduce) keeps the fits
         runner.open(
             study_digest(
@@ -320,25 +138,21 @@ def run_validation(
                 }
             )
         )
-    grid = np.geomspace(0.9 * float(w.min()), 1.05 * float(w.max()), int(curve_points))
-
-    # on the thesis data the starred runs are exactly the high half: fit once
-    same_split = bool(np.array_equal(starred, high))
     # phase 1: every all-run fit
     timings: dict[str, float] = {}
     # costliest first, so that the last fit to end is not a long one started late
-    order = sorted(range(len(cands)), key=lambda i: _cost_rank(cands[i]), reverse=True)
-    fitted_ordered = runner.map(
-        _call,
+    order = sorted(range(len(cands)), key=lambda i: cost_rank(cands[i]), reverse=True)
+    # one task per chunk, kept in the store by content (fits are not JSON-ready)
+    run_tasks = partial(
+        runner.map, call, chunk_size=1, probe_first=False, warm=partial(warm_up, options)
+    )
+    fitted_ordered = run_tasks(
         [
-            (_fit_task, cands[i].name, "all", w, y, band, run, None, None, *common, conds)
+            (fit_task, cands[i].name, "all", w, y, band, run, None, None, *common, conds)
             for i in order
         ],
         label="validate: all-run fits",
         unit="fits",
-        chunk_size=1,
-        probe_first=False,
-        warm=partial(_warm, options),
         pickled=True,
     )
     fits = {cands[i].name: res[0] for i, res in zip(order, fitted_ordered, strict=True)}
@@ -355,123 +169,28 @@ def run_validation(
     for pname in profiled:
         for k in fits[pname].params:
             for side in (-1, 1):
-                tasks.append((_profile_task, fits[pname], pname, k, side, spin_sd, options))
+                tasks.append((profile_task, fits[pname], pname, k, side, spin_sd, options))
                 tags.append(("profile", (pname, k), side))
-    centres = np.array(sorted({round(float(x), 6) for x in mean_w}))
-    tasks.append((_phase_task, rec_name, dict(rec_fit.values), centres, t_max, options))
+    centres = np.array(sorted({round(float(x), 6) for x in floor.cluster_mean_spin()}))
+    tasks.append((phase_task, rec_name, dict(rec_fit.values), centres, t_max, options))
     tags.append(("phase", "", None))
-    for c in sorted(cands, key=_cost_rank, reverse=True):
-        f = fits[c.name]
-        start = dict(f.values)
-        subsets = []
-        if starred.any() and not same_split:
-            subsets.append(("starred", starred, np.ones_like(high)))
-        if high.any() and (~high).any():
-            subsets.append((f"omega_p >= {OUT_OF_BAND_SPLIT:g}", high, ~high))
-            subsets.append((f"omega_p < {OUT_OF_BAND_SPLIT:g}", ~high, high))
-        for label, m_fit, m_pred in subsets:
-            if int(m_fit.sum()) < c.n_params + 2:
-                continue
-            ws, ys, bs, rs = _subset(m_fit, w, y, band, run)
-            c_fit, c_pred = _pick(conds, m_fit), _pick(conds, m_pred)
-            tasks.append(
-                (_fit_task, c.name, label, ws, ys, bs, rs, start, w[m_pred], *common, c_fit, c_pred)
-            )
-            tags.append((c.name, label, m_pred))
-        model_t = np.where(np.isfinite(f.model), f.model, np.nan)
-        ok = np.isfinite(model_t) & (np.arange(w.size) < n_runs)  # the t_cr observations
-        tasks.append(
-            (_curve_task, c.name, start, grid, w[ok], model_t[ok], t_max, options, _pick(conds, ok))
-        )
-        tags.append((c.name, "curve", None))
-    done = runner.map(
-        _call,
-        tasks,
-        label="validate: profiles, subset fits, curves",
-        unit="tasks",
-        chunk_size=1,
-        probe_first=False,
-        warm=partial(_warm, options),
-        pickled=True,
+    for c in sorted(cands, key=cost_rank, reverse=True):
+        for task, tag in obs.candidate_tasks(c, fits[c.name]):
+            tasks.append(task)
+            tags.append(tag)
+    done = run_tasks(
+        tasks, label="validate: profiles, subset fits, curves", unit="tasks", pickled=True
     )
-    sub: dict[str, dict[str, Any]] = {c.name: {} for c in cands}
-    prof: dict[str, dict[str, dict[int, float]]] = {}
-    phase: dict[str, Any] = {}
-    for (name, label, m_pred), res in zip(tags, done, strict=True):
-        if name == "profile":
-            pname, k = label
-            prof.setdefault(pname, {}).setdefault(k, {})[int(m_pred)] = res[2]
-        elif name == "phase":
-            phase = res
-        else:
-            sub[name][label] = (res, m_pred)
+    sub, prof, phase = _phase_two_results(tags, done, cands)
     timings["subset_fits_curves_checks_profiles"] = (
         time.perf_counter() - t_start - timings["all_run_fits"]
     )
-    results = []
-    for c in cands:
-        s = sub[c.name]
-        curve, conv = s.pop("curve")[0]
-        kw: dict[str, Any] = {"out_of_band_rms": {}}
-        for label, ((fit, pred), m_pred) in s.items():
-            if label == "starred":
-                kw["starred"] = fit
-                kw["out_of_band_rms"]["starred->all"] = _oob_rms(pred, y[m_pred], t_max)
-            elif label.startswith("omega_p >="):
-                kw["high"] = fit
-                kw["out_of_band_rms"]["high->low"] = _oob_rms(pred, y[m_pred], t_max)
-                if same_split:  # the starred fit; its rms on all runs
-                    kw["starred"] = fit
-                    r_all = np.concatenate([fit.residuals, _resid(pred, y[m_pred], t_max)])
-                    kw["out_of_band_rms"]["starred->all"] = float(np.sqrt(np.mean(r_all**2)))
-            else:
-                kw["low"] = fit
-                kw["out_of_band_rms"]["low->high"] = _oob_rms(pred, y[m_pred], t_max)
-        results.append(
-            ModelResult(
-                c.name,
-                fits[c.name],
-                curve_spin=grid,
-                curve_t=curve,
-                convergence=conv,
-                lack_of_fit=lack_of_fit(floor, fits[c.name].residuals[:n_runs], c.n_params),
-                goodness=goodness_summary(floor, _first_runs(fits[c.name], n_runs)),
-                **kw,
-            )
-        )
+    results = [obs.model_result(c, fits[c.name], sub[c.name], floor) for c in cands]
     results.sort(key=model_aic)
     rec_name, why = recommend(results)  # same choice, now with out-of-band numbers
-    for pname, pk in prof.items():
-        f = fits[pname]
-        ci = {**f.ci95, **{k: (v[-1], v[1]) for k, v in pk.items()}}
-        method = {**f.ci_method, **{k: "profile" for k in pk}}
-        new_fit = _replace_ci(f, ci, method)
-        results = [_replace_model_fit(m, new_fit) if m.name == pname else m for m in results]
-    opts = options
-    settings = {
-        "source": data.source,
-        "n_runs": n_runs,
-        "n_angle_observations": int(len(w) - n_runs),
-        "t_max_s": t_max,
-        "spin_sd_rad_s": spin_sd,
-        "cluster_gap_rad_s": gap,
-        "out_of_band_split_rad_s": OUT_OF_BAND_SPLIT,
-        "jobs": jobs,
-        "profile": "all" if profile_all else "recommended" if profile else "none",
-        "solver": f"{opts.method} rtol={opts.rtol:g} atol={opts.atol:g} "
-        f"friction_width={opts.friction_width:g} family={opts.friction_family}",
-        "noise": noise,
-        "likelihood": (
-            "Gaussian, one sigma per spin band fitted"
-            if noise == "band"
-            else "Gaussian, one pooled sigma fitted"
-        )
-        + ", + (dt/domega sigma_w)^2 error-in-variables; "
-        "runs not opened by t_max censored (survival term)",
-        "ranking": "AIC of the all-run fit",
-        "starred_runs_are_high_half": same_split,
-        "timings_s": timings,
-    }
+    results = _with_profile_intervals(results, fits, prof)
+    label = "all" if profile_all else "recommended" if profile else "none"
+    settings = _settings_record(data, obs, gap, jobs, label, timings)
     return ValidationResult(
         floor=floor,
         models=results,
@@ -483,16 +202,94 @@ def run_validation(
     )
 
 
-def _pick(conds: list[Conditions] | None, mask: NDArray[np.bool_]) -> list[Conditions] | None:
-    return None if conds is None else [c for c, m in zip(conds, mask, strict=True) if m]
+def _phase_two_results(
+    tags: list[tuple[Any, Any, Any]], done: list[Any], cands: Sequence[Candidate]
+) -> tuple[dict[str, dict[str, Any]], dict[str, dict[str, dict[int, float]]], dict[str, Any]]:
+    """Phase 2's results by kind: per candidate its subset fits and curve, per profiled
+    candidate and parameter the two profile bounds (by side), and the phase scatter."""
+    sub: dict[str, dict[str, Any]] = {c.name: {} for c in cands}
+    prof: dict[str, dict[str, dict[int, float]]] = {}
+    phase: dict[str, Any] = {}
+    for (name, label, m_pred), res in zip(tags, done, strict=True):
+        if name == "profile":
+            pname, k = label
+            prof.setdefault(pname, {}).setdefault(k, {})[int(m_pred)] = res[2]
+        elif name == "phase":
+            phase = res
+        else:
+            sub[name][label] = (res, m_pred)
+    return sub, prof, phase
+
+
+def _with_profile_intervals(
+    results: list[ModelResult],
+    fits: dict[str, CandidateFit],
+    prof: dict[str, dict[str, dict[int, float]]],
+) -> list[ModelResult]:
+    """The results with each profiled parameter's 95 % interval from its profile."""
+    for pname, pk in prof.items():
+        f = fits[pname]
+        ci = {**f.ci95, **{k: (v[-1], v[1]) for k, v in pk.items()}}
+        method = {**f.ci_method, **{k: "profile" for k in pk}}
+        new_fit = _replace_ci(f, ci, method)
+        results = [_replace_model_fit(m, new_fit) if m.name == pname else m for m in results]
+    return results
+
+
+def _settings_record(
+    data: SpinRigData,
+    obs: Observations,
+    gap: float,
+    jobs: int,
+    profile: str,
+    timings: dict[str, float],
+) -> dict[str, Any]:
+    """The study's settings as the result reports them."""
+    spin_sd, t_max, opts, noise = obs.common
+    return {
+        "source": data.source,
+        "n_runs": obs.n_runs,
+        "n_angle_observations": int(len(obs.w) - obs.n_runs),
+        "t_max_s": t_max,
+        "spin_sd_rad_s": spin_sd,
+        "cluster_gap_rad_s": gap,
+        "out_of_band_split_rad_s": OUT_OF_BAND_SPLIT,
+        "jobs": jobs,
+        "profile": profile,
+        "solver": f"{opts.method} rtol={opts.rtol:g} atol={opts.atol:g} "
+        f"friction_width={opts.friction_width:g} family={opts.friction_family}",
+        "noise": noise,
+        "likelihood": (
+            "Gaussian, one sigma per spin band fitted"
+            if noise == "band"
+            else "Gaussian, one pooled sigma fitted"
+        )
+        + ", + (dt/domega sigma_w)^2 error-in-variables; "
+        "runs not opened by t_max censored (survival term)",
+        "ranking": "AIC of the all-run fit",
+        "starred_runs_are_high_half": obs.same_split,
+        "timings_s": timings,
+    }
 
 
 def _observations(
-    data: SpinRigData, band: NDArray[np.str_], high: NDArray[np.bool_]
-) -> tuple[Any, ...]:
-    """Spins, times, runs, bands, halves, starred flags and per-run settings of every
-    observation: the runs' t_cr, then each time to an intermediate angle (event at
-    theta_measured; same run, band and half). Settings None where all are Table 1."""
+    data: SpinRigData, gap: float, common: tuple[Any, ...], curve_points: int
+) -> tuple[ReplicateFloor, Observations]:
+    """The replicate floor of the runs' t_cr, and every observation: the runs' t_cr, then
+    each time to an intermediate angle (event at theta_measured; same run, band and half),
+    with per-run settings (None where all are Table 1)."""
+    # runs with another ball or load (a data file's columns) are no replicates; a
+    # theta_0 read per run varies like the spin within its band and does not split
+    groups = [
+        tuple(kv for kv in r if kv[0] in ("hole_radius", "density", "ball_mass"))
+        for r in data.run_settings()
+    ]
+    floor = replicate_floor(
+        data.spin_rate, data.opening_time, gap=gap, groups=groups if any(groups) else None
+    )
+    band = band_of(floor.cluster_mean_spin())
+    high = floor.cluster_mean_spin() >= OUT_OF_BAND_SPLIT
+    n_runs = len(data.spin_rate)
     w, y, run, starred = data.spin_rate, data.opening_time, data.run, data.starred
     settings = data.run_settings()
     measured = ("t_measured", "theta_measured_deg")
@@ -510,30 +307,25 @@ def _observations(
         run, band = np.concatenate([run, run[extra]]), np.concatenate([band, band[extra]])
         high = np.concatenate([high, high[extra]])
         starred = np.concatenate([starred, starred[extra]])
-    return w, y, run, band, high, starred, (conds if any(conds) else None)
-
-
-def _first_runs(fit: CandidateFit, n: int) -> CandidateFit:
-    """The fit restricted to its first `n` observations (the runs' t_cr)."""
-    if fit.ndata == n:
-        return fit
-    cut = {
-        k: getattr(fit, k)[:n]
-        for k in ("spin_rate", "measured", "model", "slope", "sd", "band", "run")
-    }
-    group = None if fit.noise_group is None else fit.noise_group[:n]
-    return replace(fit, noise_group=group, **cut)
+    if len(w) < 5:
+        raise InputError("data", f"{len(w)} runs; the study needs at least 5")
+    grid = np.geomspace(0.9 * float(w.min()), 1.05 * float(w.max()), int(curve_points))
+    # on the thesis data the starred runs are exactly the high half: fit once
+    same_split = bool(np.array_equal(starred, high))
+    obs = Observations(
+        w, y, run, band, high, starred, conds if any(conds) else None, n_runs, common, grid,
+        same_split,
+    )  # fmt: skip
+    return floor, obs
 
 
 def _replace_ci(
     f: CandidateFit, ci: dict[str, tuple[float, float]], method: dict[str, str]
 ) -> CandidateFit:
-    from dataclasses import replace
 
     return replace(f, ci95=ci, ci_method=method)
 
 
 def _replace_model_fit(m: ModelResult, fit: CandidateFit) -> ModelResult:
-    from dataclasses import replace
 
     return replace(m, fit=fit)

@@ -32,8 +32,10 @@ location; after they are allocated the loop runs
 in one function compiled without reference counting (:func:`_run`), its phases
 inlined into it.
 
-Only the thesis kernel (quaternion form) runs here; other kernels keep the
-scalar hand-over. The results are those of the scalar Radau IIA to rounding
+Every kernel runs here, the thesis kernel in one vector loop over the lanes and the
+generic right-hand side (every torque model and friction family, either formulation)
+lane by lane; :func:`.rates.rates_lanes` makes that choice, from the rows'
+``P_KERNEL``, in one place. The results are those of the scalar Radau IIA to rounding
 (the vectorised LU may round differently); ``tests/core/test_radau_lanes.py`` checks the
 opening times against it.
 """
@@ -45,7 +47,7 @@ import math
 from numba import njit
 
 from ...dynamics import nutation_angle_of_state, slip_and_spin
-from ...layout import N_STATE, P_THETA_CR, P_WIDTH
+from ...layout import FORM_QUATERNION, KERNEL_THESIS, N_STATE, P_FORM, P_KERNEL, P_THETA_CR, P_WIDTH
 from ..common import increment_cap, underflow
 from ..contract import Status
 from ..radau import _UROUND, locate_opening_at
@@ -84,7 +86,7 @@ from .radau_steps import (
     update_lanes,
     wnorm_lanes,
 )
-from .rates import cos_nutation_lanes, rhs_thesis_lanes
+from .rates import cos_nutation_any_lanes, rates_lanes
 from .simd import DRIVER_PHASE, LANES, NO_REFCOUNT, REFCOUNT
 from .solves import lu_solve_lanes, lu_solve_pair_lanes
 
@@ -124,7 +126,7 @@ def integrate_radau_lanes(
     t0 : ndarray, shape (n,)
         Start times [s].
     p : ndarray, shape (n, N_PARAM)
-        Packed parameters, thesis kernel (``P_KERNEL = KERNEL_THESIS``) in every row.
+        Packed parameters; every row must have the same ``P_KERNEL``.
     scale : ndarray, shape (n, 8)
         Error-weight scales.
     t_max, h0, h_max : ndarray, shape (n,)
@@ -160,7 +162,8 @@ def integrate_radau_lanes(
     pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, hand_back, order)
     out = new_outcome(n_pts)
     rtol, atol, fnewt = radau5_tolerances(rtol, atol)  # as radau.integrate
-    tol = Settings(rtol, atol, fnewt, event_tol, vw)
+    generic = n_pts > 0 and p[0, P_KERNEL] != KERNEL_THESIS
+    tol = Settings(rtol, atol, fnewt, event_tol, vw, generic)
     nl = max(1, min(n_lanes, LANES, n_pts))
     _run(pts, new_lanes(n_par), new_attempt(), new_one_lane(n_par), out, nl, tol)
     cnt = out.counts
@@ -180,16 +183,17 @@ def _run(pts: Points, ln: Lanes, at: Attempt, one: OneLane, out: Outcome, nl, to
             nl = pack_lanes(ln, nl, _move_lane)
             if nl == 0:
                 break
-        _prepare(ln, at, nl, tol.vw)
+        kernel = (tol.generic, nl, one.rates)
+        _prepare(ln, at, nl, kernel, tol.vw)
         _factor(ln, at, out, nl, tol.vw)
-        _newton(ln, at, nl, tol)
+        _newton(ln, at, nl, kernel, tol)
         _newton_failures(ln, at, out, nl)
-        _estimate(ln, at, nl, tol)
+        _estimate(ln, at, nl, kernel, tol)
         for j in range(nl):
             at.acc[j] = _decide(ln, at, one, out, j, tol)
         for j in range(nl, LANES):
             at.acc[j] = False
-        f0_masked(ln.y, ln.p, ln.f0, at.fw, at.acc, ln.cnt, tol.vw)
+        f0_masked(ln.y, ln.p, ln.f0, at.fw, at.acc, ln.cnt, kernel, tol.vw)
 
 
 @njit(**DRIVER_PHASE)
@@ -231,7 +235,8 @@ def _load(pts: Points, ln: Lanes, one: OneLane, j, q) -> None:
         ln.y[i * LANES + j] = pts.y0[q, i]
         ln.scale[i * LANES + j] = pts.scale[q, i]
         ys[i] = pts.y0[q, i]
-        ln.cap[i * LANES + j] = increment_cap(pts.scale[q, i], ps[P_WIDTH], w_ref, True)
+        quaternion = ps[P_FORM] == FORM_QUATERNION
+        ln.cap[i * LANES + j] = increment_cap(pts.scale[q, i], ps[P_WIDTH], w_ref, quaternion)
     t0 = pts.t0[q]
     ln.t[j] = t0
     ln.t_max[j] = pts.t_max[q]
@@ -275,7 +280,7 @@ def _move_lane(ln: Lanes, a, b) -> None:
 
 
 @njit(**DRIVER_PHASE)
-def _prepare(ln: Lanes, at: Attempt, nl, vw) -> None:
+def _prepare(ln: Lanes, at: Attempt, nl, kernel, vw) -> None:
     """Before an attempt: harmless numbers in the idle lanes, f(y) of the lanes just
     filled, the Jacobian where stale (phase 1), the step cut to end at t_max."""
     for j in range(nl, LANES):
@@ -285,13 +290,14 @@ def _prepare(ln: Lanes, at: Attempt, nl, vw) -> None:
     # f(y) of lanes just filled (after a step it is computed with the accepted state)
     for j in range(nl):
         at.acc[j] = ln.first[j] and ln.cnt[0, j] == 0
-    f0_masked(ln.y, ln.p, ln.f0, at.fw, at.acc, ln.cnt, vw)
+    f0_masked(ln.y, ln.p, ln.f0, at.fw, at.acc, ln.cnt, kernel, vw)
     any_jac = False
     for j in range(nl):
         any_jac = any_jac or ln.new_jac[j]
     if any_jac:
         y, f0, new_jac = ln.y, ln.f0, ln.new_jac
-        jacobian_lanes(y, f0, ln.p, ln.scale, ln.jac, new_jac, at.work, at.fw, ln.cap, at.vmax, vw)
+        work, fw, cap = at.work, at.fw, ln.cap
+        jacobian_lanes(y, f0, ln.p, ln.scale, ln.jac, new_jac, work, fw, cap, at.vmax, kernel, vw)
         for j in range(nl):
             if ln.new_jac[j]:
                 ln.cnt[0, j] += _N
@@ -324,7 +330,7 @@ def _factor(ln: Lanes, at: Attempt, out: Outcome, nl, vw) -> None:
 
 
 @njit(**DRIVER_PHASE)
-def _newton(ln: Lanes, at: Attempt, nl, tol: Settings) -> None:
+def _newton(ln: Lanes, at: Attempt, nl, kernel, tol: Settings) -> None:
     """Phase 3: the simplified Newton iterations of every running lane, from the
     extrapolated collocation polynomial, until each has converged or failed."""
     vw = tol.vw
@@ -342,7 +348,9 @@ def _newton(ln: Lanes, at: Attempt, nl, tol: Settings) -> None:
         at.thq_old[j] = 1.0
         at.newt[j] = 0
     while _running(at, nl):
-        stages_rhs(ln.y, at.z, ln.p, at.f, at.work, vw)
+        for j in range(vw):
+            at.want[j] = at.state[j] == _RUNNING
+        stages_rhs(ln.y, at.z, ln.p, at.f, at.work, at.want, kernel, vw)
         residual_lanes(at.nw, ln.h, at.fin, vw)
         real = (at.lu_r, at.piv_r, at.swap_r, at.work)
         lu_solve_pair_lanes(*real, at.lu_cr, at.lu_ci, at.piv_c, at.swap_c, at.cbr, at.cbi, vw)
@@ -409,7 +417,7 @@ def _newton_failures(ln: Lanes, at: Attempt, out: Outcome, nl) -> None:
 
 
 @njit(**DRIVER_PHASE)
-def _estimate(ln: Lanes, at: Attempt, nl, tol: Settings) -> None:
+def _estimate(ln: Lanes, at: Attempt, nl, kernel, tol: Settings) -> None:
     """Phase 4: the embedded error estimate (filtered once more where the scalar code
     does), and the largest cos(theta) over the nodes c1, c2 and the step end (the
     opening pre-test)."""
@@ -425,7 +433,7 @@ def _estimate(ln: Lanes, at: Attempt, nl, tol: Settings) -> None:
     if any_filter:  # the estimate is unreliable for very stiff components: filter once more
         for u in range(_N * vw):
             at.cbr[u] = ln.y[u] + at.work[u]
-        rhs_thesis_lanes(at.cbr, ln.p, at.fw, 0)
+        rates_lanes(at.cbr, ln.p, at.fw, 0, kernel, at.acc)
         for u in range(_N * vw):
             at.cbi[u] = at.fw[u] + at.err_v[u] - ln.f0[u]
         lu_solve_lanes(at.lu_r, at.piv_r, at.swap_r, at.cbi, vw)
@@ -434,10 +442,10 @@ def _estimate(ln: Lanes, at: Attempt, nl, tol: Settings) -> None:
             if at.acc[j]:
                 ln.cnt[0, j] += 1
                 at.err[j] = at.dyno[j]
-    cos_nutation_lanes(at.ynew, at.cos_n)
+    cos_nutation_any_lanes(at.ynew, ln.p, at.cos_n)
     for k in range(2):
         node_states(ln.y, at.z, k, at.work, vw)
-        cos_nutation_lanes(at.work, at.cos_k)
+        cos_nutation_any_lanes(at.work, ln.p, at.cos_k)
         for j in range(vw):
             at.cos_n[j] = max(at.cos_n[j], at.cos_k[j])
 

@@ -93,6 +93,7 @@ class Attempt(NamedTuple):
     fin: np.ndarray  #: bool: the residual is finite
     run: np.ndarray  #: bool: the lane takes this Newton update
     acc: np.ndarray  #: bool: mask (f(y) wanted, filtered error wanted)
+    want: np.ndarray  #: bool: the lanes whose stage derivatives are wanted (Newton)
 
 
 class OneLane(NamedTuple):
@@ -105,6 +106,7 @@ class OneLane(NamedTuple):
     z: np.ndarray  #: (3, N_STATE)
     jac: np.ndarray  #: (N_STATE, N_STATE)
     event: EventWork  #: what the event location writes
+    rates: tuple  #: (state, derivative, parameters): the generic kernel's scratch
 
 
 class Settings(NamedTuple):
@@ -115,6 +117,7 @@ class Settings(NamedTuple):
     fnewt: float  #: Newton stopping tolerance
     event_tol: float  #: bracket width of the event time [s]
     vw: int  #: LANES, passed at run time (see :mod:`.lu`)
+    generic: bool  #: the generic right-hand side, else the thesis kernel (.rates.rates_lanes)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
@@ -199,6 +202,7 @@ def new_attempt() -> Attempt:
         fin=np.ones(LANES, dtype=np.bool_),
         run=b.copy(),
         acc=b.copy(),
+        want=b.copy(),
     )
 
 
@@ -223,4 +227,5 @@ def new_one_lane(n_par: int) -> OneLane:
             ytry=s.copy(),
             y_event=s.copy(),
         ),
+        rates=(s.copy(), s.copy(), np.empty(n_par)),
     )

@@ -6,7 +6,8 @@ two iteration matrices, the stage guess, the transformed Newton residual and upd
 Newton and error norms), on the
 structure-of-arrays layout of the lanes (``x[i * LANES + lane]``, stage k of
 a three-stage quantity at offset ``k * N_STATE * LANES``). Every function takes
-``vw``, the lane count passed at run time (see :mod:`.lu`).
+``vw``, the lane count passed at run time (see :mod:`.lu`); those that evaluate the
+right-hand side take ``kernel`` (:func:`.rates.rates_lanes`: thesis or generic kernel).
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ from ..radau_coefficients import (
     TI21,
     TI22,
 )
-from .rates import rhs_thesis_lanes
+from .rates import rates_lanes
 from .simd import LANE_KERNEL, LANES, NO_REFCOUNT
 
 __all__ = [
@@ -91,7 +92,7 @@ def _u(x):
 
 
 @njit(**LANE_KERNEL)
-def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, vw) -> None:
+def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, kernel, vw) -> None:
     """Forward-difference Jacobian of every lane (as
     :func:`obturator.core.integrators.common.jacobian`), stored for the lanes with NJ set.
 
@@ -109,7 +110,7 @@ def jacobian_lanes(Y, F0, PL, SC, JAC, NJ, WORK, FW, dj_cap, dj_row, vw) -> None
             dj = min(dj, dj_cap[u])
             WORK[u] = y + dj
             dj_row[j] = WORK[u] - y  # the increment actually taken
-        rhs_thesis_lanes(WORK, PL, FW, 0)
+        rates_lanes(WORK, PL, FW, 0, kernel, NJ)
         for i in range(_N):
             for j in range(vw):
                 a = _u((i * _N + c) * LANES + j)
@@ -247,23 +248,24 @@ def error_lanes(Y, YN, WORK, rtol, atol, SC, out, vw) -> None:
 
 
 @njit(**LANE_KERNEL)
-def stages_rhs(Y, Z, PL, F, WORK, vw) -> None:
-    """The three stage derivatives f(y + Z_k) of every lane (the kernel is autonomous)."""
+def stages_rhs(Y, Z, PL, F, WORK, WANT, kernel, vw) -> None:
+    """The three stage derivatives f(y + Z_k) of every lane (the kernel is autonomous;
+    the generic one only where WANT is set)."""
     for k in range(3):
         for u in range(_N * vw):
             WORK[u] = Y[u] + Z[_u(k * _V + u)]
-        rhs_thesis_lanes(WORK, PL, F, k * _V)
+        rates_lanes(WORK, PL, F, k * _V, kernel, WANT)
 
 
 @njit(**LANE_KERNEL)
-def f0_masked(Y, PL, F0, FW, ACC, CNT, vw) -> None:
+def f0_masked(Y, PL, F0, FW, ACC, CNT, kernel, vw) -> None:
     """F0 = f(Y) in the lanes with ACC set (one vector evaluation for all)."""
     any_acc = False
     for j in range(vw):
         any_acc = any_acc or ACC[j]
     if not any_acc:
         return
-    rhs_thesis_lanes(Y, PL, FW, 0)
+    rates_lanes(Y, PL, FW, 0, kernel, ACC)
     for i in range(_N):
         for j in range(vw):
             u = _u(i * LANES + j)

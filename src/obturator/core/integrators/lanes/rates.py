@@ -2,7 +2,8 @@
 
 The thesis's kernel (:func:`obturator.core.specialised.thesis_rates`, the same
 compiled function as the scalar path's) in one vector loop over lanes, and the
-generic right-hand side (:func:`obturator.core.dynamics.rhs`) lane by lane.
+generic right-hand side (:func:`obturator.core.dynamics.rhs`) lane by lane, and
+:func:`rates_lanes`, the one place where a lane driver's kernel choice is made.
 Vectors are flat and component-major (``x[i * LANES + lane]``, :mod:`.simd`).
 
 The vector loops always run over all :data:`~.simd.LANES` lanes, live or not: with a
@@ -13,14 +14,23 @@ how many points shared its batch (observed at the last digit).
 
 from __future__ import annotations
 
+import math
+
 from numba import njit, uint64
 
 from ...dynamics import rhs
-from ...layout import N_STATE, P_DERIVED, P_VISC
+from ...layout import FORM_EULER, N_STATE, P_DERIVED, P_FORM, P_VISC
 from ...specialised import thesis_rates
-from .simd import LANE_KERNEL, LANES, NO_REFCOUNT
+from .simd import DRIVER_PHASE, LANE_KERNEL, LANES, NO_REFCOUNT
 
-__all__ = ["rhs_thesis_lanes", "rhs_generic_lanes", "cos_nutation_lanes"]
+__all__ = [
+    "rhs_thesis_lanes",
+    "rhs_generic_lanes",
+    "rhs_generic_masked_lanes",
+    "rates_lanes",
+    "cos_nutation_lanes",
+    "cos_nutation_any_lanes",
+]
 
 
 @njit(**LANE_KERNEL)
@@ -90,16 +100,65 @@ def _thesis_lanes(y, p, dy, do, turbulent) -> int:
 def rhs_generic_lanes(y, p, dy, do, nl, one) -> None:
     """The generic right-hand side (:func:`~obturator.core.dynamics.rhs`) in lanes
     0..nl-1, through `one` = (state, derivative, parameters) of one lane (scratch)."""
+    for j in range(nl):
+        _generic_lane(y, p, dy, do, j, one)
+
+
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
+def rhs_generic_masked_lanes(y, p, dy, do, nl, one, mask) -> None:
+    """:func:`rhs_generic_lanes` in the lanes 0..nl-1 with `mask` set only: the generic
+    right-hand side costs as much per lane as the scalar one, so a lane driver in lock
+    step evaluates only the lanes that use the result (the others keep ``dy``)."""
+    for j in range(nl):
+        if mask[j]:
+            _generic_lane(y, p, dy, do, j, one)
+
+
+@njit(inline="always", cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
+def _generic_lane(y, p, dy, do, j, one) -> None:
+    """rhs of lane j (gathered into `one`, scattered back into ``dy[do:]``)."""
     ys, ds, ps = one
     n_par = p.shape[0] // LANES
-    for j in range(nl):
-        for i in range(N_STATE):
-            ys[i] = y[i * LANES + j]
-        for i in range(n_par):
-            ps[i] = p[i * LANES + j]
-        rhs(0.0, ys, ps, ds)
-        for i in range(N_STATE):
-            dy[do + i * LANES + j] = ds[i]
+    for i in range(N_STATE):
+        ys[i] = y[i * LANES + j]
+    for i in range(n_par):
+        ps[i] = p[i * LANES + j]
+    rhs(0.0, ys, ps, ds)
+    for i in range(N_STATE):
+        dy[do + i * LANES + j] = ds[i]
+
+
+@njit(**DRIVER_PHASE)
+def rates_lanes(y, p, dy, do, kernel, mask) -> None:
+    """f(y) into ``dy[do:]`` with the kernel the points were packed for, in the lanes
+    whose result is used (`mask`, bool per lane).
+
+    `kernel` is (generic, nl, one): ``generic`` True where the rows carry
+    ``P_KERNEL = KERNEL_GENERIC`` (every torque model and friction family of
+    :func:`~obturator.core.dynamics.rhs`; lanes 0..nl-1 with `mask` set, one by one
+    through the scratch `one` = (state, derivative, parameters)), else the thesis
+    kernel over all lanes in one vector loop (cheaper than selecting).
+    """
+    generic, nl, one = kernel
+    if generic:
+        rhs_generic_masked_lanes(y, p, dy, do, nl, one, mask)
+    else:
+        rhs_thesis_lanes(y, p, dy, do)
+
+
+@njit(**LANE_KERNEL)
+def cos_nutation_any_lanes(y, p, out) -> None:
+    """cos(theta) of every lane in either formulation (``p[P_FORM]`` per lane): the
+    quaternion expression of :func:`cos_nutation_lanes`, or cos of the Euler angle
+    theta = y[0]."""
+    for j in range(LANES):
+        q0 = y[j]
+        q1 = y[uint64(LANES + j)]
+        q2 = y[uint64(2 * LANES + j)]
+        q3 = y[uint64(3 * LANES + j)]
+        c = 1.0 - 2.0 * (q1 * q1 + q2 * q2) / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+        euler = p[uint64(P_FORM * LANES + j)] == FORM_EULER
+        out[j] = math.cos(q0) if euler else c
 
 
 @njit(**LANE_KERNEL)
