@@ -255,9 +255,13 @@ def coulomb_gauge(gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
     tuple of float
         (gamma [-], d_X, d_Y, d_Z).
     """
-    g2 = gx * gx + gy * gy + gz * gz
-    if g2 == 0.0:
+    # gamma is homogeneous of degree one in G: work with G / max|G_i| so that no
+    # square of a component under- or overflows (a G of 1e-158 N m made g2 = 0)
+    scale = max(abs(gx), abs(gy), abs(gz))
+    if scale == 0.0:
         return 0.0, 0.0, 0.0, 0.0
+    gx, gy, gz = gx / scale, gy / scale, gz / scale
+    g2 = gx * gx + gy * gy + gz * gz
     g = math.sqrt(g2)
     # orthonormal tangents t, u of the plane: t = G x (the axis G is least along)
     if abs(gx) <= abs(gy) and abs(gx) <= abs(gz):
@@ -313,7 +317,7 @@ def coulomb_gauge(gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
                 break  # rounding: no step lowers D or the residual
         dx, dy, dz, der, res = nx, ny, nz, new, new_res
     d = math.sqrt(dx * dx + dy * dy + dz * dz)
-    return (gx * dx + gy * dy + gz * dz) / der[0], dx / d, dy / d, dz / d
+    return scale * (gx * dx + gy * dy + gz * dz) / der[0], dx / d, dy / d, dz / d
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
@@ -421,15 +425,17 @@ def stick_margin(gx: float, gy: float, gz: float, p: np.ndarray) -> float:
     Thesis law: ARM is even in u, so the radius along G is M ARM(G / |G|). Coulomb
     patch law: |G| / gamma(G) (:func:`coulomb_gauge`).
     """
-    g = math.sqrt(gx * gx + gy * gy + gz * gz)
-    if g == 0.0:
+    scale = max(abs(gx), abs(gy), abs(gz))  # no square under- or overflows
+    if scale == 0.0:
         return moment_scale(p)
+    ux, uy, uz = gx / scale, gy / scale, gz / scale
+    u = math.sqrt(ux * ux + uy * uy + uz * uz)  # |G| = scale u
     if p[P_FRIC] == FRIC_COULOMB:
-        return g / coulomb_gauge(gx, gy, gz, p)[0] - g
+        return u / coulomb_gauge(ux, uy, uz, p)[0] - scale * u
     m = p[P_FRIC + 1]
     b_x, b_z = arm_coefficients(p)
-    arm2 = (b_x * gx * gx + gy * gy + b_z * gz * gz) / (g * g)
-    return m * math.sqrt(max(arm2, 0.0)) - g
+    arm2 = (b_x * ux * ux + uy * uy + b_z * uz * uz) / (u * u)
+    return m * math.sqrt(max(arm2, 0.0)) - scale * u
 
 
 #: Samples per half turn of the rigid-turn scan for the exits of a Coulomb set of
