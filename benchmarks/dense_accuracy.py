@@ -2,7 +2,13 @@
 ``OPENING_TIME_ACCURACY``.
 
 ``python -m benchmarks.dense_accuracy [--points 10000] [--spins 100,700]
-[--rtols 1e-8,3e-9,1e-9,1e-10] [--json FILE]``
+[--rtols 1e-8,3e-9,1e-9,1e-10] [--json FILE]``: integration error at the default width.
+
+``python -m benchmarks.dense_accuracy --limit [--points 2000] [--spins 40,1000]
+[--regularised name=value,...] [--no-scalar] [--no-cross-check] [--json FILE]``: the
+error of both default paths (the set-valued solver and the regularised law) against
+the exact limit, width error included (:mod:`benchmarks.exact_limit`), per spin band
+with the reference's own uncertainty, and the time per point of each path.
 
 A sample of 100 points (``benchmarks.lanes``) misses isolated outliers; this check
 takes every point of a rig sweep (mu_s = 0.5473, omega_p over 100-700 rad/s by
@@ -31,6 +37,7 @@ from typing import Any
 
 import numpy as np
 
+from benchmarks.exact_limit import REGULARISED_DEFAULT, limit_check, print_limit_check, with_fields
 from obturator.core.integrators.lanes import LANES, integrate_radau_lanes
 from obturator.model.cases import rig_case
 from obturator.solve import SolverOptions, integration_setup, opening_time, opening_times
@@ -95,13 +102,32 @@ def measure(spins: np.ndarray, ref: np.ndarray, rtol: float) -> dict[str, Any]:
 def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
     """Run the dense check and print one block per rtol."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--points", type=int, default=10_000)
-    ap.add_argument("--spins", default="100,700", help="omega_p range LO,HI [rad/s]")
+    ap.add_argument("--points", type=int, default=None, help="10000; 2000 with --limit")
+    ap.add_argument("--spins", default=None, help="omega_p range LO,HI [rad/s]; 100,700 "
+                    "(40,1000 with --limit)")  # fmt: skip
     ap.add_argument("--rtols", default="1e-8,3e-9,1e-9,1e-10")
     ap.add_argument("--json", default=None, help="also write the records to this file")
+    ap.add_argument("--limit", action="store_true", help="both default paths against the "
+                    "exact limit (benchmarks.exact_limit)")  # fmt: skip
+    ap.add_argument("--regularised", default="", help="with --limit: fields of the "
+                    "regularised path's options, e.g. friction_width=1e-9,rtol=1e-10")  # fmt: skip
+    ap.add_argument("--no-scalar", action="store_true", help="with --limit: skip the "
+                    "regularised one-trajectory path")  # fmt: skip
+    ap.add_argument("--no-cross-check", action="store_true", help="with --limit: skip the "
+                    "reference's cross-check")  # fmt: skip
     a = ap.parse_args(argv)
-    lo, hi = (float(v) for v in a.spins.split(","))
-    spins = np.linspace(lo, hi, a.points)
+    lo, hi = (float(v) for v in (a.spins or ("40,1000" if a.limit else "100,700")).split(","))
+    spins = np.linspace(lo, hi, a.points or (2_000 if a.limit else 10_000))
+    if a.limit:
+        rec = limit_check(
+            spins, with_fields(REGULARISED_DEFAULT, a.regularised),
+            scalar=not a.no_scalar, cross=not a.no_cross_check,
+        )  # fmt: skip
+        print_limit_check(rec)
+        if a.json:
+            with open(a.json, "w") as fh:
+                json.dump(rec, fh, indent=1)
+        return [rec]
     t0 = time.perf_counter()
     ref = reference(spins)
     print(f"reference (Radau IIA lanes, rtol {REFERENCE_RTOL:g}): {time.perf_counter() - t0:.1f} s")
