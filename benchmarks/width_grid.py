@@ -2,11 +2,13 @@
 
 ``python -m benchmarks.width_grid [--spins 40,50,65,78,100,150,300,1000]
 [--families algebraic,tanh,linear] [--widths 1e-7,1e-8,1e-9,1e-10] [--rtols 1e-8,1e-10]
-[--json FILE]``
+[--atol-below-width] [--json FILE]``
 
 For the rig (mu_s = 0.5473) at each spin: t_cr of the regularised path (method
 ``auto``, the one-trajectory path) for every friction family x width
-(``friction_width``, relative to omega_p) x rtol (atol = rtol/100), its relative error
+(``friction_width``, relative to omega_p) x rtol (atol = rtol/100, or with
+``--atol-below-width`` min(rtol, width)/100: the width and atol are both in units of
+omega_p, and atol near the width lets the integrator skip the slip scale), its relative error
 against the exact limit (:data:`benchmarks.exact_limit.LIMIT_REFERENCE`, the set-valued
 solver at rtol 1e-12) and its wall time (best of up to three runs where a run takes
 under 0.2 s). Printed: one row per setting with the error at each spin, the worst,
@@ -58,6 +60,7 @@ def grid(
     families: tuple[str, ...] = FAMILIES,
     widths: tuple[float, ...] = WIDTHS,
     rtols: tuple[float, ...] = RTOLS,
+    atol_below_width: bool = False,
 ) -> dict[str, Any]:
     """Error against the exact limit and cost of every setting at every spin."""
     warm_up([REGULARISED_DEFAULT])
@@ -68,14 +71,15 @@ def grid(
     for family in families:
         for width in widths:
             for rtol in rtols:
+                atol = min(rtol, width) * 1e-2 if atol_below_width else rtol * 1e-2
                 o = replace(
                     REGULARISED_DEFAULT, friction_family=family, friction_width=width,
-                    rtol=rtol, atol=rtol * 1e-2,
+                    rtol=rtol, atol=atol,
                 )  # fmt: skip
                 runs = [_timed(c, o) for c in cases]
                 err = np.array([t for t, _ in runs]) / ref - 1.0
                 rows.append({
-                    "family": family, "width": width, "rtol": rtol,
+                    "family": family, "width": width, "rtol": rtol, "atol": atol,
                     "error": err.tolist(), "wall_s": [s for _, s in runs],
                     "worst": float(np.nanmax(np.abs(err))),
                 })  # fmt: skip
@@ -87,7 +91,7 @@ def grid(
 def print_header(spins: tuple[float, ...]) -> None:
     """Column heads: the spins, twice (errors, then costs)."""
     cols = "".join(f"{w:>9g}" for w in spins)
-    print(f"{'family':>9} {'width':>6} {'rtol':>6} |{cols} | worst  ok |{cols}  [ms]")
+    print(f"{'family':>9} {'width':>6} {'rtol':>6} {'atol':>6} |{cols} | worst  ok |{cols}  [ms]")
 
 
 def print_row(row: dict[str, Any], flush: bool = False) -> None:
@@ -96,7 +100,8 @@ def print_row(row: dict[str, Any], flush: bool = False) -> None:
     cost = "".join(f"{1e3 * s:>9.2f}" for s in row["wall_s"])
     ok = "yes" if row["worst"] <= TARGET else "no"
     print(
-        f"{row['family']:>9} {row['width']:>6.0e} {row['rtol']:>6.0e} |{errs} | "
+        f"{row['family']:>9} {row['width']:>6.0e} {row['rtol']:>6.0e} {row['atol']:>6.0e} |"
+        f"{errs} | "
         f"{row['worst']:.1e} {ok:>3} |{cost}",
         flush=flush,
     )
@@ -110,6 +115,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--widths", default=",".join(f"{w:g}" for w in WIDTHS))
     ap.add_argument("--rtols", default=",".join(f"{r:g}" for r in RTOLS))
     ap.add_argument("--json", default=None, help="also write the results to this file")
+    ap.add_argument("--atol-below-width", action="store_true", help="atol = min(rtol, "
+                    "width)/100 (the width is in the same units) instead of rtol/100")  # fmt: skip
     a = ap.parse_args(argv)
     spins = tuple(float(v) for v in a.spins.split(","))
 
@@ -121,8 +128,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     print(f"CPU: {_meta()['cpu']}; rig mu_s {MU_S}; reference {LIMIT_REFERENCE.method} "
           f"rtol {LIMIT_REFERENCE.rtol:g}")  # fmt: skip
     print_header(spins)
-    out = grid(spins, tuple(a.families.split(",")), floats(a.widths), floats(a.rtols))
-    print(f"{'spread':>24} |" + "".join(f"{s:>9.1e}" for s in out["spread"]))
+    out = grid(
+        spins, tuple(a.families.split(",")), floats(a.widths), floats(a.rtols),
+        a.atol_below_width,
+    )  # fmt: skip
+    print(f"{'spread':>31} |" + "".join(f"{s:>9.1e}" for s in out["spread"]))
     print("reference t_cr [s]: " + ", ".join(f"{t:.10g}" for t in out["reference"]))
     if a.json:
         with open(a.json, "w") as fh:
