@@ -5,7 +5,8 @@
 [--rtols 1e-8,3e-9,1e-9,1e-10] [--json FILE]``: integration error at the default width.
 
 ``python -m benchmarks.dense_accuracy --limit [--points 2000] [--spins 40,1000]
-[--regularised name=value,...] [--no-scalar] [--no-cross-check] [--json FILE]``: the
+[--regularised name=value,...] [--set-valued name=value,...] [--paths P1,P2]
+[--no-cross-check] [--json FILE]``: the
 error of both default paths (the set-valued solver and the regularised law) against
 the exact limit, width error included (:mod:`benchmarks.exact_limit`), per spin band
 with the reference's own uncertainty, and the time per point of each path.
@@ -37,7 +38,14 @@ from typing import Any
 
 import numpy as np
 
-from benchmarks.exact_limit import REGULARISED_DEFAULT, limit_check, print_limit_check, with_fields
+from benchmarks.exact_limit import (
+    PATHS,
+    REGULARISED_DEFAULT,
+    SET_VALUED_DEFAULT,
+    limit_check,
+    print_limit_check,
+    with_fields,
+)
 from obturator.core.integrators.lanes import LANES, integrate_radau_lanes
 from obturator.model.cases import rig_case
 from obturator.solve import SolverOptions, integration_setup, opening_time, opening_times
@@ -111,17 +119,23 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
                     "exact limit (benchmarks.exact_limit)")  # fmt: skip
     ap.add_argument("--regularised", default="", help="with --limit: fields of the "
                     "regularised path's options, e.g. friction_width=1e-9,rtol=1e-10")  # fmt: skip
-    ap.add_argument("--no-scalar", action="store_true", help="with --limit: skip the "
-                    "regularised one-trajectory path")  # fmt: skip
+    ap.add_argument("--set-valued", default="", help="with --limit: fields of the "
+                    "set-valued path's options, e.g. rtol=1e-9,atol=1e-11")  # fmt: skip
+    ap.add_argument("--paths", default=",".join(PATHS), help="with --limit: which of "
+                    f"{', '.join(PATHS)}")  # fmt: skip
     ap.add_argument("--no-cross-check", action="store_true", help="with --limit: skip the "
                     "reference's cross-check")  # fmt: skip
     a = ap.parse_args(argv)
     lo, hi = (float(v) for v in (a.spins or ("40,1000" if a.limit else "100,700")).split(","))
     spins = np.linspace(lo, hi, a.points or (2_000 if a.limit else 10_000))
     if a.limit:
+        unknown = set(a.paths.split(",")) - set(PATHS)
+        if unknown:
+            ap.error(f"--paths: unknown {', '.join(sorted(unknown))}; allowed: {', '.join(PATHS)}")
         rec = limit_check(
             spins, with_fields(REGULARISED_DEFAULT, a.regularised),
-            scalar=not a.no_scalar, cross=not a.no_cross_check,
+            with_fields(SET_VALUED_DEFAULT, a.set_valued), a.paths.split(","),
+            cross=not a.no_cross_check,
         )  # fmt: skip
         print_limit_check(rec)
         if a.json:

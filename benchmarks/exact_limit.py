@@ -56,6 +56,8 @@ CHECK_SPINS = (40, 44, 48, 52, 56, 60, 65, 70, 78, 86, 94,
 #: Spin bands [rad/s] of the report, [lo, hi).
 BANDS = ((40.0, 60.0), (60.0, 100.0), (100.0, 210.0), (210.0, 300.0), (300.0, 400.0),
          (400.0, 500.0), (500.0, 600.0), (600.0, 1000.0 + 1e-9))  # fmt: skip
+#: What :func:`limit_check` can run.
+PATHS = ("set-valued", "regularised sweep", "regularised one-trajectory")
 #: Error bound of the issue's target [-].
 TARGET = 1e-6
 
@@ -146,26 +148,28 @@ def limit_check(
     spins: np.ndarray,
     regularised: SolverOptions = REGULARISED_DEFAULT,
     set_valued: SolverOptions = SET_VALUED_DEFAULT,
-    scalar: bool = True,
+    paths: Sequence[str] = PATHS,
     cross: bool = True,
 ) -> dict[str, Any]:
-    """Both default paths against the exact limit at every spin (see the module doc)."""
+    """Both default paths against the exact limit at every spin (see the module doc).
+
+    `paths`: any of :data:`PATHS` (the set-valued solver; the regularised law in the
+    sweep's lanes and point by point through the one-trajectory path)."""
     rec: dict[str, Any] = {"n_points": int(spins.size), "spins": spins.tolist()}
     rec["warm_up_s"] = warm_up([regularised, set_valued])
     t0 = time.perf_counter()
     ref = timed_scalar(spins, LIMIT_REFERENCE)[0]
     rec["reference_s"] = time.perf_counter() - t0
-    paths = {
+    runs = {
         "set-valued": lambda: timed_sweep(spins, set_valued),
         "regularised sweep": lambda: timed_sweep(spins, regularised),
+        "regularised one-trajectory": lambda: timed_scalar(spins, regularised),
     }
-    if scalar:
-        paths["regularised one-trajectory"] = lambda: timed_scalar(spins, regularised)
     t_cr: dict[str, np.ndarray] = {"reference": ref}
     errors: dict[str, np.ndarray] = {}
     rec["s_per_point"] = {}
-    for name, run in paths.items():
-        t_cr[name], rec["s_per_point"][name] = run()
+    for name in paths:
+        t_cr[name], rec["s_per_point"][name] = runs[name]()
         errors[name] = t_cr[name] / ref - 1.0
     idx = check_indices(spins) if cross else np.zeros(0, dtype=int)
     t0 = time.perf_counter()
