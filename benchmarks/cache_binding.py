@@ -45,8 +45,8 @@ PATHS = ("regularised sweep", "regularised one-trajectory", "set-valued")
 def load_callees() -> int:
     """Load every cached overload of the core's non-inlined functions; return how many.
 
-    Drivers load the same way (they are in the walk too), after the callees they call
-    in the module order of the walk; nothing is compiled here.
+    The integrators themselves (``integrate*``, ``_integrate*``: what Python calls) are
+    left to load on their first call, after every callee; nothing is compiled here.
     """
     from numba.core.registry import CPUDispatcher
 
@@ -55,10 +55,12 @@ def load_callees() -> int:
     n = 0
     for info in pkgutil.walk_packages(obturator.core.__path__, "obturator.core."):
         module = importlib.import_module(info.name)
-        for d in vars(module).values():
+        for name, d in vars(module).items():
             if not isinstance(d, CPUDispatcher) or d.py_func.__module__ != info.name:
                 continue
-            if d.targetoptions.get("inline") == "always":
+            if d.targetoptions.get("inline") == "always" or name.lstrip("_").startswith(
+                "integrate"
+            ):
                 continue
             for key in d._cache._cache_file._load_index():  # numba's own index
                 d.compile(key[0])
