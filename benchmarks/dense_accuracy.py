@@ -32,7 +32,6 @@ stick-slip amplifies it, so each has its own outliers).
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from typing import Any
 
@@ -45,6 +44,7 @@ from benchmarks.exact_limit import (
     limit_check,
     print_limit_check,
     with_fields,
+    write_json,
 )
 from obturator.core.integrators.lanes import LANES, integrate_radau_lanes
 from obturator.model.cases import rig_case
@@ -138,9 +138,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
             cross=not a.no_cross_check,
         )  # fmt: skip
         print_limit_check(rec)
-        if a.json:
-            with open(a.json, "w") as fh:
-                json.dump(rec, fh, indent=1)
+        write_json(a.json, rec)
         return [rec]
     t0 = time.perf_counter()
     ref = reference(spins)
@@ -159,9 +157,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
             f"(> 1e-6: {rec['n_over_1e-6_scalar']}); "
             f"one process {rec['batched_s_one_process']:.2f} s\n    per band: {bands}"
         )
-    if a.json:
-        with open(a.json, "w") as fh:
-            json.dump(rows, fh, indent=1)
+    write_json(a.json, rows)
     return rows
 
 

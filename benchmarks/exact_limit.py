@@ -16,6 +16,7 @@ Used by ``python -m benchmarks.dense_accuracy --limit`` (dense sweep) and by
 
 from __future__ import annotations
 
+import json
 import time
 from collections.abc import Sequence
 from dataclasses import replace
@@ -234,3 +235,10 @@ def with_fields(base: SolverOptions, spec: str) -> SolverOptions:
         except ValueError:
             kw[key.strip()] = value.strip()
     return replace(base, **kw)
+
+
+def write_json(path: str | None, records: Any) -> None:
+    """Write `records` to `path` as JSON, when a path is given."""
+    if path:
+        with open(path, "w") as fh:
+            json.dump(records, fh, indent=1)

@@ -20,7 +20,6 @@ The set-valued solver's rows come first (width NaN: it has none).
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from dataclasses import replace
 from typing import Any
@@ -35,6 +34,7 @@ from benchmarks.exact_limit import (
     TARGET,
     cross_check,
     warm_up,
+    write_json,
 )
 from obturator.errors import SolverError
 from obturator.model.cases import rig_case
@@ -156,9 +156,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     )  # fmt: skip
     print(f"{'spread':>32} |" + "".join(f"{s:>9.1e}" for s in out["spread"]))
     print("reference t_cr [s]: " + ", ".join(f"{t:.10g}" for t in out["reference"]))
-    if a.json:
-        with open(a.json, "w") as fh:
-            json.dump(out, fh, indent=1)
+    write_json(a.json, out)
     return out
 
 
