@@ -391,7 +391,7 @@ def integrate_packed(
     stats = {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0, "n_set_valued": 0}
     valid = np.flatnonzero(packed.valid)
     if options.method == "auto":
-        chosen = [dispatched_method("auto", packed.p[k], packed.spin[k]) for k in valid]
+        chosen = [dispatched_method("auto", packed.p[k], packed.y0[k]) for k in valid]
         exact = np.array([m == "set-valued" for m in chosen], dtype=bool)
         for k in valid[exact]:
             out = _set_valued_point(packed, int(k), options)

@@ -51,7 +51,7 @@ def _run(
     problem, controls = integration_setup(
         case, options, y0, record=record, t_eval=t_eval, terminal=terminal
     )
-    method = dispatched_method(options.method, problem.p, case.spin_rate)
+    method = dispatched_method(options.method, problem.p, problem.y0)
     return problem.p, integrate(core_method(method), problem, controls)
 
 

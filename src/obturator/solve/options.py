@@ -166,6 +166,14 @@ class SolverOptions:
         rtol = tolerances_for_opening_time(tcr_rtol)
         return cls(rtol=rtol, atol=rtol * 1e-2, **kw)
 
+    def digest_extra(self) -> dict[str, Any]:
+        """What a study digest names besides the fields (:func:`obturator.runs.digest.canonical`):
+        under ``"auto"`` the thresholds of its per-case choice
+        (:func:`obturator.solve.dispatch.dispatch_identity`)."""
+        from .dispatch import dispatch_identity
+
+        return dispatch_identity(self)
+
     def tighter(self, factor: float = 10.0) -> SolverOptions:
         """Both tolerances divided by `factor` (for convergence studies)."""
         return replace(self, rtol=self.rtol / factor, atol=self.atol / factor)
