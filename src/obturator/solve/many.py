@@ -394,12 +394,12 @@ def integrate_packed(
         chosen = [dispatched_method("auto", packed.p[k], packed.y0[k]) for k in valid]
         exact = np.array([m == "set-valued" for m in chosen], dtype=bool)
         for k in valid[exact]:
-            out = _set_valued_point(packed, int(k), options)
+            out = _set_valued_point(packed, int(k), options, end_states is not None)
             t_cr[k], status[k] = point_status(Status(out.status), float(out.t_event))
             stats["nfev"] += int(out.nfev)
             stats["n_set_valued"] += 1
             if end_states is not None:
-                end_states[k] = out.y_end
+                end_states[k] = out.y[-1] if out.y.shape[0] else out.y_end
             if point_nfev is not None:
                 point_nfev[k] = out.nfev
         valid = valid[~exact]
@@ -414,14 +414,19 @@ def integrate_packed(
     return t_cr, status, stats
 
 
-def _set_valued_point(packed: PackedPoints, k: int, options: SolverOptions) -> RawSolution:
+def _set_valued_point(
+    packed: PackedPoints, k: int, options: SolverOptions, to_t_max: bool
+) -> RawSolution:
     """Point `k` through the set-valued solver, from the same problem and controls as
     :func:`~obturator.solve.opening_time` builds for its case (so the same t_cr to the
-    bit); an integrator that raises counts as failed, as in the one-by-one path."""
+    bit), with `to_t_max` those of :func:`advance`'s one-by-one path (an output at t_max);
+    an integrator that raises counts as failed, as in the one-by-one path."""
     problem = Problem(packed.y0[k], packed.p[k], packed.scale[k])
+    t_max = float(packed.t_max[k])
     controls = integration_controls(
-        options, float(packed.t_max[k]), float(packed.h0[k]), float(packed.h_max[k])
-    )
+        options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
+        t_eval=np.array([t_max]) if to_t_max else None,
+    )  # fmt: skip
     try:
         return integrate(core_method("set-valued"), problem, controls)
     except RuntimeError as exc:
