@@ -41,7 +41,7 @@ verbatim (``obturator simulate --config rig.toml``)::
     atol = 1e-10
     friction_width = 1e-7
     friction_family = "algebraic"  # or "tanh", "linear"
-    method = "auto"              # or "radau", "rosenbrock"
+    method = "auto"              # or "regularised", "set-valued", "radau", "rosenbrock"
     formulation = "quaternion"   # or "euler"
 
 A flight run (``case = "flight"``) takes ``[flight]`` instead of ``[rig]``, and
