@@ -151,7 +151,10 @@ def study_settings(
     raw = load_config(path, command, (*allowed, *SOLVER_KEYS))
     out: dict[str, Any] = {"solver": {}}
     for key, value in raw.items():
-        out["solver" if key in SOLVER_KEYS else key] = value
+        if key in SOLVER_KEYS:
+            out["solver"][key] = value
+        else:
+            out[key] = value
     if not out["solver"]:
         del out["solver"]
     return out

@@ -148,6 +148,13 @@ def test_study_digests_name_the_choice(monkeypatch):
     regularised = study_digest({"options": replace(AUTO, method="regularised")})
     auto = study_digest({"options": AUTO})
     assert auto != regularised
+    from obturator.sweeps import SweepSpec
+
+    def sweep(options):
+        return SweepSpec(case="spin-rig", axes={"spin_rate": np.array([78.0])}, options=options)
+
+    sweep_auto = sweep(AUTO).digest()
+    assert sweep_auto != sweep(replace(AUTO, method="regularised")).digest()
     monkeypatch.setitem(dispatch.SET_VALUED_BELOW, 1, 0.5)
-    assert study_digest({"options": AUTO}) != auto
+    assert study_digest({"options": AUTO}) != auto and sweep(AUTO).digest() != sweep_auto
     assert study_digest({"options": replace(AUTO, method="regularised")}) == regularised
