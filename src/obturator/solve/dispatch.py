@@ -21,6 +21,7 @@ for every case.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -126,7 +127,8 @@ def stick_ratio(p: np.ndarray, y: np.ndarray) -> float:
     through depend on kappa, not on omega_p and mu_s apart (the dimensionless form of
     Eqs. 5a-5c; see :data:`SET_VALUED_BELOW`)."""
     gx, gy, gz = required_reaction(y, p, y[7])
-    return float(np.sqrt(gx * gx + gy * gy + gz * gz) / moment_scale(p))
+    scale = moment_scale(p)
+    return math.hypot(gx, gy, gz) / scale if scale > 0.0 else math.inf
 
 
 def dispatched_method(method: str, p: np.ndarray, y0: np.ndarray) -> str:
