@@ -89,6 +89,9 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
                 )
             else:
                 ax.plot(xi, 0.0, "|", color="k", ms=10, transform=ax.get_xaxis_transform())
+        # the Gaussian band of the < 120 rad/s replicates (SD 0.104 s) reaches below
+        # t = 0 where a setting opens sooner than the runs that set it; t_cr cannot
+        ax.set_ylim(bottom=0.0)
         ax.set_xlabel(label)
         ax.set_ylabel(r"$t_{cr}$ [s]")
         ax.grid(alpha=0.3)
@@ -96,7 +99,7 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
     fig.suptitle(
         "Candidates' $t_{cr}$ with 95 % predictive bands (parameters and replicate noise)\n"
         f"circles: the {plan.n_runs}-run plan (xN: replicates) on each line through its "
-        "leading setting; ticks: planned runs off the line",
+        "leading setting; ticks: planned runs off the line; bands cut at $t_{cr}$ = 0",
         fontsize=9,
     )
     return fig
