@@ -111,8 +111,9 @@ def env_switch(name: str) -> bool:
     return value == "1"
 
 
-def batchable(options: SolverOptions, check_convergence: bool = False) -> bool:
-    """True when cases with these options run in lanes.
+def batchable(options: SolverOptions) -> bool:
+    """True when cases with these options run in lanes (with or without convergence
+    checks: :func:`opening_times` batches those too).
 
     ``OBTURATOR_LANES=0`` in the environment turns the lanes off (every case
     through :func:`~obturator.solve.opening_time`, the scalar path): for
@@ -120,7 +121,7 @@ def batchable(options: SolverOptions, check_convergence: bool = False) -> bool:
     """
     if not env_switch("OBTURATOR_LANES"):
         return False
-    return options.method in BATCH_METHODS and not check_convergence
+    return options.method in BATCH_METHODS
 
 
 #: The statuses a case of :func:`opening_times` can have (a study's ``status``
@@ -166,8 +167,9 @@ def opening_times(
         ``"regularised"`` the cases run in lanes (:func:`batchable`; under ``"auto"``
         those it gives to the set-valued solver one by one), else one by one.
     check_convergence : bool
-        Also run :func:`~obturator.solve.convergence_check` on every opened case;
-        status ``UNCONVERGED`` where it fails (one by one: four runs per case).
+        Also check every opened case's convergence (:func:`~obturator.solve.convergence_checks`:
+        the three reruns of all of them through this front door, in lanes where the
+        options allow); status ``UNCONVERGED`` where it fails.
     strict : bool
         Raise, as :func:`~obturator.solve.opening_time` does, where a case is invalid
         or its integration failed (for studies that cannot use a partial answer).
@@ -196,7 +198,7 @@ def opening_times(
         With `strict`, where an integration failed or reached the step limit.
     """
     options = options or SolverOptions()
-    if batchable(options, check_convergence):
+    if batchable(options):
         out = integrate_packed(pack_points(cases, options), options, n_lanes=n_lanes)
     else:
         n = len(cases)
@@ -204,12 +206,14 @@ def opening_times(
         status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
         for k, case in enumerate(cases):
             if not isinstance(case, InputError):
-                t_cr[k], status[k] = _one_by_one(case, options, check_convergence)
+                t_cr[k], status[k] = _one_by_one(case, options)
         out = (
             t_cr,
             status,
             {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0, "n_set_valued": 0},
         )
+    if check_convergence:
+        _mark_unconverged(cases, options, out[0], out[1])
     if strict:
         _raise_failed(cases, out[1])
     return out
@@ -297,20 +301,31 @@ def _raise_failed(cases: Sequence[object], status: np.ndarray) -> None:
             raise SolverError(f"{name}: {MESSAGES[Status(s)]}", status=Status(s))
 
 
-def _one_by_one(case: Any, options: SolverOptions, check_convergence: bool) -> tuple[float, int]:
+def _one_by_one(case: Any, options: SolverOptions) -> tuple[float, int]:
     """(t_cr, status) of one case through the one-trajectory path (never raises for a
     failed integration)."""
-    from .convergence import convergence_check
-
     try:
         t = opening_time(case, options)
-        if check_convergence and math.isfinite(t):
-            if not convergence_check(case, options, opening_time_s=t).converged:
-                return t, Status.UNCONVERGED
     except RuntimeError as exc:  # SolverError, or anything else the integrator raised
         limit = getattr(exc, "status", None) == Status.STEP_LIMIT
         return point_status(Status.STEP_LIMIT if limit else Status.FAILED, math.nan)
     return point_status(Status.OPENED, t)
+
+
+def _mark_unconverged(
+    cases: Sequence[object], options: SolverOptions, t_cr: np.ndarray, status: np.ndarray
+) -> None:
+    """Status ``UNCONVERGED`` (in place) for the opened cases whose convergence check
+    fails; a rerun that fails to integrate leaves its t_cr unconfirmed, so it fails too."""
+    from .convergence import convergence_checks
+
+    opened = np.flatnonzero(status == Status.OPENED)
+    if opened.size:
+        picked = [cases[i] for i in opened]
+        checks = convergence_checks(picked, options, opening_times_s=t_cr[opened])  # type: ignore[arg-type]
+        for i, check in zip(opened, checks, strict=True):
+            if not check.converged:
+                status[i] = Status.UNCONVERGED
 
 
 class PackedPoints(NamedTuple):

@@ -64,12 +64,13 @@ def run_chunk(
 ) -> tuple[np.ndarray, np.ndarray]:
     """t_cr [s] and status of the points of one chunk (rows of values in ``names`` order).
 
-    Through :func:`obturator.solve.opening_times` (lanes where the options allow);
+    Through :func:`obturator.solve.opening_times` (lanes where the options allow, the
+    convergence checks' reruns too);
     `packed`: the rows' :class:`~obturator.solve.PackedPoints` where already built
     (:mod:`obturator.sweeps.ahead`). Module level so that process pools and dask
     workers can import it.
     """
-    if batchable(spec.options, spec.check_convergence):
+    if batchable(spec.options) and not spec.check_convergence:
         packed = pack_rows(spec, names, rows) if packed is None else packed
         t, s, _ = integrate_packed(packed, spec.options)
     else:
