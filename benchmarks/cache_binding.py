@@ -72,14 +72,15 @@ def worker(mode: str, points: int, stiff: int) -> dict[str, Any]:
     """In this process: t_cr (hex) of every path at the stiff points."""
     if mode == "cached+callees":
         load_callees()
+    from benchmarks.exact_limit import REGULARISED_DEFAULT as REGULARISED
     from obturator.model.cases import rig_case
     from obturator.solve import SolverOptions, opening_time, opening_times
 
     spins = np.linspace(40.0, 1000.0, points)[:stiff]
     cases = [rig_case(float(w), 0.5473) for w in spins]
     t_cr = {
-        "regularised sweep": opening_times(cases, SolverOptions())[0],
-        "regularised one-trajectory": [opening_time(c, SolverOptions()) for c in cases],
+        "regularised sweep": opening_times(cases, REGULARISED)[0],
+        "regularised one-trajectory": [opening_time(c, REGULARISED) for c in cases],
         "set-valued": opening_times(cases, SolverOptions(method="set-valued"))[0],
     }
     return {"spins": spins.tolist(), **{k: [float(t).hex() for t in v] for k, v in t_cr.items()}}

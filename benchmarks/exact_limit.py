@@ -29,10 +29,9 @@ from obturator.solve import SolverOptions, opening_time, opening_times
 
 MU_S = 0.5473
 #: The regularised path at its defaults (width 1e-7 omega_p, algebraic family, rtol 1e-8,
-#: DOP853 then Radau IIA where stiff). Today that is ``SolverOptions()``; once the
-#: default method dispatches per point to the set-valued solver, this must name the
-#: regularised method explicitly (e.g. ``SolverOptions(method="regularised")``).
-REGULARISED_DEFAULT = SolverOptions()
+#: DOP853 then Radau IIA where stiff), named explicitly: the default method ``auto``
+#: dispatches per point to the set-valued solver at low spin.
+REGULARISED_DEFAULT = SolverOptions(method="regularised")
 #: The set-valued solver at its default tolerances.
 SET_VALUED_DEFAULT = SolverOptions(method="set-valued")
 #: The width-free reference.

@@ -35,7 +35,9 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
   point compared with the scalar path.
 * Set-valued stick-slip (:mod:`benchmarks.stick_slip`): cost per trajectory of
   ``method="set-valued"`` against the regularised path at 40-1000 rad/s and flight,
-  as ratios, with each t_cr's error against a tight set-valued reference.
+  as ratios, with each t_cr's error against a tight set-valued reference; and the
+  40-1000 rad/s sweep with the default ``auto`` (set-valued at low spin) against
+  ``regularised``, points/s with 1 and 2 workers and errors on a sample.
 * Trajectory-coupled openings (:mod:`benchmarks.coupled`): the probability study's
   points through ``FlightModel.evaluate_many`` in lanes against one point at a time.
 * Other integrators (:mod:`benchmarks.alternatives`, optional ``.[bench]`` extra):
@@ -593,6 +595,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     rec["stick_slip"] = stick_slip.cost(
         stick_slip.SPINS_QUICK if args.quick else stick_slip.SPINS, 2 if args.quick else 5
     )
+    rec["stick_slip_sweep"] = stick_slip.sweep(n_tp)
     from benchmarks import coupled
 
     rec["coupled"] = coupled.cost(coupled.SIZES_QUICK if args.quick else coupled.SIZES)
@@ -605,6 +608,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     operating_range.print_range(rec["cost_per_point"], rec["throughput"])
     lanes.print_table(rec["lanes"])
     stick_slip.print_table(rec["stick_slip"])
+    stick_slip.print_sweep(rec["stick_slip_sweep"])
     coupled.print_table(rec["coupled"])
     latency.print_latency(rec["cli_latency"])
     alternatives.print_alternatives(rec["alternatives"])

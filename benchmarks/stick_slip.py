@@ -1,15 +1,22 @@
-"""Set-valued stick-slip solver against the regularised path, per trajectory.
+"""Set-valued stick-slip solver against the regularised path, per trajectory and in sweeps.
 
 ``python -m benchmarks.stick_slip [--quick] [--json PATH]``; also part of
 ``python -m benchmarks``. For the rig at 40-1000 rad/s (mu_s = 0.5473) and the
 flight case (Table 1): best-of wall time per trajectory of ``opening_time`` with
 
-* the regularised path at its defaults (method "auto", rtol 1e-8, width 1e-7 omega_p),
+* the regularised path (method "regularised", rtol 1e-8, width 1e-7 omega_p),
 * the set-valued solver (method "set-valued") at rtol 1e-8 and at rtol 1e-10,
 
 their ratios (set-valued / regularised, in the same run), and each t_cr's relative
 error against the set-valued solver at rtol 1e-12 (which agrees with the regularised
 family limit, ``docs/stick_slip.md``).
+
+:func:`sweep`: a rig sweep over 40-1000 rad/s through ``obturator.sweeps`` (the
+front door, :func:`obturator.solve.opening_times`, same workers) with the default
+method ("auto": set-valued below the stick-ratio threshold of
+:mod:`obturator.solve.dispatch`, regularised lanes above) and with "regularised",
+in the same run: points/s, their ratio, and the worst error of a seeded sample of points
+against the set-valued solver at rtol 1e-12.
 """
 
 from __future__ import annotations
@@ -25,7 +32,7 @@ MU_S = 0.5473
 SPINS = (40.0, 60.0, 78.0, 100.0, 150.0, 200.0, 300.0, 700.0, 1000.0)
 SPINS_QUICK = (78.0, 200.0, 1000.0)
 PATHS = {
-    "regularised": SolverOptions(),
+    "regularised": SolverOptions(method="regularised"),
     "set-valued": SolverOptions(method="set-valued"),
     "set-valued 1e-10": SolverOptions(method="set-valued", rtol=1e-10, atol=1e-12),
 }
@@ -61,6 +68,55 @@ def cost(spins: Sequence[float] = SPINS, repeat: int = 5) -> list[dict[str, Any]
     return rows
 
 
+#: The sweep's range [rad/s] and the points of its full and quick runs.
+SWEEP_RANGE = (40.0, 1000.0)
+SWEEP_POINTS, SWEEP_POINTS_QUICK = 10_000, 500
+SWEEP_METHODS = ("auto", "regularised")
+
+
+def sweep(
+    n_points: int = SWEEP_POINTS, workers: Sequence[int] = (1, 2), n_check: int = 60
+) -> list[dict[str, Any]]:
+    """One row per worker count: points/s of each method, their ratio, and each
+    method's worst and median error on `n_check` seeded points against :data:`REFERENCE`."""
+    from benchmarks.operating_range import throughput
+
+    rows = []
+    for k in workers:
+        row: dict[str, Any] = {"n_points": n_points, "spin_range_rad_s": list(SWEEP_RANGE)}
+        for method in SWEEP_METHODS:
+            opts = SolverOptions(method=method)  # type: ignore[arg-type]
+            row[method] = throughput(
+                n_points, SWEEP_RANGE, k, options=opts, n_check=n_check, reference=REFERENCE
+            )
+        row["workers"] = row["auto"]["workers"]
+        row["ratio"] = row["auto"]["points_per_s"] / row["regularised"]["points_per_s"]
+        rows.append(row)
+    return rows
+
+
+def print_sweep(rows: list[dict[str, Any]]) -> None:
+    """The sweep rows as a rich table."""
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title="rig sweep 40-1000 rad/s: auto (dispatch) vs regularised, same run")
+    for col in ("points", "workers", "auto [pts/s]", "regularised [pts/s]", "ratio"):
+        t.add_column(col, justify="right")
+    for col in ("auto max err", "reg. max err", "auto median err", "reg. median err"):
+        t.add_column(col, justify="right")
+    for r in rows:
+        a, g = r["auto"], r["regularised"]
+        t.add_row(
+            str(r["n_points"]), str(r["workers"]), f"{a['points_per_s']:.0f}",
+            f"{g['points_per_s']:.0f}", f"{r['ratio']:.1f}",
+            f"{a['max_rel_error']:.1e}", f"{g['max_rel_error']:.1e}",
+            f"{a['median_rel_error']:.1e}", f"{g['median_rel_error']:.1e}",
+        )  # fmt: skip
+    Console(width=160).print(t)
+    print(f"  errors: {rows[0]['auto']['n_checked']} seeded points against set-valued, rtol 1e-12")
+
+
 def print_table(rows: list[dict[str, Any]]) -> None:
     """The rows as a rich table (ms per trajectory, ratio to the regularised path)."""
     from rich.console import Console
@@ -88,10 +144,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     from benchmarks._module import run_module
 
     def rows_of(quick: bool) -> list[dict[str, Any]]:
-        return cost(SPINS_QUICK if quick else SPINS, 2 if quick else 5)
+        rows = cost(SPINS_QUICK if quick else SPINS, 2 if quick else 5)
+        return rows + sweep(SWEEP_POINTS_QUICK if quick else SWEEP_POINTS)
+
+    def print_all(rows: list[dict[str, Any]]) -> None:
+        print_table([r for r in rows if "case" in r])
+        print_sweep([r for r in rows if "case" not in r])
 
     prog = "python -m benchmarks.stick_slip"
-    return run_module(prog, "three spins, two repeats", rows_of, print_table, argv)
+    quick = f"three spins, two repeats; a {SWEEP_POINTS_QUICK}-point sweep"
+    return run_module(prog, quick, rows_of, print_all, argv)
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@
 [--atol-below-width] [--set-valued-rtols 1e-8,3e-9,1e-9] [--json FILE]``
 
 For the rig (mu_s = 0.5473) at each spin: t_cr of the regularised path (method
-``auto``, the one-trajectory path) for every friction family x width
+``regularised``, the one-trajectory path) for every friction family x width
 (``friction_width``, relative to omega_p) x rtol (atol = rtol/100, or with
 ``--atol-below-width`` min(rtol, width)/100: the width and atol are both in units of
 omega_p, and atol near the width lets the integrator skip the slip scale), its relative error

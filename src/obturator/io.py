@@ -41,7 +41,7 @@ verbatim (``obturator simulate --config rig.toml``)::
     atol = 1e-10
     friction_width = 1e-7
     friction_family = "algebraic"  # or "tanh", "linear"
-    method = "auto"              # or "radau", "rosenbrock"
+    method = "auto"              # or "regularised", "set-valued", "radau", "rosenbrock"
     formulation = "quaternion"   # or "euler"
 
 A flight run (``case = "flight"``) takes ``[flight]`` instead of ``[rig]``, and
@@ -151,7 +151,10 @@ def study_settings(
     raw = load_config(path, command, (*allowed, *SOLVER_KEYS))
     out: dict[str, Any] = {"solver": {}}
     for key, value in raw.items():
-        out["solver" if key in SOLVER_KEYS else key] = value
+        if key in SOLVER_KEYS:
+            out["solver"][key] = value
+        else:
+            out[key] = value
     if not out["solver"]:
         del out["solver"]
     return out

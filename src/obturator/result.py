@@ -153,6 +153,15 @@ class NutationResult:
         """T - omega_p H_Z [J]: non-increasing under dissipative torques at constant spin."""
         return self.kinetic_energy - self.spin_rate * self.axial_momentum
 
+    @property
+    def solver(self) -> str:
+        """The integrator that ran: ``options.method``, or under ``"auto"`` the one it
+        chose for this case (``"set-valued"``, no width; or ``"regularised"``;
+        :mod:`obturator.solve.dispatch`)."""
+        from .solve.dispatch import method_of
+
+        return method_of(self.case, self.options)
+
     def summary(self) -> dict[str, object]:
         """Scalar results as a JSON-ready dict."""
         c = self.case
@@ -174,6 +183,7 @@ class NutationResult:
             "spin_mode": c.spin_mode,
             "formulation": self.options.formulation,
             "method": self.options.method,
+            "solver": self.solver,
             "rtol": self.options.rtol,
             "atol": self.options.atol,
             "friction_width": self.options.friction_width,

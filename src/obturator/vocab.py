@@ -5,7 +5,7 @@ and a tuple of its values (for validation, ``argparse`` choices, config files
 and messages), the tuple derived from the Literal so the two cannot drift.
 
 >>> METHODS
-('auto', 'radau', 'rosenbrock', 'set-valued', 'moreau-jean')
+('auto', 'regularised', 'radau', 'rosenbrock', 'set-valued', 'moreau-jean')
 >>> check_choice("spin_mode", "free", SPIN_MODES)
 'free'
 """
@@ -44,10 +44,13 @@ CaseName = Literal["spin-rig", "flight"]
 #: Projectile spin: held constant (driven rig), free (axial momentum conserved),
 #: or Appendix A's energy form.
 SpinMode = Literal["constant", "free", "thesis-energy"]
-#: Compiled integrators (``auto``: DOP853, Radau IIA when stiff; ``set-valued``: the
+#: Compiled integrators (``auto``: per case ``set-valued`` at low spin where that solver
+#: takes the case, else ``regularised`` (:mod:`obturator.solve.dispatch`);
+#: ``regularised``: the regularised law, DOP853 handing over to Radau IIA when stiff;
+#: ``radau``, ``rosenbrock``: the regularised law with one method; ``set-valued``: the
 #: event-driven stick-slip solver of the unregularised friction law; ``moreau-jean``:
 #: first-order fixed-step time-stepping of the same law, a cross-check).
-Method = Literal["auto", "radau", "rosenbrock", "set-valued", "moreau-jean"]
+Method = Literal["auto", "regularised", "radau", "rosenbrock", "set-valued", "moreau-jean"]
 #: State formulations of the equations of motion.
 Formulation = Literal["quaternion", "euler"]
 #: Regularisation families of the Coulomb friction magnitude.

@@ -19,11 +19,13 @@ from .errors import InputError
 
 __all__ = ["WARMUP_TARGETS", "load_radau_lanes", "warm_up"]
 
-#: Integrator -> what compiling it takes: ``auto`` runs need DOP853 and Radau IIA;
+#: Integrator -> what compiling it takes: ``auto`` runs need DOP853 and Radau IIA (its
+#: regularised cases) and the set-valued solver (its low-spin cases);
 #: Rosenbrock is compiled only with ``everything``.
 WARMUP_TARGETS: dict[str, str] = {
-    "dop853": "explicit DOP853 (every auto run)",
-    "radau": "Radau IIA (auto runs that stick; method radau)",
+    "dop853": "explicit DOP853 (every regularised run)",
+    "radau": "Radau IIA (regularised runs that stick; method radau)",
+    "set-valued": "set-valued stick-slip solver (auto runs at low spin; method set-valued)",
     "lanes": "batched DOP853 lanes (sweeps, Monte Carlo)",
     "radau-lanes": "batched Radau IIA lanes (stiff points of sweeps and Monte Carlo)",
     "rosenbrock": "Rosenbrock ode23s (method rosenbrock)",
@@ -78,11 +80,11 @@ def _load(method: str) -> None:
             c.atol, c.event_tol, 16,
         )  # fmt: skip
         return
-    # a short run that stays non-stiff: "auto" compiles DOP853 alone; each process
+    # a short run that stays non-stiff: "regularised" compiles DOP853 alone; each process
     # also compiles what every run needs (parameter packing), so none waits for another
     opening_time(
         rig_case(300.0, 0.5, t_max=1e-3),
-        SolverOptions(method="auto" if method == "dop853" else method),  # type: ignore[arg-type]
+        SolverOptions(method="regularised" if method == "dop853" else method),  # type: ignore[arg-type]
     )
 
 

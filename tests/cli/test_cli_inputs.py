@@ -70,6 +70,18 @@ def test_unit_after_a_list_applies_to_every_value(tmp_path):
     assert spins == pytest.approx([1000 * math.pi / 30, 2000 * math.pi / 30], rel=1e-12)
 
 
+def test_study_config_takes_solver_settings(tmp_path):
+    """A sweep's ``[solver]`` section sets its options (it replaced the whole section by
+    its last value, and the sweep failed with an internal error)."""
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('[solver]\nmethod = "regularised"\nrtol = 1e-9\n', encoding="utf-8")
+    argv = ["sweep", "--spin-rate", "300,400", "--config", str(cfg), "--workers", "1"]
+    rc, out, err = _run([*argv, "--no-progress", "--json", "--out", str(tmp_path / "s.nc")])
+    assert rc == 0, err
+    options = json.loads(out)["settings"]["options"]
+    assert options["method"] == "regularised" and options["rtol"] == 1e-9
+
+
 @pytest.mark.parametrize("text", ["1000 rpm,2000", "1000,2000 rpm,3000 rpm"])
 def test_a_list_that_mixes_units_is_refused(tmp_path, text):
     _refused(["sweep", "--spin-rate", text, "--out", str(tmp_path / "s.nc")], "mixes values")

@@ -85,4 +85,4 @@ def test_tcr_rtol_help_states_the_readmes_near_stick_accuracy():
 def test_warmup_help_names_every_integrator_it_compiles():
     text = _help("warmup")
     assert "lanes" in text and "loaded" in text
-    assert len(WARMUP_TARGETS) - 1 == 4 and "four integrators" in text  # + rosenbrock
+    assert len(WARMUP_TARGETS) - 1 == 5 and "five integrators" in text  # + rosenbrock

@@ -53,8 +53,12 @@ def test_normal_spin_does_not_warn(capsys):
 
 
 def test_step_limit_names_cause_and_fix(monkeypatch, capsys):
+    # the regularised law (the default auto runs 2.6 rad/s set-valued: stick throughout,
+    # no step limit)
     monkeypatch.setattr(
-        simulate_cli, "options_from_settings", lambda s: SolverOptions(max_steps=200)
+        simulate_cli,
+        "options_from_settings",
+        lambda s: SolverOptions(max_steps=200, method="regularised"),
     )
     assert main(["simulate", "--spin-rate", "150 deg/s", "--t-max", "1", "--no-check"]) == 3
     err = capsys.readouterr().err.strip().splitlines()[-1]

@@ -210,8 +210,8 @@ def _print_table(
                 f"{s['friction_family']}, width {s['friction_width']:g}",
                 "omega_p",
             )
-            if s["method"] not in SET_VALUED_METHODS
-            else ("friction law", f"set-valued, no width (method {s['method']})", "")
+            if s["solver"] not in SET_VALUED_METHODS
+            else ("friction law", f"set-valued, no width (method {_method(s)})", "")
         ),
         ("status", f"{res.status}: {res.message}", ""),
         ("steps / RHS evaluations", f"{res.n_steps} / {res.nfev}", ""),
@@ -221,7 +221,7 @@ def _print_table(
         rows.append(
             (  # set-valued methods: checked against the regularised limit
                 f"convergence (tol / 10, width / 10, {check.family})"
-                if s["method"] not in SET_VALUED_METHODS
+                if s["solver"] not in SET_VALUED_METHODS
                 else f"convergence (tol / 10; regularised: width {s['friction_width'] / 10:g}, "
                 f"{check.family})",
                 f"{verdict}: relative change {check.tolerance_change:.1e}, "
@@ -238,6 +238,12 @@ def _print_table(
     width = max(len(r[0]) for r in rows)
     for label, value, unit in rows:
         print(f"{label:<{width}}  {value} {unit}".rstrip())
+
+
+def _method(summary: dict[str, Any]) -> str:
+    """The method as asked, and what ``auto`` chose where it chose."""
+    asked, ran = summary["method"], summary["solver"]
+    return str(asked) if asked == ran else f"{asked}: {ran}"
 
 
 def _plot(res: NutationResult, path: str) -> None:

@@ -16,11 +16,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         subparsers,
         "warmup",
         _run,
-        "Compile the four integrators (DOP853 and Radau IIA, and the sweeps' DOP853 and "
-        "Radau IIA lanes; with --all also Rosenbrock) side by side in fresh processes and "
-        "store the machine code in numba's cache, so that the first simulation or sweep "
-        "starts warm. Says whether each was compiled or loaded from the cache, and where "
-        "the cache is.",
+        "Compile the five integrators (DOP853 and Radau IIA, the set-valued stick-slip "
+        "solver, and the sweeps' DOP853 and Radau IIA lanes; with --all also Rosenbrock) "
+        "side by side in fresh processes and store the machine code in numba's cache, so "
+        "that the first simulation or sweep starts warm. Says whether each was compiled or "
+        "loaded from the cache, and where the cache is.",
         count(
             "--jobs",
             1,

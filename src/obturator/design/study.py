@@ -67,7 +67,8 @@ def _warm() -> None:
     from ..model.cases import rig_case
     from ..solve import opening_times
 
-    opening_times([rig_case(spin_rate=300.0, mu_s=0.55)])
+    # 100 rad/s: a short run "auto" gives the set-valued solver
+    opening_times([rig_case(spin_rate=300.0, mu_s=0.55), rig_case(100.0, 0.55, t_max=1e-2)])
 
 
 def _posteriors(

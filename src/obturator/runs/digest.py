@@ -23,8 +23,9 @@ __all__ = ["canonical", "study_digest", "task_key"]
 
 def canonical(x: Any) -> Any:
     """`x` as plain JSON: sorted mappings, lists, non-finite floats as their repr;
-    an array as its dtype, shape and values; a dataclass as its type and fields; a
-    function as its qualified name."""
+    an array as its dtype, shape and values; a dataclass as its type and fields (and
+    what its ``digest_extra()`` adds, where it has one); a function as its qualified
+    name."""
     if isinstance(x, float):
         return x if math.isfinite(x) else repr(x)
     if isinstance(x, Mapping):
@@ -37,6 +38,8 @@ def canonical(x: Any) -> Any:
         return canonical(x.item())
     if dataclasses.is_dataclass(x) and not isinstance(x, type):
         fields = {f.name: getattr(x, f.name) for f in dataclasses.fields(x)}
+        if callable(extra := getattr(x, "digest_extra", None)):
+            fields |= extra()  # what the fields alone do not say (solver options' "auto")
         return {"type": _qualified(type(x)), "fields": canonical(fields)}
     if callable(x) and hasattr(x, "__qualname__"):
         return {"function": _qualified(x)}

@@ -11,6 +11,7 @@ import numpy as np
 from ..json_values import finite_or_none
 from ..model.case import Case
 from ..vocab import FRICTION_FAMILIES, check_choice
+from .dispatch import method_of
 from .one import opening_time
 from .options import SolverOptions
 
@@ -126,7 +127,9 @@ def convergence_check(
     ----------
     case : Case
     options : SolverOptions, optional
-        The options whose result is being checked.
+        The options whose result is being checked. Under ``"auto"`` the check is that
+        of the integrator the case runs with (:func:`~obturator.solve.dispatch.method_of`):
+        a case run set-valued is checked against the regularised path.
     factor : float
         Refinement factor for (rtol, atol) and for ``friction_width``.
     threshold : float
@@ -137,7 +140,7 @@ def convergence_check(
         Regularisation family of the third rerun; default
         :func:`alternative_family` of ``options.friction_family``.
     """
-    options = options or SolverOptions()
+    options = _resolved(case, options or SolverOptions())
     family = alternative_family(options.friction_family) if family is None else family
     t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
     t1, t2, t3 = (opening_time(case, o) for o in refined_options(options, factor, family))
@@ -150,15 +153,28 @@ def refined_options(
     """The three reruns of a convergence check: tolerances / `factor`; width / `factor`
     (tolerances too, so slip speeds of order the width stay resolved); the other
     regularisation `family` (default :func:`alternative_family`). For the set-valued
-    method, which has no width, the last two are the regularised path."""
+    method, which has no width, the last two are the regularised path at the narrower
+    width. For ``"auto"`` those of its regularised cases (the last two run
+    ``"regularised"``); a case it runs set-valued is checked as ``"set-valued"``
+    (:func:`convergence_check` and :func:`convergence_checks` choose per case)."""
     family = alternative_family(options.friction_family) if family is None else family
     check_choice("family", family, FRICTION_FAMILIES)
     narrow = replace(options.tighter(factor), friction_width=options.friction_width / factor)
     other = replace(options, friction_family=family)
+    if options.method == "auto":  # the width and the family are the regularised law's
+        narrow = replace(narrow, method="regularised")
+        other = replace(other, method="regularised")
     if options.method == "set-valued":  # no width: the regularised path is the check
-        narrow = replace(narrow, method="auto")
+        narrow = replace(narrow, method="regularised")
         other = replace(narrow, friction_family=family)
     return options.tighter(factor), narrow, other
+
+
+def _resolved(case: Case, options: SolverOptions) -> SolverOptions:
+    """`options` with ``"auto"`` replaced by the integrator it runs `case` with."""
+    if options.method != "auto":
+        return options
+    return replace(options, method=method_of(case, options))  # type: ignore[arg-type]
 
 
 def convergence_checks(
@@ -174,7 +190,9 @@ def convergence_checks(
     (:func:`obturator.solve.opening_times`: in lanes where the options allow).
 
     Parameters are those of :func:`convergence_check`, with `opening_times_s` the
-    t_cr of every case already computed with `options` [s] (NaN: not opened).
+    t_cr of every case already computed with `options` [s] (NaN: not opened). Under
+    ``"auto"`` the cases are rerun in groups by the integrator each runs with, as
+    :func:`convergence_check` checks them.
     """
     from .many import opening_times
 
@@ -185,7 +203,16 @@ def convergence_checks(
         if opening_times_s is None
         else np.asarray(opening_times_s, dtype=float)
     )
-    reruns = [opening_times(cases, o)[0] for o in refined_options(options, factor, family)]
+    groups: dict[str, list[int]] = {}
+    for i, case in enumerate(cases):
+        method = _resolved(case, options).method if isinstance(case, Case) else options.method
+        groups.setdefault(method, []).append(i)
+    reruns = np.full((3, len(cases)), np.nan)
+    for method, idx in groups.items():
+        chosen = replace(options, method=method)  # type: ignore[arg-type]
+        some = [cases[i] for i in idx]
+        for r, o in enumerate(refined_options(chosen, factor, family)):
+            reruns[r, idx] = opening_times(some, o)[0]
     return [
         ConvergenceCheck(float(t0[i]), *(float(r[i]) for r in reruns), family, factor, threshold)
         for i in range(len(cases))

@@ -3,13 +3,16 @@
 :func:`opening_times` takes a sequence of cases (an
 :class:`~obturator.errors.InputError` in place of a case marks an invalid point) and
 returns t_cr, a :class:`~obturator.status.Status` per case and work counters. Where
-the options allow (method ``auto``, no convergence check) the cases are integrated
-together in the SIMD lanes of :func:`obturator.core.integrators.lanes.integrate_lanes`,
-else one by one through :func:`obturator.solve.opening_time`; both give the same
-t_cr and status per case:
+the options allow (method ``auto`` or ``regularised``, no convergence check) the cases
+are integrated together in the SIMD lanes of
+:func:`obturator.core.integrators.lanes.integrate_lanes`, else one by one through
+:func:`obturator.solve.opening_time`; both give the same t_cr and status per case:
 
-1. every case is packed (:func:`pack_points`, :class:`PackedPoints`), and cases are
-   grouped by right-hand-side kernel;
+1. every case is packed (:func:`pack_points`, :class:`PackedPoints`); under ``auto``
+   the cases :func:`~obturator.solve.dispatch.dispatched_method` gives to the
+   set-valued solver (low spin) run one by one through it, exactly as
+   :func:`~obturator.solve.opening_time` runs them, and the rest in lanes with the
+   regularised law; those are grouped by right-hand-side kernel;
 2. each group runs in lanes, highest spin rate first (spin sets the steps per
    second of simulated time, so the costliest enter first and the tail of the
    batch is short);
@@ -47,11 +50,13 @@ from ..core.integrators import (
     RawSolution,
     auto_radau_tolerances,
     continue_auto,
+    integrate,
 )
 from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes, integrate_radau_lanes
 from ..core.layout import KERNEL_THESIS, N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError, SolverError
 from ..status import MESSAGES, Status
+from .dispatch import core_method, dispatched_method
 from .one import opening_time, simulate
 from .options import SolverOptions
 from .setup import integration_controls, integration_setup
@@ -73,8 +78,9 @@ __all__ = [
     "point_status",
 ]
 
-#: Methods the lanes integrate (``auto``: DOP853, stiff lanes handed to Radau IIA).
-BATCH_METHODS = ("auto",)
+#: Methods the lanes integrate (``regularised``: DOP853, stiff lanes handed to Radau
+#: IIA; ``auto``: its regularised cases so, its set-valued ones one by one).
+BATCH_METHODS = ("auto", "regularised")
 #: Fewest stiff points of a batch that continue in Radau IIA lanes; fewer go one by one
 #: through the scalar Radau IIA. The lanes advance in lock step, so with few points the
 #: tail (lanes idle while the last points finish) outweighs the vector speed: measured
@@ -105,8 +111,9 @@ def env_switch(name: str) -> bool:
     return value == "1"
 
 
-def batchable(options: SolverOptions, check_convergence: bool = False) -> bool:
-    """True when cases with these options run in lanes.
+def batchable(options: SolverOptions) -> bool:
+    """True when cases with these options run in lanes (with or without convergence
+    checks: :func:`opening_times` batches those too).
 
     ``OBTURATOR_LANES=0`` in the environment turns the lanes off (every case
     through :func:`~obturator.solve.opening_time`, the scalar path): for
@@ -114,7 +121,7 @@ def batchable(options: SolverOptions, check_convergence: bool = False) -> bool:
     """
     if not env_switch("OBTURATOR_LANES"):
         return False
-    return options.method in BATCH_METHODS and not check_convergence
+    return options.method in BATCH_METHODS
 
 
 #: The statuses a case of :func:`opening_times` can have (a study's ``status``
@@ -156,11 +163,13 @@ def opening_times(
         The cases; an :class:`~obturator.errors.InputError` in place of a case
         marks a point that is not a valid case (status ``INVALID_INPUT``).
     options : SolverOptions, optional
-        Solver options (default :class:`SolverOptions`). With method ``"auto"``
-        the cases run in lanes (:func:`batchable`), else one by one.
+        Solver options (default :class:`SolverOptions`). With method ``"auto"`` or
+        ``"regularised"`` the cases run in lanes (:func:`batchable`; under ``"auto"``
+        those it gives to the set-valued solver one by one), else one by one.
     check_convergence : bool
-        Also run :func:`~obturator.solve.convergence_check` on every opened case;
-        status ``UNCONVERGED`` where it fails (one by one: four runs per case).
+        Also check every opened case's convergence (:func:`~obturator.solve.convergence_checks`:
+        the three reruns of all of them through this front door, in lanes where the
+        options allow); status ``UNCONVERGED`` where it fails.
     strict : bool
         Raise, as :func:`~obturator.solve.opening_time` does, where a case is invalid
         or its integration failed (for studies that cannot use a partial answer).
@@ -178,7 +187,8 @@ def opening_times(
     stats : dict
         ``n_points``, ``nfev`` (right-hand sides, all points; lanes only),
         ``n_stiff`` (points handed to Radau IIA), ``n_hand_backs`` (Radau IIA lanes
-        that went back to DOP853 lanes).
+        that went back to DOP853 lanes), ``n_set_valued`` (points ``auto`` gave to the
+        set-valued solver; lanes only).
 
     Raises
     ------
@@ -188,7 +198,7 @@ def opening_times(
         With `strict`, where an integration failed or reached the step limit.
     """
     options = options or SolverOptions()
-    if batchable(options, check_convergence):
+    if batchable(options):
         out = integrate_packed(pack_points(cases, options), options, n_lanes=n_lanes)
     else:
         n = len(cases)
@@ -196,8 +206,14 @@ def opening_times(
         status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
         for k, case in enumerate(cases):
             if not isinstance(case, InputError):
-                t_cr[k], status[k] = _one_by_one(case, options, check_convergence)
-        out = t_cr, status, {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0}
+                t_cr[k], status[k] = _one_by_one(case, options)
+        out = (
+            t_cr,
+            status,
+            {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0, "n_set_valued": 0},
+        )
+    if check_convergence:
+        _mark_unconverged(cases, options, out[0], out[1])
     if strict:
         _raise_failed(cases, out[1])
     return out
@@ -265,7 +281,13 @@ def advance(
         nfev[k] = res.nfev
         if res.state.shape[0]:
             end[k] = res.state[-1]
-    stats = {"n_points": n, "nfev": int(nfev.sum()), "n_stiff": 0, "n_hand_backs": 0}
+    stats = {
+        "n_points": n,
+        "nfev": int(nfev.sum()),
+        "n_stiff": 0,
+        "n_hand_backs": 0,
+        "n_set_valued": 0,
+    }
     return Advanced(t_cr, status, end, nfev, stats)
 
 
@@ -279,20 +301,31 @@ def _raise_failed(cases: Sequence[object], status: np.ndarray) -> None:
             raise SolverError(f"{name}: {MESSAGES[Status(s)]}", status=Status(s))
 
 
-def _one_by_one(case: Any, options: SolverOptions, check_convergence: bool) -> tuple[float, int]:
+def _one_by_one(case: Any, options: SolverOptions) -> tuple[float, int]:
     """(t_cr, status) of one case through the one-trajectory path (never raises for a
     failed integration)."""
-    from .convergence import convergence_check
-
     try:
         t = opening_time(case, options)
-        if check_convergence and math.isfinite(t):
-            if not convergence_check(case, options, opening_time_s=t).converged:
-                return t, Status.UNCONVERGED
     except RuntimeError as exc:  # SolverError, or anything else the integrator raised
         limit = getattr(exc, "status", None) == Status.STEP_LIMIT
         return point_status(Status.STEP_LIMIT if limit else Status.FAILED, math.nan)
     return point_status(Status.OPENED, t)
+
+
+def _mark_unconverged(
+    cases: Sequence[object], options: SolverOptions, t_cr: np.ndarray, status: np.ndarray
+) -> None:
+    """Status ``UNCONVERGED`` (in place) for the opened cases whose convergence check
+    fails; a rerun that fails to integrate leaves its t_cr unconfirmed, so it fails too."""
+    from .convergence import convergence_checks
+
+    opened = np.flatnonzero(status == Status.OPENED)
+    if opened.size:
+        picked = [cases[i] for i in opened]
+        checks = convergence_checks(picked, options, opening_times_s=t_cr[opened])  # type: ignore[arg-type]
+        for i, check in zip(opened, checks, strict=True):
+            if not check.converged:
+                status[i] = Status.UNCONVERGED
 
 
 class PackedPoints(NamedTuple):
@@ -362,14 +395,29 @@ def integrate_packed(
 ) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
     """:func:`opening_times` of points already packed (:func:`pack_points`); where
     given, row i of `end_states` (n, 8) receives point i's last state and entry i of
-    `point_nfev` its right-hand-side evaluations."""
+    `point_nfev` its right-hand-side evaluations. Under ``auto`` the points
+    :func:`~obturator.solve.dispatch.dispatched_method` gives to the set-valued solver
+    run one by one through it (``stats["n_set_valued"]``), the rest in lanes."""
     if options.method not in BATCH_METHODS:
         raise InputError("method", f"{options.method!r}: the lanes integrate {BATCH_METHODS}")
     n = packed.valid.size
     t_cr = np.full(n, math.nan)
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
-    stats = {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0}
+    stats = {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0, "n_set_valued": 0}
     valid = np.flatnonzero(packed.valid)
+    if options.method == "auto":
+        chosen = [dispatched_method("auto", packed.p[k], packed.y0[k]) for k in valid]
+        exact = np.array([m == "set-valued" for m in chosen], dtype=bool)
+        for k in valid[exact]:
+            out = _set_valued_point(packed, int(k), options, end_states is not None)
+            t_cr[k], status[k] = point_status(Status(out.status), float(out.t_event))
+            stats["nfev"] += int(out.nfev)
+            stats["n_set_valued"] += 1
+            if end_states is not None:
+                end_states[k] = out.y[-1] if out.y.shape[0] else out.y_end
+            if point_nfev is not None:
+                point_nfev[k] = out.nfev
+        valid = valid[~exact]
     kernels = packed.p[valid, P_KERNEL]
     for kernel in np.unique(kernels):
         idx = valid[kernels == kernel]
@@ -379,6 +427,30 @@ def integrate_packed(
         if point_nfev is not None:
             point_nfev[idx] = nfev
     return t_cr, status, stats
+
+
+def _set_valued_point(
+    packed: PackedPoints, k: int, options: SolverOptions, to_t_max: bool
+) -> RawSolution:
+    """Point `k` through the set-valued solver, from the same problem and controls as
+    :func:`~obturator.solve.opening_time` builds for its case (so the same t_cr to the
+    bit), with `to_t_max` those of :func:`advance`'s one-by-one path (an output at t_max);
+    an integrator that raises counts as failed, as in the one-by-one path."""
+    problem = Problem(packed.y0[k], packed.p[k], packed.scale[k])
+    t_max = float(packed.t_max[k])
+    controls = integration_controls(
+        options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
+        t_eval=np.array([t_max]) if to_t_max else None,
+    )  # fmt: skip
+    try:
+        return integrate(core_method("set-valued"), problem, controls)
+    except RuntimeError as exc:
+        limit = getattr(exc, "status", None) == Status.STEP_LIMIT
+        failed = Status.STEP_LIMIT if limit else Status.FAILED
+        nan = np.full(N_STATE, math.nan)
+        return RawSolution(
+            failed, math.nan, nan, np.empty(0), np.empty((0, N_STATE)), 0, 0, 0, 0, 0.0, nan
+        )
 
 
 def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.ndarray, np.ndarray]:

@@ -5,12 +5,17 @@ event theta = theta_cr (thesis: theta_cr = beta_s) and returns a
 :class:`~obturator.result.NutationResult`; :func:`opening_time` returns t_cr alone
 (no time series stored). Many cases go through :func:`obturator.solve.opening_times`.
 
-Numerics: at release the ball co-rotates, omega_r = 0, and the sliding-friction
-direction is 0/0; near sticking the friction torque is extremely stiff. Only
+The default method ``"auto"`` chooses the integrator per case
+(:mod:`obturator.solve.dispatch`): the set-valued solver (no width) at low spin where it
+takes the case, the regularised law described below elsewhere, as the lanes do.
+
+Numerics of the regularised law (``"regularised"``): at release the ball co-rotates,
+omega_r = 0, and the sliding-friction direction is 0/0; near sticking the friction
+torque is extremely stiff. Only
 the magnitude of the friction torque is regularised (width delta [rad/s], one
 of three families; see :func:`obturator.core.dynamics.applied_torque`); the thesis's
 moment arm always uses the true slip direction. Integration is compiled: an
-explicit Dormand-Prince 8(5,3) pair by default, which hands the run to a
+explicit Dormand-Prince 8(5,3) pair, which hands the run to a
 fifth-order Radau IIA method when it detects stiffness (Radau's Newton
 iterations cope with the strongly nonlinear stiffness of near-stick phases),
 and back once the ball slides again; Radau alone or an L-stable Rosenbrock pair
@@ -27,6 +32,7 @@ from ..errors import SolverError
 from ..model.case import Case
 from ..result import NutationResult
 from ..status import MESSAGES, Status
+from .dispatch import core_method, dispatched_method
 from .options import SolverOptions
 from .setup import integration_setup
 
@@ -45,7 +51,8 @@ def _run(
     problem, controls = integration_setup(
         case, options, y0, record=record, t_eval=t_eval, terminal=terminal
     )
-    return problem.p, integrate(options.method, problem, controls)
+    method = dispatched_method(options.method, problem.p, problem.y0)
+    return problem.p, integrate(core_method(method), problem, controls)
 
 
 def simulate(

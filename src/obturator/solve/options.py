@@ -73,8 +73,17 @@ class SolverOptions:
     max_step : float or None
         Largest step [s]; default :func:`max_step_periods` of a spin period (a
         twentieth on the rig, a tenth in flight).
-    method : {"auto", "radau", "rosenbrock", "set-valued", "moreau-jean"}
-        Compiled integrator. ``"auto"`` (default): the explicit eighth-order
+    method : {"auto", "regularised", "radau", "rosenbrock", "set-valued", "moreau-jean"}
+        Compiled integrator. ``"auto"`` (default): chosen per case
+        (:mod:`obturator.solve.dispatch`): ``"set-valued"`` where that solver takes the
+        case (the thesis law, the Coulomb patch law; quaternion form, constant mu_s,
+        constant or free spin) and its spin is below
+        :data:`~obturator.solve.dispatch.SET_VALUED_BELOW`, where it is both faster and
+        more accurate (no width); ``"regularised"`` for every other case (slip-speed
+        laws, the thesis's energy spin mode, Euler angles, higher spins). The same choice
+        in the one-trajectory path and in the lanes. ``friction_width`` and
+        ``friction_family`` apply to the cases run regularised only.
+        ``"regularised"``: the regularised law with the explicit eighth-order
         Dormand-Prince pair DOP853 (no Jacobian; the problem is not stiff
         outside sticking), handing the run over to Radau IIA (at a third of the
         tolerances) from its last accepted state when DOP853 detects stiffness
@@ -96,7 +105,7 @@ class SolverOptions:
         ``friction_family`` unused): exact stick and event-driven transitions
         (:mod:`obturator.core.integrators.stick_slip`, ``docs/stick_slip.md``); quaternion
         form, constant mu_s, constant or free spin. :func:`convergence_check` then
-        compares with the regularised path (``"auto"``) at the narrower width, both
+        compares with the regularised path (``"regularised"``) at the narrower width, both
         families. The thesis law, or the Coulomb patch law with a patch (a > 0).
         ``"moreau-jean"``: the same law by first-order event-capturing time-stepping
         (:mod:`obturator.core.integrators.moreau_jean`) with the fixed step
@@ -159,6 +168,14 @@ class SolverOptions:
         """
         rtol = tolerances_for_opening_time(tcr_rtol)
         return cls(rtol=rtol, atol=rtol * 1e-2, **kw)
+
+    def digest_extra(self) -> dict[str, Any]:
+        """What a study digest names besides the fields (:func:`obturator.runs.digest.canonical`):
+        under ``"auto"`` the thresholds of its per-case choice
+        (:func:`obturator.solve.dispatch.dispatch_identity`)."""
+        from .dispatch import dispatch_identity
+
+        return dispatch_identity(self)
 
     def tighter(self, factor: float = 10.0) -> SolverOptions:
         """Both tolerances divided by `factor` (for convergence studies)."""

@@ -86,7 +86,7 @@ def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: i
     Where the points run in lanes, the job can pack points ahead (:mod:`.ahead`).
     """
     radau_lanes = largest_chunk >= RADAU_LANES_MIN
-    lanes = batchable(spec.options, spec.check_convergence)
+    lanes = batchable(spec.options)
     job = Job(
         run_chunk,
         lambda idx: (spec, names, rows_of(idx)),

@@ -12,6 +12,7 @@ that workers can import it.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 
 import numpy as np
 
@@ -63,12 +64,13 @@ def run_chunk(
 ) -> tuple[np.ndarray, np.ndarray]:
     """t_cr [s] and status of the points of one chunk (rows of values in ``names`` order).
 
-    Through :func:`obturator.solve.opening_times` (lanes where the options allow);
+    Through :func:`obturator.solve.opening_times` (lanes where the options allow, the
+    convergence checks' reruns too);
     `packed`: the rows' :class:`~obturator.solve.PackedPoints` where already built
     (:mod:`obturator.sweeps.ahead`). Module level so that process pools and dask
     workers can import it.
     """
-    if batchable(spec.options, spec.check_convergence):
+    if batchable(spec.options) and not spec.check_convergence:
         packed = pack_rows(spec, names, rows) if packed is None else packed
         t, s, _ = integrate_packed(packed, spec.options)
     else:
@@ -79,18 +81,21 @@ def run_chunk(
 
 def warm(options: SolverOptions, radau_lanes: bool = False) -> None:
     """Load (or compile) the integrators once: a short rig run with these options that
-    turns stiff (150 rad/s, 10 ms), so ``auto`` loads DOP853 and Radau IIA, and the
-    same run in lanes (:func:`obturator.solve.opening_times`), and with `radau_lanes` the Radau
+    turns stiff (150 rad/s, 10 ms), so ``regularised`` loads DOP853 and Radau IIA (and
+    ``auto``, which runs it set-valued, those too), and the same run in lanes
+    (:func:`obturator.solve.opening_times`), and with `radau_lanes` the Radau
     IIA lanes (~0.4 s to load; chunks too small to use them skip it)."""
     from ..warmup import load_radau_lanes
 
     if is_warm(options, radau_lanes):
         return
     case = rig_case(150.0, 0.5, t_max=1e-2)
+    regularised = replace(options, method="regularised") if options.method == "auto" else options
     try:
-        opening_time(case, options)
+        for opts in dict.fromkeys((options, regularised)):
+            opening_time(case, opts)
         if batchable(options):
-            opening_times([case], options)
+            opening_times([case], regularised)
             if radau_lanes:
                 load_radau_lanes()
     except RuntimeError:  # pragma: no cover - warm-up only

@@ -230,7 +230,7 @@ class SweepSpec:
         opts = {
             k: (_json_float(x) if isinstance(x, float) else x)
             for k, x in asdict(self.options).items()
-        }
+        } | self.options.digest_extra()
         return {
             "case": self.case,
             "axes": {k: [_json_float(x) for x in a.tolist()] for k, a in self.axes.items()},

@@ -63,7 +63,7 @@ def run_points(
     runner.open(digest, extra_outputs)
     results = PointResults(n_points)
     todo = results.todo()
-    lanes = batchable(spec.options, spec.check_convergence)
+    lanes = batchable(spec.options)
     max_chunk = LANE_CHUNK if lanes else TASK_CHUNK
     workers = runner.n_workers if runner.scheduler is None else 8
     largest = min(chunk_length(todo.size, workers, runner.chunk_size, max_chunk), todo.size)

@@ -40,12 +40,18 @@ def _provenance(command: str | None) -> list[str]:
 
 
 def _solver_lines(options: SolverOptions) -> list[str]:
+    auto = (
+        " (per case: the set-valued solver, no width, where the stick ratio |G_req| / M at "
+        "release is low; the regularised law elsewhere)"
+        if options.method == "auto"
+        else ""
+    )
     return [
-        f"method = {options.method}",
+        f"method = {options.method}{auto}",
         f"rtol = {options.rtol:g}, atol = {options.atol:g} (rates in units of omega_p0)",
         f"friction regularisation width = {options.friction_width:g} omega_p0, "
         f"family = {options.friction_family} (magnitude only; the moment arm uses the "
-        "true slip direction)",
+        "true slip direction; regularised cases only)",
         f"formulation = {options.formulation}",
         f"event location tolerance = {options.event_tol:g} s",
         "projectile spin held constant (driven rig; thesis gravity runs)",
