@@ -57,7 +57,7 @@ CHECK_SPINS = (40, 44, 48, 52, 56, 60, 65, 70, 78, 86, 94,
 BANDS = ((40.0, 60.0), (60.0, 100.0), (100.0, 210.0), (210.0, 300.0), (300.0, 400.0),
          (400.0, 500.0), (500.0, 600.0), (600.0, 1000.0 + 1e-9))  # fmt: skip
 #: What :func:`limit_check` can run.
-PATHS = ("set-valued", "regularised sweep", "regularised one-trajectory")
+PATHS = ("set-valued", "regularised sweep", "regularised one-trajectory", "default (auto)")
 #: Error bound of the issue's target [-].
 TARGET = 1e-6
 
@@ -158,7 +158,8 @@ def limit_check(
     """Both default paths against the exact limit at every spin (see the module doc).
 
     `paths`: any of :data:`PATHS` (the set-valued solver; the regularised law in the
-    sweep's lanes and point by point through the one-trajectory path)."""
+    sweep's lanes and point by point through the one-trajectory path; the package's
+    default ``SolverOptions()``, which dispatches per point, through the sweep)."""
     rec: dict[str, Any] = {"n_points": int(spins.size), "spins": spins.tolist()}
     rec["warm_up_s"] = warm_up([regularised, set_valued])
     t0 = time.perf_counter()
@@ -168,6 +169,7 @@ def limit_check(
         "set-valued": lambda: timed_sweep(spins, set_valued),
         "regularised sweep": lambda: timed_sweep(spins, regularised),
         "regularised one-trajectory": lambda: timed_scalar(spins, regularised),
+        "default (auto)": lambda: timed_sweep(spins, SolverOptions()),
     }
     t_cr: dict[str, np.ndarray] = {"reference": ref}
     errors: dict[str, np.ndarray] = {}
