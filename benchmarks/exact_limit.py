@@ -57,7 +57,13 @@ CHECK_SPINS = (40, 44, 48, 52, 56, 60, 65, 70, 78, 86, 94,
 BANDS = ((40.0, 60.0), (60.0, 100.0), (100.0, 210.0), (210.0, 300.0), (300.0, 400.0),
          (400.0, 500.0), (500.0, 600.0), (600.0, 1000.0 + 1e-9))  # fmt: skip
 #: What :func:`limit_check` can run.
-PATHS = ("set-valued", "regularised sweep", "regularised one-trajectory", "default (auto)")
+PATHS = (
+    "set-valued",
+    "regularised sweep",
+    "regularised one-trajectory",
+    "default (auto)",
+    "default (auto) one-trajectory",
+)
 #: Error bound of the issue's target [-].
 TARGET = 1e-6
 
@@ -170,6 +176,7 @@ def limit_check(
         "regularised sweep": lambda: timed_sweep(spins, regularised),
         "regularised one-trajectory": lambda: timed_scalar(spins, regularised),
         "default (auto)": lambda: timed_sweep(spins, SolverOptions()),
+        "default (auto) one-trajectory": lambda: timed_scalar(spins, SolverOptions()),
     }
     t_cr: dict[str, np.ndarray] = {"reference": ref}
     errors: dict[str, np.ndarray] = {}

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from obturator.cli import main
+from obturator.core.integrators import auto_radau_tolerances
 from obturator.model.cases import flight_case, rig_case
 from obturator.model.torques import SlipSpeedLaw
 from obturator.runs.digest import study_digest
@@ -102,8 +103,14 @@ def test_batched_equals_one_by_one_across_the_threshold():
     assert np.all(np.isfinite(one))
     chosen = [method_of(c, AUTO) for c in cases]
     assert chosen.count("set-valued") == stats["n_set_valued"] == 3
+    # the chosen integrator by name gives the same t_cr; a set-valued case at the third
+    # of the tolerances auto runs it with (dispatched_controls)
+    rtol, atol = auto_radau_tolerances(AUTO.rtol, AUTO.atol)
     for c, m, t in zip(cases, chosen, one, strict=True):
-        assert t == opening_time(c, replace(AUTO, method=m))  # type: ignore[arg-type]
+        by_name = replace(AUTO, method=m)  # type: ignore[arg-type]
+        if m == "set-valued":
+            by_name = replace(by_name, rtol=rtol, atol=atol)
+        assert t == opening_time(c, by_name)
 
 
 def test_default_at_40_rad_s_is_the_width_free_limit():
@@ -124,7 +131,11 @@ def test_convergence_check_of_a_set_valued_point_reruns_the_regularised_path():
     case = rig_case(78.0, MU_S)
     opts = SolverOptions(rtol=1e-9, atol=1e-11, friction_width=1e-5)
     check = convergence_check(case, opts)
-    assert check.opening_time == opening_time(case, replace(opts, method="set-valued"))
+    # auto runs it set-valued at a third of the tolerances, the tighter rerun too
+    rtol, atol = auto_radau_tolerances(opts.rtol, opts.atol)
+    by_name = replace(opts, method="set-valued", rtol=rtol, atol=atol)
+    assert check.opening_time == opening_time(case, by_name)
+    assert check.tighter_tolerance == opening_time(case, by_name.tighter())
     assert check.tighter_tolerance == opening_time(case, opts.tighter())
     narrow = replace(opts.tighter(), friction_width=opts.friction_width / 10, method="regularised")
     assert check.narrower_width == opening_time(case, narrow)

@@ -140,11 +140,26 @@ def convergence_check(
         Regularisation family of the third rerun; default
         :func:`alternative_family` of ``options.friction_family``.
     """
-    options = _resolved(case, options or SolverOptions())
+    options = options or SolverOptions()
     family = alternative_family(options.friction_family) if family is None else family
     t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
-    t1, t2, t3 = (opening_time(case, o) for o in refined_options(options, factor, family))
+    reruns = _reruns(options, _resolved(case, options), factor, family)
+    t1, t2, t3 = (opening_time(case, o) for o in reruns)
     return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
+
+
+def _reruns(
+    options: SolverOptions, chosen: SolverOptions, factor: float, family: str
+) -> tuple[SolverOptions, SolverOptions, SolverOptions]:
+    """The three reruns of a case run with `options` by the integrator of `chosen` (its
+    resolved method): :func:`refined_options` of `chosen`, but under ``"auto"`` the
+    tighter-tolerance rerun stays ``"auto"``, so that it tightens the tolerances the
+    case ran with (a set-valued case runs at a third of them,
+    :func:`~obturator.solve.dispatch.dispatched_controls`)."""
+    tight, narrow, other = refined_options(chosen, factor, family)
+    if options.method == "auto":
+        tight = options.tighter(factor)
+    return tight, narrow, other
 
 
 def refined_options(
@@ -211,7 +226,7 @@ def convergence_checks(
     for method, idx in groups.items():
         chosen = replace(options, method=method)  # type: ignore[arg-type]
         some = [cases[i] for i in idx]
-        for r, o in enumerate(refined_options(chosen, factor, family)):
+        for r, o in enumerate(_reruns(options, chosen, factor, family)):
             reruns[r, idx] = opening_times(some, o)[0]
     return [
         ConvergenceCheck(float(t0[i]), *(float(r[i]) for r in reruns), family, factor, threshold)

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from ..core.friction_sets import moment_scale, required_reaction
+from ..core.integrators import Controls, auto_radau_tolerances
 from ..core.integrators.stick_slip_modes import check_set_valued_law
 from ..core.layout import (
     FORM_QUATERNION,
@@ -46,6 +47,7 @@ from .setup import pack_parameters
 __all__ = [
     "SET_VALUED_BELOW",
     "core_method",
+    "dispatched_controls",
     "dispatched_method",
     "dispatch_identity",
     "method_of",
@@ -148,6 +150,23 @@ def method_of(case: Case, options: SolverOptions) -> str:
     integrator that runs it)."""
     y0 = case.initial_state(options.formulation)
     return dispatched_method(options.method, pack_parameters(case, options, y0), y0)
+
+
+def dispatched_controls(method: str, chosen: str, controls: Controls) -> Controls:
+    """`controls` for the integrator `chosen` under `method`: a case ``"auto"`` gives to
+    the set-valued solver runs at
+    :data:`~obturator.core.integrators.AUTO_RADAU_TOL_FACTOR` (a third) of the
+    tolerances, as the regularised path's Radau IIA stretches do near stick.
+
+    Why: at rtol 1e-8 one rig point of 2,000 over 40-1000 rad/s (77.46 rad/s, mu_s
+    0.5473) was 1.1e-5 from the width-free limit, and every other within 2.1e-7; at
+    rtol 3e-9 the worst of the 2,000 is 1.4e-7, for 1.5-1.7x the time
+    (``python -m benchmarks.dense_accuracy --limit``, docs/stick_slip.md section 11).
+    """
+    if method != "auto" or chosen != "set-valued":
+        return controls
+    rtol, atol = auto_radau_tolerances(controls.rtol, controls.atol)
+    return controls._replace(rtol=rtol, atol=atol)
 
 
 def core_method(method: str) -> str:

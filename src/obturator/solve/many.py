@@ -56,7 +56,7 @@ from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes, inte
 from ..core.layout import KERNEL_THESIS, N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError, SolverError
 from ..status import MESSAGES, Status
-from .dispatch import core_method, dispatched_method
+from .dispatch import core_method, dispatched_controls, dispatched_method
 from .one import opening_time, simulate
 from .options import SolverOptions
 from .setup import integration_controls, integration_setup
@@ -442,6 +442,7 @@ def _set_valued_point(
         options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
         t_eval=np.array([t_max]) if to_t_max else None,
     )  # fmt: skip
+    controls = dispatched_controls("auto", "set-valued", controls)
     try:
         return integrate(core_method("set-valued"), problem, controls)
     except RuntimeError as exc:

@@ -32,7 +32,7 @@ from ..errors import SolverError
 from ..model.case import Case
 from ..result import NutationResult
 from ..status import MESSAGES, Status
-from .dispatch import core_method, dispatched_method
+from .dispatch import core_method, dispatched_controls, dispatched_method
 from .options import SolverOptions
 from .setup import integration_setup
 
@@ -52,6 +52,7 @@ def _run(
         case, options, y0, record=record, t_eval=t_eval, terminal=terminal
     )
     method = dispatched_method(options.method, problem.p, problem.y0)
+    controls = dispatched_controls(options.method, method, controls)
     return problem.p, integrate(core_method(method), problem, controls)
 
 
