@@ -159,7 +159,8 @@ def study_options(args: argparse.Namespace) -> SolverOptions:
         given = [k for k in ("rtol", "atol") if k in s]
         if given:
             raise InputError("tcr_rtol", f"sets the tolerances: give it or {given[0]}, not both")
-        s["rtol"] = tolerances_for_opening_time(parse_number("tcr_rtol", args.tcr_rtol))
+        tcr_rtol = parse_number("tcr_rtol", args.tcr_rtol)
+        s["rtol"] = tolerances_for_opening_time(tcr_rtol, s.get("method", "auto"))
     return solver_options(s)
 
 

@@ -37,11 +37,13 @@ from .many import (
 )
 from .one import opening_time, simulate
 from .options import (
+    AUTO_OPENING_TIME_ACCURACY,
     MAX_STEP_PERIODS,
     MAX_STEP_PERIODS_SHARP,
     OPENING_TIME_ACCURACY,
     SolverOptions,
     max_step_periods,
+    opening_time_accuracy,
     tolerances_for_opening_time,
 )
 from .setup import error_scale, integration_controls, integration_setup, pack_parameters
@@ -50,6 +52,7 @@ from .start import StartTimes, start_times
 __all__ = [
     "MAX_STEP_PERIODS",
     "MAX_STEP_PERIODS_SHARP",
+    "AUTO_OPENING_TIME_ACCURACY",
     "OPENING_TIME_ACCURACY",
     "POINT_STATUSES",
     "Advanced",
@@ -75,5 +78,6 @@ __all__ = [
     "point_status",
     "simulate",
     "start_times",
+    "opening_time_accuracy",
     "tolerances_for_opening_time",
 ]

@@ -29,6 +29,7 @@ from ..vocab import (
 __all__ = [
     "MAX_STEP_PERIODS",
     "MAX_STEP_PERIODS_SHARP",
+    "AUTO_OPENING_TIME_ACCURACY",
     "OPENING_TIME_ACCURACY",
     "SolverOptions",
     "max_step_periods",
@@ -151,22 +152,25 @@ class SolverOptions:
     def for_opening_time_accuracy(cls, tcr_rtol: float, **kw: Any) -> SolverOptions:
         """Options whose t_cr is accurate to `tcr_rtol` (relative) on the measured cases.
 
-        The tolerances come from :data:`OPENING_TIME_ACCURACY`, the loosest whose
-        measured worst t_cr error, times a safety factor of 3, is within
-        `tcr_rtol` over the rig at 40-1000 rad/s; the long near-stick runs below
-        100 rad/s set it (above 100 rad/s the default rtol 1e-8 is within 3.0e-7).
-        Looser requests get rtol 1e-8 too (the default): at rtol 3e-8 the
-        10,000-point rig sweep over 100-700 rad/s already has a worst error of 6.6e-5
-        (near stick, 11 points beyond 1e-6) for 4 % less time.
+        The tolerances come from the method's measured table
+        (:func:`opening_time_accuracy`), the loosest whose worst t_cr error over the rig
+        at 40-1000 rad/s, times a safety factor of 3, is within `tcr_rtol`. For the
+        default ``"auto"`` (:data:`AUTO_OPENING_TIME_ACCURACY`) that is rtol 1e-8 down to
+        5.7e-7; for the others (:data:`OPENING_TIME_ACCURACY`) the regularised path's
+        long near-stick runs below 100 rad/s set it. Looser requests get rtol 1e-8 too
+        (the default): at rtol 3e-8 the 10,000-point rig sweep over 100-700 rad/s
+        already has a worst error of 6.6e-5 (near stick, 11 points beyond 1e-6) for 4 %
+        less time.
 
         Parameters
         ----------
         tcr_rtol : float
-            Requested relative accuracy of t_cr, >= 4.5e-7 [-].
+            Requested relative accuracy of t_cr [-]: >= 1.6e-8 for ``"auto"``, >= 4.5e-7
+            for the other methods.
         **kw
             Other :class:`SolverOptions` fields (not ``rtol``/``atol``).
         """
-        rtol = tolerances_for_opening_time(tcr_rtol)
+        rtol = tolerances_for_opening_time(tcr_rtol, kw.get("method", "auto"))
         return cls(rtol=rtol, atol=rtol * 1e-2, **kw)
 
     def digest_extra(self) -> dict[str, Any]:
@@ -223,6 +227,27 @@ OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
     (1.1e-5, 1e-9),
     (4.5e-7, 1e-10),
 )
+#: (t_cr accuracy, rtol) of the default method ``"auto"`` (the set-valued solver below
+#: the stick-ratio threshold, at a third of the tolerances; the regularised path above,
+#: :mod:`obturator.solve.dispatch`): 3 x the worst relative error against the width-free
+#: limit (the set-valued solver at rtol 1e-12) over 2,000 rig points at 40-1000 rad/s
+#: (mu_s 0.5473), the sweep path and the one-trajectory path bit-identical: rtol 1e-8
+#: 1.89e-7, 3e-9 1.31e-7, 1e-9 4.96e-8, 1e-10 5.10e-9 (2026-11-26, AMD EPYC Zen 4;
+#: ``python -m benchmarks.dense_accuracy --limit`` at each rtol). The width error is
+#: included here, unlike :data:`OPENING_TIME_ACCURACY` (the regularised path's own
+#: integration error, which every other method uses as its conservative bound).
+AUTO_OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
+    (5.7e-7, 1e-8),
+    (4.0e-7, 3e-9),
+    (1.5e-7, 1e-9),
+    (1.6e-8, 1e-10),
+)
+
+
+def opening_time_accuracy(method: str = "auto") -> tuple[tuple[float, float], ...]:
+    """The measured (t_cr accuracy, rtol) table that `method` picks its tolerances from:
+    :data:`AUTO_OPENING_TIME_ACCURACY` for ``"auto"``, else :data:`OPENING_TIME_ACCURACY`."""
+    return AUTO_OPENING_TIME_ACCURACY if method == "auto" else OPENING_TIME_ACCURACY
 
 
 #: Largest default step, in spin periods: a tenth, and :data:`MAX_STEP_PERIODS_SHARP`
@@ -247,16 +272,19 @@ def max_step_periods(case: Case) -> float:
     return MAX_STEP_PERIODS_SHARP if sharp else MAX_STEP_PERIODS
 
 
-def tolerances_for_opening_time(tcr_rtol: float) -> float:
-    """rtol for a requested relative t_cr accuracy (see :data:`OPENING_TIME_ACCURACY`).
+def tolerances_for_opening_time(tcr_rtol: float, method: str = "auto") -> float:
+    """rtol for a requested relative t_cr accuracy with `method`
+    (:func:`opening_time_accuracy`: the default ``"auto"`` its own table, every other
+    method the regularised path's).
 
     Raises
     ------
     InputError
-        `tcr_rtol` outside [4.5e-7, 0.1].
+        `tcr_rtol` outside [1.6e-8, 0.1] (``"auto"``) or [4.5e-7, 0.1] (other methods).
     """
-    check_range("tcr_rtol", tcr_rtol, OPENING_TIME_ACCURACY[-1][0], 0.1)
-    for accuracy, rtol in OPENING_TIME_ACCURACY:
+    table = opening_time_accuracy(method)
+    check_range("tcr_rtol", tcr_rtol, table[-1][0], 0.1)
+    for accuracy, rtol in table:
         if tcr_rtol >= accuracy:
             return rtol
     raise AssertionError("unreachable")  # pragma: no cover
