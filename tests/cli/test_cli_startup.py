@@ -70,13 +70,15 @@ def test_warmup_fills_an_empty_cache_and_later_runs_load_it(tmp_path):
         capture_output=True, text=True, env=env, check=True,
     )  # fmt: skip
     rec = json.loads(out.stdout)
-    assert set(rec["time_s"]) == {"dop853", "radau", "lanes", "radau-lanes"} and rec["wall_s"] > 0
+    expected = {"dop853", "radau", "lanes", "radau-lanes", "set-valued"}
+    assert set(rec["time_s"]) == expected and rec["wall_s"] > 0
     assert all(rec["compiled"].values()) and rec["cache_directory"] == str(tmp_path)
     assert rec["obturator_version"]
     names = {p.name for p in tmp_path.rglob("*.nbi")}
     assert any(n.startswith("dop853.integrate") for n in names)
     assert any(n.startswith("radau.integrate") for n in names)
     assert any(n.startswith("dop853.integrate_lanes") for n in names)  # lanes/dop853.py
+    assert any(n.startswith("stick_slip._integrate") for n in names)  # the default's low spins
     again = subprocess.run(
         [sys.executable, "-m", "obturator", "warmup"],
         capture_output=True, text=True, env=env, check=True,

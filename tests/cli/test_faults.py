@@ -118,7 +118,11 @@ def test_dask_scheduler_dying_mid_sweep_keeps_work_and_resumes(tmp_path: Path) -
     resumed = execute_sweep(spec, runner=Runner(workers=1, store=store))
     assert resumed.n_resumed == finished
     full = run_sweep(spec, runner=Runner(workers=1))
-    np.testing.assert_array_equal(resumed.dataset["t_cr"].values, full["t_cr"].values)
+    # the chunks from the dask worker and the local ones agree to rounding: these spins
+    # run set-valued, whose compiled code can round differently in a process that loads
+    # it from the cache than in one that compiled it (numba's binding of inlined callee
+    # copies, docs/stick_slip.md section 11: <= 5e-11 measured)
+    np.testing.assert_allclose(resumed.dataset["t_cr"].values, full["t_cr"].values, rtol=1e-9)
 
 
 @pytest.mark.slow  # waits out a 10 s timeout
