@@ -3,8 +3,8 @@
 :func:`opening_times` takes a sequence of cases (an
 :class:`~obturator.errors.InputError` in place of a case marks an invalid point) and
 returns t_cr, a :class:`~obturator.status.Status` per case and work counters. Where
-the options allow (method ``auto`` or ``regularised``, no convergence check) the cases
-are integrated together in the SIMD lanes of
+the options allow (method ``auto`` or ``regularised``; with a convergence check, its
+reruns too) the cases are integrated together in the SIMD lanes of
 :func:`obturator.core.integrators.lanes.integrate_lanes`, else one by one through
 :func:`obturator.solve.opening_time`; both give the same t_cr and status per case:
 
@@ -207,11 +207,7 @@ def opening_times(
         for k, case in enumerate(cases):
             if not isinstance(case, InputError):
                 t_cr[k], status[k] = _one_by_one(case, options)
-        out = (
-            t_cr,
-            status,
-            {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0, "n_set_valued": 0},
-        )
+        out = t_cr, status, _stats(n)
     if check_convergence:
         _mark_unconverged(cases, options, out[0], out[1])
     if strict:
@@ -281,14 +277,12 @@ def advance(
         nfev[k] = res.nfev
         if res.state.shape[0]:
             end[k] = res.state[-1]
-    stats = {
-        "n_points": n,
-        "nfev": int(nfev.sum()),
-        "n_stiff": 0,
-        "n_hand_backs": 0,
-        "n_set_valued": 0,
-    }
-    return Advanced(t_cr, status, end, nfev, stats)
+    return Advanced(t_cr, status, end, nfev, _stats(n, int(nfev.sum())))
+
+
+def _stats(n: int, nfev: int = 0) -> dict[str, int]:
+    """The work counters of :func:`opening_times` for `n` points before any lane work."""
+    return {"n_points": n, "nfev": nfev, "n_stiff": 0, "n_hand_backs": 0, "n_set_valued": 0}
 
 
 def _raise_failed(cases: Sequence[object], status: np.ndarray) -> None:
@@ -403,7 +397,7 @@ def integrate_packed(
     n = packed.valid.size
     t_cr = np.full(n, math.nan)
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
-    stats = {"n_points": n, "nfev": 0, "n_stiff": 0, "n_hand_backs": 0, "n_set_valued": 0}
+    stats = _stats(n)
     valid = np.flatnonzero(packed.valid)
     if options.method == "auto":
         chosen = [dispatched_method("auto", packed.p[k], packed.y0[k]) for k in valid]
