@@ -3,8 +3,10 @@
 An option that several commands take (``--json``, ``--seed``, the solver tolerances,
 the execution flags, the outputs) is one :class:`Flag` here, with its kind
 (:mod:`._kinds`); a command adds the ones it takes with :func:`add_flags` (or
-:func:`add_command`), changing a setting only where its meaning differs there
-(:meth:`Flag.but`: another default, help or destination).
+:func:`add_command`; a module with one sub-command declares it with :func:`command`),
+changing a setting only where its meaning differs there (:meth:`Flag.but`: another
+default, help or destination). :func:`count`, :func:`quantity_option` and :func:`switch`
+make the options of the common kinds.
 """
 
 from __future__ import annotations
@@ -27,6 +29,8 @@ __all__ = [
     "switch",
     "add_flags",
     "add_command",
+    "command",
+    "quantity_option",
     "execution_flags",
     "RESTART",
     "study_flags",
@@ -37,6 +41,7 @@ __all__ = [
     "RTOL",
     "ATOL",
     "T_MAX",
+    "RIG_HORIZON",
     "SEED_FLAG",
     "CONFIDENCE",
     "VARY",
@@ -73,6 +78,21 @@ def count(
     return option(name, metavar="N", type=kind, help=text, **settings)
 
 
+def quantity_option(
+    name: str,
+    unit: str,
+    rng: Range,
+    example: str,
+    text: str,
+    *,
+    metavar: str = "X",
+    **settings: Any,
+) -> Flag:
+    """An option with a value in `unit` within `rng` (:class:`._kinds.Quantity`) and its
+    help `text`; `example` is a valid value with its unit (for the contract tests)."""
+    return option(name, metavar=metavar, type=Quantity(unit, rng, example), help=text, **settings)
+
+
 def switch(name: str, text: str) -> Flag:
     """An on/off option (``store_true``) with its help `text`."""
     return option(name, action="store_true", help=text)
@@ -101,6 +121,19 @@ def add_command(
     return parser
 
 
+def command(
+    name: str, run: Callable[[argparse.Namespace], int], description: str, *flags: Flag
+) -> Callable[[argparse._SubParsersAction], argparse.ArgumentParser]:
+    """The ``register(subparsers)`` of a module with one sub-command: it adds `name`,
+    which takes `flags` and calls `run`, with :func:`add_command`."""
+
+    def register(subparsers: argparse._SubParsersAction) -> argparse.ArgumentParser:
+        return add_command(subparsers, name, run, description, *flags)
+
+    register.__doc__ = f"Add the ``{name}`` sub-command."
+    return register
+
+
 JSON = switch("--json", "print one JSON object")
 NO_PROGRESS = switch("--no-progress", "no progress bar")
 CONFIG = option(
@@ -115,6 +148,8 @@ ATOL = option(
 T_MAX = option(
     "--t-max", metavar="S", type=quantity_of("t_max"), help="give up after this time [s]"
 )
+#: Horizon of the commands fitted to spin-rig data: later runs count as censored.
+RIG_HORIZON = T_MAX.but(default="20", type=Quantity("s", Range(0.0, 1e4, True, False), "20 s"))
 TORQUE_MODEL = option("--torque-model", choices=TORQUE_MODELS, default=None)
 SEED_FLAG = option("--seed", metavar="S", default="0", type=SEED)
 #: Level of a confidence interval.
@@ -174,11 +209,12 @@ def study_flags() -> tuple[Flag, ...]:
         CONFIG.but(help="settings (schema in obturator.io; flags win)"),
         RTOL,
         ATOL.but(help="absolute tolerance (default rtol/100, or 1e-10)"),
-        option(
+        quantity_option(
             "--tcr-rtol",
-            metavar="X",
-            type=Quantity("", Range(0.0, 1.0, True, True), "1e-4"),
-            help="set the tolerances for this relative t_cr accuracy (measured tables in "
+            "",
+            Range(0.0, 1.0, True, True),
+            "1e-4",
+            "set the tolerances for this relative t_cr accuracy (measured tables in "
             "obturator.solve: with the default method auto >= 1.6e-8, its default rtol 1e-8 "
             "within 1.9e-7 of the width-free limit over 40-1000 rad/s; with --method "
             "regularised and the others >= 4.5e-7, set by the rig's long near-stick runs: "

@@ -25,6 +25,7 @@ from ._flags import (
     add_flags,
     execution_flags,
     option,
+    quantity_option,
     switch,
 )
 from ._kinds import Axis, NameOrFile, OutputFile, Quantity
@@ -145,11 +146,8 @@ _LAUNCH_POINT = (
     ),
 )
 _LAUNCH = (
-    option(
-        "--elevation-deg",
-        metavar="X",
-        type=Quantity("deg", Range(-90.0, 90.0), "0 deg"),
-        help="elevation angle [deg] (default 0)",
+    quantity_option(
+        "--elevation-deg", "deg", Range(-90.0, 90.0), "0 deg", "elevation angle [deg] (default 0)"
     ),
     option(
         "--spin-rate",
@@ -158,12 +156,9 @@ _LAUNCH = (
         help="muzzle spin [rad/s]; default: rifling twist, 2 pi V_0 / twist "
         "(12042 rad/s at Table 1's Mach 3, sea level)",
     ),
-    option(
-        "--twist",
-        metavar="X",
-        type=Quantity("m", Range(1e-3, 100.0), "0.5 m"),  # found by the fuzz suite: 1e308 m
-        # divided by zero; 1 mm to 100 m per turn spans every rifling
-        help="rifling twist [m per turn] (default 0.5327)",
+    # found by the fuzz suite: 1e308 m divided by zero; 1 mm to 100 m per turn spans every rifling
+    quantity_option(
+        "--twist", "m", Range(1e-3, 100.0), "0.5 m", "rifling twist [m per turn] (default 0.5327)"
     ),
     option(
         "--drag",
@@ -173,18 +168,12 @@ _LAUNCH = (
         type=NameOrFile(_DRAG_CURVES, "tubular-open"),
         help="drag curve: tubular-closed (default), tubular-open, or a CSV with columns mach,cd",
     ),
-    option(
-        "--roll-damping",
-        metavar="X",
-        type=Quantity("", Range(-10.0, 10.0), "-0.012"),
-        help="roll-damping coefficient C_lp (-0.012)",
+    quantity_option(
+        "--roll-damping", "", Range(-10.0, 10.0), "-0.012", "roll-damping coefficient C_lp (-0.012)"
     ),
-    option(
-        "--projectile-mass",
-        metavar="X",
-        type=Quantity("kg", Range(1e-3, 1e3), "0.141 kg"),  # 1 g to 1 t (fuzz: 1e-300 kg
-        # stalled the trajectory integration)
-        help="projectile mass [kg] (0.141)",
+    # 1 g to 1 t (fuzz: 1e-300 kg stalled the trajectory integration)
+    quantity_option(
+        "--projectile-mass", "kg", Range(1e-3, 1e3), "0.141 kg", "projectile mass [kg] (0.141)"
     ),
 )
 _SOLVER = (
@@ -197,11 +186,13 @@ _SOLVER = (
     ),
     RTOL,
     ATOL,
-    option(
+    quantity_option(
         "--segment",
+        "s",
+        Range(MIN_SEGMENT, 0.1),
+        "2 ms",
+        f"segment of the coupled load [s] (2e-3; {MIN_SEGMENT:g} to 0.1)",
         metavar="S",
-        type=Quantity("s", Range(MIN_SEGMENT, 0.1), "2 ms"),
-        help=f"segment of the coupled load [s] (2e-3; {MIN_SEGMENT:g} to 0.1)",
     ),
     T_MAX.but(help="give up after this time [s] (default 1)"),
     switch(

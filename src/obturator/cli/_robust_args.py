@@ -19,6 +19,7 @@ from ._flags import (
     add_flags,
     count,
     option,
+    quantity_option,
     switch,
 )
 from ._flight_args import (
@@ -30,7 +31,7 @@ from ._flight_args import (
     add_execution_arguments,
     add_model_arguments,
 )
-from ._kinds import Quantity, Text
+from ._kinds import Text
 
 __all__ = [
     "add_robust_commands",
@@ -117,12 +118,8 @@ def _add_probability(
         ),
         count("--stage-samples", 20, MAX_SAMPLES, "IS samples per stage", default="500"),
         count("--final-samples", 20, MAX_SAMPLES, "IS final samples", default="1000"),
-        option(
-            "--rho",
-            default="0.1",
-            metavar="X",
-            type=Quantity("", Range(0.0, 1.0, True, True), "0.1"),
-            help="IS elite fraction",
+        quantity_option(
+            "--rho", "", Range(0.0, 1.0, True, True), "0.1", "IS elite fraction", default="0.1"
         ),
         SEED_FLAG,
         CONFIDENCE,
@@ -206,24 +203,30 @@ def _add_optimize(
             type=Text(example="mu_s=0.3,0.4"),
             help="override bounds (SI)",
         ),
-        option(
+        quantity_option(
             "--mass-budget",
+            "kg",
+            _POSITIVE,
+            "10 g",
+            "largest ball mass (Table 1 ball's)",
             metavar="KG",
-            type=Quantity("kg", _POSITIVE, "10 g"),
-            help="largest ball mass (Table 1 ball's)",
         ),
-        option(
+        quantity_option(
             "--wall",
+            "m",
+            _POSITIVE,
+            "2 mm",
+            "smallest socket wall R_p - R_s (2.061 mm)",
             metavar="M",
-            type=Quantity("m", _POSITIVE, "2 mm"),
-            help="smallest socket wall R_p - R_s (2.061 mm)",
         ),
-        option(
+        quantity_option(
             "--block-margin-deg",
-            default="2",
+            "deg",
+            Range(0.0, 90.0, False, True),
+            "2 deg",
+            "theta0-beta-beta_s",
             metavar="DEG",
-            type=Quantity("deg", Range(0.0, 90.0, False, True), "2 deg"),
-            help="theta0-beta-beta_s",
+            default="2",
         ),
         count(
             "--popsize",

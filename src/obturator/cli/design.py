@@ -20,15 +20,16 @@ from . import _json
 from ._flags import (
     JSON,
     OUT_NETCDF,
+    RIG_HORIZON,
     SEED_FLAG,
-    T_MAX,
     Flag,
-    add_command,
+    command,
     count,
     execution_flags,
     option,
+    quantity_option,
 )
-from ._kinds import Count, InputFile, OutputFile, Quantity, Text
+from ._kinds import Count, InputFile, OutputFile, Text
 from ._runner import study_runner, write_dataset
 
 __all__ = ["register"]
@@ -38,11 +39,13 @@ _HOLE_MAX = 7.899e-3 / math.sqrt(2.0)  # r_s <= R_s / sqrt(2) [m]
 
 def _pair(name: str, unit: str, rng: Range, what: str, ex: str) -> tuple[Flag, ...]:
     return tuple(
-        option(
+        quantity_option(
             f"--{name}-{end}",
+            unit,
+            rng,
+            ex,
+            f"{'lowest' if end == 'min' else 'highest'} {what} [{unit}]",
             metavar=unit.upper().replace("/", "_").replace("^", ""),
-            type=Quantity(unit, rng, ex),
-            help=f"{'lowest' if end == 'min' else 'highest'} {what} [{unit}]",
         )
         for end in ("min", "max")
     )
@@ -51,75 +54,6 @@ def _pair(name: str, unit: str, rng: Range, what: str, ex: str) -> tuple[Flag, .
 def _points(name: str, default: str, what: str) -> Flag:
     text = f"grid points of the {what} ({default}; the Table 1 value is added)"
     return count(f"--{name}-points", 1, 50, text, example=2, default=default)
-
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``design-experiment`` sub-command."""
-    add_command(
-        subparsers,
-        "design-experiment",
-        _run,
-        "Optimal experiment design for model discrimination on the spin rig: "
-        "Box-Hill criterion over spin, release angle, hole radius and ball density, checked "
-        "by simulated campaigns against a naive plan (spins spread as Appendix B).",
-        option(
-            "--models",
-            metavar="NAME,...",
-            type=Text(example="strengthening,theta0"),
-            help="candidates, comma-separated (default strengthening,theta0; "
-            "obturator validate --list-models)",
-        ),
-        option(
-            "--runs",
-            metavar="N,...",
-            default="1,2,3,5,10,20",
-            type=Text(example="5,10"),
-            help="campaign sizes to plan and simulate (1,2,3,5,10,20; each 1-200)",
-        ),
-        count(
-            "--campaigns",
-            10,
-            100_000,
-            "simulated campaigns per generating model and plan (200; at least 10)",
-            default="200",
-        ),
-        SEED_FLAG.but(default="1", type=Count(0, 2**32 - 1), help="random seed (1)"),
-        *_pair("spin", "rad/s", Range(20.0, 2000.0), "spin rate (90, 450)", "200 rad/s"),
-        *_pair("theta0", "deg", Range(45.0, 89.5), "release angle as set (70, 89)", "80 deg"),
-        *_pair("hole-radius", "m", Range(1e-3, _HOLE_MAX), "hole radius (3.75, 5.58 mm)", "4 mm"),
-        *_pair("density", "kg/m^3", Range(1000.0, 20000.0), "ball density (6000, 10000)", "8000"),
-        _points("spin", "8", "spin rates (geometric)"),
-        _points("theta0", "3", "release angles"),
-        _points("hole-radius", "2", "hole radii"),
-        _points("density", "2", "densities"),
-        option(
-            "--release-sd",
-            metavar="DEG",
-            type=Quantity("deg", Range(0.0, 10.0), "0.1 deg"),
-            help="repeatability (SD) of the release angle, if measured [deg] (default: the "
-            "largest the replicate scatter allows, about 0.9 deg on Appendix B)",
-        ),
-        option(
-            "--data",
-            metavar="FILE.csv",
-            type=InputFile(example="runs.csv"),
-            help="measured runs in the calibrate CSV format (default: thesis Appendix B)",
-        ),
-        T_MAX.but(
-            default="20",
-            type=Quantity("s", Range(0.0, 1e4, True, False), "20 s"),
-            help="horizon [s] (20)",
-        ),
-        option(
-            "--figure",
-            metavar="FILE.png",
-            type=OutputFile(figure=True, example="design.png"),
-            help="predictions over each setting with bands and the planned runs",
-        ),
-        JSON,
-        OUT_NETCDF.but(type=OutputFile(suffixes=("nc",), example="design.nc")),
-        *execution_flags(),
-    )
 
 
 def _sizes(text: str) -> list[int]:
@@ -205,3 +139,67 @@ def _run(args: argparse.Namespace) -> int:
 
         print(format_design(result))
     return 0
+
+
+register = command(
+    "design-experiment",
+    _run,
+    "Optimal experiment design for model discrimination on the spin rig: "
+    "Box-Hill criterion over spin, release angle, hole radius and ball density, checked "
+    "by simulated campaigns against a naive plan (spins spread as Appendix B).",
+    option(
+        "--models",
+        metavar="NAME,...",
+        type=Text(example="strengthening,theta0"),
+        help="candidates, comma-separated (default strengthening,theta0; "
+        "obturator validate --list-models)",
+    ),
+    option(
+        "--runs",
+        metavar="N,...",
+        default="1,2,3,5,10,20",
+        type=Text(example="5,10"),
+        help="campaign sizes to plan and simulate (1,2,3,5,10,20; each 1-200)",
+    ),
+    count(
+        "--campaigns",
+        10,
+        100_000,
+        "simulated campaigns per generating model and plan (200; at least 10)",
+        default="200",
+    ),
+    SEED_FLAG.but(default="1", type=Count(0, 2**32 - 1), help="random seed (1)"),
+    *_pair("spin", "rad/s", Range(20.0, 2000.0), "spin rate (90, 450)", "200 rad/s"),
+    *_pair("theta0", "deg", Range(45.0, 89.5), "release angle as set (70, 89)", "80 deg"),
+    *_pair("hole-radius", "m", Range(1e-3, _HOLE_MAX), "hole radius (3.75, 5.58 mm)", "4 mm"),
+    *_pair("density", "kg/m^3", Range(1000.0, 20000.0), "ball density (6000, 10000)", "8000"),
+    _points("spin", "8", "spin rates (geometric)"),
+    _points("theta0", "3", "release angles"),
+    _points("hole-radius", "2", "hole radii"),
+    _points("density", "2", "densities"),
+    quantity_option(
+        "--release-sd",
+        "deg",
+        Range(0.0, 10.0),
+        "0.1 deg",
+        "repeatability (SD) of the release angle, if measured [deg] (default: the "
+        "largest the replicate scatter allows, about 0.9 deg on Appendix B)",
+        metavar="DEG",
+    ),
+    option(
+        "--data",
+        metavar="FILE.csv",
+        type=InputFile(example="runs.csv"),
+        help="measured runs in the calibrate CSV format (default: thesis Appendix B)",
+    ),
+    RIG_HORIZON.but(help="horizon [s] (20)"),
+    option(
+        "--figure",
+        metavar="FILE.png",
+        type=OutputFile(figure=True, example="design.png"),
+        help="predictions over each setting with bands and the planned runs",
+    ),
+    JSON,
+    OUT_NETCDF.but(type=OutputFile(suffixes=("nc",), example="design.nc")),
+    *execution_flags(),
+)

@@ -43,7 +43,7 @@ from typing import Any
 
 from ..params import Range
 from . import _json
-from ._flags import JSON, OUT_NETCDF, add_command, add_flags, option
+from ._flags import JSON, OUT_NETCDF, add_command, add_flags, option, quantity_option
 from ._flight_args import (
     ALTITUDE_GRID,
     FIGURE,
@@ -60,7 +60,7 @@ from ._flight_args import (
     model_from_args,
     quantity,
 )
-from ._kinds import Axis, Quantity
+from ._kinds import Axis
 from ._runner import study_runner, write_dataset
 
 __all__ = [
@@ -340,12 +340,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
             help="temperature offsets [K]",
         ),
         REQUIREMENT_FLAG,
-        option(
+        quantity_option(
             "--area-ratio",
-            metavar="X",
+            "",
+            Range(1.0, math.inf, False, True),
+            "1",
+            "inlet A_c/A_t (default 1)",
             default="1",
-            type=Quantity("", Range(1.0, math.inf, False, True), "1"),
-            help="inlet A_c/A_t (default 1)",
         ),
     )
     add_model_arguments(e, launch_point=False)

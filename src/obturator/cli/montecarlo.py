@@ -42,7 +42,7 @@ from ._flags import (
     OUT_NETCDF,
     SEED_FLAG,
     VARY,
-    add_command,
+    command,
     count,
     option,
     parameter_flags,
@@ -53,49 +53,6 @@ from ._kinds import Text
 from ._runner import runner_from_args
 
 __all__ = ["register"]
-
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``montecarlo`` sub-command."""
-    add_command(
-        subparsers,
-        "montecarlo",
-        _run_montecarlo,
-        "Sample uncertain inputs (--vary NAME=KIND:ARGS, KIND one of normal:MEAN,SD "
-        "uniform:LO,HI lognormal:MEDIAN,SIGMA_LN truncnormal:MEAN,SD,LO,HI) and report t_cr "
-        "quantiles with order-statistic confidence intervals.",
-        count(
-            "--samples",
-            1,
-            MAX_SAMPLES,
-            f"number of samples (at most {MAX_SAMPLES}: see obturator.sweeps.MAX_SAMPLES)",
-            example=2,
-            required=True,
-        ),
-        SEED_FLAG.but(help="root seed (default 0)"),
-        VARY.but(
-            required=True,
-            type=Text(example="mu_s=uniform:0.5,0.6"),
-            help="uncertain input, e.g. mu_s=normal:0.5473,0.03 (repeatable)",
-        ),
-        *parameter_flags(grid=False),
-        option(
-            "--quantiles",
-            metavar="P,P,...",
-            default="5,50,95",
-            type=Text(example="50"),
-            help="percentiles (default 5,50,95)",
-        ),
-        CONFIDENCE.but(metavar="X", help="interval level (0.95)"),
-        *study_flags(),
-        OUT_NETCDF.but(help="write samples and summary as NetCDF"),
-        switch(
-            "--no-check-convergence",
-            "skip the per-sample convergence check (4x faster; non-converged openings, "
-            "status 4, are then not detected)",
-        ),
-        CSV.but(help="write the samples as CSV"),
-    )
 
 
 def _print_mc(s: MonteCarloSummary, header: str) -> None:
@@ -190,3 +147,43 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
     )
     _print_mc(summ, header)
     return 0
+
+
+register = command(
+    "montecarlo",
+    _run_montecarlo,
+    "Sample uncertain inputs (--vary NAME=KIND:ARGS, KIND one of normal:MEAN,SD "
+    "uniform:LO,HI lognormal:MEDIAN,SIGMA_LN truncnormal:MEAN,SD,LO,HI) and report t_cr "
+    "quantiles with order-statistic confidence intervals.",
+    count(
+        "--samples",
+        1,
+        MAX_SAMPLES,
+        f"number of samples (at most {MAX_SAMPLES}: see obturator.sweeps.MAX_SAMPLES)",
+        example=2,
+        required=True,
+    ),
+    SEED_FLAG.but(help="root seed (default 0)"),
+    VARY.but(
+        required=True,
+        type=Text(example="mu_s=uniform:0.5,0.6"),
+        help="uncertain input, e.g. mu_s=normal:0.5473,0.03 (repeatable)",
+    ),
+    *parameter_flags(grid=False),
+    option(
+        "--quantiles",
+        metavar="P,P,...",
+        default="5,50,95",
+        type=Text(example="50"),
+        help="percentiles (default 5,50,95)",
+    ),
+    CONFIDENCE.but(metavar="X", help="interval level (0.95)"),
+    *study_flags(),
+    OUT_NETCDF.but(help="write samples and summary as NetCDF"),
+    switch(
+        "--no-check-convergence",
+        "skip the per-sample convergence check (4x faster; non-converged openings, "
+        "status 4, are then not detected)",
+    ),
+    CSV.but(help="write the samples as CSV"),
+)

@@ -5,46 +5,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ._flags import NO_PROGRESS, RESTART, add_command, option, switch
+from ._flags import NO_PROGRESS, RESTART, command, option, switch
 from ._kinds import OutputDir
 
 __all__ = ["register"]
-
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``reproduce`` sub-command."""
-    add_command(
-        subparsers,
-        "reproduce",
-        _reproduce,
-        "Run the studies of Bloomer (1980) Figs. 9-43, the chapter IV and exact-model "
-        "friction calibrations, and write PNG figures plus report.md and report.html "
-        "comparing every checkable printed number with the computed one.",
-        option(
-            "--out",
-            metavar="DIR",
-            required=True,
-            type=OutputDir(),
-            help="output directory (created; finished studies are kept in "
-            "report.partial.jsonl there until the report is written: a rerun resumes)",
-        ),
-        switch("--quick", "fewer points and a smaller bootstrap (seconds)"),
-        RESTART,
-        NO_PROGRESS,
-        switch(
-            "--no-validation",
-            "leave out the validation section (fits to all 54 runs; ~1 min quick)",
-        ),
-        switch(
-            "--envelope",
-            "add the firing-envelope section (t_cr map over Mach x altitude, Sobol indices)",
-        ),
-        switch(
-            "--design",
-            "add the experiment-design section (which runs decide between the leading "
-            "mechanisms, simulated campaigns)",
-        ),
-    )
 
 
 def _reproduce(args: argparse.Namespace) -> int:
@@ -69,3 +33,36 @@ def _reproduce(args: argparse.Namespace) -> int:
         f"in {res.elapsed_s:.1f} s ({flagged} rows differ from the thesis by > 2 %)"
     )
     return 0
+
+
+register = command(
+    "reproduce",
+    _reproduce,
+    "Run the studies of Bloomer (1980) Figs. 9-43, the chapter IV and exact-model "
+    "friction calibrations, and write PNG figures plus report.md and report.html "
+    "comparing every checkable printed number with the computed one.",
+    option(
+        "--out",
+        metavar="DIR",
+        required=True,
+        type=OutputDir(),
+        help="output directory (created; finished studies are kept in "
+        "report.partial.jsonl there until the report is written: a rerun resumes)",
+    ),
+    switch("--quick", "fewer points and a smaller bootstrap (seconds)"),
+    RESTART,
+    NO_PROGRESS,
+    switch(
+        "--no-validation",
+        "leave out the validation section (fits to all 54 runs; ~1 min quick)",
+    ),
+    switch(
+        "--envelope",
+        "add the firing-envelope section (t_cr map over Mach x altitude, Sobol indices)",
+    ),
+    switch(
+        "--design",
+        "add the experiment-design section (which runs decide between the leading "
+        "mechanisms, simulated campaigns)",
+    ),
+)

@@ -37,46 +37,13 @@ from ..sweeps import SweepSpec, execute_sweep, parse_axis, sweep_summary
 from ..vocab import SPEED_LAWS
 from . import _json
 from ._args import study_config, study_options, study_t_max
-from ._flags import CSV, OUT_NETCDF, add_command, option, parameter_flags, study_flags, switch
+from ._flags import CSV, OUT_NETCDF, command, option, parameter_flags, study_flags, switch
 from ._runner import runner_from_args
 
 __all__ = ["register", "AUTO_CSV_MAX_POINTS"]
 
 #: Sweeps up to this many points get a CSV next to the NetCDF automatically.
 AUTO_CSV_MAX_POINTS = 10_000
-
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``sweep`` sub-command."""
-    add_command(
-        subparsers,
-        "sweep",
-        _run_sweep,
-        "Evaluate the opening time t_cr on the Cartesian grid of the given parameters. "
-        "SPEC is START:STOP:COUNT (both ends included) or a list a,b,c; a single value "
-        "fixes the parameter. Values take units (e.g. --spin-rate '1000:6000:11 rpm'); a "
-        "number without a unit is in the unit shown.",
-        *parameter_flags(grid=True),
-        *study_flags(),
-        OUT_NETCDF.but(required=True, help="NetCDF output"),
-        option(
-            "--speed-law",
-            choices=SPEED_LAWS,
-            default="constant",
-            help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed)",
-        ),
-        switch(
-            "--check-convergence",
-            "re-run each opened point with tolerances / 10, friction width / 10 and another "
-            "regularisation family and mark points whose t_cr moves by more than 1e-3 "
-            "(status 4; 4x the cost)",
-        ),
-        CSV,
-        switch(
-            "--no-csv",
-            f"no automatic CSV next to the NetCDF (written for <= {AUTO_CSV_MAX_POINTS} points)",
-        ),
-    )
 
 
 def _run_sweep(args: argparse.Namespace) -> int:
@@ -158,3 +125,33 @@ def _run_sweep(args: argparse.Namespace) -> int:
         f"{summ['n_failed'] + summ['n_invalid']} failed; {trange}; wrote {files}"
     )
     return 0
+
+
+register = command(
+    "sweep",
+    _run_sweep,
+    "Evaluate the opening time t_cr on the Cartesian grid of the given parameters. "
+    "SPEC is START:STOP:COUNT (both ends included) or a list a,b,c; a single value "
+    "fixes the parameter. Values take units (e.g. --spin-rate '1000:6000:11 rpm'); a "
+    "number without a unit is in the unit shown.",
+    *parameter_flags(grid=True),
+    *study_flags(),
+    OUT_NETCDF.but(required=True, help="NetCDF output"),
+    option(
+        "--speed-law",
+        choices=SPEED_LAWS,
+        default="constant",
+        help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed)",
+    ),
+    switch(
+        "--check-convergence",
+        "re-run each opened point with tolerances / 10, friction width / 10 and another "
+        "regularisation family and mark points whose t_cr moves by more than 1e-3 "
+        "(status 4; 4x the cost)",
+    ),
+    CSV,
+    switch(
+        "--no-csv",
+        f"no automatic CSV next to the NetCDF (written for <= {AUTO_CSV_MAX_POINTS} points)",
+    ),
+)

@@ -17,94 +17,21 @@ from ..errors import InputError
 from ..params import Range
 from ..vocab import NOISE_MODELS
 from . import _json
-from ._flags import JSON, NO_PROGRESS, PLOT, RESTART, T_MAX, add_command, option, switch
-from ._kinds import Count, InputFile, OutputDir, OutputFile, Quantity, Text
+from ._flags import (
+    JSON,
+    NO_PROGRESS,
+    PLOT,
+    RESTART,
+    RIG_HORIZON,
+    command,
+    option,
+    quantity_option,
+    switch,
+)
+from ._kinds import Count, InputFile, OutputDir, OutputFile, Text
 from ._runner import runner_from_args
 
 __all__ = ["register"]
-
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``validate`` sub-command."""
-    add_command(
-        subparsers,
-        "validate",
-        _run,
-        "Model discrimination against the spin-rig data: the replicate (pure-error) floor, "
-        "a maximum-likelihood fit of every candidate to all runs, the starred runs and each "
-        "half of the spin range, AIC/BIC and out-of-band rms.",
-        option(
-            "--data",
-            metavar="FILE.csv",
-            type=InputFile(example="runs.csv"),
-            help="runs in the calibrate CSV format, with each run's own theta0, hole radius, "
-            "density, ball mass and measured angle if given (default: thesis Appendix B, "
-            "54 runs)",
-        ),
-        option(
-            "--models",
-            metavar="NAME,...",
-            type=Text(example="thesis"),
-            help="candidates, comma-separated (default: the standard set; --list-models)",
-        ),
-        switch("--list-models", "list the candidates and exit"),
-        JSON,
-        PLOT.but(
-            type=OutputFile(figure=True, example="validation.png"),
-            help="draw data, model curves and the floor",
-        ),
-        option(
-            "--out",
-            metavar="DIR",
-            type=OutputDir(),
-            help="write validation.json, validation.txt, validation.png (finished fits are "
-            "kept in validation.partial.jsonl there until then: a rerun resumes)",
-        ),
-        option(
-            "--workers",
-            "--jobs",
-            dest="jobs",
-            metavar="N",
-            default="2",
-            type=Count(1, 64),
-            help="worker processes (2; at most 64: one per candidate fit and data subset)",
-        ),
-        T_MAX.but(
-            default="20",
-            type=Quantity("s", Range(0.0, 1e4, True, False), "20 s"),
-            help="horizon [s]; later runs are censored (20)",
-        ),
-        option(
-            "--spin-sd",
-            metavar="RAD_S",
-            default=None,
-            type=Quantity("rad/s", Range(0.0, 100.0), "1 rad/s"),
-            help="spin error SD of the errors-in-variables term [rad/s] "
-            "(default 1.01: uniform on the rig's +-1.75 rad/s; 0: off)",
-        ),
-        option(
-            "--noise",
-            choices=NOISE_MODELS,
-            default="band",
-            help="run-to-run noise of the likelihood: one sigma per spin band fitted with the "
-            "model (band, the default: the replicate scatter differs tenfold between bands) "
-            "or one pooled sigma (pooled)",
-        ),
-        option(
-            "--cluster-gap",
-            metavar="RAD_S",
-            default=None,
-            type=Quantity("rad/s", Range(0.0, 1e4), "3 rad/s"),
-            help="single-linkage gap of the replicate clusters [rad/s] (default 3.49)",
-        ),
-        switch("--no-profile", "Wald intervals only (no profile likelihood)"),
-        switch(
-            "--profile-all",
-            "profile-likelihood intervals for every candidate (default: the recommended one)",
-        ),
-        RESTART,
-        NO_PROGRESS,
-    )
 
 
 def _list_models(as_json: bool) -> int:
@@ -190,3 +117,83 @@ def _run(args: argparse.Namespace) -> int:
     else:
         print(text)
     return 0
+
+
+register = command(
+    "validate",
+    _run,
+    "Model discrimination against the spin-rig data: the replicate (pure-error) floor, "
+    "a maximum-likelihood fit of every candidate to all runs, the starred runs and each "
+    "half of the spin range, AIC/BIC and out-of-band rms.",
+    option(
+        "--data",
+        metavar="FILE.csv",
+        type=InputFile(example="runs.csv"),
+        help="runs in the calibrate CSV format, with each run's own theta0, hole radius, "
+        "density, ball mass and measured angle if given (default: thesis Appendix B, "
+        "54 runs)",
+    ),
+    option(
+        "--models",
+        metavar="NAME,...",
+        type=Text(example="thesis"),
+        help="candidates, comma-separated (default: the standard set; --list-models)",
+    ),
+    switch("--list-models", "list the candidates and exit"),
+    JSON,
+    PLOT.but(
+        type=OutputFile(figure=True, example="validation.png"),
+        help="draw data, model curves and the floor",
+    ),
+    option(
+        "--out",
+        metavar="DIR",
+        type=OutputDir(),
+        help="write validation.json, validation.txt, validation.png (finished fits are "
+        "kept in validation.partial.jsonl there until then: a rerun resumes)",
+    ),
+    option(
+        "--workers",
+        "--jobs",
+        dest="jobs",
+        metavar="N",
+        default="2",
+        type=Count(1, 64),
+        help="worker processes (2; at most 64: one per candidate fit and data subset)",
+    ),
+    RIG_HORIZON.but(help="horizon [s]; later runs are censored (20)"),
+    quantity_option(
+        "--spin-sd",
+        "rad/s",
+        Range(0.0, 100.0),
+        "1 rad/s",
+        "spin error SD of the errors-in-variables term [rad/s] "
+        "(default 1.01: uniform on the rig's +-1.75 rad/s; 0: off)",
+        metavar="RAD_S",
+        default=None,
+    ),
+    option(
+        "--noise",
+        choices=NOISE_MODELS,
+        default="band",
+        help="run-to-run noise of the likelihood: one sigma per spin band fitted with the "
+        "model (band, the default: the replicate scatter differs tenfold between bands) "
+        "or one pooled sigma (pooled)",
+    ),
+    quantity_option(
+        "--cluster-gap",
+        "rad/s",
+        Range(0.0, 1e4),
+        "3 rad/s",
+        "single-linkage gap of the replicate clusters [rad/s] (default 3.49)",
+        metavar="RAD_S",
+        default=None,
+    ),
+    switch("--no-profile", "Wald intervals only (no profile likelihood)"),
+    switch(
+        "--profile-all",
+        "profile-likelihood intervals for every candidate (default: the recommended one)",
+    ),
+    RESTART,
+    NO_PROGRESS,
+)

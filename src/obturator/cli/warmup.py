@@ -5,33 +5,9 @@ from __future__ import annotations
 import argparse
 
 from . import _json
-from ._flags import JSON, add_command, count, switch
+from ._flags import JSON, command, count, switch
 
 __all__ = ["register"]
-
-
-def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add the ``warmup`` sub-command."""
-    add_command(
-        subparsers,
-        "warmup",
-        _run,
-        "Compile the five integrators (DOP853 and Radau IIA, the set-valued stick-slip "
-        "solver, and the sweeps' DOP853 and Radau IIA lanes; with --all also Rosenbrock) "
-        "side by side in fresh processes and store the machine code in numba's cache, so "
-        "that the first simulation or sweep starts warm. Says whether each was compiled or "
-        "loaded from the cache, and where the cache is.",
-        count(
-            "--jobs",
-            1,
-            64,
-            "processes compiling at once (2; at most 64: one per integrator is all it uses)",
-            example=2,
-            default=2,
-        ),
-        switch("--all", "also the Rosenbrock method"),
-        JSON,
-    )
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -50,3 +26,24 @@ def _run(args: argparse.Namespace) -> int:
     verb = "compiled" if any(compiled.values()) else "loaded from the cache"
     print(f"{verb} in {res['wall_s']:.1f} s ({each}); cache: {res['directory']}")
     return 0
+
+
+register = command(
+    "warmup",
+    _run,
+    "Compile the five integrators (DOP853 and Radau IIA, the set-valued stick-slip "
+    "solver, and the sweeps' DOP853 and Radau IIA lanes; with --all also Rosenbrock) "
+    "side by side in fresh processes and store the machine code in numba's cache, so "
+    "that the first simulation or sweep starts warm. Says whether each was compiled or "
+    "loaded from the cache, and where the cache is.",
+    count(
+        "--jobs",
+        1,
+        64,
+        "processes compiling at once (2; at most 64: one per integrator is all it uses)",
+        example=2,
+        default=2,
+    ),
+    switch("--all", "also the Rosenbrock method"),
+    JSON,
+)
