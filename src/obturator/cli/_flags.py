@@ -18,7 +18,7 @@ from types import MappingProxyType
 from typing import Any
 
 from ..params import SWEEP_PARAMS, Range
-from ..vocab import CASE_NAMES, FRICTION_FAMILIES, METHODS, SPIN_MODES, TORQUE_MODELS
+from ..vocab import CASE_NAMES, FRICTION_FAMILIES, METHODS, SPEED_LAWS, SPIN_MODES, TORQUE_MODELS
 from ._args import MAX_WORKERS, SEED, axis_of, flag, quantity_of
 from ._kinds import Count, InputFile, OutputFile, Quantity, Text
 
@@ -49,6 +49,11 @@ __all__ = [
     "CSV",
     "PLOT",
     "TORQUE_MODEL",
+    "CASE",
+    "SPIN_MODE",
+    "FRICTION_FAMILY",
+    "SPEED_LAW",
+    "RIG_DATA",
 ]
 
 
@@ -151,6 +156,12 @@ T_MAX = option(
 #: Horizon of the commands fitted to spin-rig data: later runs count as censored.
 RIG_HORIZON = T_MAX.but(default="20", type=Quantity("s", Range(0.0, 1e4, True, False), "20 s"))
 TORQUE_MODEL = option("--torque-model", choices=TORQUE_MODELS, default=None)
+CASE = option("--case", choices=CASE_NAMES, default=None)
+SPIN_MODE = option("--spin-mode", choices=SPIN_MODES, default=None)
+FRICTION_FAMILY = option("--friction-family", choices=FRICTION_FAMILIES, default=None)
+SPEED_LAW = option("--speed-law", choices=SPEED_LAWS, default=None)
+#: Measured spin-rig runs (the ``calibrate`` CSV format); thesis Appendix B by default.
+RIG_DATA = option("--data", metavar="FILE.csv", type=InputFile(example="runs.csv"))
 SEED_FLAG = option("--seed", metavar="S", default="0", type=SEED)
 #: Level of a confidence interval.
 CONFIDENCE = option(
@@ -201,11 +212,9 @@ def execution_flags() -> tuple[Flag, ...]:
 def study_flags() -> tuple[Flag, ...]:
     """Flags common to ``sweep`` and ``montecarlo``: case, models, solver, execution."""
     return (
-        option(
-            "--case", choices=CASE_NAMES, default=None, help="Table 1 column (default spin-rig)"
-        ),
+        CASE.but(help="Table 1 column (default spin-rig)"),
         TORQUE_MODEL,
-        option("--spin-mode", choices=SPIN_MODES, default=None),
+        SPIN_MODE,
         CONFIG.but(help="settings (schema in obturator.io; flags win)"),
         RTOL,
         ATOL.but(help="absolute tolerance (default rtol/100, or 1e-10)"),
@@ -227,12 +236,7 @@ def study_flags() -> tuple[Flag, ...]:
             type=quantity_of("friction_width"),
             help="regularisation width / omega_p (default 1e-7)",
         ),
-        option(
-            "--friction-family",
-            choices=FRICTION_FAMILIES,
-            default=None,
-            help="regularisation family (default algebraic)",
-        ),
+        FRICTION_FAMILY.but(help="regularisation family (default algebraic)"),
         T_MAX,
         *execution_flags(),
         JSON,

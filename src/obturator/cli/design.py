@@ -20,6 +20,7 @@ from . import _json
 from ._flags import (
     JSON,
     OUT_NETCDF,
+    RIG_DATA,
     RIG_HORIZON,
     SEED_FLAG,
     Flag,
@@ -29,7 +30,7 @@ from ._flags import (
     option,
     quantity_option,
 )
-from ._kinds import Count, InputFile, OutputFile, Text
+from ._kinds import Count, OutputFile, Text
 from ._runner import study_runner, write_dataset
 
 __all__ = ["register"]
@@ -186,10 +187,7 @@ register = command(
         "largest the replicate scatter allows, about 0.9 deg on Appendix B)",
         metavar="DEG",
     ),
-    option(
-        "--data",
-        metavar="FILE.csv",
-        type=InputFile(example="runs.csv"),
+    RIG_DATA.but(
         help="measured runs in the calibrate CSV format (default: thesis Appendix B)",
     ),
     RIG_HORIZON.but(help="horizon [s] (20)"),

@@ -27,16 +27,26 @@ from ..solve import (
 from ..status import Status
 from ..units import parse_quantity
 from ..vocab import (
-    CASE_NAMES,
     FORMULATIONS,
-    FRICTION_FAMILIES,
     SET_VALUED_METHODS,
-    SPEED_LAWS,
-    SPIN_MODES,
 )
 from . import _json
 from ._args import flag, quantity_of, solver_options
-from ._flags import CONFIG, CSV, JSON, PLOT, TORQUE_MODEL, Flag, command, option, switch
+from ._flags import (
+    CASE,
+    CONFIG,
+    CSV,
+    FRICTION_FAMILY,
+    JSON,
+    PLOT,
+    SPEED_LAW,
+    SPIN_MODE,
+    TORQUE_MODEL,
+    Flag,
+    command,
+    option,
+    switch,
+)
 from ._kinds import OutputFile
 
 __all__ = ["register", "case_from_settings", "options_from_settings"]
@@ -294,26 +304,18 @@ register = command(
     _run,
     "Integrate the ball's nutation to the opening event theta = beta_s. Quantities "
     "accept units, e.g. --spin-rate '115000 rpm'.",
-    option(
-        "--case",
-        choices=CASE_NAMES,
-        default=None,
-        help="Table 1 column (default spin-rig, or the config's case)",
-    ),
+    CASE.but(help="Table 1 column (default spin-rig, or the config's case)"),
     _quantity("spin_rate", "RAD_S", "projectile spin omega_p [rad/s]"),
     _quantity("mu_s", "X", "sliding friction coefficient [-]"),
     _quantity("theta0_deg", "X", "initial nutation theta_0 [deg]"),
     TORQUE_MODEL,
-    option("--spin-mode", choices=SPIN_MODES, default=None),
+    SPIN_MODE,
     _quantity("mach", "M", "flight Mach number (normal bow shock, Eq. 1)"),
     _quantity("altitude_m", "H", "flight altitude [m] (US 1976 atmosphere)"),
     CONFIG.but(help="run configuration (units allowed)"),
     _quantity("rtol", "X", "relative tolerance (default 1e-8)"),
     _quantity("friction_width", "X", "Coulomb regularisation width / omega_p (default 1e-7)"),
-    option(
-        "--friction-family",
-        choices=FRICTION_FAMILIES,
-        default=None,
+    FRICTION_FAMILY.but(
         help="shape of the regularised friction magnitude (default algebraic); "
         "the convergence check reruns with another family",
     ),
@@ -326,12 +328,7 @@ register = command(
     option("--formulation", choices=FORMULATIONS, default=None),
     _quantity("theta_dot0", "RAD_S", "release transient theta_dot_0 [rad/s] (rig)"),
     _quantity("release_phase", "RAD", "release azimuth psi_0 [rad] (rig)"),
-    option(
-        "--speed-law",
-        choices=SPEED_LAWS,
-        default=None,
-        help="slip-speed dependence of mu (rig; default constant, the thesis's)",
-    ),
+    SPEED_LAW.but(help="slip-speed dependence of mu (rig; default constant, the thesis's)"),
     _quantity("speed_ratio", "R", "mu(v) ratio r in (0, 1] (with --speed-law)"),
     _quantity("slip_speed", "M_S", "mu(v) speed v_s [m/s] (with --speed-law)"),
     _quantity("t_max", "S", "give up after this time [s]"),

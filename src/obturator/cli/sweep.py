@@ -34,10 +34,17 @@ from typing import Any
 from ..io import check_output_path
 from ..params import SWEEP_PARAMS
 from ..sweeps import SweepSpec, execute_sweep, parse_axis, sweep_summary
-from ..vocab import SPEED_LAWS
 from . import _json
 from ._args import study_config, study_options, study_t_max
-from ._flags import CSV, OUT_NETCDF, command, option, parameter_flags, study_flags, switch
+from ._flags import (
+    CSV,
+    OUT_NETCDF,
+    SPEED_LAW,
+    command,
+    parameter_flags,
+    study_flags,
+    switch,
+)
 from ._runner import runner_from_args
 
 __all__ = ["register", "AUTO_CSV_MAX_POINTS"]
@@ -137,9 +144,7 @@ register = command(
     *parameter_flags(grid=True),
     *study_flags(),
     OUT_NETCDF.but(required=True, help="NetCDF output"),
-    option(
-        "--speed-law",
-        choices=SPEED_LAWS,
+    SPEED_LAW.but(
         default="constant",
         help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed)",
     ),

@@ -22,13 +22,14 @@ from ._flags import (
     NO_PROGRESS,
     PLOT,
     RESTART,
+    RIG_DATA,
     RIG_HORIZON,
     command,
     option,
     quantity_option,
     switch,
 )
-from ._kinds import Count, InputFile, OutputDir, OutputFile, Text
+from ._kinds import Count, OutputDir, OutputFile, Text
 from ._runner import runner_from_args
 
 __all__ = ["register"]
@@ -125,10 +126,7 @@ register = command(
     "Model discrimination against the spin-rig data: the replicate (pure-error) floor, "
     "a maximum-likelihood fit of every candidate to all runs, the starred runs and each "
     "half of the spin range, AIC/BIC and out-of-band rms.",
-    option(
-        "--data",
-        metavar="FILE.csv",
-        type=InputFile(example="runs.csv"),
+    RIG_DATA.but(
         help="runs in the calibrate CSV format, with each run's own theta0, hole radius, "
         "density, ball mass and measured angle if given (default: thesis Appendix B, "
         "54 runs)",
