@@ -141,6 +141,24 @@ def test_least_squares_line_matches_normal_equations_and_student_t():
     assert est.correlation[0, 1] == pytest.approx(cov[0, 1] / math.sqrt(cov[0, 0] * cov[1, 1]))
 
 
+def test_evaluation_budget_is_reported_as_exhausted_and_the_cost_is_half_the_squares():
+    """Rosenbrock's valley (minimum 0 at (1, 1), closed form): a budget of 5 evaluations
+    stops short and says so; without one the optimiser reaches the minimum."""
+
+    def resid(x):
+        return np.array([10.0 * (x[1] - x[0] ** 2), 1.0 - x[0]])
+
+    box = (np.array([-3.0, -3.0]), np.array([3.0, 3.0]))
+    x0 = np.array([-1.2, 1.0])
+    short = minimize_least_squares(resid, x0, box, LeastSquaresSettings(max_nfev=5))
+    assert short.exhausted and not short.success and short.nfev == 5
+    assert short.cost == pytest.approx(0.5 * float(np.sum(resid(short.x) ** 2)), rel=1e-12)
+    full = minimize_least_squares(resid, x0, box, LeastSquaresSettings())
+    assert full.success and not full.exhausted
+    np.testing.assert_allclose(full.x, [1.0, 1.0], atol=1e-6)
+    assert full.cost < 1e-12 < short.cost
+
+
 def test_wald_interval_is_clipped_to_the_bounds_and_uses_the_log_scale():
     p = ParameterSet((FitParameter("v", 0.1, "m/s", bounds=(1e-3, 5.0), transform="log10"),))
     x = p.to_internal([0.1])

@@ -65,6 +65,9 @@ class LeastSquaresSettings:
         Stopping tolerances (relative step of x, relative change of the cost).
     covariance_step : float
         Relative step of :func:`central_jacobian` at the optimum.
+    max_nfev : int or None
+        Most residual evaluations (finite-difference ones not counted); None:
+        scipy's default, 100 per variable.
     """
 
     jac: Literal["2-point", "3-point"] = "3-point"
@@ -73,6 +76,7 @@ class LeastSquaresSettings:
     xtol: float = 1e-8
     ftol: float = 1e-8
     covariance_step: float = 1e-4
+    max_nfev: int | None = None
 
 
 class Minimum(NamedTuple):
@@ -82,6 +86,10 @@ class Minimum(NamedTuple):
     success: bool
     message: str
     nfev: int
+    #: Half the sum of squared residuals at x.
+    cost: float = float("nan")
+    #: Stopped because it used up its evaluations (``max_nfev``), not converged.
+    exhausted: bool = False
 
 
 def minimize_least_squares(
@@ -126,9 +134,12 @@ def minimize_least_squares(
         x_scale=settings.x_scale,
         xtol=settings.xtol if xtol is None else xtol,
         ftol=settings.ftol,
+        max_nfev=settings.max_nfev,
         **({"workers": _prefetching_map(prefetch)} if prefetch and _LSQ_MAPS else {}),
     )
-    return Minimum(np.clip(res.x, lo, hi), bool(res.success), str(res.message), int(res.nfev))
+    x = np.clip(res.x, lo, hi)
+    exhausted = res.status == 0  # scipy's status 0: the evaluation budget ran out
+    return Minimum(x, bool(res.success), str(res.message), int(res.nfev), res.cost, exhausted)
 
 
 def _prefetching_map(prefetch: Prefetch) -> Callable[..., list[NDArray[np.float64]]]:
