@@ -233,7 +233,9 @@ OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
 #: limit (the set-valued solver at rtol 1e-12) over 2,000 rig points at 40-1000 rad/s
 #: (mu_s 0.5473), the sweep path and the one-trajectory path bit-identical: rtol 1e-8
 #: 1.89e-7, 3e-9 1.31e-7, 1e-9 4.96e-8, 1e-10 5.10e-9 (2026-11-26, AMD EPYC Zen 4;
-#: ``python -m benchmarks.dense_accuracy --limit`` at each rtol). The width error is
+#: ``python -m benchmarks.dense_accuracy --limit`` at each rtol; freshly compiled code
+#: differs from cached code there by at most 4.1e-11, ``python -m
+#: benchmarks.cache_binding``). The width error is
 #: included here, unlike :data:`OPENING_TIME_ACCURACY` (the regularised path's own
 #: integration error, which every other method uses as its conservative bound).
 AUTO_OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
