@@ -174,3 +174,14 @@ def pytest_collection_modifyitems(config, items):
     first = [it for it in items if it.path.name == "test_ahead.py"]
     if first:
         items[:] = first + [it for it in items if it.path.name != "test_ahead.py"]
+
+
+@pytest.fixture
+def lanes_always(monkeypatch):
+    """Every kernel group runs in lanes, however small (the lane tests compare the lanes
+    themselves with the scalar path; :func:`obturator.solve.many.lanes_pay_from` would
+    send small groups one by one)."""
+    from obturator.solve import many
+
+    monkeypatch.setattr(many, "THESIS_LANES_MIN", 1)
+    monkeypatch.setattr(many, "GENERIC_LANES_MIN", 1)

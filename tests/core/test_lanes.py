@@ -31,6 +31,9 @@ from obturator.solve import (
 from obturator.status import Status
 from obturator.sweeps import SweepSpec, run_sweep
 
+# the lanes themselves, also for groups lanes_pay_from would run one by one
+pytestmark = pytest.mark.usefixtures("lanes_always")
+
 MU_S = 0.5473  # thesis's rig value
 
 

@@ -38,6 +38,9 @@ from obturator.solve import many as batch
 from obturator.solve.many import RADAU_LANES_MIN
 from obturator.status import Status
 
+# the lanes themselves, also for groups lanes_pay_from would run one by one
+pytestmark = pytest.mark.usefixtures("lanes_always")
+
 MU_S = 0.5473  # thesis's rig value
 # near-stick band of the rig at the thesis's mu_s: DOP853 reports stiffness below ~215 rad/s
 STIFF_BAND = np.linspace(100.0, 210.0, 40)
@@ -95,6 +98,7 @@ def stiff_batch(request):
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(batch, "integrate_radau_lanes", spy)
         mp.setattr(batch, "RADAU_LANES_MIN_GENERIC", RADAU_LANES_MIN)
+        mp.setattr(batch, "GENERIC_LANES_MIN", RADAU_LANES_MIN)
         t, s, stats = opening_times(cases, options)
     return cases, options, t, s, stats, in_lanes
 

@@ -27,6 +27,9 @@ import pytest
 
 import obturator
 
+# the lanes themselves, also for groups lanes_pay_from would run one by one
+pytestmark = pytest.mark.usefixtures("lanes_always")
+
 MU_S = 0.5473  # thesis's fitted rig value
 SLIDING = (300.0, 450.0, 650.0)  # rig spins DOP853 integrates without stiffness [rad/s]
 STICKING = (110.0, 130.0, 150.0)  # near-stick spins DOP853 hands to Radau IIA [rad/s]

@@ -12,7 +12,10 @@ reruns too) the cases are integrated together in the SIMD lanes of
    the cases :func:`~obturator.solve.dispatch.dispatched_method` gives to the
    set-valued solver (low spin) run one by one through it, exactly as
    :func:`~obturator.solve.opening_time` runs them, and the rest in lanes with the
-   regularised law; those are grouped by right-hand-side kernel;
+   regularised law; those are grouped by right-hand-side kernel, and a group too
+   small for lanes to pay (:func:`lanes_pay_from`: under five thesis-kernel points,
+   under :data:`RADAU_LANES_MIN_GENERIC` of the generic kernel, whose lanes do not
+   vectorise the right-hand side) runs one by one as well;
 2. each group runs in lanes, highest spin rate first (spin sets the steps per
    second of simulated time, so the costliest enter first and the tail of the
    batch is short);
@@ -67,12 +70,15 @@ __all__ = [
     "POINT_STATUSES",
     "RADAU_LANES_MIN",
     "RADAU_LANES_MIN_GENERIC",
+    "THESIS_LANES_MIN",
+    "GENERIC_LANES_MIN",
     "Advanced",
     "PackedPoints",
     "advance",
     "batchable",
     "env_switch",
     "integrate_packed",
+    "lanes_pay_from",
     "opening_times",
     "pack_points",
     "point_status",
@@ -95,6 +101,10 @@ RADAU_LANES_MIN = 32
 #: fits (32-56 stiff points a batch: 60-62 s against 57-59 s CPU) no gain. Only large
 #: batches (sweeps) take them.
 RADAU_LANES_MIN_GENERIC = 128
+#: Fewest thesis-kernel points that run in DOP853 lanes (:func:`lanes_pay_from`).
+THESIS_LANES_MIN = 5
+#: Fewest generic-kernel points that run in lanes (:func:`lanes_pay_from`).
+GENERIC_LANES_MIN = RADAU_LANES_MIN_GENERIC
 
 
 def env_switch(name: str) -> bool:
@@ -391,7 +401,9 @@ def integrate_packed(
     given, row i of `end_states` (n, 8) receives point i's last state and entry i of
     `point_nfev` its right-hand-side evaluations. Under ``auto`` the points
     :func:`~obturator.solve.dispatch.dispatched_method` gives to the set-valued solver
-    run one by one through it (``stats["n_set_valued"]``), the rest in lanes."""
+    run one by one through it (``stats["n_set_valued"]``), the rest in lanes, except
+    kernels with fewer points than the lanes need to pay (:func:`lanes_pay_from`),
+    which run one by one too, to the same t_cr."""
     if options.method not in BATCH_METHODS:
         raise InputError("method", f"{options.method!r}: the lanes integrate {BATCH_METHODS}")
     n = packed.valid.size
@@ -399,22 +411,35 @@ def integrate_packed(
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
     stats = _stats(n)
     valid = np.flatnonzero(packed.valid)
+    one_by_one = []
     if options.method == "auto":
         chosen = [dispatched_method("auto", packed.p[k], packed.y0[k]) for k in valid]
         exact = np.array([m == "set-valued" for m in chosen], dtype=bool)
-        for k in valid[exact]:
-            out = _set_valued_point(packed, int(k), options, end_states is not None)
+        one_by_one.append((valid[exact], "set-valued"))
+        valid = valid[~exact]
+    kernels = packed.p[valid, P_KERNEL]
+    groups = []
+    for kernel in np.unique(kernels):
+        idx = valid[kernels == kernel]
+        if end_states is None and idx.size < lanes_pay_from(kernel):
+            one_by_one.append((idx, "regularised"))
+        else:
+            groups.append(idx)
+    to_t_max = end_states is not None
+    for idx, chosen_method in one_by_one:
+        for k in idx:
+            out = _point(packed, int(k), options, chosen_method, to_t_max)
             t_cr[k], status[k] = point_status(Status(out.status), float(out.t_event))
             stats["nfev"] += int(out.nfev)
-            stats["n_set_valued"] += 1
+            if chosen_method == "set-valued":
+                stats["n_set_valued"] += 1
+            else:  # Radau IIA ran if it evaluated a Jacobian
+                stats["n_stiff"] += int(out.njev > 0)
             if end_states is not None:
                 end_states[k] = out.y[-1] if out.y.shape[0] else out.y_end
             if point_nfev is not None:
                 point_nfev[k] = out.nfev
-        valid = valid[~exact]
-    kernels = packed.p[valid, P_KERNEL]
-    for kernel in np.unique(kernels):
-        idx = valid[kernels == kernel]
+    for idx in groups:
         y_end, nfev = _run_group(idx, packed.take(idx), options, n_lanes, t_cr, status, stats)
         if end_states is not None:
             end_states[idx] = y_end
@@ -423,10 +448,26 @@ def integrate_packed(
     return t_cr, status, stats
 
 
-def _set_valued_point(
-    packed: PackedPoints, k: int, options: SolverOptions, to_t_max: bool
+def lanes_pay_from(kernel: float) -> int:
+    """Fewest points of one right-hand-side `kernel` that :func:`integrate_packed` runs in
+    lanes; fewer run one by one (the same t_cr: the DOP853 lanes are bit-equal to the
+    scalar DOP853, and so few stiff points would go one by one anyway).
+
+    The thesis kernel's lanes evaluate the right-hand side as vectors: measured on a
+    2-vCPU Zen 4 (rig, 250-440 rad/s, rtol 1e-8 and 1e-9), one point in lanes took 3.2x
+    its time one by one, two 2.3x, three 1.6x, four 1.0-1.2x, six 0.7-0.85x. The generic
+    kernel's lanes evaluate it lane by lane, so its DOP853 lanes never paid (8 points
+    1.2-1.3x, 28 points 1.05x the time one by one, slip-speed law); only the Radau IIA
+    lanes of :data:`RADAU_LANES_MIN_GENERIC` points do (:data:`GENERIC_LANES_MIN`).
+    """
+    return THESIS_LANES_MIN if kernel == KERNEL_THESIS else GENERIC_LANES_MIN
+
+
+def _point(
+    packed: PackedPoints, k: int, options: SolverOptions, chosen: str, to_t_max: bool
 ) -> RawSolution:
-    """Point `k` through the set-valued solver, from the same problem and controls as
+    """Point `k` one by one through the integrator `chosen` (``"set-valued"`` or
+    ``"regularised"``), from the same problem and controls as
     :func:`~obturator.solve.opening_time` builds for its case (so the same t_cr to the
     bit), with `to_t_max` those of :func:`advance`'s one-by-one path (an output at t_max);
     an integrator that raises counts as failed, as in the one-by-one path."""
@@ -436,9 +477,9 @@ def _set_valued_point(
         options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
         t_eval=np.array([t_max]) if to_t_max else None,
     )  # fmt: skip
-    controls = dispatched_controls("auto", "set-valued", controls)
+    controls = dispatched_controls(options.method, chosen, controls)
     try:
-        return integrate(core_method("set-valued"), problem, controls)
+        return integrate(core_method(chosen), problem, controls)
     except RuntimeError as exc:
         limit = getattr(exc, "status", None) == Status.STEP_LIMIT
         failed = Status.STEP_LIMIT if limit else Status.FAILED
