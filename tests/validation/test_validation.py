@@ -441,3 +441,43 @@ def test_profile_intervals_for_every_candidate(tiny_csv):
     assert none.model("mu").fit.ci_method["mu_s"] == "wald"
     with pytest.raises(InputError, match="^profile"):
         run_validation(data, models="mu", runner=Runner(workers=1), profile="some")
+
+
+def test_crawling_scaled_first_pass_is_followed_by_an_unscaled_one(monkeypatch):
+    """The first pass's policy (validation/fit.py): a Jacobian-scaled pass that uses up its
+    budget is followed by a unit-scaled pass from the same start, and the lower cost goes
+    on; a scaled pass that converges is kept alone. The optimiser is a stub, so only the
+    policy is under test."""
+    import obturator.validation.fit as fit
+    from obturator.fitting.engine import Minimum
+
+    class Evaluator:  # t_cr = the parameter itself at every run
+        def opening_times(self, values, w):
+            return np.full(np.size(w), float(values[0]))
+
+        def prefetch(self, many, w):
+            pass
+
+    params = fit._parameters(CANDIDATES["mu"])
+    w = np.array([100.0, 200.0, 300.0])
+    obj = fit._Objective(params, Evaluator(), w, np.array([0.5, 0.5, 0.5]), 10.0)
+    x0 = params.start([0.3])
+    calls = []
+
+    def stub(res, x, bounds, settings, **kw):
+        calls.append((settings.x_scale, np.array(x)))
+        if settings.x_scale == "jac":
+            return Minimum(x + 0.1, False, "budget", settings.max_nfev, 2.0, exhausted)
+        return Minimum(x + 0.2, True, "converged", 30, 1.0, False)
+
+    monkeypatch.setattr(fit, "minimize_least_squares", stub)
+    groups = np.array(["all"] * 3)
+    controls = fit.FitControls()
+    for exhausted, expect in ((True, 0.2), (False, 0.1)):
+        calls.clear()
+        opt = fit._effective_variance(obj, x0, 0.0, controls, groups, fit._SETTINGS_FIRST)
+        assert opt.x == pytest.approx(x0 + expect)
+        assert [c[0] for c in calls] == (["jac", 1.0] if exhausted else ["jac"])
+        for _, start in calls:  # both passes from the same start
+            np.testing.assert_array_equal(start, x0)
+    assert fit._SETTINGS_FIRST.max_nfev == fit._FIRST_PASS_EVALUATIONS == 50
