@@ -92,7 +92,7 @@ BLOCKS: dict[str, Block] = {
     "reproduce": Block(
         ("obturator reproduce --out report",),
         slow=True,
-        cost="4.4 min, one other job running (the 54-run validation study inside)",
+        cost="2.3 min, nearly idle (the 54-run validation study inside)",
     ),
     "calibrate": Block(
         ("obturator calibrate examples/rig_runs.csv --bootstrap 0 --plot residuals.png",),
@@ -112,7 +112,7 @@ BLOCKS: dict[str, Block] = {
         # near-stick runs: fitted values and out-of-band rms move in the 4th digit
         rtol=2e-3,
         slow=True,
-        cost="2.9 min, nearly idle",
+        cost="2.2 min, nearly idle",
     ),
     "envelope": Block(
         (
