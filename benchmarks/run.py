@@ -38,6 +38,10 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
   as ratios, with each t_cr's error against a tight set-valued reference; and the
   40-1000 rad/s sweep with the default ``auto`` (set-valued at low spin) against
   ``regularised``, points/s with 1 and 2 workers and errors on a sample.
+* Small batches (:mod:`benchmarks.small_groups`): 1-28 points of the thesis and the
+  generic kernel with the lanes forced, with the front door's own rule (groups too
+  small for lanes one by one) and in a loop over ``opening_time``, as ratios, and
+  whether all three give the same bits.
 * Trajectory-coupled openings (:mod:`benchmarks.coupled`): the probability study's
   points through ``FlightModel.evaluate_many`` in lanes against one point at a time.
 * Other integrators (:mod:`benchmarks.alternatives`, optional ``.[bench]`` extra):
@@ -596,6 +600,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         stick_slip.SPINS_QUICK if args.quick else stick_slip.SPINS, 2 if args.quick else 5
     )
     rec["stick_slip_sweep"] = stick_slip.sweep(n_tp)
+    from benchmarks import small_groups
+
+    rec["small_groups"] = small_groups.cost(
+        small_groups.SIZES_QUICK if args.quick else small_groups.SIZES, 2 if args.quick else 5
+    )
     from benchmarks import coupled
 
     rec["coupled"] = coupled.cost(coupled.SIZES_QUICK if args.quick else coupled.SIZES)
@@ -609,6 +618,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     lanes.print_table(rec["lanes"])
     stick_slip.print_table(rec["stick_slip"])
     stick_slip.print_sweep(rec["stick_slip_sweep"])
+    small_groups.print_table(rec["small_groups"])
     coupled.print_table(rec["coupled"])
     latency.print_latency(rec["cli_latency"])
     alternatives.print_alternatives(rec["alternatives"])
@@ -623,4 +633,5 @@ def main(argv: Sequence[str] | None = None) -> int:
     agree = rec["sweep"].get("agreement_vs_baseline", {})
     ok = ok and not (agree.get("max_rel_diff", 0.0) > AGREEMENT)
     ok = ok and all(lanes.agrees(r) for r in rec["lanes"])
+    ok = ok and all(r["same_bits"] for r in rec["small_groups"])
     return 0 if ok else 1

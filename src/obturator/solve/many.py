@@ -454,11 +454,13 @@ def lanes_pay_from(kernel: float) -> int:
     scalar DOP853, and so few stiff points would go one by one anyway).
 
     The thesis kernel's lanes evaluate the right-hand side as vectors: measured on a
-    2-vCPU Zen 4 (rig, 250-440 rad/s, rtol 1e-8 and 1e-9), one point in lanes took 3.2x
-    its time one by one, two 2.3x, three 1.6x, four 1.0-1.2x, six 0.7-0.85x. The generic
-    kernel's lanes evaluate it lane by lane, so its DOP853 lanes never paid (8 points
-    1.2-1.3x, 28 points 1.05x the time one by one, slip-speed law); only the Radau IIA
-    lanes of :data:`RADAU_LANES_MIN_GENERIC` points do (:data:`GENERIC_LANES_MIN`).
+    2-vCPU Zen 4 (``python -m benchmarks.small_groups``: rig, 250-440 rad/s, rtol 1e-9),
+    one point in lanes took 3.3x its time one by one, two 2.3x, three 1.55x, four 1.2x,
+    six 0.82x, eight 0.66x. The generic kernel's lanes evaluate it lane by lane, so its
+    DOP853 lanes never paid (slip-speed law: one point 2.5x, eight 1.2x, 28 1.04x); only
+    the Radau IIA lanes of :data:`RADAU_LANES_MIN_GENERIC` points do
+    (:data:`GENERIC_LANES_MIN`). With the rule, one to four points cost 1.03-1.2x the
+    loop over :func:`~obturator.solve.opening_time`.
     """
     return THESIS_LANES_MIN if kernel == KERNEL_THESIS else GENERIC_LANES_MIN
 
