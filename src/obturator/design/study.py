@@ -31,6 +31,7 @@ from ..runs import Runner
 from ..validation.candidates import get_candidates
 from ..validation.evaluate import DEFAULT_T_MAX
 from ..validation.results import CandidateFit
+from ..validation.tasks import warm_up
 from .campaigns import campaign_draws, decision_rates, surrogate_error
 from .criterion import greedy_exchange, plan_value
 from .noise import RELEASE_STEP_DEG, ReplicateNoise
@@ -62,15 +63,6 @@ _SETTINGS_PER_TASK = 24
 _DRAWS_PER_TASK = 8
 
 
-def _warm() -> None:
-    """Load the compiled integrators once before workers fork."""
-    from ..model.cases import rig_case
-    from ..solve import opening_times
-
-    # 100 rad/s: a short run "auto" gives the set-valued solver
-    opening_times([rig_case(spin_rate=300.0, mu_s=0.55), rig_case(100.0, 0.55, t_max=1e-2)])
-
-
 def _posteriors(
     names: Sequence[str],
     fits: Mapping[str, CandidateFit] | None,
@@ -98,7 +90,7 @@ def _posteriors(
             unit="fits",
             chunk_size=1,
             probe_first=False,
-            warm=_warm,
+            warm=warm_up,
         )
         given.update({n: Posterior.from_dict(d) for n, d in zip(todo, done, strict=True)})
     return {n: given[n] for n in names}
@@ -115,7 +107,7 @@ def _exact_tables(
         unit="tasks",
         chunk_size=1,
         probe_first=False,
-        warm=_warm,
+        warm=warm_up,
     )
     by_model: dict[str, list[list[list[float | None]]]] = {}
     for task, table in zip(tasks, done, strict=True):

@@ -178,9 +178,10 @@ def cost_rank(cand: Candidate) -> tuple[bool, bool, int]:
     return (cand.torque_model == "coulomb", cand.speed_law != "constant", cand.n_params)
 
 
-def warm_up(options: SolverOptions) -> None:
+def warm_up(options: SolverOptions | None = None) -> None:
     """Load the compiled integrators once in this process, so that the forked workers of
-    both phases inherit them (instead of each loading them)."""
+    both phases inherit them (instead of each loading them); also the experiment design's
+    warm-up (its fits and surrogate run the same rig cases)."""
     from ..model.cases import rig_case
 
     # 100 rad/s: a short run "auto" gives the set-valued solver
