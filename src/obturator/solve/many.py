@@ -311,9 +311,13 @@ def _one_by_one(case: Any, options: SolverOptions) -> tuple[float, int]:
     try:
         t = opening_time(case, options)
     except RuntimeError as exc:  # SolverError, or anything else the integrator raised
-        limit = getattr(exc, "status", None) == Status.STEP_LIMIT
-        return point_status(Status.STEP_LIMIT if limit else Status.FAILED, math.nan)
+        return point_status(_failed_status(exc), math.nan)
     return point_status(Status.OPENED, t)
+
+
+def _failed_status(exc: RuntimeError) -> Status:
+    """``STEP_LIMIT`` where an integrator raised at its step limit, else ``FAILED``."""
+    return Status.STEP_LIMIT if getattr(exc, "status", None) == Status.STEP_LIMIT else Status.FAILED
 
 
 def _mark_unconverged(
@@ -483,12 +487,11 @@ def _point(
     try:
         return integrate(core_method(chosen), problem, controls)
     except RuntimeError as exc:
-        limit = getattr(exc, "status", None) == Status.STEP_LIMIT
-        failed = Status.STEP_LIMIT if limit else Status.FAILED
         nan = np.full(N_STATE, math.nan)
         return RawSolution(
-            failed, math.nan, nan, np.empty(0), np.empty((0, N_STATE)), 0, 0, 0, 0, 0.0, nan
-        )
+            _failed_status(exc), math.nan, nan, np.empty(0), np.empty((0, N_STATE)),
+            0, 0, 0, 0, 0.0, nan,
+        )  # fmt: skip
 
 
 def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.ndarray, np.ndarray]:
