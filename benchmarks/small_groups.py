@@ -2,10 +2,11 @@
 
 ``python -m benchmarks.small_groups [--quick] [--json PATH]``; also part of
 ``python -m benchmarks``. For n = 1 ... 28 rig points spread over 250-440 rad/s (no
-stick, so DOP853 throughout) with the thesis kernel (constant mu_s = 0.5473) and with
-the generic kernel (the slip-speed law "strengthening", r = 0.3, v_s = 0.1 m/s), at the
-default rtol 1e-8 and at the validation study's 1e-9: best-of wall time of
-:func:`obturator.solve.opening_times` with the lanes forced on every group, with its
+stick, so DOP853 throughout) with the thesis kernel (constant mu_s = 0.5473), its
+variant for the slip-speed law "strengthening" (r = 0.3, v_s = 0.1 m/s) and the generic
+kernel (the tanh regularisation family), at the default rtol 1e-8 and at the
+validation study's 1e-9: best-of wall time of :func:`obturator.solve.opening_times`
+with the lanes forced on every group, with its
 own rule (:func:`obturator.solve.many.lanes_pay_from`: groups too small for lanes run
 one by one), and of a loop over :func:`obturator.solve.opening_time`, as ratios to that
 loop in the same run; and whether the three give the same t_cr to the bit.
@@ -26,7 +27,12 @@ from obturator.solve import SolverOptions, many, opening_time, opening_times
 MU_S = 0.5473
 SIZES = (1, 2, 3, 4, 6, 8, 16, 28)
 SIZES_QUICK = (1, 4, 8)
-KERNELS = {"thesis": None, "generic (strengthening)": SlipSpeedLaw("strengthening", 0.3, 0.1)}
+#: name -> (slip-speed law, regularisation family)
+KERNELS = {
+    "thesis": (None, "algebraic"),
+    "thesis (strengthening)": (SlipSpeedLaw("strengthening", 0.3, 0.1), "algebraic"),
+    "generic (tanh)": (None, "tanh"),
+}
 RTOLS = (1e-8, 1e-9)
 
 
@@ -53,8 +59,9 @@ def _forced(cases: list[Any], options: SolverOptions) -> np.ndarray:
 
 def measure(kernel: str, n: int, rtol: float, repeat: int = 5) -> dict[str, Any]:
     """One row: the three timings, their ratios to the loop and the bitwise agreement."""
-    options = SolverOptions(rtol=rtol, atol=rtol / 100.0)
-    cases = [rig_case(float(w), MU_S, speed_law=KERNELS[kernel]) for w in np.linspace(250, 440, n)]
+    law, family = KERNELS[kernel]
+    options = SolverOptions(rtol=rtol, atol=rtol / 100.0, friction_family=family)
+    cases = [rig_case(float(w), MU_S, speed_law=law) for w in np.linspace(250, 440, n)]
     loop_s, loop = _best(lambda: [opening_time(c, options) for c in cases], repeat)
     lanes_s, lanes = _best(lambda: _forced(cases, options), repeat)
     rule_s, rule = _best(lambda: opening_times(cases, options)[0], repeat)

@@ -41,7 +41,7 @@ from .layout import (
     FRIC_NONE,
     FRIC_THESIS_FLIGHT,
     FRIC_THESIS_RIG,
-    KERNEL_THESIS,
+    KERNEL_GENERIC,
     P_A,
     P_C,
     P_FAMILY,
@@ -55,13 +55,17 @@ from .layout import (
     P_VISC,
     P_WIDTH,
     SPEED_CONSTANT,
-    SPEED_STRENGTHENING,
-    SPEED_WEAKENING,
     SPIN_FREE,
     SPIN_THESIS_ENERGY,
 )
 from .specialised import rhs_thesis
-from .thesis_law import algebraic_spread_sq, arm_slip_sq, arm_weights, viscous_coefficient
+from .thesis_law import (
+    algebraic_spread_sq,
+    arm_slip_sq,
+    arm_weights,
+    slip_speed_factor,
+    viscous_coefficient,
+)
 
 configure_cache()  # before any @njit(cache=True) below or in the integrators
 
@@ -104,19 +108,10 @@ def slip_saturation(x: float, family: float) -> float:
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
 def friction_speed_factor(v: float, code: float, ratio: float, speed: float) -> float:
-    """mu(v) / mu_s for a slip speed v [m/s] (1 for the thesis's constant mu_s).
-
-    ``SPEED_WEAKENING`` (Stribeck type): r + (1 - r) exp(-(v/v_s)^2), from mu_s at
-    rest to r mu_s in fast slip. ``SPEED_STRENGTHENING`` (polymers such as the
-    rig's lucite housing): r + (1 - r) v / (v + v_s), from r mu_s at rest to
-    mu_s in fast slip. r = `ratio` in (0, 1], v_s = `speed` > 0 [m/s].
-    """
-    if code == SPEED_WEAKENING:
-        x = v / speed
-        return ratio + (1.0 - ratio) * math.exp(-x * x)
-    if code == SPEED_STRENGTHENING:
-        return ratio + (1.0 - ratio) * v / (v + speed)
-    return 1.0
+    """mu(v) / mu_s for a slip speed v [m/s]: the law of
+    :func:`obturator.core.thesis_law.slip_speed_factor`, as a function of its own (the
+    generic code calls it; the specialised kernel inlines the law)."""
+    return slip_speed_factor(v, code, ratio, speed)
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
@@ -329,7 +324,7 @@ def rhs(t: float, y: np.ndarray, p: np.ndarray, dy: np.ndarray) -> None:
     :mod:`obturator.core.specialised`) run that kernel instead; it agrees
     with the code below to rounding.
     """
-    if p[P_KERNEL] == KERNEL_THESIS:
+    if p[P_KERNEL] != KERNEL_GENERIC:
         rhs_thesis(y, p, dy)
         return
     r, w1, w2, w3 = _attitude_and_rates(y, p)

@@ -30,6 +30,9 @@ __all__ = [
     "P_DERIVED",
     "KERNEL_GENERIC",
     "KERNEL_THESIS",
+    "KERNEL_THESIS_WEAKENING",
+    "KERNEL_THESIS_STRENGTHENING",
+    "THESIS_KERNELS",
     "FORM_CODES",
     "SPIN_CODES",
     "FAMILY_CODES",
@@ -50,7 +53,7 @@ P_SPEED = 19  # slip-speed law of mu: code, ratio r, reference speed v_s [m/s]
 # Right-hand-side kernel code and the derived coefficients of the specialised kernel
 # (filled by obturator.core.specialised.specialise, from the slots above):
 # 1/A, 1/C, C - A, free-spin factor 1/I_p (0 for a constant spin), moment M,
-# 1/delta, arm coefficients a_X, a_Z (arm^2 = 1 - a_X u_X^2 - a_Z u_Z^2).
+# delta^2, arm weights b_X, b_Z (ARM^2 |omega_r|^2 = b_X w_X^2 + w_Y^2 + b_Z w_Z^2).
 P_KERNEL = 22
 P_DERIVED = 23
 N_PARAM = 31
@@ -61,7 +64,10 @@ FAMILY_ALGEBRAIC, FAMILY_TANH, FAMILY_LINEAR = 0, 1, 2
 SPEED_CONSTANT, SPEED_WEAKENING, SPEED_STRENGTHENING = 0, 1, 2
 VISC_NONE, VISC_LINEAR = 0, 1
 FRIC_NONE, FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT, FRIC_COULOMB = 0, 1, 2, 3
-KERNEL_GENERIC, KERNEL_THESIS = 0, 1
+# the thesis kernel, one variant per slip-speed law of mu (compiled apart: the constant
+# mu_s of the default pays nothing for the others)
+KERNEL_GENERIC, KERNEL_THESIS, KERNEL_THESIS_WEAKENING, KERNEL_THESIS_STRENGTHENING = 0, 1, 2, 3
+THESIS_KERNELS = (KERNEL_THESIS, KERNEL_THESIS_WEAKENING, KERNEL_THESIS_STRENGTHENING)
 
 # name (obturator.vocab) -> code
 FORM_CODES = dict(zip(FORMULATIONS, (FORM_QUATERNION, FORM_EULER), strict=True))

@@ -7,7 +7,11 @@ their time in one combination, the thesis's (quaternion form, constant or free
 spin, laminar/turbulent viscous torque, Eq. 39, thesis friction with the rig's
 Eq. (61) arm or Appendix A's flight arm, algebraic regularisation, constant
 mu_s), so that combination has its own kernel, :func:`thesis_rates`, used by
-the scalar integrators (through ``rhs``) and by the batched lanes alike:
+the scalar integrators (through ``rhs``) and by the batched lanes alike. The slip-speed
+laws of mu (weakening, strengthening: :class:`obturator.model.torques.SlipSpeedLaw`,
+the validation study's candidates) have a variant each, compiled apart
+(``KERNEL_THESIS_WEAKENING``, ``KERNEL_THESIS_STRENGTHENING``), so the constant mu_s
+pays nothing for them:
 
 * both torques are collinear with omega_r (viscous -k omega_r, friction
   -M ARM s(x) omega_r/|omega_r|), so G = -c omega_r with one coefficient c,
@@ -27,6 +31,13 @@ the scalar integrators (through ``rhs``) and by the batched lanes alike:
   at ~5.7e4 rad/s of slip), and redo a batch with it only when a lane crossed;
 * measured on 16 lanes (AVX2): 4.3 ns per lane and evaluation, against 8.0 ns with
   the textbook form (five square roots and three divisions);
+* a slip-speed law multiplies M by mu(v)/mu_s at v = R_s |omega_r|
+  (:func:`~obturator.core.thesis_law.slip_speed_factor`, one more square root);
+  measured on the 54 spin-rig runs at the validation tolerances (2-vCPU Zen 4, the
+  fitted values of ``obturator validate``), one evaluation of the strengthening model
+  took 25 ms in this kernel against 56 ms in the generic code, of the weakening
+  (Stribeck) model 131 ms against 188 ms (its exp does not vectorise, and most of its
+  runs are stiff);
 * FMA contraction allowed (``fastmath={"contract"}``) and the NumPy error
   model (a division never raises), so that loops over lanes vectorise.
 
@@ -56,6 +67,8 @@ from .layout import (
     FRIC_THESIS_RIG,
     KERNEL_GENERIC,
     KERNEL_THESIS,
+    KERNEL_THESIS_STRENGTHENING,
+    KERNEL_THESIS_WEAKENING,
     P_A,
     P_C,
     P_DERIVED,
@@ -69,11 +82,19 @@ from .layout import (
     P_VISC,
     P_WIDTH,
     SPEED_CONSTANT,
+    SPEED_STRENGTHENING,
+    SPEED_WEAKENING,
     SPIN_CONSTANT,
     SPIN_FREE,
     VISC_NONE,
 )
-from .thesis_law import algebraic_spread_sq, arm_slip_sq, arm_weights, viscous_coefficient
+from .thesis_law import (
+    algebraic_spread_sq,
+    arm_slip_sq,
+    arm_weights,
+    slip_speed_factor,
+    viscous_coefficient,
+)
 
 configure_cache()
 
@@ -96,22 +117,22 @@ def specialise(p: np.ndarray) -> np.ndarray:
     ndarray
         `p`, with ``p[P_KERNEL]`` = ``KERNEL_THESIS`` where the thesis kernel
         applies (quaternion form, constant or free spin, viscous torque or
-        none, thesis friction or none, algebraic family, constant mu_s,
-        delta > 0), else ``KERNEL_GENERIC``.
+        none, thesis friction or none, algebraic family, delta > 0), its
+        ``KERNEL_THESIS_WEAKENING`` or ``KERNEL_THESIS_STRENGTHENING`` variant
+        for thesis friction with a slip-speed law of mu, else ``KERNEL_GENERIC``.
     """
     fric = p[P_FRIC]
     ok = (
         p[P_FORM] == FORM_QUATERNION
         and p[P_SPIN_MODE] in (SPIN_CONSTANT, SPIN_FREE)
         and fric in (FRIC_NONE, FRIC_THESIS_RIG, FRIC_THESIS_FLIGHT)
-        and (
-            fric == FRIC_NONE or (p[P_FAMILY] == FAMILY_ALGEBRAIC and p[P_SPEED] == SPEED_CONSTANT)
-        )
+        and (fric == FRIC_NONE or p[P_FAMILY] == FAMILY_ALGEBRAIC)
         and p[P_WIDTH] > 0.0
     )
     d = P_DERIVED
     p[d : d + 8] = 0.0
-    p[P_KERNEL] = KERNEL_THESIS if ok else KERNEL_GENERIC
+    speed = p[P_SPEED] if fric != FRIC_NONE else SPEED_CONSTANT
+    p[P_KERNEL] = _KERNEL_OF_SPEED_LAW[speed] if ok else KERNEL_GENERIC
     if not ok:
         return p
     p[d + _INV_A] = 1.0 / p[P_A]
@@ -129,6 +150,12 @@ def specialise(p: np.ndarray) -> np.ndarray:
     return p
 
 
+_KERNEL_OF_SPEED_LAW = {
+    SPEED_CONSTANT: KERNEL_THESIS,
+    SPEED_WEAKENING: KERNEL_THESIS_WEAKENING,
+    SPEED_STRENGTHENING: KERNEL_THESIS_STRENGTHENING,
+}
+
 #: Below this |omega_r|^2 [rad^2/s^2] the slip direction is taken as undefined (the
 #: friction coefficient's limit M / delta): the form M sqrt(P / (|w|^2 (delta^2 + |w|^2)))
 #: would underflow to 0/0 near 1e-300, and the torque c omega_r is < 1e-120 N m here.
@@ -136,7 +163,7 @@ _SLIP_SQ_MIN = 1e-250
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always", **NO_REFCOUNT)
-def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent):
+def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent, speed):
     """Time derivative of one quaternion-form state under the thesis torques.
 
     Parameters
@@ -145,11 +172,15 @@ def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent):
         State (attitude quaternion, body rates [rad/s], spin omega_p [rad/s]).
     coef : tuple of float
         (S, K_turb, omega_transition, 1/A, 1/C, C - A, 1/I_p or 0, M, delta^2,
-        b_X, b_Z): the viscous slots and the derived block of ``p``.
+        b_X, b_Z, r, R_s [m], v_s [m/s]): the viscous slots, the derived block of
+        ``p``, the slip-speed law's ratio and speed and the ball radius.
     turbulent : bool
         Evaluate the turbulent branch of Eq. (39) where |omega_r| reaches the
         transition; with False the laminar coefficient S is used throughout (the
         last output says whether that was wrong).
+    speed : int
+        Slip-speed law code (``SPEED_CONSTANT``: the thesis's mu_s; callers pass a
+        constant, so each law compiles to its own code).
 
     Returns
     -------
@@ -158,7 +189,7 @@ def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent):
         [rad/s^2] from Euler's equations, thesis Eqs. 5a-5c, spin acceleration),
         then whether |omega_r| is at or above the turbulent transition.
     """
-    visc_s, visc_k, visc_w, inv_a, inv_c, cma, free_inv_ip, moment, delta_sq, b_x, b_z = coef
+    visc_s, visc_k, visc_w, inv_a, inv_c, cma, free_inv_ip, moment, delta_sq, b_x, b_z = coef[:11]
     s = 2.0 / (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)  # rotation from q / |q|
     r00 = 1.0 - s * (q2 * q2 + q3 * q3)
     r01 = s * (q1 * q2 - q0 * q3)
@@ -179,6 +210,9 @@ def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent):
     slipping = wn2 > _SLIP_SQ_MIN
     num = arm_slip_sq(wx2, wy2, wz2, b_x, b_z) if slipping else 1.0
     den = wn2 * algebraic_spread_sq(wn2, delta_sq) if slipping else delta_sq
+    if speed != SPEED_CONSTANT:  # mu(v) at the slip speed v = R_s |omega_r|
+        ratio, radius, v_ref = coef[11:]
+        moment = moment * slip_speed_factor(math.sqrt(wn2) * radius, speed, ratio, v_ref)
     c = k + moment * math.sqrt(num / den)
     # G = -c omega_r; in body axes -c (w - omega_p R^T Z)
     g1 = -c * (w1 - wp * r20)
@@ -199,7 +233,19 @@ def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent):
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", **NO_REFCOUNT)
 def rhs_thesis(y, p, dy) -> None:
-    """:func:`thesis_rates` of one state `y` into `dy` (the scalar path's kernel)."""
+    """:func:`thesis_rates` of one state `y` into `dy` (the scalar path's kernel), in the
+    variant of ``p[P_KERNEL]``."""
+    kernel = p[P_KERNEL]
+    if kernel == KERNEL_THESIS:
+        _rates_into(y, p, dy, SPEED_CONSTANT)
+    elif kernel == KERNEL_THESIS_STRENGTHENING:
+        _rates_into(y, p, dy, SPEED_STRENGTHENING)
+    else:
+        _rates_into(y, p, dy, SPEED_WEAKENING)
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always", **NO_REFCOUNT)
+def _rates_into(y, p, dy, speed) -> None:
     d = P_DERIVED
     c = (
         p[P_VISC + 1],
@@ -213,8 +259,11 @@ def rhs_thesis(y, p, dy) -> None:
         p[d + _DELTA_SQ],
         p[d + _ARM_BX],
         p[d + _ARM_BZ],
+        p[P_SPEED + 1],
+        p[P_FRIC + 2],
+        p[P_SPEED + 2],
     )
     r0, r1, r2, r3, r4, r5, r6, r7, _ = thesis_rates(
-        y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7], c, True
+        y[0], y[1], y[2], y[3], y[4], y[5], y[6], y[7], c, True, speed
     )
     dy[0], dy[1], dy[2], dy[3], dy[4], dy[5], dy[6], dy[7] = r0, r1, r2, r3, r4, r5, r6, r7

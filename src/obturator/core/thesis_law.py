@@ -18,7 +18,10 @@ DOP853 and Radau IIA, both lanes and the generic right-hand side all move).
 * :func:`algebraic_spread_sq`: the algebraic regularisation s(x) = x / sqrt(1 + x^2),
   x = slip / width, as (slip / s)^2 = width^2 + slip^2 (the kernel folds it into one
   square root with the arm; :func:`~obturator.core.dynamics.slip_saturation` takes
-  its square root).
+  its square root);
+* :func:`slip_speed_factor`: mu(v) / mu_s of the slip-speed laws that extend the
+  thesis's constant mu_s (Stribeck-type weakening, polymer strengthening; not in the
+  thesis, :class:`obturator.model.torques.SlipSpeedLaw`).
 
 The functions are inlined into their callers (numba IR), so each caller's compile
 flags (FMA contraction in the kernel, none in the generic code) apply as before.
@@ -32,11 +35,17 @@ from numba import njit
 
 from .jit_cache import configure_cache
 from .jit_flags import NO_REFCOUNT
-from .layout import FRIC_THESIS_FLIGHT, FRIC_THESIS_RIG
+from .layout import FRIC_THESIS_FLIGHT, FRIC_THESIS_RIG, SPEED_STRENGTHENING, SPEED_WEAKENING
 
 configure_cache()
 
-__all__ = ["viscous_coefficient", "arm_weights", "arm_slip_sq", "algebraic_spread_sq"]
+__all__ = [
+    "viscous_coefficient",
+    "arm_weights",
+    "arm_slip_sq",
+    "algebraic_spread_sq",
+    "slip_speed_factor",
+]
 
 
 @njit(cache=True, inline="always", **NO_REFCOUNT)
@@ -107,3 +116,20 @@ def algebraic_spread_sq(slip_sq, width_sq):
     ``width_sq + slip_sq``: s = slip / sqrt(width^2 + slip^2) (width 1: s(x) itself).
     """
     return width_sq + slip_sq
+
+
+@njit(cache=True, inline="always", **NO_REFCOUNT)
+def slip_speed_factor(v, code, ratio, speed):
+    """mu(v) / mu_s for a slip speed v [m/s] (1 for the thesis's constant mu_s).
+
+    ``SPEED_WEAKENING`` (Stribeck type): r + (1 - r) exp(-(v/v_s)^2), from mu_s at
+    rest to r mu_s in fast slip. ``SPEED_STRENGTHENING`` (polymers such as the
+    rig's lucite housing): r + (1 - r) v / (v + v_s), from r mu_s at rest to
+    mu_s in fast slip. r = `ratio` in (0, 1], v_s = `speed` > 0 [m/s].
+    """
+    if code == SPEED_WEAKENING:
+        x = v / speed
+        return ratio + (1.0 - ratio) * math.exp(-x * x)
+    if code == SPEED_STRENGTHENING:
+        return ratio + (1.0 - ratio) * v / (v + speed)
+    return 1.0

@@ -56,7 +56,7 @@ from ..core.integrators import (
     integrate,
 )
 from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes, integrate_radau_lanes
-from ..core.layout import KERNEL_THESIS, N_PARAM, N_STATE, P_KERNEL
+from ..core.layout import KERNEL_GENERIC, N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError, SolverError
 from ..status import MESSAGES, Status
 from .dispatch import core_method, dispatched_controls, dispatched_method
@@ -466,7 +466,7 @@ def lanes_pay_from(kernel: float) -> int:
     (:data:`GENERIC_LANES_MIN`). With the rule, one to four points cost 1.03-1.2x the
     loop over :func:`~obturator.solve.opening_time`.
     """
-    return THESIS_LANES_MIN if kernel == KERNEL_THESIS else GENERIC_LANES_MIN
+    return GENERIC_LANES_MIN if kernel == KERNEL_GENERIC else THESIS_LANES_MIN
 
 
 def _point(
@@ -511,7 +511,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
     t_event = np.full(n, math.nan)
     went_stiff = np.zeros(n, dtype=bool)
     radau_lanes = env_switch("OBTURATOR_RADAU_LANES")
-    thesis = p[0, P_KERNEL] == KERNEL_THESIS
+    thesis = p[0, P_KERNEL] != KERNEL_GENERIC
     fewest = RADAU_LANES_MIN if thesis else RADAU_LANES_MIN_GENERIC
     pending = np.arange(n)
     while pending.size:

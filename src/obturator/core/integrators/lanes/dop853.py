@@ -39,7 +39,7 @@ import numpy as np
 from numba import njit, uint64
 
 from ...dynamics import nutation_angle_of_state, rhs
-from ...layout import KERNEL_THESIS, N_STATE, P_KERNEL, P_THETA_CR
+from ...layout import KERNEL_GENERIC, N_STATE, P_KERNEL, P_THETA_CR
 from ..common import crossed, underflow
 from ..contract import Status
 from ..dop853 import (
@@ -198,7 +198,7 @@ def integrate_lanes(
     no_hand_back = np.zeros(n_pts, dtype=np.bool_)
     pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, no_hand_back, order)
     out = new_outcome(n_pts)
-    quaternion = n_pts > 0 and p[0, P_KERNEL] == KERNEL_THESIS  # the thesis kernel's form
+    quaternion = n_pts > 0 and p[0, P_KERNEL] != KERNEL_GENERIC  # the thesis kernel's form
     nl = max(1, min(n_lanes, LANES, n_pts))
     tol_f = max(TOL_FACTOR, 1e-14 / rtol)
     ln = _new_lanes(p.shape[1])

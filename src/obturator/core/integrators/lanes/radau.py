@@ -47,7 +47,15 @@ import math
 from numba import njit
 
 from ...dynamics import nutation_angle_of_state, slip_and_spin
-from ...layout import FORM_QUATERNION, KERNEL_THESIS, N_STATE, P_FORM, P_KERNEL, P_THETA_CR, P_WIDTH
+from ...layout import (
+    FORM_QUATERNION,
+    KERNEL_GENERIC,
+    N_STATE,
+    P_FORM,
+    P_KERNEL,
+    P_THETA_CR,
+    P_WIDTH,
+)
 from ..common import increment_cap, underflow
 from ..contract import Status
 from ..radau import _UROUND, locate_opening_at
@@ -162,7 +170,7 @@ def integrate_radau_lanes(
     pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, hand_back, order)
     out = new_outcome(n_pts)
     rtol, atol, fnewt = radau5_tolerances(rtol, atol)  # as radau.integrate
-    generic = n_pts > 0 and p[0, P_KERNEL] != KERNEL_THESIS
+    generic = n_pts > 0 and p[0, P_KERNEL] == KERNEL_GENERIC
     tol = Settings(rtol, atol, fnewt, event_tol, vw, generic)
     nl = max(1, min(n_lanes, LANES, n_pts))
     _run(pts, new_lanes(n_par), new_attempt(), new_one_lane(n_par), out, nl, tol)

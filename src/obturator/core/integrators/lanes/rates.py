@@ -19,7 +19,21 @@ import math
 from numba import njit, uint64
 
 from ...dynamics import rhs
-from ...layout import FORM_EULER, N_STATE, P_DERIVED, P_FORM, P_VISC
+from ...layout import (
+    FORM_EULER,
+    KERNEL_THESIS,
+    KERNEL_THESIS_STRENGTHENING,
+    N_STATE,
+    P_DERIVED,
+    P_FORM,
+    P_FRIC,
+    P_KERNEL,
+    P_SPEED,
+    P_VISC,
+    SPEED_CONSTANT,
+    SPEED_STRENGTHENING,
+    SPEED_WEAKENING,
+)
 from ...specialised import thesis_rates
 from .simd import DRIVER_PHASE, LANE_KERNEL, LANES, NO_REFCOUNT
 
@@ -40,14 +54,23 @@ def rhs_thesis_lanes(y, p, dy, do) -> None:
     A lane kernel (:data:`.simd.LANE_KERNEL`: no reference counting), kept apart from
     the generic right-hand side. The loop evaluates the laminar viscous branch; if any
     lane's slip reached the turbulent transition it is run again with the turbulent
-    branch (same results as the scalar kernel).
+    branch (same results as the scalar kernel). The variant (slip-speed law) is lane
+    0's ``P_KERNEL``: a batch holds one kernel (:func:`obturator.solve.opening_times`
+    groups by it).
     """
-    if _thesis_lanes(y, p, dy, do, False):
-        _thesis_lanes(y, p, dy, do, True)
+    kernel = p[P_KERNEL * LANES]
+    if kernel == KERNEL_THESIS:
+        if _thesis_lanes(y, p, dy, do, False, SPEED_CONSTANT):
+            _thesis_lanes(y, p, dy, do, True, SPEED_CONSTANT)
+    elif kernel == KERNEL_THESIS_STRENGTHENING:
+        if _thesis_lanes(y, p, dy, do, False, SPEED_STRENGTHENING):
+            _thesis_lanes(y, p, dy, do, True, SPEED_STRENGTHENING)
+    elif _thesis_lanes(y, p, dy, do, False, SPEED_WEAKENING):
+        _thesis_lanes(y, p, dy, do, True, SPEED_WEAKENING)
 
 
 @njit(inline="always", **LANE_KERNEL)
-def _thesis_lanes(y, p, dy, do, turbulent) -> int:
+def _thesis_lanes(y, p, dy, do, turbulent, speed) -> int:
     """The loop of :func:`rhs_thesis_lanes`; returns the lanes at or above the turbulent
     transition.
 
@@ -70,6 +93,9 @@ def _thesis_lanes(y, p, dy, do, turbulent) -> int:
             p[uint64((d + 5) * LANES + j)],
             p[uint64((d + 6) * LANES + j)],
             p[uint64((d + 7) * LANES + j)],
+            p[uint64((P_SPEED + 1) * LANES + j)],
+            p[uint64((P_FRIC + 2) * LANES + j)],
+            p[uint64((P_SPEED + 2) * LANES + j)],
         )
         r0, r1, r2, r3, r4, r5, r6, r7, above = thesis_rates(
             y[j],
@@ -82,6 +108,7 @@ def _thesis_lanes(y, p, dy, do, turbulent) -> int:
             y[uint64(j + 7 * LANES)],
             c,
             turbulent,
+            speed,
         )
         n_above += above
         o = do + j
