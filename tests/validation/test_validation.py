@@ -443,11 +443,15 @@ def test_profile_intervals_for_every_candidate(tiny_csv):
         run_validation(data, models="mu", runner=Runner(workers=1), profile="some")
 
 
-def test_crawling_scaled_first_pass_is_followed_by_an_unscaled_one(monkeypatch):
-    """The first pass's policy (validation/fit.py): a Jacobian-scaled pass that uses up its
-    budget is followed by a unit-scaled pass from the same start, and the lower cost goes
-    on; a scaled pass that converges is kept alone. The optimiser is a stub, so only the
-    policy is under test."""
+@pytest.mark.parametrize(
+    ("first", "other"), [("_SETTINGS_FIRST", 1.0), ("_SETTINGS_STARTED", "jac")]
+)
+def test_crawling_first_pass_is_followed_by_one_with_the_other_scaling(monkeypatch, first, other):
+    """The first pass's policy (validation/fit.py): a first pass (Jacobian-scaled from the
+    default start, unscaled from a given one) that uses up its budget is followed by a
+    pass with the other scaling from the same start, and the lower cost goes on; a first
+    pass that converges is kept alone. The optimiser is a stub, so only the policy is
+    under test."""
     import obturator.validation.fit as fit
     from obturator.fitting.engine import Minimum
 
@@ -458,16 +462,17 @@ def test_crawling_scaled_first_pass_is_followed_by_an_unscaled_one(monkeypatch):
         def prefetch(self, many, w):
             pass
 
+    settings = getattr(fit, first)
     params = fit._parameters(CANDIDATES["mu"])
     w = np.array([100.0, 200.0, 300.0])
     obj = fit._Objective(params, Evaluator(), w, np.array([0.5, 0.5, 0.5]), 10.0)
     x0 = params.start([0.3])
     calls = []
 
-    def stub(res, x, bounds, settings, **kw):
-        calls.append((settings.x_scale, np.array(x)))
-        if settings.x_scale == "jac":
-            return Minimum(x + 0.1, False, "budget", settings.max_nfev, 2.0, exhausted)
+    def stub(res, x, bounds, s, **kw):
+        calls.append((s.x_scale, s.max_nfev, np.array(x)))
+        if s.x_scale == settings.x_scale:
+            return Minimum(x + 0.1, False, "budget", s.max_nfev, 2.0, exhausted)
         return Minimum(x + 0.2, True, "converged", 30, 1.0, False)
 
     monkeypatch.setattr(fit, "minimize_least_squares", stub)
@@ -475,9 +480,10 @@ def test_crawling_scaled_first_pass_is_followed_by_an_unscaled_one(monkeypatch):
     controls = fit.FitControls()
     for exhausted, expect in ((True, 0.2), (False, 0.1)):
         calls.clear()
-        opt = fit._effective_variance(obj, x0, 0.0, controls, groups, fit._SETTINGS_FIRST)
+        opt = fit._effective_variance(obj, x0, 0.0, controls, groups, settings)
         assert opt.x == pytest.approx(x0 + expect)
-        assert [c[0] for c in calls] == (["jac", 1.0] if exhausted else ["jac"])
-        for _, start in calls:  # both passes from the same start
+        want = [(settings.x_scale, 50), (other, None)] if exhausted else [(settings.x_scale, 50)]
+        assert [c[:2] for c in calls] == want
+        for *_, start in calls:  # both passes from the same start
             np.testing.assert_array_equal(start, x0)
-    assert fit._SETTINGS_FIRST.max_nfev == fit._FIRST_PASS_EVALUATIONS == 50
+    assert settings.max_nfev == fit._FIRST_PASS_EVALUATIONS == 50
