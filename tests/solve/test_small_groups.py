@@ -23,25 +23,27 @@ def _cases(law, spins):
 
 
 @pytest.mark.parametrize(
-    ("law", "spins"),
+    ("law", "family", "spins"),
     [
-        (None, (120.0, 300.0, 450.0)),  # thesis kernel, under THESIS_LANES_MIN
-        (SlipSpeedLaw("strengthening", 0.3, 0.1), (80.0, 120.0, 300.0, 450.0, 600.0)),
+        (None, "algebraic", (120.0, 300.0, 450.0)),  # thesis kernel, under THESIS_LANES_MIN
+        (SlipSpeedLaw("strengthening", 0.3, 0.1), "algebraic", (80.0, 120.0, 300.0, 450.0)),
+        (None, "tanh", (80.0, 120.0, 300.0, 450.0, 600.0)),  # under GENERIC_LANES_MIN
     ],
-    ids=["thesis kernel", "generic kernel"],
+    ids=["thesis kernel", "thesis kernel (strengthening)", "generic kernel"],
 )
-def test_small_group_runs_one_by_one_to_the_same_bits(monkeypatch, law, spins):
+def test_small_group_runs_one_by_one_to_the_same_bits(monkeypatch, law, family, spins):
     cases = _cases(law, spins)
-    kernel = many.pack_points(cases, REGULARISED).p[0, many.P_KERNEL]
+    options = SolverOptions(method="regularised", friction_family=family)
+    kernel = many.pack_points(cases, options).p[0, many.P_KERNEL]
     assert len(cases) < many.lanes_pay_from(kernel)
-    t_one, s_one, stats = opening_times(cases, REGULARISED)
-    np.testing.assert_array_equal(t_one, [opening_time(c, REGULARISED) for c in cases])
+    t_one, s_one, stats = opening_times(cases, options)
+    np.testing.assert_array_equal(t_one, [opening_time(c, options) for c in cases])
     lanes = []
     real = many.integrate_lanes
     monkeypatch.setattr(many, "integrate_lanes", lambda *a: lanes.append(1) or real(*a))
     monkeypatch.setattr(many, "THESIS_LANES_MIN", 1)
     monkeypatch.setattr(many, "GENERIC_LANES_MIN", 1)
-    t_lanes, s_lanes, stats_lanes = opening_times(cases, REGULARISED)
+    t_lanes, s_lanes, stats_lanes = opening_times(cases, options)
     assert lanes, "the forced run must go through the lanes"
     np.testing.assert_array_equal(t_lanes, t_one)
     np.testing.assert_array_equal(s_lanes, s_one)
