@@ -42,6 +42,9 @@ Measured (all in one run, wall-clock, ``time.perf_counter``):
   generic kernel with the lanes forced, with the front door's own rule (groups too
   small for lanes one by one) and in a loop over ``opening_time``, as ratios, and
   whether all three give the same bits.
+* Slip-speed laws (:mod:`benchmarks.speed_law_kernel`): the 54 Appendix B spins at the
+  validation tolerances in the thesis kernel's variants against the generic right-hand
+  side, as ratios, with the t_cr difference.
 * Trajectory-coupled openings (:mod:`benchmarks.coupled`): the probability study's
   points through ``FlightModel.evaluate_many`` in lanes against one point at a time.
 * Other integrators (:mod:`benchmarks.alternatives`, optional ``.[bench]`` extra):
@@ -605,6 +608,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     rec["small_groups"] = small_groups.cost(
         small_groups.SIZES_QUICK if args.quick else small_groups.SIZES, 2 if args.quick else 5
     )
+    from benchmarks import speed_law_kernel
+
+    rec["speed_law_kernel"] = speed_law_kernel.cost(2 if args.quick else 5)
     from benchmarks import coupled
 
     rec["coupled"] = coupled.cost(coupled.SIZES_QUICK if args.quick else coupled.SIZES)
@@ -619,6 +625,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     stick_slip.print_table(rec["stick_slip"])
     stick_slip.print_sweep(rec["stick_slip_sweep"])
     small_groups.print_table(rec["small_groups"])
+    speed_law_kernel.print_table(rec["speed_law_kernel"])
     coupled.print_table(rec["coupled"])
     latency.print_latency(rec["cli_latency"])
     alternatives.print_alternatives(rec["alternatives"])
