@@ -37,16 +37,17 @@ pays nothing for them:
   fitted values of ``obturator validate``), one evaluation of the strengthening model
   took 25 ms in this kernel against 56 ms in the generic code, of the weakening
   (Stribeck) model 131 ms against 188 ms (its exp does not vectorise, and most of its
-  runs are stiff);
+  runs are stiff; ``python -m benchmarks.speed_law_kernel`` compares the two on the
+  same points in one run);
 * FMA contraction allowed (``fastmath={"contract"}``) and the NumPy error
   model (a division never raises), so that loops over lanes vectorise.
 
-The law itself (viscous coefficient, arm weights, regularisation) is not written
-here: the kernel and the generic code take it from :mod:`obturator.core.thesis_law`
-(``tests/core/test_thesis_law.py`` edits it there and sees every path move). The kernel
-agrees with the generic right-hand side to rounding
-(``tests/core/test_lanes.py`` checks 1e-12 relative on random states) and is
-chosen by :func:`specialise` only where it applies; everything else keeps the
+The law itself (viscous coefficient, arm weights, regularisation, slip-speed factor)
+is not written here: the kernel and the generic code take it from
+:mod:`obturator.core.thesis_law` (``tests/core/test_thesis_law.py`` edits it there and
+sees every path move). The kernel agrees with the generic right-hand side to rounding
+(``tests/core/test_lanes.py`` checks 1e-12 relative on random states, every variant)
+and is chosen by :func:`specialise` only where it applies; everything else keeps the
 generic code (``P_KERNEL = KERNEL_GENERIC``).
 """
 
