@@ -81,6 +81,9 @@ def test_shell_integrals_by_quadrature(radius, frac, density):
         ({"hole_radius": -1e-3}, "hole_radius", "[0, inf)"),
         ({"radius": 0.0}, "radius", "(0, inf)"),
         ({"density": float("nan")}, "density", "(0, inf)"),
+        # positive but so small that A underflows below the smallest normal double
+        ({"density": 1e-300}, "density", "allowed at this size: >= "),
+        ({"radius": 1e-70, "hole_radius": 0.0}, "radius", "allowed at this density: above"),
     ],
 )
 def test_bad_geometry_is_rejected_with_field_and_range(kwargs, field, fragment):
@@ -89,3 +92,18 @@ def test_bad_geometry_is_rejected_with_field_and_range(kwargs, field, fragment):
     assert err.value.field == field
     assert str(err.value).startswith(field + ":")
     assert fragment in str(err.value)
+
+
+def test_inertia_floor_is_the_smallest_normal_double():
+    """The density the refusal names as the bound is accepted (A >= the smallest normal
+    double, 2.2e-308 kg m^2: a closed-form floor, IEEE 754), just below it is refused."""
+    import re
+    import sys
+
+    with pytest.raises(InputError) as err:
+        BoredBall(**{**TABLE1, "density": 1e-300})
+    bound = float(re.search(r">= ([0-9.e+-]+) kg/m\^3", str(err.value)).group(1))
+    ball = BoredBall(**{**TABLE1, "density": bound * 1.01})
+    assert ball.transverse_inertia >= sys.float_info.min
+    with pytest.raises(InputError):
+        BoredBall(**{**TABLE1, "density": bound * 0.98})

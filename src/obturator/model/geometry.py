@@ -20,6 +20,7 @@ With U = R_s^2 - r_s^2 this gives, in closed form,
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, field
 
 from ..errors import InputError, check_range
@@ -73,6 +74,35 @@ class BoredBall:
         check_range("density", self.density, 0.0, math.inf, lo_open=True, unit="kg/m^3")
         check_range("gravity", self.gravity, 0.0, math.inf, unit="m/s^2")
         object.__setattr__(self, "_u", r_big**2 - r_small**2)
+        self._check_inertia()
+
+    def _check_inertia(self) -> None:
+        """Refuse a ball whose moment of inertia A (the smaller of A, C; A = rho R_s^5
+        times a number of order 1) is below the smallest normal double: Euler's
+        equations divide by it, and its reciprocal would overflow (the rig's ball: below
+        a density of 7.7e-298 kg/m^3; a steel ball: below a radius of ~4e-63 m). Names
+        whichever of density and radius lies further, in orders of magnitude of A, from
+        a steel ball of radius 1 cm."""
+        a = self.transverse_inertia
+        if a >= sys.float_info.min:
+            return
+        tiny = sys.float_info.min
+        why = (
+            f"gives the ball a moment of inertia A = {a:g} kg m^2, below the smallest "
+            f"normal double {tiny:g} kg m^2 (the equations of motion divide by it)"
+        )
+        off_density = abs(math.log10(self.density) - math.log10(7800.0))  # no underflow
+        if off_density >= 5.0 * abs(math.log10(self.radius) - math.log10(0.01)):
+            rho_min = tiny / self._inertias(1.0)[1]  # A is linear in rho
+            raise InputError(
+                "density",
+                f"{self.density:g} kg/m^3 {why}; allowed at this size: >= {rho_min:.3g} kg/m^3",
+            )
+        # solid sphere A = 8 pi rho R^5 / 15: the bore only lowers A
+        r_min = (15.0 * tiny / (8.0 * math.pi * self.density)) ** 0.2
+        raise InputError(
+            "radius", f"{self.radius:g} m {why}; allowed at this density: above ~{r_min:.3g} m"
+        )
 
     @property
     def volume(self) -> float:
@@ -95,13 +125,18 @@ class BoredBall:
     @property
     def axial_inertia(self) -> float:
         """Moment of inertia C about the hole axis z [kg m^2], thesis Eq. (10b)."""
-        r, big = self.hole_radius, self.radius
-        return 4.0 * math.pi * self.density * (r**2 / 5.0 + 2.0 * big**2 / 15.0) * self._u**1.5
+        return self._inertias(self.density)[0]
 
     @property
     def transverse_inertia(self) -> float:
         """Moment of inertia A about a diameter normal to the hole [kg m^2] (thesis A, Eq. 11)."""
-        return 0.5 * self.axial_inertia + 4.0 / 15.0 * math.pi * self.density * self._u**2.5
+        return self._inertias(self.density)[1]
+
+    def _inertias(self, density: float) -> tuple[float, float]:
+        """(C, A) [kg m^2] of this ball's shape at `density` [kg/m^3] (Eqs. 10b, 11)."""
+        r, big = self.hole_radius, self.radius
+        c = 4.0 * math.pi * density * (r**2 / 5.0 + 2.0 * big**2 / 15.0) * self._u**1.5
+        return c, 0.5 * c + 4.0 / 15.0 * math.pi * density * self._u**2.5
 
     @property
     def inertia_ratio(self) -> float:
