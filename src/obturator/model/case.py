@@ -9,6 +9,7 @@ checked on construction. The thesis's built-in cases are made by
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -79,13 +80,9 @@ class Case:
         check_range("spin_rate", self.spin_rate, 0.0, MAX_SPIN_RATE, lo_open=True, unit="rad/s")
         check_range("theta0", math.degrees(self.theta0), 0.0, 90.0, lo_open=True, unit="deg")
         check_choice("spin_mode", self.spin_mode, SPIN_MODES)
+        # from the smallest normal double on: free spin divides by it
         check_range(
-            "projectile_inertia",
-            self.projectile_inertia,
-            0.0,
-            math.inf,
-            lo_open=True,
-            unit="kg m^2",
+            "projectile_inertia", self.projectile_inertia, sys.float_info.min, unit="kg m^2"
         )
         if self.theta_cr is not None:
             check_range(
