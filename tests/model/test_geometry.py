@@ -107,3 +107,17 @@ def test_inertia_floor_is_the_smallest_normal_double():
     assert ball.transverse_inertia >= sys.float_info.min
     with pytest.raises(InputError):
         BoredBall(**{**TABLE1, "density": bound * 0.98})
+
+
+@pytest.mark.parametrize("value", [0.0, 1e-320, -1.0])
+def test_projectile_inertia_below_the_smallest_normal_double_is_refused(value):
+    """Free spin divides by I_p: from the smallest normal double on (IEEE 754)."""
+    import sys
+    from dataclasses import replace
+
+    from obturator.model.cases import rig_case
+
+    case = rig_case(300.0, 0.5, spin_mode="free")
+    with pytest.raises(InputError, match=r"^projectile_inertia: .* allowed range \[2\.22507e-308"):
+        replace(case, projectile_inertia=value)
+    assert replace(case, projectile_inertia=sys.float_info.min).projectile_inertia > 0.0
