@@ -460,8 +460,10 @@ def lanes_pay_from(kernel: float) -> int:
     The thesis kernel's lanes evaluate the right-hand side as vectors: measured on a
     2-vCPU Zen 4 (``python -m benchmarks.small_groups``: rig, 250-440 rad/s, rtol 1e-9),
     one point in lanes took 3.3x its time one by one, two 2.3x, three 1.55x, four 1.2x,
-    six 0.82x, eight 0.66x. The generic kernel's lanes evaluate it lane by lane, so its
-    DOP853 lanes never paid (slip-speed law: one point 2.5x, eight 1.2x, 28 1.04x); only
+    six 0.82x, eight 0.66x; its strengthening variant alike (one 3.2x, eight 0.63x). The
+    generic kernel's lanes evaluate it lane by lane, so its DOP853 lanes never paid
+    (a slip-speed law, measured before it had a variant: one point 2.5x, eight 1.2x, 28
+    1.04x; the tanh family now: one point 2.6-2.7x, eight 1.24-1.27x); only
     the Radau IIA lanes of :data:`RADAU_LANES_MIN_GENERIC` points do
     (:data:`GENERIC_LANES_MIN`). With the rule, one to four points cost 1.03-1.2x the
     loop over :func:`~obturator.solve.opening_time`.
