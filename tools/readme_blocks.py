@@ -92,7 +92,7 @@ BLOCKS: dict[str, Block] = {
     "reproduce": Block(
         ("obturator reproduce --out report",),
         slow=True,
-        cost="2.3 min, nearly idle (the 54-run validation study inside)",
+        cost="1.5 min, nearly idle (the 54-run validation study inside)",
     ),
     "calibrate": Block(
         ("obturator calibrate examples/rig_runs.csv --bootstrap 0 --plot residuals.png",),
@@ -109,10 +109,12 @@ BLOCKS: dict[str, Block] = {
             r"^  k counts",
             r"^  (mu_s|speed_ratio|slip_speed|sigma) ",
         ),
-        # near-stick runs: fitted values and out-of-band rms move in the 4th digit
+        # near-stick runs: fitted values and out-of-band rms move in the 4th digit from
+        # run to run; a rounding-level change of the kernels moves the out-of-band rms of
+        # the ill-determined subset fits far more (regenerate the block then)
         rtol=2e-3,
         slow=True,
-        cost="2.2 min, nearly idle",
+        cost="1.4 min, nearly idle",
     ),
     "envelope": Block(
         (
