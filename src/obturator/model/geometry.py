@@ -83,10 +83,9 @@ class BoredBall:
         a density of 7.7e-298 kg/m^3; a steel ball: below a radius of ~4e-63 m). Names
         whichever of density and radius lies further, in orders of magnitude of A, from
         a steel ball of radius 1 cm."""
-        a = self.transverse_inertia
-        if a >= sys.float_info.min:
+        a, tiny = self.transverse_inertia, sys.float_info.min
+        if a >= tiny:
             return
-        tiny = sys.float_info.min
         why = (
             f"gives the ball a moment of inertia A = {a:g} kg m^2, below the smallest "
             f"normal double {tiny:g} kg m^2 (the equations of motion divide by it)"
