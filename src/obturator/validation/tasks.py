@@ -173,9 +173,9 @@ def phase_task(
 
 def cost_rank(cand: Candidate) -> tuple[bool, bool, int]:
     """Sort key of a candidate's fit cost: the exact Coulomb contact runs on the generic
-    kernel (measured on the thesis data its fits took 4-10 times a thesis-kernel fit),
-    then the slip-speed laws (long, curved likelihood valleys: their all-run fits took
-    6-15 s against 3-6 s, 2 workers, Zen 4), then more parameters."""
+    kernel (its all-run fit on the thesis data: 22 s), then the slip-speed laws (long,
+    curved likelihood valleys: 2-14 s, the longest of the rest), then more parameters
+    (the others: 0.2-5 s; 2 workers, Zen 4)."""
     return (cand.torque_model == "coulomb", cand.speed_law != "constant", cand.n_params)
 
 
