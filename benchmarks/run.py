@@ -84,8 +84,11 @@ AGREEMENT = 1e-3  # required |t_cr(package) / t_cr(baseline) - 1|
 # ---------------------------------------------------------------- helpers
 
 
-def _best_of(fn: Callable[[], Any], repeat: int) -> tuple[float, float, Any]:
-    """(best, median, last result) of `repeat` timed calls [s]."""
+def _best_of(fn: Callable[[], Any], repeat: int, warm_up: bool = False) -> tuple[float, float, Any]:
+    """(best, median, last result) of `repeat` timed calls [s], after one untimed call
+    if `warm_up`."""
+    if warm_up:
+        fn()
     times = []
     out = None
     for _ in range(max(1, repeat)):

@@ -14,12 +14,12 @@ loop in the same run; and whether the three give the same t_cr to the bit.
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
+from benchmarks.run import _best_of
 from obturator.model.cases import rig_case
 from obturator.model.torques import SlipSpeedLaw
 from obturator.solve import SolverOptions, many, opening_time, opening_times
@@ -34,17 +34,6 @@ KERNELS = {
     "generic (tanh)": (None, "tanh"),
 }
 RTOLS = (1e-8, 1e-9)
-
-
-def _best(fn: Callable[[], Any], repeat: int) -> tuple[float, Any]:
-    """(best wall time [s], last result) of `repeat` calls after one warm-up call."""
-    out = fn()
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def _forced(cases: list[Any], options: SolverOptions) -> np.ndarray:
@@ -62,9 +51,11 @@ def measure(kernel: str, n: int, rtol: float, repeat: int = 5) -> dict[str, Any]
     law, family = KERNELS[kernel]
     options = SolverOptions(rtol=rtol, atol=rtol / 100.0, friction_family=family)
     cases = [rig_case(float(w), MU_S, speed_law=law) for w in np.linspace(250, 440, n)]
-    loop_s, loop = _best(lambda: [opening_time(c, options) for c in cases], repeat)
-    lanes_s, lanes = _best(lambda: _forced(cases, options), repeat)
-    rule_s, rule = _best(lambda: opening_times(cases, options)[0], repeat)
+    loop_s, _, loop = _best_of(
+        lambda: [opening_time(c, options) for c in cases], repeat, warm_up=True
+    )
+    lanes_s, _, lanes = _best_of(lambda: _forced(cases, options), repeat, warm_up=True)
+    rule_s, _, rule = _best_of(lambda: opening_times(cases, options)[0], repeat, warm_up=True)
     kernel_code = many.pack_points(cases[:1], options).p[0, many.P_KERNEL]
     return {
         "kernel": kernel,

@@ -18,12 +18,12 @@ v_s 0.05 m/s (the fit itself goes to r = 1, no weakening).
 
 from __future__ import annotations
 
-import time
 from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
+from benchmarks.run import _best_of
 from obturator.calibration.data import load_thesis_data
 from obturator.core.layout import KERNEL_GENERIC, P_KERNEL
 from obturator.model.cases import rig_case
@@ -50,23 +50,16 @@ def _cases(law: str, n_vectors: int) -> list[Any]:
     ]
 
 
-def _best(packed: Any, repeat: int) -> tuple[float, np.ndarray]:
-    """(best wall time [s], t_cr) of `repeat` calls after one warm-up call."""
-    t_cr = integrate_packed(packed, OPTIONS)[0]
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        t_cr = integrate_packed(packed, OPTIONS)[0]
-        best = min(best, time.perf_counter() - t0)
-    return best, t_cr
-
-
 def measure(law: str, n_vectors: int, repeat: int = 5) -> dict[str, Any]:
     """One row: both codes on the same packed points, the ratio and the t_cr difference."""
     packed = pack_points(_cases(law, n_vectors), OPTIONS)
-    variant_s, t_variant = _best(packed, repeat)
+
+    def run() -> np.ndarray:
+        return integrate_packed(packed, OPTIONS)[0]
+
+    variant_s, _, t_variant = _best_of(run, repeat, warm_up=True)
     packed.p[:, P_KERNEL] = KERNEL_GENERIC
-    generic_s, t_generic = _best(packed, repeat)
+    generic_s, _, t_generic = _best_of(run, repeat, warm_up=True)
     return {
         "law": law,
         "vectors": n_vectors,
