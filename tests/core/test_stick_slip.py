@@ -237,3 +237,57 @@ def test_benchmark_rows():
     for r in rows:
         assert set(r["ratio"]) == set(PATHS) - {"regularised"}
         assert r["set-valued"]["rel_error"] < 1e-7 and r["regularised"]["wall_s"] > 0.0
+
+
+@pytest.mark.parametrize("case", [rig_case(78.0, THESIS_MU_S), flight_case(mach=3.0)])
+def test_zero_width_kernel_is_the_generic_law(case):
+    """The slip phases run the specialised kernel at zero width: on random slipping
+    states and at exact zero slip (no friction there, as the generic law) it gives the
+    generic right-hand side to rounding, and the set-valued t_cr on either code agrees
+    to 1e-8 (rounding amplified through the stick-slip; rtol 1e-10)."""
+    from obturator.core.dynamics import rhs
+    from obturator.core.integrators import stick_slip
+    from obturator.core.layout import KERNEL_GENERIC, KERNEL_THESIS, P_KERNEL
+    from obturator.solve.setup import integration_setup
+
+    problem, controls = integration_setup(case, SET_VALUED)
+    kernel = stick_slip.zero_width(problem.p.copy())
+    generic = kernel.copy()
+    generic[P_KERNEL] = KERNEL_GENERIC
+    assert kernel[P_KERNEL] == KERNEL_THESIS
+    rng = np.random.default_rng(7)
+    spin = problem.y0[7]
+    still = np.array([1.0, 0.0, 0.0, 0.0, 0.0, 0.0, spin, spin])  # omega_r = 0 exactly
+    states = []
+    for _ in range(200):  # slip of 1e-8 (the kick) to 1e-1 of the spin, any direction
+        q = rng.standard_normal(4)
+        q /= np.linalg.norm(q)
+        z_body = _rotation(q).T @ np.array([0.0, 0.0, 1.0])
+        slip = spin * 10.0 ** rng.uniform(-8, -1) * rng.standard_normal(3)
+        states.append((np.concatenate([q, spin * z_body + slip, [spin]]), np.linalg.norm(slip)))
+    a, b = np.empty(8), np.empty(8)
+    rhs(0.0, still, kernel, a)
+    assert a[4] == a[5] == a[6] == 0.0  # no viscous torque and no friction at zero slip
+    worst = 0.0
+    for y, slip in states:  # the slip is a difference of rates ~ spin: its rounding
+        rhs(0.0, y, kernel, a)  # sets the direction's, ~1e-16 spin / |omega_r|
+        rhs(0.0, y, generic, b)
+        err = np.max(np.abs(a - b)) / np.max(np.abs(b)) / (1e-14 * spin / slip + 1e-12)
+        worst = max(worst, err)
+    assert worst < 1.0
+    run = stick_slip.run_cycles()
+    t_kernel = run(problem._replace(p=kernel), controls, math.inf).t_event
+    t_generic = run(problem._replace(p=generic), controls, math.inf).t_event
+    assert t_kernel == pytest.approx(t_generic, rel=1e-8)
+
+
+def _rotation(q: np.ndarray) -> np.ndarray:
+    """Body -> inertial rotation matrix of a unit quaternion (q0 scalar)."""
+    q0, q1, q2, q3 = q
+    return np.array(
+        [
+            [1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+            [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
+            [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)],
+        ]
+    )

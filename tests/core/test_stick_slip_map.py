@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 from obturator.core.friction_sets import relative_rate, required_reaction, stick_margin
 from obturator.core.integrators import stick_slip, stick_slip_map
-from obturator.core.layout import KERNEL_GENERIC, P_FAMILY, P_FRIC, P_KERNEL, P_WIDTH
+from obturator.core.layout import P_FRIC
 from obturator.model.cases import rig_case
 from obturator.reference import THESIS_MU_S
 from obturator.solve import SolverOptions, opening_time
@@ -29,9 +29,7 @@ DEFAULT = SolverOptions(method="set-valued")
 def _setup(spin: float):
     """(problem at zero width, controls) of the rig at `spin` [rad/s], as the solver sets them."""
     problem, controls = integration_setup(rig_case(spin, THESIS_MU_S), DEFAULT)
-    p = problem.p.copy()
-    p[P_KERNEL], p[P_WIDTH], p[P_FAMILY] = KERNEL_GENERIC, 0.0, 0.0
-    return problem._replace(p=p), controls
+    return problem._replace(p=stick_slip.zero_width(problem.p.copy())), controls
 
 
 PROBLEM_40, CONTROLS_40 = _setup(40.0)

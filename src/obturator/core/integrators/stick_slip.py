@@ -51,8 +51,10 @@ Transitions:
   the window (:func:`_through_window`); its creep is below the kick's scale.
 
 The friction moment at zero slip is never evaluated in slip, and the stick reaction
-is never integrated, so there is no width; Radau IIA's Jacobian differences the law
-at zero width with increments scaled to the slip speed (:mod:`.stick_slip_jacobian`).
+is never integrated, so there is no width (the thesis law's slip phases run the
+specialised kernel at zero width, :func:`~obturator.core.specialised.specialise`);
+Radau IIA's Jacobian differences the law at zero width with increments scaled to the
+slip speed (:mod:`.stick_slip_jacobian`).
 A step with no collocation polynomial to extrapolate (after a kick) starts Newton from
 the rigid turn with the socket. Requires the quaternion formulation,
 the thesis friction law (rig or flight) or the Coulomb patch law with a patch (a > 0),
@@ -77,18 +79,18 @@ from ..friction_sets import (
 )
 from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import (
+    FAMILY_ALGEBRAIC,
     FORM_QUATERNION,
-    KERNEL_GENERIC,
     N_STATE,
     P_A,
     P_FAMILY,
     P_FORM,
-    P_KERNEL,
     P_SPIN_MODE,
     P_THETA_CR,
     P_WIDTH,
     SPIN_THESIS_ENERGY,
 )
+from ..specialised import specialise
 from . import AUTO_RADAU_TOL_FACTOR
 from . import stick_slip_map as return_map
 from .common import append_row, record_row, rms_norm, start, underflow
@@ -117,6 +119,7 @@ __all__ = [
     "HOLD_THROUGH",
     "integrate",
     "run_cycles",
+    "zero_width",
 ]
 
 #: Slip speed, in units of |omega_p|, at which a decaying slip with G_req inside F
@@ -168,13 +171,18 @@ def integrate(
     if p[P_SPIN_MODE] == SPIN_THESIS_ENERGY:
         raise InputError("spin_mode", "the set-valued solver takes 'constant' or 'free'")
     check_set_valued_law(p, "the set-valued solver")
-    p[P_KERNEL] = KERNEL_GENERIC
-    p[P_WIDTH] = 0.0
-    p[P_FAMILY] = 0.0
-    problem = problem._replace(p=p)
+    problem = problem._replace(p=zero_width(p))
     if return_map.applies(problem, controls):
         return return_map.integrate(problem, controls, run_cycles(stick_slip, kick))
     return run_cycles(stick_slip, kick)(problem, controls, math.inf)
+
+
+def zero_width(p: np.ndarray) -> np.ndarray:
+    """`p` (in place) with no regularisation width, for the mode loop: the law at full
+    magnitude, on the specialised kernel where it applies (the thesis law)."""
+    p[P_WIDTH] = 0.0
+    p[P_FAMILY] = FAMILY_ALGEBRAIC
+    return specialise(p, zero_width=True)
 
 
 def run_cycles(stick_slip: float = STICK_SLIP, kick: float = KICK):
