@@ -199,9 +199,21 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
     n = int(p[P_FRIC + 4])
     eps = p[P_FRIC + 5]
     rig = beta >= 0.5 * math.pi - 1e-12
+    if rig and n == 1:
+        # the rig's one contact P = -R_s X in closed form: v = R_s (0, -w_Z, w_Y),
+        # w_n = -w_X, so G = -f (eps^2 w_X, R_s^2 w_Y, R_s^2 w_Z) (60 against 82 ns
+        # through the loop below, which it agrees with to rounding)
+        ex, ey, ez = eps * eps * wx, r * r * wy, r * r * wz
+        g = math.sqrt(ey * wy + ez * wz + ex * wx)
+        if g == 0.0:
+            return tx, ty, tz
+        x = g / (delta * r) if delta > 0.0 else math.inf
+        f = m * slip_saturation(x, family) / g
+        if speed_code != SPEED_CONSTANT:
+            f *= friction_speed_factor(g, speed_code, p[P_SPEED + 1], p[P_SPEED + 2])
+        return tx - f * ex, ty - f * ey, tz - f * ez
     # the polar angle's trig only off the rig, and none for the first contact (gam = 0,
-    # cos and sin exactly 1 and 0): the rig's one contact then costs no libm call,
-    # which was most of this law's right-hand side (100 ns against 25 for the thesis's)
+    # cos and sin exactly 1 and 0)
     sb = 1.0 if rig else math.sin(beta)
     cb = 0.0 if rig else math.cos(beta)
     for k in range(n):
