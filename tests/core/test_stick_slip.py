@@ -260,11 +260,11 @@ def test_zero_width_kernel_is_the_generic_law(case):
     still = np.array([1.0, 0.0, 0.0, 0.0, 0.0, 0.0, spin, spin])  # omega_r = 0 exactly
     states = []
     for _ in range(200):  # slip of 1e-8 (the kick) to 1e-1 of the spin, any direction
-        q = rng.standard_normal(4)
-        q /= np.linalg.norm(q)
-        z_body = _rotation(q).T @ np.array([0.0, 0.0, 1.0])
+        y = np.concatenate([rng.standard_normal(4), [0.0, 0.0, 0.0, spin]])
+        hold_stick(y, spin)  # turning with the socket, then slipping (body axes)
         slip = spin * 10.0 ** rng.uniform(-8, -1) * rng.standard_normal(3)
-        states.append((np.concatenate([q, spin * z_body + slip, [spin]]), np.linalg.norm(slip)))
+        y[4:7] += slip
+        states.append((y, np.linalg.norm(slip)))
     a, b = np.empty(8), np.empty(8)
     rhs(0.0, still, kernel, a)
     assert a[4] == a[5] == a[6] == 0.0  # no viscous torque and no friction at zero slip
@@ -279,15 +279,3 @@ def test_zero_width_kernel_is_the_generic_law(case):
     t_kernel = run(problem._replace(p=kernel), controls, math.inf).t_event
     t_generic = run(problem._replace(p=generic), controls, math.inf).t_event
     assert t_kernel == pytest.approx(t_generic, rel=1e-8)
-
-
-def _rotation(q: np.ndarray) -> np.ndarray:
-    """Body -> inertial rotation matrix of a unit quaternion (q0 scalar)."""
-    q0, q1, q2, q3 = q
-    return np.array(
-        [
-            [1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
-            [2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3), 2 * (q2 * q3 - q0 * q1)],
-            [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), 1 - 2 * (q1 * q1 + q2 * q2)],
-        ]
-    )
