@@ -92,7 +92,7 @@ BLOCKS: dict[str, Block] = {
     "reproduce": Block(
         ("obturator reproduce --out report",),
         slow=True,
-        cost="1.5 min, nearly idle (the 54-run validation study inside)",
+        cost="1.4 min, nearly idle (the 54-run validation study inside)",
     ),
     "calibrate": Block(
         ("obturator calibrate examples/rig_runs.csv --bootstrap 0 --plot residuals.png",),
@@ -114,7 +114,7 @@ BLOCKS: dict[str, Block] = {
         # the ill-determined subset fits far more (regenerate the block then)
         rtol=2e-3,
         slow=True,
-        cost="1.4 min, nearly idle",
+        cost="1.3 min, nearly idle",
     ),
     "envelope": Block(
         (
