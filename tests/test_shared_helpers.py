@@ -1,14 +1,20 @@
-"""The small helpers several packages share: docstring fragments, checked dataclass
-copies, ``NAME=A<sep>B`` items, JSON numbers."""
+"""The small helpers several packages share: docstring fragments, field docs, checked
+dataclass copies, ``NAME=A<sep>B`` items, JSON numbers."""
 
 from __future__ import annotations
 
+import dataclasses
+import importlib
+import inspect
 import math
+import pkgutil
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import pytest
 
-from obturator._docs import fill_doc
+import obturator
+from obturator._docs import field_docs, fill_doc
 from obturator.errors import InputError, replace_fields
 from obturator.json_values import finite_or_none
 from obturator.sweeps.distributions import split_assignment
@@ -59,6 +65,82 @@ def test_the_case_constructors_share_the_input_docs() -> None:
     for fn in (rig_case, flight_case, rig_model_case):
         assert "Sliding friction coefficient [-]." in fn.__doc__
         assert "{case_inputs}" not in fn.__doc__
+
+
+@field_docs
+@dataclass(frozen=True)
+class _Documented:
+    """A result.
+
+    Prose that stays.
+    """
+
+    #: Times [s].
+    t: float
+    #: Nutation angle theta [rad], a description long enough to be wrapped over two
+    #: comment lines in the source.
+    theta: float = 0.0
+    undocumented: int = 0
+
+    def method(self) -> None:
+        local: int = 1  # not a field: not listed
+        del local
+
+
+@field_docs
+class _Row(NamedTuple):
+    """A row."""
+
+    #: Spin rate [rad/s].
+    spin_rate: float
+
+
+def test_field_docs_lists_the_commented_fields_in_order() -> None:
+    doc = inspect.cleandoc(_Documented.__doc__ or "")
+    assert doc.startswith("A result.\n\nProse that stays.\n\nAttributes\n----------\n")
+    section = doc.split("----------\n", 1)[1].splitlines()
+    assert section[0] == "t : float"
+    assert section[1] == "    Times [s]."
+    assert section[2] == "theta : float"
+    # the two comment lines are one description, wrapped anew
+    assert " ".join(x.strip() for x in section[3:]).startswith("Nutation angle theta [rad], a")
+    assert "undocumented" not in doc and "local" not in doc
+    assert _Documented.__field_docs__ == {  # type: ignore[attr-defined]
+        "t": "Times [s].",
+        "theta": "Nutation angle theta [rad], a description long enough to be wrapped over two "
+        "comment lines in the source.",
+    }
+    assert "spin_rate : float\n    Spin rate [rad/s]." in (_Row.__doc__ or "")
+
+
+def _documented_classes() -> list[type]:
+    out = []
+    for info in pkgutil.walk_packages(obturator.__path__, "obturator."):
+        if info.name.startswith("obturator.__main__"):
+            continue
+        module = importlib.import_module(info.name)
+        for obj in vars(module).values():
+            if isinstance(obj, type) and obj.__module__ == module.__name__:
+                if "__field_docs__" in vars(obj):
+                    out.append(obj)
+    return out
+
+
+def test_every_field_of_a_documented_class_has_its_comment() -> None:
+    """A class with ``@field_docs`` documents every field (a new field without a ``#:``
+    comment fails here), and its docstring names each one; private fields are exempt."""
+    classes = _documented_classes()
+    assert len(classes) >= 50  # the package's result and settings classes
+    for cls in classes:
+        if dataclasses.is_dataclass(cls):
+            names = [f.name for f in dataclasses.fields(cls)]
+        else:
+            names = list(cls._fields)  # type: ignore[attr-defined]
+        names = [n for n in names if not n.startswith("_")]  # private fields need none
+        documented = [n for n in cls.__field_docs__ if not n.startswith("_")]  # type: ignore[attr-defined]
+        assert documented == names, cls.__qualname__  # type: ignore[attr-defined]
+        for name in names:
+            assert f"\n{name} : " in inspect.cleandoc(cls.__doc__ or ""), (cls, name)
 
 
 @dataclass(frozen=True)

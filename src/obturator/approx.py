@@ -67,6 +67,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 from scipy.special import ellipe
 
+from ._docs import field_docs
 from .errors import InputError, check_range
 from .model.geometry import BoredBall
 
@@ -179,45 +180,34 @@ def rig_sliding_moment(*, mu_s: float, weight: float, ball_radius: float, theta0
     return mu_s * weight * ball_radius * mean_moment_arm(theta0)
 
 
+@field_docs
 @dataclass(frozen=True)
 class ApproximateSolution:
-    """Linearised nutation response, thesis Eqs. (65) and (88)-(92).
+    """Linearised nutation response, thesis Eqs. (65) and (88)-(92)."""
 
-    Attributes
-    ----------
-    theta0 : float
-        Initial nutation angle [rad].
-    theta_cr : float
-        Opening angle [rad] at which the bore opens.
-    omega_n : float
-        Natural frequency omega_n = omega_p [rad/s] (Eq. 88).
-    zeta : float
-        Damping ratio [-] (Eq. 89).
-    D : float
-        Step height [rad] (Eq. 89), -(lambda/2) sin(2 theta0), negative.
-    R : float
-        Ramp slope [rad/s] (Eq. 90), negative (zero without applied torque).
-    phi_D, phi_R : float
-        Phase angles [rad] of Eq. (65), Eq. (91); NaN when zeta >= 1, where
-        Eq. (65) has no oscillatory form.
-    moment : float
-        Total linearised torque magnitude M = S |phi0_dot| + M_sg [N m] (Eq. 81).
-    axial_inertia : float
-        C [kg m^2], for the validity parameter.
-    phi0_dot : float
-        Steady body spin rate [rad/s] (Eq. 66).
-    """
-
+    #: Initial nutation angle [rad].
     theta0: float
+    #: Opening angle [rad] at which the bore opens.
     theta_cr: float
+    #: Natural frequency omega_n = omega_p [rad/s] (Eq. 88).
     omega_n: float
+    #: Damping ratio [-] (Eq. 89).
     zeta: float
+    #: Step height [rad] (Eq. 89), -(lambda/2) sin(2 theta0), negative.
     D: float
+    #: Ramp slope [rad/s] (Eq. 90), negative (zero without applied torque).
     R: float
+    #: Phase angle phi_D = atan(sqrt(1 - zeta^2) / zeta) [rad] of the step term of Eq. (65);
+    #: NaN when zeta >= 1, where Eq. (65) has no oscillatory form.
     phi_D: float
+    #: Phase angle phi_R = 2 phi_D [rad] of the ramp term of Eq. (65) (Eq. 91); NaN when
+    #: zeta >= 1.
     phi_R: float
+    #: Total linearised torque magnitude M = S |phi0_dot| + M_sg [N m] (Eq. 81).
     moment: float
+    #: C [kg m^2], for the validity parameter.
     axial_inertia: float
+    #: Steady body spin rate [rad/s] (Eq. 66).
     phi0_dot: float
 
     @property
@@ -500,19 +490,14 @@ def check_validity(
     return eps
 
 
+@field_docs
 @dataclass(frozen=True)
 class LargeSpinCoefficients:
-    """Coefficients of t = T1 / omega_p^3 + T2 omega_p, thesis Eqs. (93)-(94).
+    """Coefficients of t = T1 / omega_p^3 + T2 omega_p, thesis Eqs. (93)-(94)."""
 
-    Attributes
-    ----------
-    T1 : float
-        [rad^3 / s^2]: ((lambda+1)/lambda) M / (A cos theta0).
-    T2 : float
-        [s^2 / rad]: A / (M sin theta0) [(theta0 - theta_cr) - (lambda/2) sin(2 theta0)].
-    """
-
+    #: [rad^3 / s^2]: ((lambda+1)/lambda) M / (A cos theta0).
     T1: float
+    #: [s^2 / rad]: A / (M sin theta0) [(theta0 - theta_cr) - (lambda/2) sin(2 theta0)].
     T2: float
 
     def opening_time(self, spin_rate: ArrayLike) -> float | NDArray[np.float64]:

@@ -18,6 +18,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Literal
 
+from ._docs import field_docs
 from .reference import TABLE1
 
 __all__ = [
@@ -57,71 +58,51 @@ class Range:
 Transform = Literal["linear", "log10"]
 
 
+@field_docs
 @dataclass(frozen=True)
 class FitSpec:
-    """How a fit treats a parameter: start, bounds, transform, and why the bounds.
+    """How a fit treats a parameter: start, bounds, transform, and why the bounds."""
 
-    Attributes
-    ----------
-    start : float
-        Default starting value of a fit [the parameter's unit].
-    bounds : (float, float)
-        Hard bounds of every fit (calibration and validation alike): where the
-        model is still defined and cheap, argued in `reason`.
-    plausible : (float, float)
-        The physically argued range inside `bounds`; a fitted value outside it
-        is reported as the data asking for more than the mechanism can give.
-    reason : str
-        Why the bounds and the plausible range are what they are (physics and
-        the thesis's chapter, page, figure or equation).
-    transform : {"linear", "log10"}
-        The optimiser's variable: value / scale, or log10(value) for scale
-        parameters spanning decades.
-    scale : float
-        Typical size (linear transform): the optimiser's variable is O(1).
-    """
-
+    #: Default starting value of a fit [the parameter's unit].
     start: float
+    #: Hard bounds of every fit (calibration and validation alike): where the model is still defined
+    #: and cheap, argued in `reason`.
     bounds: tuple[float, float]
+    #: The physically argued range inside `bounds`; a fitted value outside it is reported as the
+    #: data asking for more than the mechanism can give.
     plausible: tuple[float, float]
+    #: Why the bounds and the plausible range are what they are (physics and the thesis's chapter,
+    #: page, figure or equation).
     reason: str
+    #: The optimiser's variable, ``"linear"`` (value / scale) or ``"log10"`` (log10(value), for
+    #: scale parameters spanning decades).
     transform: Transform = "linear"
+    #: Typical size (linear transform): the optimiser's variable is O(1).
     scale: float = 1.0
 
 
+@field_docs
 @dataclass(frozen=True)
 class Param:
-    """One physical parameter.
+    """One physical parameter."""
 
-    Attributes
-    ----------
-    name : str
-        Canonical field name (config files, Python keywords, ``--flag-name``).
-    unit : str
-        SI unit, CF style (``"1"``: a pure number).
-    long_name : str
-        Description with the thesis's symbol (NetCDF ``long_name``, help texts).
-    config : str or None
-        Key in a TOML config, ``"section.key"`` or a top-level ``"key"``.
-    range : Range or None
-        Allowed values of a swept or sampled input (the case factories check
-        combined limits, such as theta_0 above the opening angle, themselves).
-    sweep : bool
-        May be swept or sampled by :mod:`obturator.sweeps`.
-    flight_only : bool
-        Applies to the flight case only.
-    fit : FitSpec or None
-        Fittable (by :mod:`obturator.fitting`, in calibration and validation):
-        start, bounds and their reason, transform (table :data:`FIT_SPECS`).
-    """
-
+    #: Canonical field name (config files, Python keywords, ``--flag-name``).
     name: str
+    #: SI unit, CF style (``"1"``: a pure number).
     unit: str
+    #: Description with the thesis's symbol (NetCDF ``long_name``, help texts).
     long_name: str
+    #: Key in a TOML config, ``"section.key"`` or a top-level ``"key"``.
     config: str | None = None
+    #: Allowed values of a swept or sampled input (the case factories check combined limits, such as
+    #: theta_0 above the opening angle, themselves).
     range: Range | None = None
+    #: May be swept or sampled by :mod:`obturator.sweeps`.
     sweep: bool = False
+    #: Applies to the flight case only.
     flight_only: bool = False
+    #: Fittable (by :mod:`obturator.fitting`, in calibration and validation): start, bounds and
+    #: their reason, transform (table :data:`FIT_SPECS`).
     fit: FitSpec | None = None
 
     @property

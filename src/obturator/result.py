@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ._docs import field_docs
 from ._provenance import package_version
 from .model.case import Case
 from .model.torques import CoulombContactFriction
@@ -81,61 +82,50 @@ def case_inputs(case: Case, options: SolverOptions) -> dict[str, object]:
     return out
 
 
+@field_docs
 @dataclass(frozen=True)
 class NutationResult:
-    """Time history of one run and its opening time.
+    """Time history of one run and its opening time."""
 
-    Attributes
-    ----------
-    t : ndarray
-        Times [s].
-    theta, psi, phi : ndarray
-        Euler angles (z-x-z, Fig. 7) [rad]; psi and phi unwrapped.
-    omega_r : ndarray
-        |omega_r|, relative angular speed ball vs projectile [rad/s] (Eq. 35).
-    torque : ndarray
-        |G|, magnitude of the applied torque [N m] (Eq. 62).
-    kinetic_energy : ndarray
-        Kinetic energy of the ball [J].
-    spin_rate : ndarray
-        Projectile spin omega_p(t) [rad/s].
-    axial_momentum : ndarray
-        Ball angular momentum about Z, H_Z [kg m^2/s].
-    power : ndarray
-        omega_r . G [W]; never positive for dissipative torques.
-    opening_time : float
-        t_cr [s]; NaN if the bore did not open.
-    status : Status
-        ``OPENED`` (1), ``T_MAX`` (0), ``STEP_LIMIT`` (2) or ``FAILED`` (-1).
-    message : str
-        Readable status.
-    nfev, njev, n_steps, n_rejected : int
-        Right-hand-side and Jacobian evaluations, accepted and rejected steps.
-    case : Case
-    options : SolverOptions
-    state : ndarray
-        Raw state rows (layout per formulation).
-    """
-
+    #: Times [s].
     t: np.ndarray
+    #: Nutation angle theta, the z-x-z Euler angle of Fig. 7 [rad].
     theta: np.ndarray
+    #: Precession angle psi (z-x-z, Fig. 7) [rad], unwrapped.
     psi: np.ndarray
+    #: Spin angle phi of the ball (z-x-z, Fig. 7) [rad], unwrapped.
     phi: np.ndarray
+    #: |omega_r|, relative angular speed ball vs projectile [rad/s] (Eq. 35).
     omega_r: np.ndarray
+    #: |G|, magnitude of the applied torque [N m] (Eq. 62).
     torque: np.ndarray
+    #: Kinetic energy of the ball [J].
     kinetic_energy: np.ndarray
+    #: Projectile spin omega_p(t) [rad/s].
     spin_rate: np.ndarray
+    #: Ball angular momentum about Z, H_Z [kg m^2/s].
     axial_momentum: np.ndarray
+    #: omega_r . G [W]; never positive for dissipative torques.
     power: np.ndarray
+    #: t_cr [s]; NaN if the bore did not open.
     opening_time: float
+    #: ``OPENED`` (1), ``T_MAX`` (0), ``STEP_LIMIT`` (2) or ``FAILED`` (-1).
     status: Status
+    #: Readable status.
     message: str
+    #: Right-hand-side evaluations.
     nfev: int
+    #: Jacobian evaluations (0 for the explicit methods).
     njev: int
+    #: Accepted steps.
     n_steps: int
+    #: Rejected steps.
     n_rejected: int
+    #: The case that was integrated (geometry, inertia, friction, spin).
     case: Case = field(repr=False)
+    #: The solver settings the run used.
     options: SolverOptions = field(repr=False)
+    #: Raw state rows (layout per formulation).
     state: np.ndarray = field(repr=False)
 
     @property

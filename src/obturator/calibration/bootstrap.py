@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
+from .._docs import field_docs
 from ..errors import SolverError
 from ..fitting import minimize_bounded_scalar
 from .rig_model import model_opening_times_grid
@@ -32,26 +33,19 @@ from .rig_model import model_opening_times_grid
 __all__ = ["TableSettings", "OpeningTimeTable", "BootstrapResult", "bootstrap_mu_s"]
 
 
+@field_docs
 @dataclass(frozen=True)
 class TableSettings:
-    """How finely the bootstrap's t_cr table is computed.
+    """How finely the bootstrap's t_cr table is computed."""
 
-    Attributes
-    ----------
-    resolution : float
-        Grid points per ripple period of t_cr(mu_s) (see ``fit_exact``, Notes).
-    halfwidth : float
-        The table spans mu_s (1 +- halfwidth) around the best value, or +- 6
-        standard errors if that is wider.
-    max_points : int
-        Cap on the table's mu_s rows (>= 4).
-    verify : int
-        Grid midpoints at which the table is checked against exact runs.
-    """
-
+    #: Grid points per ripple period of t_cr(mu_s) (see ``fit_exact``, Notes).
     resolution: float = 6.0
+    #: The table spans mu_s (1 +- halfwidth) around the best value, or +- 6 standard errors if that
+    #: is wider.
     halfwidth: float = 0.05
+    #: Cap on the table's mu_s rows (>= 4).
     max_points: int = 121
+    #: Grid midpoints at which the table is checked against exact runs.
     verify: int = 12
 
     def mu_grid(
@@ -80,29 +74,23 @@ class TableSettings:
         return np.linspace(max(mu_s - half, 1e-3), mu_s + half, n_rows)
 
 
+@field_docs
 @dataclass(frozen=True)
 class OpeningTimeTable:
-    """Exact t_cr on a mu_s grid at fixed spin rates, cubic-spline interpolated in mu_s.
+    """Exact t_cr on a mu_s grid at fixed spin rates, cubic-spline interpolated in mu_s."""
 
-    Attributes
-    ----------
-    mu_s : ndarray
-        Grid of mu_s [-] (increasing).
-    spin_rate : ndarray
-        Spin rates [rad/s] (the data's own).
-    t_cr : ndarray, shape (n_mu, n_spin)
-        Exact opening times [s].
-    interpolation_error : float
-        Largest |spline - exact| [s] at the grid midpoints (NaN if unchecked).
-    interpolation_rel_error : float
-        The same relative to t_cr [-].
-    """
-
+    #: Grid of mu_s [-] (increasing).
     mu_s: NDArray[np.float64]
+    #: Spin rates [rad/s] (the data's own).
     spin_rate: NDArray[np.float64]
+    #: Exact opening times [s], shape (n_mu, n_spin): one row per `mu_s`, one column per
+    #: `spin_rate`.
     t_cr: NDArray[np.float64]
+    #: Largest |spline - exact| [s] at the grid midpoints (NaN if unchecked).
     interpolation_error: float = math.nan
+    #: The same relative to t_cr [-].
     interpolation_rel_error: float = math.nan
+    #: Cubic spline of `t_cr` in `mu_s`, built at construction (private).
     _spline: CubicSpline = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -167,33 +155,26 @@ class OpeningTimeTable:
         )
 
 
+@field_docs
 @dataclass(frozen=True)
 class BootstrapResult:
-    """Bootstrap of the exact-model mu_s over resampled runs.
+    """Bootstrap of the exact-model mu_s over resampled runs."""
 
-    Attributes
-    ----------
-    samples : ndarray
-        Refitted mu_s per resample [-].
-    interval : (float, float)
-        Percentile interval [-] at `confidence`.
-    confidence : float
-    std : float
-        Standard deviation of the samples [-].
-    n_resamples : int
-    seed : int
-    at_grid_edge : int
-        Resamples whose optimum hit the table's mu_s range (interval unreliable if > 0).
-    table : OpeningTimeTable
-    """
-
+    #: Refitted mu_s per resample [-].
     samples: NDArray[np.float64]
+    #: Percentile interval (low, high) of mu_s [-] at `confidence`.
     interval: tuple[float, float]
+    #: Two-sided level of the percentile interval [-] (e.g. 0.95).
     confidence: float
+    #: Standard deviation of the samples [-].
     std: float
+    #: Number of resamples of the runs (with replacement).
     n_resamples: int
+    #: Seed of :func:`numpy.random.default_rng` that drew the resamples.
     seed: int
+    #: Resamples whose optimum hit the table's mu_s range (interval unreliable if > 0).
     at_grid_edge: int
+    #: The interpolated t_cr table on which each resample's mu_s was refitted.
     table: OpeningTimeTable = field(repr=False)
 
     @property

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._docs import field_docs
 from ..errors import InputError, check_range
 from ..reference import APPENDIX_B_CSV, RIG_TEETH, data_text
 
@@ -105,42 +106,31 @@ def _frozen(a: ArrayLike | None, dtype: Any) -> NDArray[Any] | None:
     return out
 
 
+@field_docs
 @dataclass(frozen=True, kw_only=True)
 class SpinRigData:
-    """Opening times measured on the spin rig.
+    """Opening times measured on the spin rig."""
 
-    Attributes
-    ----------
-    spin_rate : ndarray
-        Rig spin omega_p [rad/s] (from the readout where there is one).
-    opening_time : ndarray
-        Measured opening time t_cr [s].
-    starred : ndarray of bool
-        Runs marked for the least-squares fit.
-    readout_hz : ndarray or None
-        Counter readout f [Hz]; None for files that give omega_p directly.
-    spin_rate_printed : ndarray or None
-        omega_p as printed in the source [rad/s], kept for comparison.
-    run : ndarray of int
-        1-based run number in the source (defaults to 1..n).
-    source : str
-        Where the data came from.
-    settings : dict of str to ndarray
-        Optional per-run settings of the rig (NaN where a run leaves it at Table 1):
-        ``theta0_deg`` [deg], ``hole_radius`` [m], ``density`` [kg/m^3],
-        ``ball_mass`` [kg] (the load W = m g), and ``theta_measured_deg`` [deg] with
-        ``t_measured`` [s], an intermediate angle the laser readout saw and the time
-        from release to it (:data:`RUN_COLUMNS`).
-    """
-
+    #: Rig spin omega_p [rad/s] (from the readout where there is one).
     spin_rate: NDArray[np.float64]
+    #: Measured opening time t_cr [s].
     opening_time: NDArray[np.float64]
+    #: Runs marked for the least-squares fit.
     starred: NDArray[np.bool_]
+    #: Counter readout f [Hz]; None for files that give omega_p directly.
     readout_hz: NDArray[np.float64] | None = None
+    #: omega_p as printed in the source [rad/s], kept for comparison.
     spin_rate_printed: NDArray[np.float64] | None = None
+    #: 1-based run number in the source (defaults to 1..n).
     run: NDArray[np.int64] | None = None
+    #: Where the data came from.
     source: str = ""
+    #: Optional per-run settings of the rig (NaN where a run leaves it at Table 1): ``theta0_deg``
+    #: [deg], ``hole_radius`` [m], ``density`` [kg/m^3], ``ball_mass`` [kg] (the load W = m g), and
+    #: ``theta_measured_deg`` [deg] with ``t_measured`` [s], an intermediate angle the laser readout
+    #: saw and the time from release to it (:data:`RUN_COLUMNS`).
     settings: dict[str, NDArray[np.float64]] = field(default_factory=dict)
+    #: Number of runs, set at construction (private; see ``len()``).
     _n: int = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:

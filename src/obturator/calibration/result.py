@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from ..fitting import FitParameter
 from .bootstrap import BootstrapResult
 from .report import fit_to_dict, fit_to_json, format_fit
@@ -20,68 +21,58 @@ from .thesis_fit import ThesisLeastSquares
 __all__ = ["ExactFit"]
 
 
+@field_docs
 @dataclass(frozen=True)
 class ExactFit:
-    """Result of :func:`~.exact.fit_exact` (lmfit-style, frozen).
+    """Result of :func:`~.exact.fit_exact` (lmfit-style, frozen)."""
 
-    Attributes
-    ----------
-    names : tuple of str
-        Fitted parameters, in fit order (the order of the covariance rows).
-    params : dict of str to FitParameter
-        Every model parameter reported: mu_s, theta_0, S and anything fitted,
-        each with its value, unit, and (fitted ones) bounds, stderr and ci95.
-    covariance : ndarray
-        Covariance of the fitted parameters (order of `names`).
-    correlation : ndarray
-    chisqr, redchi : float
-        Sum of squared (weighted) residuals and chisqr / dof.
-    ndata, nvarys, dof : int
-    residuals : ndarray
-        t_model - t_measured [s].
-    spin_rate, measured, model : ndarray
-        Per run: omega_p [rad/s], measured and model t_cr [s].
-    run : ndarray
-        Run numbers.
-    sigma : float or None
-        Assumed measurement standard deviation of t_cr [s] (None: unit
-        weights, covariance scaled by redchi).
-    success : bool
-    message : str
-    nfev : int
-    settings : dict
-        Fixed inputs, solver options and the data source.
-    bootstrap : BootstrapResult or None
-    thesis : ThesisLeastSquares or None
-        The chapter IV fit on the same runs, for comparison.
-    censored : ndarray of bool or None
-        Runs whose model t_cr exceeds the horizon ``t_max`` (right-censored:
-        the model only says t_cr > t_max). Their residual is taken at t_max,
-        the smallest model value consistent with the censoring, so a model
-        that opens too late is never rewarded; they are listed in the report.
-    """
-
+    #: Fitted parameters, in fit order (the order of the covariance rows).
     names: tuple[str, ...]
+    #: Every model parameter reported: mu_s, theta_0, S and anything fitted, each with its value,
+    #: unit, and (fitted ones) bounds, stderr and ci95.
     params: dict[str, FitParameter]
+    #: Covariance of the fitted parameters (order of `names`).
     covariance: NDArray[np.float64]
+    #: Correlation matrix of the fitted parameters [-] (order of `names`).
     correlation: NDArray[np.float64]
+    #: Sum of squared (weighted) residuals.
     chisqr: float
+    #: Reduced chi-square, chisqr / dof.
     redchi: float
+    #: Number of runs fitted.
     ndata: int
+    #: Number of fitted parameters (the length of `names`).
     nvarys: int
+    #: Degrees of freedom, ndata - nvarys (at least 1).
     dof: int
+    #: t_model - t_measured [s].
     residuals: NDArray[np.float64]
+    #: Spin omega_p of each run [rad/s].
     spin_rate: NDArray[np.float64]
+    #: Measured t_cr of each run [s].
     measured: NDArray[np.float64]
+    #: Model t_cr of each run at the best fit [s].
     model: NDArray[np.float64]
+    #: Run numbers.
     run: NDArray[np.int64]
+    #: Assumed measurement standard deviation of t_cr [s] (None: unit weights, covariance scaled by
+    #: redchi).
     sigma: float | None
+    #: Whether the least-squares optimizer reports convergence.
     success: bool
+    #: The optimizer's termination message.
     message: str
+    #: Number of objective (model) evaluations by the optimizer.
     nfev: int
+    #: Fixed inputs, solver options and the data source.
     settings: dict[str, Any]
+    #: Bootstrap of mu_s over resampled runs (None if no bootstrap was run).
     bootstrap: BootstrapResult | None = None
+    #: The chapter IV fit on the same runs, for comparison.
     thesis: ThesisLeastSquares | None = None
+    #: Runs whose model t_cr exceeds the horizon ``t_max`` (right-censored: the model only says t_cr
+    #: > t_max). Their residual is taken at t_max, the smallest model value consistent with the
+    #: censoring, so a model that opens too late is never rewarded; they are listed in the report.
     censored: NDArray[np.bool_] | None = None
 
     @property

@@ -31,6 +31,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._docs import field_docs
 from ..approx import mean_moment_arm
 from ..errors import InputError
 from ..reference import (
@@ -63,6 +64,7 @@ __all__ = [
 THESIS_THETA0 = math.radians(TABLE1["theta0_deg"])
 
 
+@field_docs
 @dataclass(frozen=True)
 class ThesisLeastSquares:
     """Chapter IV least-squares fit of t = T2 omega_p (Eq. 96), both directions.
@@ -70,63 +72,49 @@ class ThesisLeastSquares:
     The thesis's T2 = sum t^2 / sum(t omega) minimises sum (omega - t/T2)^2,
     i.e. it fits omega = t / T2 with residuals in omega; the direct fit of
     t = T2 omega with residuals in t is sum(t omega) / sum omega^2.
-
-    Attributes
-    ----------
-    n : int
-        Number of runs N.
-    sum_t2, sum_omega2, sum_t_omega : float
-        sum t^2 [s^2], sum omega^2 [rad^2/s^2], sum t omega [rad].
-    t2 : float
-        Thesis T2 = sum t^2 / sum t omega [s^2/rad].
-    sigma2 : float
-        Thesis sigma^2 = (1/N)(sum omega^2 - sum t omega / T2) [rad^2/s^2],
-        the mean squared omega residual.
-    sigma_t2, sigma_t : float
-        Thesis 1/sigma_T^2 = sum t^2 / (sigma^2 T2^4): variance [s^4/rad^2]
-        and standard deviation [s^2/rad] of T2.
-    relative_sigma : float
-        sigma_T / T2 [-] (printed as "sigma/T = 0.023").
-    mean_arm : float
-        (2/pi) E(theta0) [-] (Eq. 78).
-    mu_bar, mu_s : float
-        3.03e-4 / T2 (Eq. 95) and mu_bar / mean_arm.
-    omega_residual_std : float
-        Standard omega residual sqrt(SS / (N - 1)) [rad/s] of the thesis fit.
-    t2_stderr : float
-        Standard error of T2 [s^2/rad] (delta method, N - 1 divisor);
-        sigma_t with N - 1 in place of N.
-    t2_direct : float
-        T2 of the direct fit t = T2 omega, sum t omega / sum omega^2 [s^2/rad].
-    time_residual_std : float
-        sqrt(sum (t - T2d omega)^2 / (N - 1)) [s].
-    t2_direct_stderr : float
-        Standard error of T2d [s^2/rad].
-    mu_bar_direct, mu_s_direct : float
-        Eq. (95) with T2d.
-    theta0 : float
-        Initial nutation angle used for mean_arm [rad].
     """
 
+    #: Number of runs N.
     n: int
+    #: sum t^2 over the runs [s^2].
     sum_t2: float
+    #: sum omega^2 over the runs [rad^2/s^2].
     sum_omega2: float
+    #: sum t omega over the runs [rad].
     sum_t_omega: float
+    #: Thesis T2 = sum t^2 / sum t omega [s^2/rad].
     t2: float
+    #: Thesis sigma^2 = (1/N)(sum omega^2 - sum t omega / T2) [rad^2/s^2], the mean squared omega
+    #: residual.
     sigma2: float
+    #: Thesis variance sigma_T^2 of T2 [s^4/rad^2], from 1/sigma_T^2 = sum t^2 / (sigma^2 T2^4).
     sigma_t2: float
+    #: Thesis standard deviation sigma_T of T2 [s^2/rad], the square root of `sigma_t2`.
     sigma_t: float
+    #: sigma_T / T2 [-] (printed as "sigma/T = 0.023").
     relative_sigma: float
+    #: (2/pi) E(theta0) [-] (Eq. 78).
     mean_arm: float
+    #: mu_bar = 3.03e-4 / T2 (Eq. 95) [-].
     mu_bar: float
+    #: mu_s = mu_bar / mean_arm [-].
     mu_s: float
+    #: Standard omega residual sqrt(SS / (N - 1)) [rad/s] of the thesis fit.
     omega_residual_std: float
+    #: Standard error of T2 [s^2/rad] (delta method, N - 1 divisor); sigma_t with N - 1 in place of
+    #: N.
     t2_stderr: float
+    #: T2 of the direct fit t = T2 omega, sum t omega / sum omega^2 [s^2/rad].
     t2_direct: float
+    #: sqrt(sum (t - T2d omega)^2 / (N - 1)) [s].
     time_residual_std: float
+    #: Standard error of T2d [s^2/rad].
     t2_direct_stderr: float
+    #: mu_bar of Eq. (95) with T2d in place of T2, 3.03e-4 / T2d [-].
     mu_bar_direct: float
+    #: mu_s from Eq. (95) with T2d, mu_bar_direct / mean_arm [-].
     mu_s_direct: float
+    #: Initial nutation angle used for mean_arm [rad].
     theta0: float
 
 
@@ -230,25 +218,22 @@ def format_comparison(rows: Sequence[ThesisComparison]) -> str:
     return "\n".join(lines)
 
 
+@field_docs
 @dataclass(frozen=True)
 class SubsetMatch:
-    """A run subset whose sums match the printed ones (see :func:`search_printed_sums_subsets`).
+    """A run subset whose sums match the printed ones (see :func:`search_printed_sums_subsets`)."""
 
-    Attributes
-    ----------
-    removed, added : tuple of int
-        Run numbers dropped from the starred set / added from the unstarred set.
-    n : int
-        Runs in the subset.
-    sum_t2, sum_omega2, sum_t_omega : float
-        Its sums [s^2], [rad^2/s^2], [rad].
-    """
-
+    #: Run numbers dropped from the starred set.
     removed: tuple[int, ...]
+    #: Run numbers added from the unstarred set.
     added: tuple[int, ...]
+    #: Runs in the subset.
     n: int
+    #: The subset's sum t^2 [s^2].
     sum_t2: float
+    #: The subset's sum omega^2 [rad^2/s^2].
     sum_omega2: float
+    #: The subset's sum t omega [rad].
     sum_t_omega: float
 
 

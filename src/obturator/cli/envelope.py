@@ -13,7 +13,7 @@ Usage::
 SPEC is ``START:STOP:COUNT`` or a list ``a,b,c`` (as for ``sweep``). Values are
 SI or quantities with units (``"1 km"``, ``"115000 rpm"``). Every t_cr is
 computed with the thesis's constant muzzle load and with the
-trajectory-coupled load, each with its convergence status (status 2 when a
+trajectory-coupled load, each with its convergence status (status 4, UNCONVERGED, when a
 refined rerun moves it by more than 1e-3). The envelope resumes after an
 interruption from ``FILE.nc.partial.jsonl``.
 

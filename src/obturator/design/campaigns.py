@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from .posterior import Posterior
 from .surrogate import Surrogate
 
@@ -68,28 +69,20 @@ def log_evidence(
     )
 
 
+@field_docs
 @dataclass(frozen=True)
 class Rates:
-    """Decision rates of one plan for one generating model.
+    """Decision rates of one plan for one generating model."""
 
-    Attributes
-    ----------
-    p_decisive : float
-        Fraction of campaigns with a Bayes factor > 10 for the generating model over
-        every other.
-    p_picked : float
-        Fraction where the generating model has the largest evidence.
-    p_misleading : float
-        Fraction decisive for a wrong model.
-    n_campaigns : int
-    median_log10_bf : float
-        Median log10 Bayes factor of the generating model over its nearest rival.
-    """
-
+    #: Fraction of campaigns with a Bayes factor > 10 for the generating model over every other.
     p_decisive: float
+    #: Fraction of campaigns where the generating model has the largest evidence.
     p_picked: float
+    #: Fraction of campaigns decisive for a wrong model.
     p_misleading: float
+    #: Number of simulated campaigns the fractions are over.
     n_campaigns: int
+    #: Median log10 Bayes factor of the generating model over its nearest rival.
     median_log10_bf: float
 
     def to_dict(self) -> dict[str, Any]:

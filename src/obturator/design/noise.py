@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from ..calibration.data import SpinRigData
 from ..validation.floor import band_of, replicate_floor
 
@@ -37,28 +38,21 @@ __all__ = ["RELEASE_STEP_DEG", "ReplicateNoise"]
 RELEASE_STEP_DEG = 0.25
 
 
+@field_docs
 @dataclass(frozen=True)
 class ReplicateNoise:
-    """The replicate scatter per spin band and its extrapolation (module notes).
+    """The replicate scatter per spin band and its extrapolation (module notes)."""
 
-    Attributes
-    ----------
-    sd : dict of str to float
-        Pooled replicate SD per band [s].
-    cv : dict of str to float
-        The same over the band's mean measured t_cr.
-    overall_sd : float
-        Pooled SD of all runs [s] (for a band without replicates).
-    release_sd_deg : float
-        Release-angle jitter SD [deg] (0 until :meth:`with_release_bound`, or as measured).
-    release_source : str
-        Where `release_sd_deg` comes from ("bound from the replicates" or "given").
-    """
-
+    #: Pooled replicate SD per spin band [s].
     sd: dict[str, float]
+    #: Coefficient of variation per spin band: its pooled SD over its mean measured t_cr [-].
     cv: dict[str, float]
+    #: Pooled SD of all runs [s] (for a band without replicates).
     overall_sd: float
+    #: Release-angle jitter SD [deg] (0 until :meth:`with_release_bound`, or as measured).
     release_sd_deg: float = 0.0
+    #: Where `release_sd_deg` comes from: "none" (not set), "the most the replicates allow"
+    #: (the bound of :meth:`with_release_bound`) or "given" (measured).
     release_source: str = "none"
 
     @classmethod

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from ..errors import InputError
 from ..fitting import ParameterSet
 from ..validation.candidates import PARAMETERS, get_candidates
@@ -27,34 +28,24 @@ from ..validation.results import CandidateFit
 __all__ = ["Posterior", "fit_task"]
 
 
+@field_docs
 @dataclass(frozen=True)
 class Posterior:
-    """N(mean, covariance) of one candidate's parameters on the optimiser's scale.
+    """N(mean, covariance) of one candidate's parameters on the optimiser's scale."""
 
-    Attributes
-    ----------
-    model : str
-        Candidate name.
-    params : tuple of str
-        Its fitted parameters, in order.
-    mean : ndarray
-        x_hat, optimiser variables.
-    covariance : ndarray
-        Covariance of x (optimiser variables).
-    values : dict of str to float
-        Best values (physical units).
-    sigma : float
-        The fit's ML run-to-run scatter [s] (reported; the design's noise is the floor).
-    aic : float
-        AIC of the fit.
-    """
-
+    #: Candidate name.
     model: str
+    #: The candidate's fitted parameters, in order.
     params: tuple[str, ...]
+    #: Posterior mean x_hat: the best fit in optimiser variables, one per parameter.
     mean: NDArray[np.float64]
+    #: Posterior covariance C of x (optimiser variables), shape (k, k) for k parameters.
     covariance: NDArray[np.float64]
+    #: Best value of each parameter (physical units).
     values: dict[str, float]
+    #: The fit's ML run-to-run scatter [s] (reported; the design's noise is the floor).
     sigma: float
+    #: AIC of the fit.
     aic: float
 
     def __post_init__(self) -> None:

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from .campaigns import DECISIVE_BAYES_FACTOR, Rates
 from .criterion import plan_value
 from .noise import ReplicateNoise
@@ -33,31 +34,24 @@ def _mean_rate(rates: Mapping[str, Rates], key: str) -> float:
     return float(np.mean([getattr(r, key) for r in rates.values()]))
 
 
+@field_docs
 @dataclass(frozen=True)
 class PlanResult:
-    """The designed plan of one size and the simulated campaigns of it and the naive plan.
+    """The designed plan of one size and the simulated campaigns of it and the naive plan."""
 
-    Attributes
-    ----------
-    n_runs : int
-    runs : list of int
-        Setting indices of the runs (sorted; repeats are replicates).
-    criterion : float
-        Box-Hill D of the plan [nats].
-    naive_criterion : float
-        D of the naive plan of the same size [nats].
-    designed, naive : dict of str to Rates
-        Decision rates per generating model.
-    naive_runs : list of int
-        Setting indices of the naive plan of the same size.
-    """
-
+    #: Campaign size N: the number of runs of the plan.
     n_runs: int
+    #: Setting indices of the runs (sorted; repeats are replicates).
     runs: list[int]
+    #: Box-Hill D of the plan [nats].
     criterion: float
+    #: D of the naive plan of the same size [nats].
     naive_criterion: float
+    #: Decision rates of the designed plan per generating model.
     designed: dict[str, Rates]
+    #: Decision rates of the naive plan of the same size per generating model.
     naive: dict[str, Rates]
+    #: Setting indices of the naive plan of the same size.
     naive_runs: list[int]
 
     @property
@@ -71,54 +65,44 @@ class PlanResult:
         return _mean_rate(self.naive, "p_decisive")
 
 
+@field_docs
 @dataclass(frozen=True)
 class DesignResult:
-    """The whole design study (:func:`obturator.design_experiment`).
+    """The whole design study (:func:`obturator.design_experiment`)."""
 
-    Attributes
-    ----------
-    models : tuple of str
-    posteriors : dict of str to Posterior
-    settings : list of Setting
-        Every setting solved (the candidate grid and the measured runs' spins).
-    candidate_mask : ndarray of bool
-        Settings the plan search could choose.
-    surrogates : dict of str to Surrogate
-    noise_sd : ndarray
-        Replicate SD at each setting [s].
-    noise_model : ReplicateNoise
-        Band SDs and CVs, the release-jitter bound.
-    release_slope : ndarray
-        |dt_cr/dtheta_0| at each setting [s/deg] (mean over the models' best fits).
-    plans : list of PlanResult
-        One per campaign size.
-    naive_rates : dict of int to dict of str to Rates
-        The naive plan's rates at every simulated size.
-    surrogate_error : dict of str to dict
-        Surrogate against exact t_cr at the campaign draws, per generating model.
-    ranges : SettingRanges
-    campaigns, seed, n_solves : int
-        Campaigns per model and plan, seed, exact solves of the study.
-    data_source : str
-    elapsed_s : float
-    """
-
+    #: Names of the candidates compared, in order.
     models: tuple[str, ...]
+    #: Laplace posterior of each candidate's parameters, by name.
     posteriors: dict[str, Posterior]
+    #: Every setting solved (the candidate grid and the measured runs' spins).
     settings: list[Setting]
+    #: Settings the plan search could choose.
     candidate_mask: NDArray[np.bool_]
+    #: Surrogate of each candidate's t_cr over the settings, by name.
     surrogates: dict[str, Surrogate]
+    #: Replicate SD at each setting [s].
     noise_sd: NDArray[np.float64]
+    #: Band SDs and CVs, the release-jitter bound.
     noise_model: ReplicateNoise
+    #: |dt_cr/dtheta_0| at each setting [s/deg] (mean over the models' best fits).
     release_slope: NDArray[np.float64]
+    #: The designed plans, one per campaign size.
     plans: list[PlanResult]
+    #: The naive plan's rates at every simulated size.
     naive_rates: dict[int, dict[str, Rates]]
+    #: Surrogate against exact t_cr at the campaign draws, per generating model.
     surrogate_error: dict[str, dict[str, float]]
+    #: Ranges of the controllable settings and the candidate grid.
     ranges: SettingRanges
+    #: Simulated campaigns per generating model and plan.
     campaigns: int
+    #: Seed of the posterior draws and the replicate noise.
     seed: int
+    #: Exact solves of the study (surrogates and simulated campaigns).
     n_solves: int
+    #: Where the measured runs came from (the data's ``SpinRigData.source``).
     data_source: str
+    #: Wall time of the study [s].
     elapsed_s: float
 
     # ------------------------------------------------------------------ derived

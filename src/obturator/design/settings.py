@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from ..errors import InputError, check_range
 from ..model.case import Case
 from ..model.cases import TABLE1
@@ -61,25 +62,18 @@ _SETTING_KEYS = (
 )
 
 
+@field_docs
 @dataclass(frozen=True)
 class Setting:
-    """One run's controllable settings.
+    """One run's controllable settings."""
 
-    Attributes
-    ----------
-    spin_rate : float
-        omega_p [rad/s].
-    theta0_deg : float
-        Release angle as set [deg].
-    hole_radius : float
-        r_s [m].
-    density : float
-        Ball density [kg/m^3].
-    """
-
+    #: Spin rate omega_p [rad/s].
     spin_rate: float
+    #: Release angle as set [deg].
     theta0_deg: float = _THETA0
+    #: Hole radius r_s [m].
     hole_radius: float = _HOLE
+    #: Ball density [kg/m^3].
     density: float = _RHO
 
     def to_dict(self) -> dict[str, float]:
@@ -124,33 +118,33 @@ def _axis(lo: float, hi: float, n: int, nominal: float, geometric: bool = False)
     return sorted({round(float(v), 12) for v in vals})
 
 
+@field_docs
 @dataclass(frozen=True)
 class SettingRanges:
-    """Ranges of the controllable settings and the candidate grid over them.
+    """Ranges of the controllable settings and the candidate grid over them."""
 
-    Attributes
-    ----------
-    spin_rate : (float, float)
-        omega_p [rad/s]; default 90-450 (Appendix B: 78-446; below 90 rad/s the runs
-        scatter most and every solve is stiff, about 15 times the cost).
-    theta0_deg : (float, float)
-        Release angle as set [deg]; default 70-89 (Table 1: 87.25; 90 is the
-        equilibrium the ball never leaves).
-    hole_radius : (float, float)
-        r_s [m]; default 3.75-5.58 mm (thesis Fig. 17), at most R_s/sqrt(2).
-    density : (float, float)
-        [kg/m^3]; default 6000-10000 (thesis Fig. 16).
-    n_spin, n_theta0, n_hole, n_density : int
-        Grid points per axis (the Table 1 value is added inside the range).
-    """
-
+    #: (low, high) spin rate omega_p [rad/s]; default 90-450 (Appendix B: 78-446; below
+    #: 90 rad/s the runs scatter most and every solve is stiff, about 15 times the cost).
     spin_rate: tuple[float, float] = (90.0, 450.0)
+    #: (low, high) release angle as set [deg]; default 70-89 (Table 1: 87.25; 90 is the
+    #: equilibrium the ball never leaves).
     theta0_deg: tuple[float, float] = (70.0, 89.0)
+    #: (low, high) hole radius r_s [m]; default 3.75-5.58 mm (thesis Fig. 17), at most
+    #: R_s/sqrt(2).
     hole_radius: tuple[float, float] = (3.75e-3, 5.58e-3)
+    #: (low, high) ball density [kg/m^3]; default 6000-10000 (thesis Fig. 16).
     density: tuple[float, float] = (6000.0, 10000.0)
+    #: Grid points of the spin-rate axis, geometrically spaced (the Table 1 value,
+    #: 200 rad/s, is added when inside the range).
     n_spin: int = 8
+    #: Grid points of the release-angle axis, linearly spaced (the Table 1 value is added
+    #: when inside the range).
     n_theta0: int = 3
+    #: Grid points of the hole-radius axis, linearly spaced (the Table 1 value is added when
+    #: inside the range).
     n_hole: int = 2
+    #: Grid points of the density axis, linearly spaced (the Table 1 value is added when
+    #: inside the range).
     n_density: int = 2
 
     def __post_init__(self) -> None:

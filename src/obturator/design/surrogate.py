@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from ..solve import opening_times
 from ..validation.candidates import get_candidates
 from ..validation.evaluate import VALIDATION_OPTIONS
@@ -62,24 +63,19 @@ def stencil(post: Posterior) -> NDArray[np.float64]:
     return np.array(pts)
 
 
+@field_docs
 @dataclass(frozen=True)
 class Surrogate:
-    """The expansion of one model's t_cr at every candidate setting (module notes).
+    """The expansion of one model's t_cr at every candidate setting (module notes)."""
 
-    Attributes
-    ----------
-    model : str
-    t0 : ndarray, shape (S,)
-        t_cr at x_hat [s].
-    grad : ndarray, shape (S, k)
-        g_j [s per posterior SD].
-    curv : ndarray, shape (S, k)
-        c_j [s per posterior SD^2].
-    """
-
+    #: Name of the candidate expanded.
     model: str
+    #: t_cr at x_hat at each of the S settings [s], shape (S,).
     t0: NDArray[np.float64]
+    #: First-order coefficients g_j at each setting [s per posterior SD], shape (S, k) for the
+    #: k parameters.
     grad: NDArray[np.float64]
+    #: Curvatures c_j at each setting [s per posterior SD^2], shape (S, k).
     curv: NDArray[np.float64]
 
     @classmethod

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from .._docs import field_docs
 from ..errors import InputError, check_range
 from ..json_values import finite_or_none
 from ..model.case import Case, initial_state
@@ -109,37 +110,30 @@ def cached_flight(projectile: Projectile, launch: Launch, t_end: float) -> Traje
     return fly(projectile, launch, t_end)
 
 
+@field_docs
 @dataclass(frozen=True)
 class CoupledOpening:
-    """Result of one trajectory-coupled opening.
+    """Result of one trajectory-coupled opening."""
 
-    Attributes
-    ----------
-    t_cr : float
-        Opening time [s]; NaN if the bore did not open.
-    status : int
-        :data:`STATUS_OPENED`, :data:`STATUS_NOT_OPENED`, :data:`STATUS_SUBSONIC`
-        or :data:`STATUS_FAILED`.
-    segment : float
-        Segment length Delta [s].
-    n_segments : int
-        Segments integrated.
-    mach_end, force_end, spin_end : float
-        Flight Mach [-], load F_p [N] and spin [rad/s] at t_cr (or at the end).
-    nfev : int
-        Right-hand-side evaluations of the obturator integrator.
-    history : dict of str to ndarray, optional
-        With ``record=True``: t [s], theta [rad], force [N], spin [rad/s], mach [-].
-    """
-
+    #: Opening time [s]; NaN if the bore did not open.
     t_cr: float
+    #: Outcome: :data:`STATUS_OPENED`, :data:`STATUS_NOT_OPENED`, :data:`STATUS_SUBSONIC` or
+    #: :data:`STATUS_FAILED`.
     status: int
+    #: Segment length Delta [s].
     segment: float
+    #: Segments integrated.
     n_segments: int
+    #: Flight Mach number at t_cr (or at the end) [-].
     mach_end: float
+    #: Load F_p at t_cr (or at the end) [N].
     force_end: float
+    #: Spin at t_cr (or at the end) [rad/s].
     spin_end: float
+    #: Right-hand-side evaluations of the obturator integrator.
     nfev: int
+    #: Recorded history, with ``record=True`` (None otherwise): arrays ``t`` [s], ``theta``
+    #: [rad], ``force`` [N], ``spin`` [rad/s] and ``mach`` [-] by name.
     history: dict[str, np.ndarray] | None = field(default=None, repr=False)
 
     @property
@@ -401,24 +395,18 @@ def coupled_opening(
     return res
 
 
+@field_docs
 @dataclass(frozen=True)
 class CoupledConvergence:
-    """Change of the coupled t_cr under refinement (cf. :class:`obturator.solve.ConvergenceCheck`).
+    """Change of coupled t_cr under refinement (cf. :class:`obturator.solve.ConvergenceCheck`)."""
 
-    Attributes
-    ----------
-    t_cr : float
-        With the given options and segment [s].
-    variants : dict of str to float
-        t_cr [s] with ``"tighter_tolerance"`` (rtol, atol / factor),
-        ``"narrower_width"`` (friction width / factor), ``"other_family"`` and ``"half_segment"``
-        (Delta / 2).
-    threshold : float
-        Largest relative change accepted as converged.
-    """
-
+    #: t_cr with the given options and segment [s].
     t_cr: float
+    #: t_cr [s] of each refined rerun, by name: ``"tighter_tolerance"`` (rtol, atol / factor),
+    #: ``"narrower_width"`` (friction width / factor), ``"other_family"`` and ``"half_segment"``
+    #: (Delta / 2).
     variants: dict[str, float]
+    #: Largest relative change accepted as converged.
     threshold: float = 1e-3
 
     def change(self, name: str) -> float:

@@ -166,7 +166,7 @@ class FlightModel:
         Give-up time [s] (also the length of the computed flight).
     check_convergence : bool
         Rerun every opened point refined (tolerances and friction width / 10,
-        and half the segment for the coupled load); status 2 when t_cr moves by
+        and half the segment for the coupled load); status 4 (``UNCONVERGED``) when t_cr moves by
         more than `threshold` (relative).
     threshold : float
         Convergence threshold [-].

@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from .._docs import field_docs
 from ..errors import InputError, check_range
 from ..runs import Runner
 from .model import FlightModel, warm_integrators
@@ -342,44 +343,37 @@ class _GenerationMap:
         ]
 
 
+@field_docs
 @dataclass(frozen=True)
 class OptimisationResult:
-    """Outcome of :func:`optimise`.
+    """Outcome of :func:`optimise`."""
 
-    Attributes
-    ----------
-    x : ndarray
-        Optimal design variables (SI, in ``problem.names`` order).
-    objective : float
-        Objective of the optimum [s] (search settings).
-    baseline_objective : float
-        Objective of the baseline (Table 1) design [s].
-    optimum, baseline : dict
-        Convergence-checked :class:`DesignPoint` results (t_cr, status, change per condition).
-    mass, baseline_mass : float
-        Ball masses [kg].
-    constraints : ndarray
-        g(x) at the optimum (>= 0).
-    sensitivity : dict of str to dict
-        Per variable: ``derivative`` d objective / d x [s per unit], ``elasticity``
-        (x / J) dJ/dx, and ``active`` ("lower", "upper" or "").
-    n_evaluations : int
-        Designs evaluated.
-    message : str
-        Optimiser message.
-    """
-
+    #: The design problem solved.
     problem: DesignProblem
+    #: Optimal design variables (SI, in ``problem.names`` order).
     x: np.ndarray
+    #: Objective of the optimum [s] (search settings).
     objective: float
+    #: Objective of the baseline (Table 1) design [s].
     baseline_objective: float
+    #: Convergence-checked :class:`DesignPoint` result of the optimum (t_cr, status, change per
+    #: condition).
     optimum: dict[str, Any]
+    #: Convergence-checked :class:`DesignPoint` result of the baseline (Table 1) design (t_cr,
+    #: status, change per condition).
     baseline: dict[str, Any]
+    #: Ball mass of the optimum [kg].
     mass: float
+    #: Ball mass of the baseline design [kg].
     baseline_mass: float
+    #: g(x) at the optimum (>= 0).
     constraints: np.ndarray
+    #: Per variable: ``derivative`` d objective / d x [s per unit], ``elasticity`` (x / J) dJ/dx,
+    #: and ``active`` ("lower", "upper" or "").
     sensitivity: dict[str, dict[str, Any]]
+    #: Designs evaluated.
     n_evaluations: int
+    #: Optimiser message.
     message: str
 
     @property

@@ -34,7 +34,7 @@ Cross-entropy importance sampling (:func:`importance_sampling`)
 
 A point that did not open, went subsonic, failed or had invalid inputs counts as
 exceeding the requirement (conservative); the counts are reported, as is the
-number of t_cr that were not converged (status 2).
+number of t_cr that were not converged (status 4, ``UNCONVERGED``).
 """
 
 from __future__ import annotations
@@ -48,6 +48,7 @@ import numpy as np
 from scipy.special import ndtri
 from scipy.stats import beta
 
+from .._docs import field_docs
 from ..errors import InputError, check_range
 from ..sweeps import Distribution
 from .coupled import STATUS_OPENED, STATUS_UNCONVERGED
@@ -60,56 +61,40 @@ _SIGMA_MIN = 1.0 / math.sqrt(2.0)
 __all__ = ["ProbabilityEstimate", "brute_force", "importance_sampling", "clopper_pearson"]
 
 
+@field_docs
 @dataclass(frozen=True)
 class ProbabilityEstimate:
-    """An exceedance probability with its confidence interval.
+    """An exceedance probability with its confidence interval."""
 
-    Attributes
-    ----------
-    probability : float
-        Estimate of P(t_cr > requirement).
-    ci_low, ci_high : float
-        Confidence interval.
-    confidence : float
-        Its level (e.g. 0.95).
-    std_error : float
-        Standard error of the estimate.
-    method : str
-        ``"brute-force"`` or ``"cross-entropy-is"``.
-    n_evaluations : int
-        Model evaluations, all stages included.
-    n_samples : int
-        Samples of the final estimate.
-    n_exceed : int
-        Final samples exceeding the requirement.
-    n_not_opened : int
-        Final samples that did not open (or failed / invalid), counted as exceeding.
-    n_unconverged : int
-        Final samples whose t_cr was not converged (status 2).
-    effective_sample_size : float
-        (sum w)^2 / sum w^2 of the final weights (N for brute force).
-    levels : tuple of float
-        Intermediate cross-entropy levels [s].
-    requirement : float
-        The requirement [s].
-    reliable : bool
-        False when fewer than 10 final samples exceed (interval not trustworthy).
-    """
-
+    #: Estimate of P(t_cr > requirement) [-].
     probability: float
+    #: Lower end of the confidence interval of `probability` [-].
     ci_low: float
+    #: Upper end of the confidence interval of `probability` [-].
     ci_high: float
+    #: Level of the confidence interval (e.g. 0.95).
     confidence: float
+    #: Standard error of the estimate [-].
     std_error: float
+    #: Estimator used: ``"brute-force"`` or ``"cross-entropy-is"``.
     method: str
+    #: Model evaluations, all stages included.
     n_evaluations: int
+    #: Samples of the final estimate.
     n_samples: int
+    #: Final samples exceeding the requirement.
     n_exceed: int
+    #: Final samples that did not open (or failed / invalid), counted as exceeding.
     n_not_opened: int
+    #: Final samples whose t_cr was not converged (status :data:`STATUS_UNCONVERGED`).
     n_unconverged: int
+    #: Effective sample size (sum w)^2 / sum w^2 of the final weights (N for brute force).
     effective_sample_size: float
+    #: Intermediate cross-entropy levels [s] (empty for brute force).
     levels: tuple[float, ...]
+    #: The t_cr requirement [s].
     requirement: float
+    #: False when fewer than 10 final samples exceed (interval not trustworthy).
     reliable: bool
 
     @property

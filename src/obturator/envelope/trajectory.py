@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import quad, solve_ivp
 
+from .._docs import field_docs
 from ..errors import InputError, check_range
 from ..flow import pressure_force
 from ..flow.atmosphere import MAX_ALTITUDE, R_AIR, STANDARD_GRAVITY, standard_atmosphere
@@ -220,28 +221,25 @@ def _rhs(projectile: Projectile, launch: Launch) -> Any:
     return f
 
 
+@field_docs
 @dataclass(frozen=True)
 class Trajectory:
-    """A computed flight; every method takes times [s] from muzzle exit.
+    """A computed flight; every method takes times [s] from muzzle exit."""
 
-    Attributes
-    ----------
-    projectile : Projectile
-    launch : Launch
-    t_end : float
-        Last time covered [s] (earlier than requested if the flight went subsonic).
-    subsonic : bool
-        True if the Mach number fell to 1 at ``t_end``.
-    nfev : int
-        Right-hand-side evaluations.
-    """
-
+    #: The projectile flown (mass, size, spin inertia, aerodynamics).
     projectile: Projectile
+    #: Its muzzle-exit conditions.
     launch: Launch
+    #: Last time covered [s] (earlier than requested if the flight went subsonic).
     t_end: float
+    #: True if the Mach number fell to 1 at ``t_end``.
     subsonic: bool
+    #: Right-hand-side evaluations.
     nfev: int
+    #: Dense output of the integration (SciPy ``OdeSolution``): state [x, z, u, w, omega_p] at
+    #: times in [0, t_end] (private).
     _sol: Any = field(repr=False)
+    #: Segment tables already computed by :meth:`segment_loads`, by argument set (private).
     _cache: dict[Any, Any] = field(default_factory=dict, repr=False, compare=False)
 
     def _y(self, t: Any) -> np.ndarray:

@@ -30,6 +30,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import least_squares, minimize_scalar
 
+from .._docs import field_docs
+
 __all__ = [
     "LeastSquaresSettings",
     "Minimum",
@@ -46,36 +48,28 @@ Prefetch = Callable[[Sequence[NDArray[np.float64]]], None]
 _LSQ_MAPS = "workers" in inspect.signature(least_squares).parameters
 
 
+@field_docs
 @dataclass(frozen=True)
 class LeastSquaresSettings:
-    """How :func:`minimize_least_squares` steps and stops.
+    """How :func:`minimize_least_squares` steps and stops."""
 
-    Attributes
-    ----------
-    jac : {"2-point", "3-point"}
-        Finite differences of the optimiser's Jacobian.
-    diff_step : float
-        Their relative step. t_cr ripples slightly in the parameters (see
-        :func:`obturator.calibration.fit_exact`, Notes): the step must be large
-        against that ripple's scale and small against the parameters'
-        uncertainties.
-    x_scale : float or "jac"
-        Variable scaling of the trust region.
-    xtol, ftol : float
-        Stopping tolerances (relative step of x, relative change of the cost).
-    covariance_step : float
-        Relative step of :func:`central_jacobian` at the optimum.
-    max_nfev : int or None
-        Most residual evaluations (finite-difference ones not counted); None:
-        scipy's default, 100 per variable.
-    """
-
+    #: Finite differences of the optimiser's Jacobian: "2-point" (forward) or "3-point"
+    #: (central).
     jac: Literal["2-point", "3-point"] = "3-point"
+    #: Relative step of those finite differences. t_cr ripples slightly in the parameters (see
+    #: :func:`obturator.calibration.fit_exact`, Notes): the step must be large against that
+    #: ripple's scale and small against the parameters' uncertainties.
     diff_step: float = 1e-4
+    #: Variable scaling of the trust region (a number, or "jac": from the Jacobian's columns).
     x_scale: float | Literal["jac"] = "jac"
+    #: Stopping tolerance on the relative step of x.
     xtol: float = 1e-8
+    #: Stopping tolerance on the relative change of the cost.
     ftol: float = 1e-8
+    #: Relative step of :func:`central_jacobian` at the optimum.
     covariance_step: float = 1e-4
+    #: Most residual evaluations (finite-difference ones not counted); None: scipy's default,
+    #: 100 per variable.
     max_nfev: int | None = None
 
 

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from ..errors import InputError
 from ..params import FIT_PARAMS, Transform
 
@@ -33,49 +34,36 @@ __all__ = ["FIT_PARAMETERS", "FitParameter", "ParameterSet", "registered"]
 _LN10 = math.log(10.0)
 
 
+@field_docs
 @dataclass(frozen=True)
 class FitParameter:
-    """One model parameter of a fit: its description and, after a fit, its estimate.
+    """One model parameter of a fit: its description and, after a fit, its estimate."""
 
-    Attributes
-    ----------
-    name : str
-    value : float
-        Best value (fitted), the value held fixed, or (registry) the default start,
-        in `unit`.
-    unit : str
-    vary : bool
-        True when fitted.
-    bounds : (float, float)
-        Hard bounds of the fit.
-    stderr : float or None
-        Standard error (fitted parameters only).
-    ci95 : (float, float) or None
-        95 % interval (fitted parameters only), computed by `ci_method`.
-    ci_method : {"wald", "profile"}
-        "wald": value +- t_{0.975, dof} stderr on the optimiser's scale, clipped to
-        the bounds; "profile": profile likelihood.
-    transform : {"linear", "log10"}
-        The optimiser's variable: value / scale, or log10(value).
-    scale : float
-        Typical size for the linear transform.
-    plausible : (float, float)
-        The physically argued range (see `reason`).
-    reason : str
-        Why the bounds and the range (from :data:`obturator.params.FIT_SPECS`).
-    """
-
+    #: Parameter name (for a registered one its key in :data:`obturator.params.FIT_PARAMS`,
+    #: e.g. ``"mu_s"``).
     name: str
+    #: Best value (fitted), the value held fixed, or (registry) the default start, in `unit`.
     value: float
+    #: Unit of `value`, `bounds`, `stderr`, `ci95` and `plausible` ("1": dimensionless).
     unit: str = "1"
+    #: True when fitted.
     vary: bool = True
+    #: Hard bounds (low, high) of the fit.
     bounds: tuple[float, float] = (-math.inf, math.inf)
+    #: Standard error (fitted parameters only).
     stderr: float | None = None
+    #: 95 % interval (fitted parameters only), computed by `ci_method`.
     ci95: tuple[float, float] | None = None
+    #: How `ci95` is computed: "wald" (value +- t_{0.975, dof} stderr on the optimiser's scale,
+    #: clipped to the bounds) or "profile" (profile likelihood).
     ci_method: str = "wald"
+    #: The optimiser's variable: "linear" (value / `scale`) or "log10" (log10(value)).
     transform: Transform = "linear"
+    #: Typical size of the value, for the linear transform (in `unit`).
     scale: float = 1.0
+    #: The physically argued range (see `reason`).
     plausible: tuple[float, float] = (-math.inf, math.inf)
+    #: Why the bounds and the range (from :data:`obturator.params.FIT_SPECS`).
     reason: str = ""
 
     @property

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._docs import field_docs
 from ..errors import InputError
 from ._arrays import as_output, checked_array
 
@@ -172,36 +173,27 @@ def sutherland_viscosity(temperature: ArrayLike) -> Any:
     return as_output(SUTHERLAND_BETA * t**1.5 / (t + SUTHERLAND_S))
 
 
+@field_docs
 @dataclass(frozen=True)
 class Atmosphere:
     """State of the 1976 standard atmosphere at one or more altitudes.
 
     Attributes are floats for a scalar altitude, arrays otherwise.
-
-    Attributes
-    ----------
-    altitude_m : float or numpy.ndarray
-        Geometric altitude z [m].
-    geopotential_m : float or numpy.ndarray
-        Geopotential altitude H [m'].
-    temperature : float or numpy.ndarray
-        Kinetic temperature T [K].
-    pressure : float or numpy.ndarray
-        Static pressure P [Pa].
-    density : float or numpy.ndarray
-        Density rho [kg/m^3].
-    speed_of_sound : float or numpy.ndarray
-        Speed of sound a [m/s].
-    dynamic_viscosity : float or numpy.ndarray
-        Dynamic viscosity mu [Pa s].
     """
 
+    #: Geometric altitude z [m].
     altitude_m: Any
+    #: Geopotential altitude H [m'].
     geopotential_m: Any
+    #: Kinetic temperature T [K].
     temperature: Any
+    #: Static pressure P [Pa].
     pressure: Any
+    #: Density rho [kg/m^3].
     density: Any
+    #: Speed of sound a [m/s].
     speed_of_sound: Any
+    #: Dynamic viscosity mu [Pa s].
     dynamic_viscosity: Any
 
     @property

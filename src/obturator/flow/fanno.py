@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
-from .._docs import fill_doc
+from .._docs import field_docs, fill_doc
 from ..errors import InputError, check_range
 from ..reference import THESIS_REYNOLDS, THESIS_REYNOLDS_MACH
 from ._arrays import (
@@ -267,28 +267,20 @@ def _friction(reynolds: ArrayLike, relative_roughness: ArrayLike, correlation: s
     raise InputError("correlation", f"{correlation!r} is not one of {', '.join(_CORRELATIONS)}")
 
 
+@field_docs
 @dataclass(frozen=True)
 class ChokingStep:
-    """One pass of the thesis's friction-factor iteration.
+    """One pass of the thesis's friction-factor iteration."""
 
-    Attributes
-    ----------
-    iteration : int
-        0 for the first estimate.
-    reynolds : float
-        Bore Reynolds number used for the friction factor.
-    friction_factor : float
-        Darcy friction factor f_D.
-    fld : float
-        f_D L/D.
-    mach : float
-        Choking (entry = flight) Mach number from the Fanno relation.
-    """
-
+    #: 0 for the first estimate.
     iteration: int
+    #: Bore Reynolds number used for the friction factor.
     reynolds: float
+    #: Darcy friction factor f_D.
     friction_factor: float
+    #: f_D L/D.
     fld: float
+    #: Choking (entry = flight) Mach number from the Fanno relation.
     mach: float
 
 

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._docs import fill_doc
+from .._docs import field_docs, fill_doc
 from ..errors import InputError
 from ._arrays import (
     GAMMA_DOC,
@@ -118,28 +118,24 @@ def normal_shock_stagnation_pressure_ratio(mach: ArrayLike, gamma: ArrayLike = 1
     return as_output(np.exp((g * np.log(rho) - np.log(p)) / (g - 1.0)))
 
 
+@field_docs
 @dataclass(frozen=True)
 class NormalShock:
-    """All normal-shock ratios for upstream Mach ``mach`` (floats or arrays).
+    """All normal-shock ratios for upstream Mach ``mach`` (floats or arrays)."""
 
-    Attributes
-    ----------
-    mach, gamma : float or numpy.ndarray
-        Upstream Mach number M_1 and ratio of specific heats.
-    mach2 : float or numpy.ndarray
-        Downstream Mach number M_2 (Eq. 3).
-    pressure_ratio, density_ratio, temperature_ratio : float or numpy.ndarray
-        P_2/P_1 (Eq. 1), rho_2/rho_1, T_2/T_1.
-    stagnation_pressure_ratio : float or numpy.ndarray
-        p_02/p_01.
-    """
-
+    #: Upstream Mach number M_1 [-].
     mach: Any
+    #: Ratio of specific heats gamma [-].
     gamma: Any
+    #: Downstream Mach number M_2 [-] (Eq. 3).
     mach2: Any
+    #: Static pressure ratio P_2/P_1 [-] (Eq. 1).
     pressure_ratio: Any
+    #: Density ratio rho_2/rho_1 [-].
     density_ratio: Any
+    #: Static temperature ratio T_2/T_1 [-].
     temperature_ratio: Any
+    #: Stagnation pressure ratio p_02/p_01 [-].
     stagnation_pressure_ratio: Any
 
 

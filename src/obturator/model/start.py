@@ -32,6 +32,7 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from .._docs import field_docs
 from ..errors import check_range
 from ..flow import (
     choking_mach_freestream,
@@ -47,50 +48,34 @@ from .passage import open_angle, open_area
 __all__ = ["StartCondition", "start_condition", "full_bore_start_mach"]
 
 
+@field_docs
 @dataclass(frozen=True)
 class StartCondition:
-    """The start of the internal flow at one flight Mach number.
+    """The start of the internal flow at one flight Mach number."""
 
-    Attributes
-    ----------
-    mach : float
-        Flight Mach number M_1 [-].
-    theta_start : float
-        Nutation angle at which the bow shock is swallowed [rad]; NaN when
-        unstartable.
-    swallow_ratio : float
-        (A_c/A_t)_start at this Mach (Eq. 2) [-].
-    throat_area : float
-        Throat area needed, A_c / (A_c/A_t)_start [m^2].
-    capture_area : float
-        A_c [m^2].
-    full_area : float
-        Open area of the aligned ball, A(0) [m^2].
-    beta_s : float
-        First-light angle asin(r_s/R_s) [rad].
-    startable : bool
-        The full bore swallows the shock at this Mach.
-    choke_mach : float
-        Fanno choking Mach of the started bore [-].
-    choked : bool
-        ``mach <= choke_mach``: the started tube chokes by friction and unstarts.
-    bore_radius : float
-        r_p [m].
-    gamma : float
-        Ratio of specific heats [-].
-    """
-
+    #: Flight Mach number M_1 [-].
     mach: float
+    #: Nutation angle at which the bow shock is swallowed [rad]; NaN when unstartable.
     theta_start: float
+    #: (A_c/A_t)_start at this Mach (Eq. 2) [-].
     swallow_ratio: float
+    #: Throat area needed, A_c / (A_c/A_t)_start [m^2].
     throat_area: float
+    #: A_c [m^2].
     capture_area: float
+    #: Open area of the aligned ball, A(0) [m^2].
     full_area: float
+    #: First-light angle asin(r_s/R_s) [rad].
     beta_s: float
+    #: The full bore swallows the shock at this Mach.
     startable: bool
+    #: Fanno choking Mach of the started bore [-].
     choke_mach: float
+    #: ``mach <= choke_mach``: the started tube chokes by friction and unstarts.
     choked: bool
+    #: r_p [m].
     bore_radius: float
+    #: Ratio of specific heats [-].
     gamma: float
 
     @property

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from .._docs import field_docs
 from ..errors import InputError
 
 __all__ = ["Job", "PROBE_TASKS", "Probe", "TASK_CHUNK", "chunk_length", "make_chunks", "probe"]
@@ -28,38 +29,28 @@ _CHUNKS_PER_WORKER = 8
 PROBE_TASKS = 32
 
 
+@field_docs
 @dataclass(frozen=True)
 class Job:
-    """What every chunk computes: ``fn(*args_of(idx))`` for the flat task indices `idx`.
+    """What every chunk computes: ``fn(*args_of(idx))`` for the flat task indices `idx`."""
 
-    Attributes
-    ----------
-    fn : callable
-        Module-level (picklable) function computing one chunk; its result goes to
-        the sink as it is.
-    args_of : callable
-        Flat task indices -> the arguments of `fn` (called in this process).
-    warm : callable, optional
-        Loads the compiled code once before workers are forked (they inherit it)
-        and before a probe is timed.
-    ahead : callable, optional
-        ``ahead(chunks)``: does what `warm` does while a helper process prepares the
-        chunks' arguments, and returns the job that uses them (pool runs only).
-    meanwhile : callable, optional
-        Work for this process while the workers compute, where a core is spare
-        (the sweep imports its output writer).
-    separable : bool
-        Whether a task's result is the same whatever chunk it runs in (False for
-        points integrated in lanes, where a chunk's count of stiff points picks the
-        Radau path: a probe in this process then only times, and its tasks run again
-        in their chunk, so a run's results do not depend on whether it was probed).
-    """
-
+    #: Module-level (picklable) function computing one chunk; its result goes to the sink as it is.
     fn: Callable[..., Any]
+    #: Flat task indices -> the arguments of `fn` (called in this process).
     args_of: Callable[[np.ndarray], tuple[Any, ...]]
+    #: Loads the compiled code once before workers are forked (they inherit it) and before a probe
+    #: is timed.
     warm: Callable[[], None] | None = None
+    #: ``ahead(chunks)``: does what `warm` does while a helper process prepares the chunks'
+    #: arguments, and returns the job that uses them (pool runs only).
     ahead: Callable[[list[np.ndarray]], Job] | None = None
+    #: Work for this process while the workers compute, where a core is spare (the sweep imports its
+    #: output writer).
     meanwhile: Callable[[], None] | None = None
+    #: Whether a task's result is the same whatever chunk it runs in (False for points integrated in
+    #: lanes, where a chunk's count of stiff points picks the Radau path: a probe in this process
+    #: then only times, and its tasks run again in their chunk, so a run's results do not depend on
+    #: whether it was probed).
     separable: bool = True
 
     def run(self, idx: np.ndarray) -> Any:
@@ -91,18 +82,14 @@ def chunk_length(n_todo: int, workers: int, chunk_size: int | None, max_chunk: i
     return int(chunk_size)
 
 
+@field_docs
 @dataclass(frozen=True)
 class Probe:
-    """Cost of the probe's tasks, timed in this process.
+    """Cost of the probe's tasks, timed in this process."""
 
-    Attributes
-    ----------
-    n_tasks : int
-    seconds_per_task : float
-        CPU time of this thread per task [s].
-    """
-
+    #: Tasks the probe ran (at most :data:`PROBE_TASKS`).
     n_tasks: int
+    #: CPU time of this thread per task [s].
     seconds_per_task: float
 
     def serial_s(self, n_tasks: int) -> float:

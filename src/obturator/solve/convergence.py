@@ -8,6 +8,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._docs import field_docs
 from ..json_values import finite_or_none
 from ..model.case import Case
 from ..vocab import FRICTION_FAMILIES, check_choice
@@ -31,6 +32,7 @@ def alternative_family(family: str) -> str:
     return "algebraic" if family == "linear" else "linear"
 
 
+@field_docs
 @dataclass(frozen=True)
 class ConvergenceCheck:
     """t_cr re-computed with tighter tolerances, a narrower width and another family.
@@ -39,32 +41,22 @@ class ConvergenceCheck:
     wrong limit (each family looks converged as its own width shrinks); a
     second family with a different shape can. t_cr counts as converged only
     when all three reruns agree with it.
-
-    Attributes
-    ----------
-    opening_time : float
-        t_cr with the given options [s] (NaN if it did not open).
-    tighter_tolerance : float
-        t_cr with rtol and atol divided by `factor` [s].
-    narrower_width : float
-        t_cr with ``friction_width`` divided by `factor` [s] (tolerances
-        divided by `factor` too, so slip speeds of order delta stay resolved).
-    other_family : float
-        t_cr with ``friction_family`` replaced by `family` [s].
-    family : str
-        The family of that rerun.
-    factor : float
-        Refinement factor (10 by default).
-    threshold : float
-        Largest relative change accepted as converged.
     """
 
+    #: t_cr with the given options [s] (NaN if it did not open).
     opening_time: float
+    #: t_cr with rtol and atol divided by `factor` [s].
     tighter_tolerance: float
+    #: t_cr with ``friction_width`` divided by `factor` [s] (tolerances divided by `factor` too, so
+    #: slip speeds of order delta stay resolved).
     narrower_width: float
+    #: t_cr with ``friction_family`` replaced by `family` [s].
     other_family: float
+    #: The family of that rerun.
     family: str
+    #: Refinement factor (10 by default).
     factor: float
+    #: Largest relative change accepted as converged.
     threshold: float
 
     @staticmethod

@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from .._docs import field_docs
 from ..json_values import finite_or_none
 from ..model.case import Case
 from ..model.start import StartCondition
@@ -32,28 +33,22 @@ from .options import SolverOptions
 __all__ = ["StartTimes", "start_times", "scaled_load"]
 
 
+@field_docs
 @dataclass(frozen=True)
 class StartTimes:
-    """Opening (first light) and start of one flight case.
+    """Opening (first light) and start of one flight case."""
 
-    Attributes
-    ----------
-    t_cr : float
-        First light, theta = beta_s [s]; NaN if not reached by t_max.
-    t_start : float
-        Start, theta = theta_start, thesis load kept [s]; NaN if not reached
-        or the tube cannot start.
-    t_start_low_load, t_start_high_load : float
-        t_start with the load from first light on at the low and high end of
-        the spill bracket [s] (the low load starts later).
-    condition : StartCondition
-        theta_start and the flags.
-    """
-
+    #: First light, theta = beta_s [s]; NaN if not reached by t_max.
     t_cr: float
+    #: Start, theta = theta_start, thesis load kept [s]; NaN if not reached or the tube cannot
+    #: start.
     t_start: float
+    #: t_start with the load from first light on, at the low end of the spill bracket [s]
+    #: (the low load starts later).
     t_start_low_load: float
+    #: t_start with the load from first light on, at the high end of the spill bracket [s].
     t_start_high_load: float
+    #: theta_start and the flags.
     condition: StartCondition
 
     @property

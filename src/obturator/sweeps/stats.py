@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from .._docs import field_docs
 from ..errors import check_range
 from ..json_values import finite_or_none
 from ..status import Status
@@ -24,27 +25,23 @@ __all__ = [
 ]
 
 
+@field_docs
 @dataclass(frozen=True)
 class QuantileEstimate:
-    """One t_cr quantile with its confidence interval.
+    """One t_cr quantile with its confidence interval."""
 
-    Attributes
-    ----------
-    probability : float
-        p in (0, 1).
-    value, lower, upper : float
-        Estimate and interval [s]. ``value = inf`` means "beyond t_max" (the
-        order statistic is a sample that did not open); ``upper = inf`` an
-        open upper end (that, or too few samples), ``lower = -inf`` a missing
-        lower bound (too few samples for the confidence asked).
-    coverage : float
-        Exact binomial coverage of [lower, upper] (>= the confidence asked).
-    """
-
+    #: Probability p of the quantile, in (0, 1).
     probability: float
+    #: Estimated p-quantile of t_cr [s]; ``inf`` means "beyond t_max" (the order statistic is a
+    #: sample that did not open).
     value: float
+    #: Lower end of the confidence interval [s]; ``-inf`` when it is missing (too few samples for
+    #: the confidence asked).
     lower: float
+    #: Upper end of the confidence interval [s]; ``inf`` when it is open (the order statistic is a
+    #: sample that did not open, or too few samples).
     upper: float
+    #: Exact binomial coverage of [lower, upper] (>= the confidence asked).
     coverage: float
 
     def to_dict(self) -> dict[str, Any]:
@@ -60,37 +57,37 @@ class QuantileEstimate:
         }
 
 
+@field_docs
 @dataclass(frozen=True)
 class MonteCarloSummary:
-    """Summary of a Monte Carlo study of t_cr.
+    """Summary of a Monte Carlo study of t_cr."""
 
-    Attributes
-    ----------
-    n_samples, n_opened, n_not_opened, n_failed, n_invalid : int
-    fraction_not_opened : float
-        Not opened by t_max, among the opened + not opened samples.
-    fraction_not_opened_ci : (float, float)
-        Clopper-Pearson interval at ``confidence``.
-    quantiles : tuple of QuantileEstimate
-    confidence : float
-    t_max : float
-        Give-up time [s] (not-opened samples count as t_cr > t_max).
-    mean_s, std_s : float
-        Mean and sample standard deviation of t_cr over the opened samples [s].
-    """
-
+    #: Number of samples in the study, whatever their status.
     n_samples: int
+    #: Samples that opened (and converged) before t_max.
     n_opened: int
+    #: Samples that did not open by t_max (right-censored, t_cr > t_max).
     n_not_opened: int
+    #: Samples whose integration failed or hit the step limit (left out of the statistics).
     n_failed: int
+    #: Samples that were not a valid case and were not integrated (left out).
     n_invalid: int
+    #: Fraction [-] of samples not opened by t_max, among the opened + not opened samples.
     fraction_not_opened: float
+    #: Clopper-Pearson interval (low, high) [-] of `fraction_not_opened` at ``confidence``.
     fraction_not_opened_ci: tuple[float, float]
+    #: The requested t_cr quantiles with their confidence intervals.
     quantiles: tuple[QuantileEstimate, ...]
+    #: Confidence level of the intervals, in (0, 1).
     confidence: float
+    #: Give-up time [s] (not-opened samples count as t_cr > t_max).
     t_max: float
+    #: Mean of t_cr over the opened samples [s] (NaN if none opened).
     mean_s: float
+    #: Sample standard deviation of t_cr over the opened samples [s] (NaN if fewer than two).
     std_s: float
+    #: Samples that opened but whose t_cr did not pass the convergence check (left out of the
+    #: quantiles and mean, counted apart).
     n_unconverged: int = 0
 
     def to_dict(self) -> dict[str, Any]:

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .._docs import field_docs
 from ..errors import InputError
 from ..runs import Runner
 from ..runs.chunks import TASK_CHUNK, chunk_length
@@ -81,29 +82,22 @@ def run_points(
     )
 
 
+@field_docs
 @dataclass(frozen=True)
 class SweepRun:
-    """Outcome of :func:`execute_sweep`.
+    """Outcome of :func:`execute_sweep`."""
 
-    Attributes
-    ----------
-    dataset : xarray.Dataset
-        The results (see :func:`run_sweep`).
-    n_computed, n_resumed : int
-        Points integrated in this call and points taken from the resume store.
-    workers : int
-        Local processes used (1: in this process; 0: a dask cluster).
-    backend : str
-        ``"local"`` or ``"dask.distributed"``.
-    elapsed_s : float
-        Wall time of the computation [s] (without writing files).
-    """
-
+    #: The results (see :func:`run_sweep`).
     dataset: xarray.Dataset
+    #: Points integrated in this call.
     n_computed: int
+    #: Points taken from the resume store instead of being integrated again.
     n_resumed: int
+    #: Local processes used (1: in this process; 0: a dask cluster).
     workers: int
+    #: Where the points ran: ``"local"`` or ``"dask.distributed"``.
     backend: str
+    #: Wall time of the computation [s] (without writing files).
     elapsed_s: float
 
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from .. import __version__
 from .. import calibration as cal
+from .._docs import field_docs
 from ..model.cases import rig_case
 from ..reference import TABLE1, THESIS_MU_S
 from ..runs import Progress, Runner, study_digest
@@ -42,30 +43,27 @@ from .rows import Row, checkable_rows
 __all__ = ["Row", "ReproduceResult", "checkable_rows", "reproduce", "to_html", "to_markdown"]
 
 
+@field_docs
 @dataclass
 class ReproduceResult:
-    """What :func:`reproduce` wrote and computed.
+    """What :func:`reproduce` wrote and computed."""
 
-    Attributes
-    ----------
-    out_dir : Path
-    figures : list of Path
-    report_md, report_html : Path
-    rows : list of Row
-    fit : ExactFit
-    elapsed_s : float
-        Wall time of the whole run [s].
-    studies : dict
-        The study Datasets by name.
-    """
-
+    #: Directory the figures and reports were written to.
     out_dir: Path
+    #: Paths of the figures (PNG) written, those of the added sections included.
     figures: list[Path]
+    #: Path of the Markdown report, ``report.md``.
     report_md: Path
+    #: Path of the self-contained HTML report, ``report.html``.
     report_html: Path
+    #: The comparison table: each checked quantity, thesis value against computed.
     rows: list[Row]
+    #: The exact-model calibration of mu_s to the thesis runs (an
+    #: :class:`~obturator.calibration.ExactFit`).
     fit: Any
+    #: Wall time of the whole run [s].
     elapsed_s: float
+    #: The study Datasets by name.
     studies: dict[str, Any] = field(repr=False)
 
 

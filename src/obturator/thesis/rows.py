@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from .. import calibration as cal
+from .._docs import field_docs
 from ..approx import large_spin_coefficients, mean_moment_arm
 from ..flow import (
     choking_mach,
@@ -33,28 +34,22 @@ from ..solve import opening_time
 __all__ = ["HEADER", "Row", "checkable_rows", "computed_values"]
 
 
+@field_docs
 @dataclass(frozen=True)
 class Row:
-    """One line of the comparison table.
+    """One line of the comparison table."""
 
-    Attributes
-    ----------
-    quantity : str
-    thesis : float, str or None
-        Printed value (None: not printed; str: qualitative statement).
-    computed : float or str
-    unit : str
-    where : str
-        Where the thesis prints it.
-    note : str
-        Why a difference exists, or the independent check used.
-    """
-
+    #: Name of the quantity compared.
     quantity: str
+    #: Printed value (None: not printed; str: qualitative statement).
     thesis: float | str | None
+    #: Value computed here (str: qualitative result).
     computed: float | str
+    #: Unit of both values (empty when dimensionless or not numeric).
     unit: str = ""
+    #: Where the thesis prints it.
     where: str = ""
+    #: Why a difference exists, or the independent check used.
     note: str = ""
 
     @property

@@ -55,6 +55,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from ..calibration.rig_model import apply_run_settings
 from ..errors import InputError
 from ..fitting import FIT_PARAMETERS, FitParameter
@@ -116,42 +117,30 @@ def __getattr__(name: str) -> object:
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
+@field_docs
 @dataclass(frozen=True)
 class Candidate:
-    """A named mechanism (or pair): which parameters are fitted, the rest fixed.
+    """A named mechanism (or pair): which parameters are fitted, the rest fixed."""
 
-    Attributes
-    ----------
-    name : str
-        Registry key (CLI ``--models``).
-    description : str
-        One line for tables and the report.
-    params : tuple of str
-        Fitted parameters (keys of :data:`PARAMETERS`), in order.
-    fixed : dict of str to float
-        Parameter values held fixed (others: :data:`NOMINAL`).
-    speed_law : {"constant", "weakening", "strengthening"}
-        Kind of :class:`~obturator.model.torques.SlipSpeedLaw` used with
-        ``speed_ratio`` and ``slip_speed``.
-    torque_model : {"thesis", "coulomb"}
-        Friction law at the bottom contact.
-    mechanisms : tuple of str
-        Mechanism labels (for pairs: both).
-    conditions : tuple of (str, float) pairs
-        Settings of the runs this candidate is evaluated at, where they differ from
-        Table 1 (a data file's columns,
-        :meth:`~obturator.calibration.data.SpinRigData.run_settings`; applied by
-        :func:`~obturator.calibration.rig_model.apply_run_settings`: a fitted
-        ``theta0_deg`` is then an offset from 87.25 deg on the run's own theta_0).
-    """
-
+    #: Registry key (CLI ``--models``).
     name: str
+    #: One line for tables and the report.
     description: str
+    #: Fitted parameters (keys of :data:`PARAMETERS`), in order.
     params: tuple[str, ...]
+    #: Parameter values held fixed (others: :data:`NOMINAL`).
     fixed: Mapping[str, float] = field(default_factory=dict)
+    #: Kind of :class:`~obturator.model.torques.SlipSpeedLaw` used with ``speed_ratio`` and
+    #: ``slip_speed``: "constant", "weakening" or "strengthening".
     speed_law: str = "constant"
+    #: Friction law at the bottom contact: "thesis" or "coulomb".
     torque_model: str = "thesis"
+    #: Mechanism labels (for pairs: both).
     mechanisms: tuple[str, ...] = ()
+    #: Settings of the runs this candidate is evaluated at, where they differ from Table 1 (a data
+    #: file's columns, :meth:`~obturator.calibration.data.SpinRigData.run_settings`; applied by
+    #: :func:`~obturator.calibration.rig_model.apply_run_settings`: a fitted ``theta0_deg`` is then
+    #: an offset from 87.25 deg on the run's own theta_0).
     conditions: tuple[tuple[str, float], ...] = ()
 
     def __post_init__(self) -> None:

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._docs import field_docs
 from ..solve import SolverOptions, opening_times
 from ..status import Status
 from .candidates import Candidate
@@ -34,31 +35,22 @@ DEFAULT_T_MAX = 20.0
 VALIDATION_OPTIONS = SolverOptions(rtol=1e-9, atol=1e-11)
 
 
+@field_docs
 @dataclass
 class ModelEvaluator:
-    """Exact-model t_cr of one candidate, cached.
+    """Exact-model t_cr of one candidate, cached."""
 
-    Parameters
-    ----------
-    candidate : Candidate
-    t_max : float
-        Horizon [s]; a run not opened by then is censored (NaN).
-    options : SolverOptions, optional
-        Solver settings (default :data:`VALIDATION_OPTIONS`).
-
-    Attributes
-    ----------
-    n_integrations : int
-        Trajectories actually integrated (cache misses).
-    n_failed : int
-        Integrations that failed or hit the step limit (counted as censored).
-    """
-
+    #: The candidate whose t_cr is computed.
     candidate: Candidate
+    #: Horizon [s]; a run not opened by then is censored (NaN).
     t_max: float = DEFAULT_T_MAX
+    #: Solver settings (None: :data:`VALIDATION_OPTIONS`).
     options: SolverOptions | None = None
+    #: Trajectories actually integrated (cache misses).
     n_integrations: int = 0
+    #: Integrations that failed or hit the step limit (counted as censored).
     n_failed: int = 0
+    #: Cache: t_cr [s] (NaN: censored) of each (parameter values, spin rate [rad/s]) integrated.
     _cache: dict[tuple[tuple[float, ...], float], float] = field(default_factory=dict, repr=False)
 
     def opening_times(self, values: Sequence[float], spin_rate: ArrayLike) -> NDArray[np.float64]:

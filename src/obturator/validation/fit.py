@@ -42,6 +42,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._docs import field_docs
 from ..errors import InputError, check_range
 from ..fitting import (
     CHI2_95,
@@ -114,30 +115,23 @@ def _parameters(cand: Candidate) -> ParameterSet:
     return ParameterSet(tuple(PARAMETERS[k] for k in cand.params))
 
 
+@field_docs
 @dataclass(frozen=True)
 class FitControls:
     """How :func:`fit_candidate` iterates: a full fit by default; a profile probe
     holds the slopes, skips the covariance and stops earlier.
-
-    Attributes
-    ----------
-    slopes : array_like, optional
-        Fixed dt_cr/domega_p per run [s^2]: no outer iteration (profile probes).
-    max_outer : int
-        Effective-variance passes.
-    covariance : bool
-        Compute the Wald covariance.
-    xtol : float
-        Relative parameter step at which the first pass stops.
-    sigma : array_like, optional
-        Run-to-run sigma per run [s] of the first pass (profile probes: the best
-        fit's); default the rms residual of the start for every run.
     """
 
+    #: Fixed dt_cr/domega_p per run [s^2]: no outer iteration (profile probes).
     slopes: ArrayLike | None = None
+    #: Effective-variance passes.
     max_outer: int = 4
+    #: Compute the Wald covariance.
     covariance: bool = True
+    #: Relative parameter step at which the first pass stops.
     xtol: float = _XTOL
+    #: Run-to-run sigma per run [s] of the first pass (profile probes: the best fit's); default the
+    #: rms residual of the start for every run.
     sigma: ArrayLike | None = None
 
 

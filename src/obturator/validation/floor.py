@@ -45,6 +45,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._docs import field_docs
 from ..errors import InputError, check_range
 from ..json_values import finite_or_none
 
@@ -140,34 +141,24 @@ def cluster_runs(
     return labels
 
 
+@field_docs
 @dataclass(frozen=True)
 class BandFloor:
-    """Pure-error numbers of one spin band (or of all runs).
+    """Pure-error numbers of one spin band (or of all runs)."""
 
-    Attributes
-    ----------
-    label : str
-        Band label ("all" for the whole data set).
-    n_runs : int
-        Runs in the band.
-    n_clusters : int
-        Clusters in the band (by cluster mean spin).
-    dof : int
-        Pure-error degrees of freedom n - k.
-    ss_pe : float
-        Pure-error sum of squares [s^2].
-    pooled_sd : float
-        sqrt(SS_pe / dof) [s]; NaN when dof = 0.
-    saturated_rms : float
-        sqrt(SS_pe / n) [s], in-sample rms of the cluster means.
-    """
-
+    #: Band label ("all" for the whole data set).
     label: str
+    #: Runs in the band.
     n_runs: int
+    #: Clusters in the band (by cluster mean spin).
     n_clusters: int
+    #: Pure-error degrees of freedom n - k.
     dof: int
+    #: Pure-error sum of squares [s^2].
     ss_pe: float
+    #: sqrt(SS_pe / dof) [s]; NaN when dof = 0.
     pooled_sd: float
+    #: sqrt(SS_pe / n) [s], in-sample rms of the cluster means.
     saturated_rms: float
 
     @property
@@ -205,29 +196,22 @@ def _band_floor(label: str, y: NDArray[np.float64], lab: NDArray[np.int64]) -> B
     return BandFloor(label, n, k, dof, ss, sd, math.sqrt(ss / n))
 
 
+@field_docs
 @dataclass(frozen=True)
 class ReplicateFloor:
-    """Replicate clusters of a data set and its pure-error floor.
+    """Replicate clusters of a data set and its pure-error floor."""
 
-    Attributes
-    ----------
-    spin_rate, opening_time : ndarray
-        The runs [rad/s], [s].
-    cluster : ndarray of int
-        Cluster label of each run (0.. in increasing spin).
-    gap : float
-        Single-linkage gap used [rad/s].
-    overall : BandFloor
-        All runs.
-    bands : dict of str to BandFloor
-        Per spin band (:data:`BANDS`), clusters assigned by their mean spin.
-    """
-
+    #: Spin rate omega_p of each run [rad/s].
     spin_rate: NDArray[np.float64]
+    #: Measured opening time t_cr of each run [s].
     opening_time: NDArray[np.float64]
+    #: Cluster label of each run (0.. in increasing spin).
     cluster: NDArray[np.int64]
+    #: Single-linkage gap used [rad/s].
     gap: float
+    #: The floor of all runs (label "all").
     overall: BandFloor
+    #: The floor per spin band (:data:`BANDS`), clusters assigned by their mean spin.
     bands: dict[str, BandFloor] = field(default_factory=dict)
 
     @property

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._docs import field_docs
 from ..fitting import FitParameter
 from ..json_values import finite_or_none
 from .candidates import CANDIDATES, PARAMETERS
@@ -50,96 +51,75 @@ def rms_by_band(residuals: NDArray[np.float64], band: NDArray[np.str_]) -> dict[
     return out
 
 
+@field_docs
 @dataclass(frozen=True)
 class CandidateFit:
-    """Maximum-likelihood fit of one candidate to a selection of runs.
+    """Maximum-likelihood fit of one candidate to a selection of runs."""
 
-    Attributes
-    ----------
-    name : str
-        Candidate name.
-    selection : str
-        Which runs ("all", "starred", "omega_p >= 200", "omega_p < 200").
-    params : tuple of str
-        Fitted physical parameters.
-    values : dict of str to float
-        Best values (physical units, see :data:`~.candidates.PARAMETERS`).
-    stderr : dict of str to float
-        Standard errors (Wald: inverse Gauss-Newton information at the optimum).
-    ci95 : dict of str to (float, float)
-        95 % intervals; method per parameter in `ci_method`.
-    ci_method : dict of str to str
-        "wald" (Student-t on the optimiser scale, log10 for scale parameters)
-        or "profile" (profile likelihood, 2 delta(-log L) <= 3.84).
-    plausible : dict of str to bool
-        Whether each value lies in its physically argued range.
-    sigma : float
-        ML run-to-run scatter [s]: the one sigma of ``noise="pooled"``; under
-        ``"band"`` the rms of the runs' sigmas (each band's in `sigma_by_group`).
-    nll : float
-        Minimised -log L.
-    k : int
-        Free parameters (physical + sigma).
-    spin_rate, measured, model, slope, sd : ndarray
-        Per run: omega_p [rad/s], y [s], model t_cr [s] (NaN: censored),
-        dt_cr/domega_p [s^2], effective SD s_i [s].
-    band : ndarray of str
-        Spin band of each run (by its cluster's mean spin).
-    run : ndarray of int
-        Run numbers.
-    t_max : float
-        Horizon [s].
-    covariance : ndarray
-        Covariance of the physical parameters (delta method).
-    success : bool
-    message : str
-    nfev : int
-        Objective evaluations (each one t_cr per run).
-    n_integrations : int
-        Trajectories integrated (cache misses).
-    n_failed : int
-        Integrations that failed (counted as censored).
-    elapsed_s : float
-        Wall time of the fit [s].
-    noise : {"band", "pooled"}
-        Noise model of the likelihood (:mod:`.likelihood`).
-    sigma_by_group : dict of str to float
-        ML sigma of each noise group [s] (a spin band, or "all").
-    noise_group : ndarray of str
-        Noise group of each run.
-    conditions : tuple, optional
-        Each run's own settings where a data file gave them (None: Table 1).
-    """
-
+    #: Candidate name.
     name: str
+    #: Which runs ("all", "starred", "omega_p >= 200", "omega_p < 200").
     selection: str
+    #: Fitted physical parameters.
     params: tuple[str, ...]
+    #: Best values (physical units, see :data:`~.candidates.PARAMETERS`).
     values: dict[str, float]
+    #: Standard errors (Wald: inverse Gauss-Newton information at the optimum).
     stderr: dict[str, float]
+    #: 95 % intervals (low, high); method per parameter in `ci_method`.
     ci95: dict[str, tuple[float, float]]
+    #: How each interval of `ci95` was computed: "wald" (Student-t on the optimiser scale,
+    #: log10 for scale parameters) or "profile" (profile likelihood, 2 delta(-log L) <= 3.84).
     ci_method: dict[str, str]
+    #: Whether each value lies in its physically argued range.
     plausible: dict[str, bool]
+    #: ML run-to-run scatter [s]: the one sigma of ``noise="pooled"``; under ``"band"`` the rms of
+    #: the runs' sigmas (each band's in `sigma_by_group`).
     sigma: float
+    #: Minimised -log L.
     nll: float
+    #: Free parameters (physical + sigma).
     k: int
+    #: Spin rate omega_p of each run [rad/s].
     spin_rate: NDArray[np.float64]
+    #: Measured opening time y of each run [s].
     measured: NDArray[np.float64]
+    #: Model t_cr of each run [s] (NaN: censored).
     model: NDArray[np.float64]
+    #: Slope dt_cr/domega_p of the model at each run [s^2].
     slope: NDArray[np.float64]
+    #: Effective SD s_i of each run [s].
     sd: NDArray[np.float64]
+    #: Spin band of each run (by its cluster's mean spin).
     band: NDArray[np.str_]
+    #: Run number of each run.
     run: NDArray[np.int64]
+    #: Horizon [s].
     t_max: float
+    #: Covariance of the physical parameters (delta method).
     covariance: NDArray[np.float64]
+    #: Whether the optimiser (:func:`~obturator.fitting.minimize_least_squares`) reported
+    #: convergence on its last pass (True when no parameter is free).
     success: bool = True
+    #: The optimiser's stop message ("no free parameters" when none is free).
     message: str = ""
+    #: Objective evaluations (each one t_cr per run).
     nfev: int = 0
+    #: Trajectories integrated (cache misses).
     n_integrations: int = 0
+    #: Integrations that failed (counted as censored).
     n_failed: int = 0
+    #: Wall time of the fit [s].
     elapsed_s: float = math.nan
+    #: Noise model of the likelihood (:mod:`.likelihood`): "band" (one sigma per spin band)
+    #: or "pooled" (one sigma for all runs).
     noise: str = "pooled"
+    #: ML sigma of each noise group [s] (a spin band, or "all").
     sigma_by_group: dict[str, float] = field(default_factory=dict)
+    #: Noise group of each run, a key of `sigma_by_group` (None: `sigma` for every run).
     noise_group: NDArray[np.str_] | None = None
+    #: Each run's own settings as (name, SI value) pairs, where a data file gave them (None:
+    #: Table 1 for every run).
     conditions: tuple[tuple[tuple[str, float], ...], ...] | None = None
 
     @property
@@ -251,45 +231,35 @@ class CandidateFit:
         )
 
 
+@field_docs
 @dataclass(frozen=True)
 class ModelResult:
-    """Everything the study computed for one candidate.
+    """Everything the study computed for one candidate."""
 
-    Attributes
-    ----------
-    name : str
-    fit : CandidateFit
-        Fit to all runs (the ranked one).
-    starred : CandidateFit or None
-        Fit to the starred runs (the thesis's selection), None if the data have none.
-    high, low : CandidateFit or None
-        Fits to runs with cluster-mean omega_p >= 200 rad/s and < 200 rad/s.
-    out_of_band_rms : dict of str to float
-        rms [s] of the predictions of `high` on the low runs ("high->low") and
-        of `low` on the high runs ("low->high"), and of `starred` on all runs
-        ("starred->all").
-    curve_spin, curve_t : ndarray
-        t_cr(omega_p) of the all-run fit on a grid [rad/s], [s] (NaN: censored).
-    convergence : dict
-        Max relative changes of t_cr at every run under
-        :func:`obturator.solve.convergence_check` (empty if not run).
-    lack_of_fit : dict
-        Lack-of-fit F test of the all-run fit (:func:`.floor.lack_of_fit`).
-    goodness : dict
-        Per-band and per-cluster goodness of fit of the all-run fit against the
-        replicate floor (:func:`.goodness.goodness_summary`).
-    """
-
+    #: Candidate name.
     name: str
+    #: Fit to all runs (the ranked one).
     fit: CandidateFit
+    #: Fit to the starred runs (the thesis's selection), None if the data have none.
     starred: CandidateFit | None = None
+    #: Fit to the runs with cluster-mean omega_p >= 200 rad/s (None: not fitted).
     high: CandidateFit | None = None
+    #: Fit to the runs with cluster-mean omega_p < 200 rad/s (None: not fitted).
     low: CandidateFit | None = None
+    #: rms [s] of the predictions of `high` on the low runs ("high->low") and of `low` on the high
+    #: runs ("low->high"), and of `starred` on all runs ("starred->all").
     out_of_band_rms: dict[str, float] = field(default_factory=dict)
+    #: Spin grid of the all-run fit's curve t_cr(omega_p) [rad/s].
     curve_spin: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))
+    #: t_cr of the all-run fit at each spin of `curve_spin` [s] (NaN: censored).
     curve_t: NDArray[np.float64] = field(default_factory=lambda: np.empty(0))
+    #: Max relative changes of t_cr at every run under :func:`obturator.solve.convergence_check`
+    #: (empty if not run).
     convergence: dict[str, Any] = field(default_factory=dict)
+    #: Lack-of-fit F test of the all-run fit (:func:`.floor.lack_of_fit`).
     lack_of_fit: dict[str, float] = field(default_factory=dict)
+    #: Per-band and per-cluster goodness of fit of the all-run fit against the replicate floor
+    #: (:func:`.goodness.goodness_summary`).
     goodness: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -340,33 +310,24 @@ class ModelResult:
         )
 
 
+@field_docs
 @dataclass(frozen=True)
 class ValidationResult:
-    """The whole study.
+    """The whole study."""
 
-    Attributes
-    ----------
-    floor : ReplicateFloor
-    models : list of ModelResult
-        Ranked: ascending AIC of the all-run fit.
-    recommended : str
-        Name of the recommended model (see :func:`.study.recommend`).
-    recommendation : str
-        Why (one paragraph).
-    settings : dict
-        Data source, horizon, solver, spin SD, workers.
-    elapsed_s : float
-        Wall time of the study [s].
-    phase_scatter : dict
-        Spread of the recommended model's t_cr over the release phase psi_0.
-    """
-
+    #: Replicate clusters and pure-error floor of the measured runs.
     floor: ReplicateFloor
+    #: Result of each candidate, ranked: ascending AIC of the all-run fit.
     models: list[ModelResult]
+    #: Name of the recommended model (see :func:`.study.recommend`).
     recommended: str
+    #: Why that model is recommended (one paragraph).
     recommendation: str
+    #: Settings of the study: data source, horizon, solver, spin SD, workers.
     settings: dict[str, Any] = field(default_factory=dict)
+    #: Wall time of the study [s].
     elapsed_s: float = math.nan
+    #: Spread of the recommended model's t_cr over the release phase psi_0.
     phase_scatter: dict[str, Any] = field(default_factory=dict)
 
     def model(self, name: str) -> ModelResult:

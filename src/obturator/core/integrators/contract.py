@@ -30,107 +30,83 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..._docs import field_docs
 from ...status import Status
 
 __all__ = ["Problem", "Controls", "RawSolution", "Status"]
 
 
+@field_docs
 class Problem(NamedTuple):
-    """What to integrate.
+    """What to integrate."""
 
-    Attributes
-    ----------
-    y0 : ndarray, shape (8,)
-        Initial state (layout per formulation, see :mod:`obturator.core.dynamics`).
-    p : ndarray
-        Packed parameters (:mod:`obturator.core.layout`).
-    scale : ndarray, shape (8,)
-        Component scales of the error weights (1 for angles and quaternion
-        components, omega_p0 for rates).
-    t0 : float
-        Start time [s] of `y0` (0 at release; later when ``auto`` hands a run
-        from DOP853 to Radau IIA in flight).
-    """
-
+    #: Initial state, shape (8,) (layout per formulation, see
+    #: :mod:`obturator.core.dynamics`).
     y0: np.ndarray
+    #: Packed parameters (:mod:`obturator.core.layout`).
     p: np.ndarray
+    #: Component scales (shape (8,)) of the error weights (1 for angles and quaternion
+    #: components, omega_p0 for rates).
     scale: np.ndarray
+    #: Start time [s] of `y0` (0 at release; later when ``auto`` hands a run from DOP853 to Radau
+    #: IIA in flight).
     t0: float = 0.0
 
 
+@field_docs
 class Controls(NamedTuple):
-    """How to integrate.
+    """How to integrate."""
 
-    Attributes
-    ----------
-    t_max : float
-        End time [s].
-    rtol, atol : float
-        Tolerances (see the module docstring for the error weights).
-    h0, h_max : float
-        Initial and largest step [s].
-    max_steps : int
-        Accepted-step limit (status ``STEP_LIMIT`` when reached).
-    t_eval : ndarray
-        Output times [s], increasing; empty for none.
-    record : bool
-        Store every accepted step when `t_eval` is empty.
-    terminal : bool
-        Stop at the first theta = theta_cr crossing (downwards).
-    event_tol : float
-        Bracket width at which the event time is accepted [s].
-    hand_back : bool
-        Radau IIA only (set by ``auto``): stop with status ``NONSTIFF`` once the slip
-        speed has stayed above the saturation of the regularised Coulomb law for
-        half a revolution (:func:`.radau_control.sliding_resumed`), so that ``auto``
-        continues with the cheaper explicit method.
-    """
-
+    #: End time [s].
     t_max: float
+    #: Relative tolerance (see the module docstring for the error weights).
     rtol: float
+    #: Absolute tolerance, scaled by `scale` per component (module docstring).
     atol: float
+    #: Initial step [s].
     h0: float
+    #: Largest step [s].
     h_max: float
+    #: Accepted-step limit (status ``STEP_LIMIT`` when reached).
     max_steps: int
+    #: Output times [s], increasing; empty for none.
     t_eval: np.ndarray
+    #: Store every accepted step when `t_eval` is empty.
     record: bool
+    #: Stop at the first theta = theta_cr crossing (downwards).
     terminal: bool
+    #: Bracket width at which the event time is accepted [s].
     event_tol: float
+    #: Radau IIA only (set by ``auto``): stop with status ``NONSTIFF`` once the slip speed has
+    #: stayed above the saturation of the regularised Coulomb law for half a revolution
+    #: (:func:`.radau_control.sliding_resumed`), so that ``auto`` continues with the cheaper
+    #: explicit method.
     hand_back: bool = False
 
 
+@field_docs
 class RawSolution(NamedTuple):
-    """What an integrator returns (SI units, raw state rows).
+    """What an integrator returns (SI units, raw state rows)."""
 
-    Attributes
-    ----------
-    status : Status
-    t_event : float
-        Opening time t_cr [s]; NaN if theta did not reach theta_cr.
-    y_event : ndarray, shape (8,)
-        State at the event (NaN if none).
-    t : ndarray
-        Output times [s] (see ``Controls.record`` and ``Controls.t_eval``).
-    y : ndarray, shape (len(t), 8)
-        Output states.
-    nfev, njev : int
-        Right-hand-side and Jacobian evaluations.
-    n_steps, n_rejected : int
-        Accepted and rejected steps.
-    t_end : float
-        Time reached [s] (the event time when it stopped there).
-    y_end : ndarray, shape (8,)
-        State at ``t_end``.
-    """
-
+    #: How the integration ended (:class:`obturator.status.Status`).
     status: Status
+    #: Opening time t_cr [s]; NaN if theta did not reach theta_cr.
     t_event: float
+    #: State at the event, shape (8,) (NaN if none).
     y_event: np.ndarray
+    #: Output times [s] (see ``Controls.record`` and ``Controls.t_eval``).
     t: np.ndarray
+    #: Output states, shape (len(t), 8).
     y: np.ndarray
+    #: Right-hand-side evaluations.
     nfev: int
+    #: Jacobian evaluations.
     njev: int
+    #: Accepted steps.
     n_steps: int
+    #: Rejected steps.
     n_rejected: int
+    #: Time reached [s] (the event time when it stopped there).
     t_end: float
+    #: State at ``t_end``, shape (8,).
     y_end: np.ndarray
