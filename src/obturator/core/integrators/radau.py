@@ -89,7 +89,7 @@ from .radau_control import (
 from .radau_control import _UROUND as _UROUND  # re-exported: the lanes, stick_slip
 from .radau_step import _colloc_weights, _dense, _factor, _newton
 
-__all__ = ["integrate", "locate_opening", "locate_opening_at", "EventWork"]
+__all__ = ["integrate", "locate_opening_at", "EventWork"]
 
 
 class EventWork(NamedTuple):
@@ -218,18 +218,6 @@ def locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev):
             for i in range(n):
                 y_event[i] = ytry[i]
     return True, t + s_hi * h, nfev
-
-
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
-def locate_opening(
-    t, y, h, z, ynew, g_old, g_new, p, scal, jac, zacc, stage, lu, scratch, fnewt, event_tol,
-    ytry, y_event,
-):  # fmt: skip
-    """:func:`locate_opening_at` with the step and the arrays as separate arguments (the
-    set-valued solver's call; new code passes the two tuples)."""
-    step = (t, y, h, z, ynew, g_old, g_new)
-    ev = EventWork(zacc, stage, lu, scratch, ytry, y_event)
-    return locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev)
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)

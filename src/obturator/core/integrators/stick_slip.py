@@ -97,7 +97,15 @@ from .common import append_row, record_row, rms_norm, start, underflow
 from .contract import Controls, Problem, RawSolution, Status
 from .dop853 import integrate as dop853_integrate
 from .linalg import lu_solve
-from .radau import _UROUND, _colloc_weights, _dense, _factor, _newton, locate_opening
+from .radau import (
+    _UROUND,
+    EventWork,
+    _colloc_weights,
+    _dense,
+    _factor,
+    _newton,
+    locate_opening_at,
+)
 from .radau_coefficients import C1, C2, E1, E2, E3
 from .radau_control import _LIM_SHRINK, next_step, step_quotient
 from .stick_slip_jacobian import slip_jacobian
@@ -240,6 +248,7 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
     scratch = (work, cbr, cbi)
     stage = (z, w, f)
     stage_ev = (zev, wev, f)
+    ev = EventWork(zacc, stage_ev, lu, scratch, ytry, y_event)
     n_eval = t_eval.shape[0]
     use_eval = n_eval > 0
     i_eval = 0
@@ -434,10 +443,8 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
         t_stop = t_new
         g_new = nutation_angle_of_state(ynew, p) - theta_cr
         if g_old > 0.0 and t_event != t_event:
-            found, t_ev, nf = locate_opening(
-                t, y, h, z, ynew, g_old, g_new, p, scal, jac, zacc, stage_ev, lu, scratch,
-                fnewt, event_tol, ytry, y_event,
-            )  # fmt: skip
+            step = (t, y, h, z, ynew, g_old, g_new)
+            found, t_ev, nf = locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev)
             nfev += nf
             if found:
                 h_lu = math.nan
