@@ -64,7 +64,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
 from scipy.special import ellipe
 
 from ._docs import field_docs
@@ -291,6 +290,8 @@ class ApproximateSolution:
         if t_max is None:
             t92 = self.opening_time()
             t_max = (2.0 * t92 if math.isfinite(t92) else 0.0) + 20.0 * period
+        from scipy.optimize import brentq  # on use: its import is 0.3 s of start-up
+
         # Sample finely enough to resolve both the oscillation and the fast
         # overdamped decay, then polish the first sign change with brentq.
         dt = min(period, 1.0 / (max(self.zeta, 1.0) * self.omega_n)) / 50.0

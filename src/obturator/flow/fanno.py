@@ -16,13 +16,13 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
 
 from .._docs import field_docs, fill_doc
 from ..errors import InputError, check_range
 from ..reference import THESIS_REYNOLDS, THESIS_REYNOLDS_MACH
 from ._arrays import (
     as_output,
+    bracketed_root,
     broadcast,
     check_branch,
     check_gamma,
@@ -113,13 +113,13 @@ def _fanno_mach_scalar(fld: float, g: float, branch: str) -> float:
         lo = 0.5
         while resid(lo) < 0.0:
             lo *= 0.5
-        return brentq(resid, lo, 1.0, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        return bracketed_root(resid, lo, 1.0, 1e-15)
     hi = 2.0
     while resid(hi) < 0.0:
         hi *= 2.0
         if hi > 1e12:  # pragma: no cover - excluded by the range check
             raise InputError("fld", f"{fld:g} is too close to the supersonic limit")
-    return brentq(resid, 1.0, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+    return bracketed_root(resid, 1.0, hi, 1e-15)
 
 
 def fanno_mach(fld: ArrayLike, gamma: ArrayLike = 1.4, branch: str = "supersonic") -> Any:
@@ -185,7 +185,7 @@ def _colebrook_scalar(re: float, eps: float) -> float:
     def resid(s: float) -> float:
         return s + 2.0 * math.log10(eps / 3.7 + 2.51 * s / re)
 
-    s = brentq(resid, 1.0, 1000.0, xtol=1e-14, rtol=4 * np.finfo(float).eps)
+    s = bracketed_root(resid, 1.0, 1000.0, 1e-14)
     return 1.0 / (s * s)
 
 

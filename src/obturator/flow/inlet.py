@@ -9,13 +9,13 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.optimize import brentq
 
 from .._docs import fill_doc
 from ..errors import InputError
 from ._arrays import (
     AREA_RATIO_MAX,
     as_output,
+    bracketed_root,
     broadcast,
     check_branch,
     check_gamma,
@@ -79,11 +79,11 @@ def _mach_from_area_ratio_scalar(ratio: float, g: float, branch: str) -> float:
     if branch == "subsonic":
         # A/A* > (1/M) (2/(gamma+1))^k for every M, so this M already overshoots.
         lo = 0.5 * (2.0 / (g + 1.0)) ** ((g + 1.0) / (2.0 * (g - 1.0))) / ratio
-        return brentq(resid, lo, 1.0, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        return bracketed_root(resid, lo, 1.0, 1e-15)
     hi = 2.0
     while resid(hi) < 0.0:
         hi *= 2.0
-    return brentq(resid, 1.0, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+    return bracketed_root(resid, 1.0, hi, 1e-15)
 
 
 def mach_from_area_ratio(

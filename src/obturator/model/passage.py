@@ -58,7 +58,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import quad
 
 from ..errors import InputError, check_range
 
@@ -101,6 +100,8 @@ def _lens_area(theta: float, r_s: float, c: float) -> float:
 
 
 def _clipped_lens_area(theta: float, r_s: float, r_p: float, c: float) -> float:
+    from scipy.integrate import quad  # on use: scipy.integrate costs 0.3 s of start-up
+
     cos_t, sin_t = math.cos(theta), math.sin(theta)
     d = c * sin_t
     x_end = min(r_s * cos_t - d, r_p)  # lens half-width R_s sin(beta_s - theta), or the bore
