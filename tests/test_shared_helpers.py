@@ -95,6 +95,33 @@ class _Row(NamedTuple):
     spin_rate: float
 
 
+class _Holder:
+    class _Shadowed:  # same name as the top-level class below, and before it
+        x: int = 0
+
+    @field_docs
+    @dataclass(frozen=True)
+    class Inner:
+        """Nested."""
+
+        #: The nested class's own field.
+        z: int = 0
+
+
+@field_docs
+@dataclass(frozen=True)
+class _Shadowed:
+    """Top level."""
+
+    #: The top-level class's field.
+    y: int = 0
+
+
+def test_field_docs_finds_the_class_by_its_qualified_name() -> None:
+    assert _Shadowed.__field_docs__ == {"y": "The top-level class's field."}  # type: ignore[attr-defined]
+    assert _Holder.Inner.__field_docs__ == {"z": "The nested class's own field."}  # type: ignore[attr-defined]
+
+
 def test_field_docs_lists_the_commented_fields_in_order() -> None:
     doc = inspect.cleandoc(_Documented.__doc__ or "")
     assert doc.startswith("A result.\n\nProse that stays.\n\nAttributes\n----------\n")

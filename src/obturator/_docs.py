@@ -143,18 +143,23 @@ def _class_lines(cls: type) -> list[str] | None:
         lines = linecache.getlines(inspect.getsourcefile(module) or "")
     except (KeyError, TypeError):
         return None
-    start, depth = 0, ""
+    start, depth = 0, -1  # the enclosing class's indentation (-1: the module)
     for name in cls.__qualname__.split("."):
         for i in range(start, len(lines)):
-            m = _CLASS.match(lines[i])
-            if m and m[2] == name and (not depth or len(m[1]) > len(depth)):
-                start, depth = i + 1, m[1]
+            line = lines[i]
+            indent = len(line) - len(line.lstrip())
+            if depth >= 0 and line.strip() and indent <= depth:
+                return None  # past the parent's block
+            m = _CLASS.match(line)
+            # a top-level class at column 0, a nested one inside its parent's block
+            if m and m[2] == name and (indent > depth if depth >= 0 else indent == 0):
+                start, depth = i + 1, indent
                 break
         else:
             return None
     end = start
     while end < len(lines) and (
-        not lines[end].strip() or len(lines[end]) - len(lines[end].lstrip()) > len(depth)
+        not lines[end].strip() or len(lines[end]) - len(lines[end].lstrip()) > depth
     ):
         end += 1
     return [line.rstrip("\n") for line in lines[start:end]]
