@@ -33,7 +33,7 @@ from obturator.sweeps import (
     sidecar_path,
     sweep_summary,
 )
-from obturator.sweeps.job import LANE_CHUNK
+from obturator.sweeps.job import LANE_CHUNK, sweep_job
 
 FAST = SolverOptions(rtol=1e-6, atol=1e-8)
 
@@ -589,3 +589,22 @@ def test_default_chunks_lanes_and_tasks() -> None:
         np.testing.assert_array_equal(
             np.sort(np.concatenate(chunks)), np.arange(sum(c.size for c in chunks))
         )
+
+
+def test_contiguous_chunks_are_runs_of_consecutive_points() -> None:
+    """A contiguous job's chunks (a sweep in lanes: its spins share return maps) are runs
+    of consecutive points, as many and as large as the strided ones, each point once."""
+    todo = np.arange(3, 10_003)
+    strided = run_chunks.make_chunks(todo, 2, None, LANE_CHUNK)
+    runs = run_chunks.make_chunks(todo, 2, None, LANE_CHUNK, contiguous=True)
+    assert len(runs) == len(strided) == 16
+    assert max(c.size for c in runs) == max(c.size for c in strided)
+    for c in runs:
+        np.testing.assert_array_equal(np.diff(c), 1)
+    np.testing.assert_array_equal(np.concatenate(runs), todo)
+    spec = SweepSpec(case="spin-rig", axes={"spin_rate": [40.0, 41.0]})
+    assert sweep_job(spec, ("spin_rate",), lambda idx: idx).contiguous
+    one_by_one = SweepSpec(
+        case="spin-rig", axes={"spin_rate": [40.0]}, options=SolverOptions(method="radau")
+    )
+    assert not sweep_job(one_by_one, ("spin_rate",), lambda idx: idx).contiguous

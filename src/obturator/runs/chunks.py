@@ -52,6 +52,10 @@ class Job:
     #: then only times, and its tasks run again in their chunk, so a run's results do not depend on
     #: whether it was probed).
     separable: bool = True
+    #: Whether neighbouring tasks share work, so a chunk is a run of consecutive tasks
+    #: (a sweep's spins share the set-valued solver's return maps,
+    #: :mod:`obturator.core.integrators.stick_slip_family`); else every k-th task.
+    contiguous: bool = False
 
     def run(self, idx: np.ndarray) -> Any:
         """Compute one chunk in this process."""
@@ -59,17 +63,25 @@ class Job:
 
 
 def make_chunks(
-    todo: np.ndarray, workers: int, chunk_size: int | None, max_chunk: int = TASK_CHUNK
+    todo: np.ndarray,
+    workers: int,
+    chunk_size: int | None,
+    max_chunk: int = TASK_CHUNK,
+    contiguous: bool = False,
 ) -> list[np.ndarray]:
     """Split the flat indices `todo` into chunks of about `chunk_size` tasks.
 
     A chunk takes every k-th remaining task, which mixes cheap and expensive
-    points (t_cr grows with spin) and balances the load. Default size: about
-    8 chunks per worker, at most `max_chunk` tasks.
+    points (t_cr grows with spin) and balances the load; with `contiguous` it is a
+    run of consecutive tasks (:attr:`Job.contiguous`; the pools hand chunks out as
+    workers free up, and about 8 chunks per worker keep them balanced). Default
+    size: about 8 chunks per worker, at most `max_chunk` tasks.
     """
     if todo.size == 0:
         return []
     n_chunks = math.ceil(todo.size / chunk_length(todo.size, workers, chunk_size, max_chunk))
+    if contiguous:
+        return np.array_split(todo, n_chunks)
     return [todo[k::n_chunks] for k in range(n_chunks)]
 
 
@@ -103,9 +115,9 @@ def probe(
     """Run the first :data:`PROBE_TASKS` tasks of the first chunk here, timed.
 
     Chunks take every k-th task of the run (see :func:`make_chunks`), so the probe's
-    cost per task is representative. With `keep`, its result goes to `sink` (and the
-    resume store) like any other chunk's and its tasks are removed from `chunks` (in
-    place); else it is only timed.
+    cost per task is representative (of a contiguous job's first chunk, less so).
+    With `keep`, its result goes to `sink` (and the resume store) like any other
+    chunk's and its tasks are removed from `chunks` (in place); else it is only timed.
     """
     if job.warm is not None:
         job.warm()  # compile/load once; not part of the per-task cost

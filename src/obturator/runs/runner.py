@@ -208,6 +208,7 @@ class Runner:
                 n_workers if self.scheduler is None else 8,
                 chunk_size or self.chunk_size,
                 max_chunk,
+                job.contiguous,
             )
             executor = choose_executor(n_workers, self.scheduler, len(chunks))
             estimate = None

@@ -11,12 +11,14 @@ import numpy as np
 from .._docs import field_docs
 from ..json_values import finite_or_none
 from ..model.case import Case
+from ..status import Status
 from ..vocab import FRICTION_FAMILIES, check_choice
 from .dispatch import method_of
 from .one import opening_time
 from .options import SolverOptions
 
 __all__ = [
+    "mark_unconverged",
     "ConvergenceCheck",
     "alternative_family",
     "convergence_check",
@@ -224,3 +226,17 @@ def convergence_checks(
         ConvergenceCheck(float(t0[i]), *(float(r[i]) for r in reruns), family, factor, threshold)
         for i in range(len(cases))
     ]
+
+
+def mark_unconverged(
+    cases: Sequence[object], options: SolverOptions, t_cr: np.ndarray, status: np.ndarray
+) -> None:
+    """Status ``UNCONVERGED`` (in place) for the opened cases whose convergence check
+    fails; a rerun that fails to integrate leaves its t_cr unconfirmed, so it fails too."""
+    opened = np.flatnonzero(status == Status.OPENED)
+    if opened.size:
+        picked = [cases[i] for i in opened]
+        checks = convergence_checks(picked, options, opening_times_s=t_cr[opened])  # type: ignore[arg-type]
+        for i, check in zip(opened, checks, strict=True):
+            if not check.converged:
+                status[i] = Status.UNCONVERGED

@@ -10,8 +10,11 @@ reruns too) the cases are integrated together in the SIMD lanes of
 
 1. every case is packed (:func:`pack_points`, :class:`PackedPoints`); under ``auto``
    the cases :func:`~obturator.solve.dispatch.dispatched_method` gives to the
-   set-valued solver (low spin) run one by one through it, exactly as
-   :func:`~obturator.solve.opening_time` runs them, and the rest in lanes with the
+   set-valued solver (low spin) run one by one through it, as
+   :func:`~obturator.solve.opening_time` runs them, but cases differing in spin alone
+   share their cycles' return maps (:mod:`obturator.core.integrators.stick_slip_family`:
+   t_cr within 5.4e-7 of :func:`~obturator.solve.opening_time` on 1,855 points of a
+   40-1000 rad/s sweep, closer to the width-free limit), and the rest in lanes with the
    regularised law; those are grouped by right-hand-side kernel, and a group too
    small for lanes to pay (:func:`lanes_pay_from`: under five thesis-kernel points,
    under :data:`RADAU_LANES_MIN_GENERIC` of the generic kernel, whose lanes do not
@@ -43,12 +46,13 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Sequence
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
 from ..core.integrators import (
     AUTO_HAND_BACKS,
+    Controls,
     Problem,
     RawSolution,
     auto_radau_tolerances,
@@ -63,6 +67,9 @@ from .dispatch import core_method, dispatched_controls, dispatched_method
 from .one import opening_time, simulate
 from .options import SolverOptions
 from .setup import integration_controls, integration_setup
+
+if TYPE_CHECKING:
+    from ..core.integrators.stick_slip_map import CycleMap
 
 __all__ = [
     "BATCH_METHODS",
@@ -84,9 +91,11 @@ __all__ = [
     "point_status",
 ]
 
-#: Methods the lanes integrate (``regularised``: DOP853, stiff lanes handed to Radau
-#: IIA; ``auto``: its regularised cases so, its set-valued ones one by one).
-BATCH_METHODS = ("auto", "regularised")
+#: Methods :func:`integrate_packed` takes (``regularised``: DOP853 lanes, stiff lanes
+#: handed to Radau IIA; ``auto``: its regularised cases so, its set-valued ones one by
+#: one; ``set-valued``: every case one by one). The set-valued cases that differ in spin
+#: alone share return maps (:mod:`obturator.core.integrators.stick_slip_family`).
+BATCH_METHODS = ("auto", "regularised", "set-valued")
 #: Fewest stiff points of a batch that continue in Radau IIA lanes; fewer go one by one
 #: through the scalar Radau IIA. The lanes advance in lock step, so with few points the
 #: tail (lanes idle while the last points finish) outweighs the vector speed: measured
@@ -175,7 +184,9 @@ def opening_times(
     options : SolverOptions, optional
         Solver options (default :class:`SolverOptions`). With method ``"auto"`` or
         ``"regularised"`` the cases run in lanes (:func:`batchable`; under ``"auto"``
-        those it gives to the set-valued solver one by one), else one by one.
+        those it gives to the set-valued solver one by one, as under
+        ``"set-valued"``, the cases of equal parameters but the spin sharing the return
+        maps of :mod:`obturator.core.integrators.stick_slip_family`), else one by one.
     check_convergence : bool
         Also check every opened case's convergence (:func:`~obturator.solve.convergence_checks`:
         the three reruns of all of them through this front door, in lanes where the
@@ -219,7 +230,9 @@ def opening_times(
                 t_cr[k], status[k] = _one_by_one(case, options)
         out = t_cr, status, _stats(n)
     if check_convergence:
-        _mark_unconverged(cases, options, out[0], out[1])
+        from .convergence import mark_unconverged
+
+        mark_unconverged(cases, options, out[0], out[1])
     if strict:
         _raise_failed(cases, out[1])
     return out
@@ -320,22 +333,6 @@ def _failed_status(exc: RuntimeError) -> Status:
     return Status.STEP_LIMIT if getattr(exc, "status", None) == Status.STEP_LIMIT else Status.FAILED
 
 
-def _mark_unconverged(
-    cases: Sequence[object], options: SolverOptions, t_cr: np.ndarray, status: np.ndarray
-) -> None:
-    """Status ``UNCONVERGED`` (in place) for the opened cases whose convergence check
-    fails; a rerun that fails to integrate leaves its t_cr unconfirmed, so it fails too."""
-    from .convergence import convergence_checks
-
-    opened = np.flatnonzero(status == Status.OPENED)
-    if opened.size:
-        picked = [cases[i] for i in opened]
-        checks = convergence_checks(picked, options, opening_times_s=t_cr[opened])  # type: ignore[arg-type]
-        for i, check in zip(opened, checks, strict=True):
-            if not check.converged:
-                status[i] = Status.UNCONVERGED
-
-
 class PackedPoints(NamedTuple):
     """Points ready for the lanes: what :func:`~obturator.solve.integration_setup` gives
     for each, as arrays with one row per point (rows of invalid points are zeros).
@@ -409,14 +406,17 @@ def integrate_packed(
     kernels with fewer points than the lanes need to pay (:func:`lanes_pay_from`),
     which run one by one too, to the same t_cr."""
     if options.method not in BATCH_METHODS:
-        raise InputError("method", f"{options.method!r}: the lanes integrate {BATCH_METHODS}")
+        raise InputError("method", f"{options.method!r}: packed points take {BATCH_METHODS}")
     n = packed.valid.size
     t_cr = np.full(n, math.nan)
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
     stats = _stats(n)
     valid = np.flatnonzero(packed.valid)
     one_by_one = []
-    if options.method == "auto":
+    if options.method == "set-valued":
+        one_by_one.append((valid, "set-valued"))
+        valid = valid[:0]
+    elif options.method == "auto":
         chosen = [dispatched_method("auto", packed.p[k], packed.y0[k]) for k in valid]
         exact = np.array([m == "set-valued" for m in chosen], dtype=bool)
         one_by_one.append((valid[exact], "set-valued"))
@@ -431,8 +431,15 @@ def integrate_packed(
             groups.append(idx)
     to_t_max = end_states is not None
     for idx, chosen_method in one_by_one:
-        for k in idx:
-            out = _point(packed, int(k), options, chosen_method, to_t_max)
+        setups = [_point_setup(packed, int(k), options, chosen_method, to_t_max) for k in idx]
+        shared: list[Any] = [None] * len(idx)
+        if chosen_method == "set-valued":
+            from ..core.integrators.stick_slip_family import shared_maps
+
+            shared, counts = shared_maps([s[0] for s in setups], [s[1] for s in setups])
+            stats["nfev"] += int(counts[0])
+        for k, setup, cycle_map in zip(idx, setups, shared, strict=True):
+            out = _point(*setup, chosen_method, cycle_map)
             t_cr[k], status[k] = point_status(Status(out.status), float(out.t_event))
             stats["nfev"] += int(out.nfev)
             if chosen_method == "set-valued":
@@ -471,22 +478,32 @@ def lanes_pay_from(kernel: float) -> int:
     return GENERIC_LANES_MIN if kernel == KERNEL_GENERIC else THESIS_LANES_MIN
 
 
-def _point(
+def _point_setup(
     packed: PackedPoints, k: int, options: SolverOptions, chosen: str, to_t_max: bool
-) -> RawSolution:
-    """Point `k` one by one through the integrator `chosen` (``"set-valued"`` or
-    ``"regularised"``), from the same problem and controls as
-    :func:`~obturator.solve.opening_time` builds for its case (so the same t_cr to the
-    bit), with `to_t_max` those of :func:`advance`'s one-by-one path (an output at t_max);
-    an integrator that raises counts as failed, as in the one-by-one path."""
+) -> tuple[Problem, Controls]:
+    """Point `k`'s problem and controls for the integrator `chosen`, as
+    :func:`~obturator.solve.opening_time` builds them (with `to_t_max`, as
+    :func:`advance`'s one-by-one path: an output at t_max)."""
     problem = Problem(packed.y0[k], packed.p[k], packed.scale[k])
     t_max = float(packed.t_max[k])
     controls = integration_controls(
         options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
         t_eval=np.array([t_max]) if to_t_max else None,
     )  # fmt: skip
-    controls = dispatched_controls(options.method, chosen, controls)
+    return problem, dispatched_controls(options.method, chosen, controls)
+
+
+def _point(
+    problem: Problem, controls: Controls, chosen: str, cycle_map: CycleMap | None = None
+) -> RawSolution:
+    """One point through the integrator `chosen` (``"set-valued"``, with the shared
+    return map `cycle_map` where given, or ``"regularised"``); an integrator that
+    raises counts as failed, as in the one-by-one path."""
     try:
+        if cycle_map is not None:
+            from ..core.integrators.stick_slip import integrate as integrate_set_valued
+
+            return integrate_set_valued(problem, controls, shared=cycle_map)
         return integrate(core_method(chosen), problem, controls)
     except RuntimeError as exc:
         nan = np.full(N_STATE, math.nan)

@@ -83,7 +83,9 @@ def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: i
 
     The warm-up loads the Radau IIA lanes only when a chunk (`largest_chunk` points)
     can hold enough stiff points to use them: a small sweep does not pay their load.
-    Where the points run in lanes, the job can pack points ahead (:mod:`.ahead`).
+    Where the points run in lanes, the job can pack points ahead (:mod:`.ahead`), and
+    its chunks are runs of consecutive points: cases that differ in spin alone share
+    the set-valued solver's return maps (a spin axis varies fastest).
     """
     radau_lanes = largest_chunk >= RADAU_LANES_MIN
     lanes = batchable(spec.options)
@@ -93,6 +95,7 @@ def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: i
         partial(warm, spec.options, radau_lanes=radau_lanes),
         meanwhile=prefetch_output,
         separable=not lanes,
+        contiguous=lanes,
     )
     if lanes:
         job = replace(

@@ -125,6 +125,7 @@ __all__ = [
     "RELEASE_KICK",
     "REKICK",
     "HOLD_THROUGH",
+    "at_zero_width",
     "integrate",
     "run_cycles",
     "zero_width",
@@ -159,13 +160,19 @@ _CHUNK = 0.5
 
 
 def integrate(
-    problem: Problem, controls: Controls, stick_slip: float = STICK_SLIP, kick: float = KICK
+    problem: Problem,
+    controls: Controls,
+    stick_slip: float = STICK_SLIP,
+    kick: float = KICK,
+    shared: return_map.CycleMap | None = None,
 ) -> RawSolution:
     """Integrate with exact stick and slip modes from t0 to the opening or t_max.
 
     Keeps the contract of :mod:`.contract`; the regularisation width and family in
     ``problem.p`` are ignored (the law is used at zero width). `stick_slip` and
-    `kick` override :data:`STICK_SLIP` and :data:`KICK` (convergence studies).
+    `kick` override :data:`STICK_SLIP` and :data:`KICK` (convergence studies);
+    `shared` is this case's return map from
+    :func:`.stick_slip_family.shared_maps` (a sweep's cases).
 
     Raises
     ------
@@ -173,16 +180,22 @@ def integrate(
         For a case outside the solver's scope (Euler-angle formulation, the thesis's
         energy spin mode, no friction, a slip-speed law, Coulomb point contacts).
     """
+    problem = at_zero_width(problem)
+    if return_map.applies(problem, controls):
+        return return_map.integrate(problem, controls, run_cycles(stick_slip, kick), shared)
+    return run_cycles(stick_slip, kick)(problem, controls, math.inf)
+
+
+def at_zero_width(problem: Problem) -> Problem:
+    """`problem` at zero width, after the checks of the solver's scope (raises as
+    :func:`integrate` does)."""
     p = np.array(problem.p, dtype=float)
     if p[P_FORM] != FORM_QUATERNION:
         raise InputError("formulation", "the set-valued solver integrates 'quaternion' only")
     if p[P_SPIN_MODE] == SPIN_THESIS_ENERGY:
         raise InputError("spin_mode", "the set-valued solver takes 'constant' or 'free'")
     check_set_valued_law(p, "the set-valued solver")
-    problem = problem._replace(p=zero_width(p))
-    if return_map.applies(problem, controls):
-        return return_map.integrate(problem, controls, run_cycles(stick_slip, kick))
-    return run_cycles(stick_slip, kick)(problem, controls, math.inf)
+    return problem._replace(p=zero_width(p))
 
 
 def zero_width(p: np.ndarray) -> np.ndarray:

@@ -39,16 +39,19 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
+from ..._docs import field_docs
 from ..friction_sets import breakaway_angle, hold_stick, turn_rigidly
 from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import FRIC_COULOMB, P_FRIC, P_SPIN_MODE, P_THETA_CR, SPIN_CONSTANT
 from .contract import Controls, Problem, RawSolution, Status
 
 __all__ = [
+    "CycleMap",
     "MAP_TOL",
     "MAX_NODES",
     "MIN_CYCLES",
@@ -80,6 +83,31 @@ THETA_LOW = math.radians(50.0)
 _BACK = 1e-3
 
 RunCycles = Callable[[Problem, Controls, float], RawSolution]
+
+
+@field_docs
+class CycleMap(NamedTuple):
+    """One spin's return map: Chebyshev series in :func:`abscissa` over [lo, hi]."""
+
+    #: :func:`abscissa` of the map's lowest nutation angle, max(theta_cr, THETA_LOW).
+    lo: float
+    #: :func:`abscissa` of its highest nutation angle.
+    hi: float
+    #: Coefficients of log(-D) [log rad], D the change of theta over one cycle.
+    c_logd: np.ndarray
+    #: Coefficients of the cycle's duration T [s].
+    c_time: np.ndarray
+    #: Coefficients of the cycle's turn Phi about the hole axis [rad].
+    c_phi: np.ndarray
+    #: Half turns k' about the spin axis per cycle (0 or 1).
+    k_step: int
+    #: Nutation angle [rad] at which the iteration stops (that of `lo`).
+    theta_stop: float
+
+    def covers(self, theta: float) -> bool:
+        """Whether the nutation `theta` [rad] lies in the map's interval."""
+        x = abscissa(theta)
+        return min(self.lo, self.hi) <= x <= max(self.lo, self.hi)
 
 
 def applies(problem: Problem, controls: Controls) -> bool:
@@ -209,16 +237,22 @@ def _lobatto(n: int) -> np.ndarray:
     return np.cos(np.pi * np.arange(n) / (n - 1))
 
 
-def _coefficients(values: np.ndarray) -> np.ndarray:
-    """Chebyshev coefficients of the interpolant through values at :func:`_lobatto` points."""
-    n = values.shape[0] - 1
+def coefficient_matrix(n_points: int) -> np.ndarray:
+    """M with M @ v the Chebyshev coefficients of the interpolant through values v at
+    the :func:`_lobatto` points (n_points of them)."""
+    n = n_points - 1
     j = np.arange(n + 1)
     w = np.ones(n + 1)
     w[0] = w[-1] = 0.5
-    c = (2.0 / n) * (np.cos(np.pi * np.outer(j, j) / n) @ (w * values))
-    c[0] *= 0.5
-    c[-1] *= 0.5
-    return c
+    m = (2.0 / n) * np.cos(np.pi * np.outer(j, j) / n) * w
+    m[0] *= 0.5
+    m[-1] *= 0.5
+    return m
+
+
+def _coefficients(values: np.ndarray) -> np.ndarray:
+    """Chebyshev coefficients of the interpolant through values at :func:`_lobatto` points."""
+    return coefficient_matrix(values.shape[0]) @ values
 
 
 class _Nodes:
@@ -272,12 +306,14 @@ class _Nodes:
         return np.array(rows)
 
 
-def _build_map(nodes: _Nodes, lo: float, hi: float, start: tuple[float, float, int, float]):
-    """Chebyshev coefficients (log(-D), T, Phi) and k' of the map on [lo, hi] (of
-    :func:`abscissa`); None where the estimate does not reach :data:`MAP_TOL` by
-    :data:`MAX_NODES` nodes, where the nodes' cycles differ in kind (k', or whole half
-    periods), or where the 9-node map leaves fewer cycles than the next level's nodes."""
-    theta_lo = float(nutation_at(np.array(lo)))
+def _build_map(
+    nodes: _Nodes, theta_lo: float, theta: float, start: tuple[float, float, int, float]
+) -> CycleMap | None:
+    """The map on [theta_lo, theta] [rad] from this run's spin alone; None where
+    the estimate does not reach :data:`MAP_TOL` by :data:`MAX_NODES` nodes, where the
+    nodes' cycles differ in kind (k', or whole half periods), or where the 9-node map
+    leaves fewer cycles than the next level's nodes."""
+    lo, hi = abscissa(theta_lo), abscissa(theta)
     n = 9
     while n <= MAX_NODES:
         rows = nodes.at(nutation_at(lo + 0.5 * (hi - lo) * (1.0 + _lobatto(n))))
@@ -289,7 +325,7 @@ def _build_map(nodes: _Nodes, lo: float, hi: float, start: tuple[float, float, i
         err = max(np.max(np.abs(c[0][-2:])), np.max(np.abs(c[1][-2:])) / nodes.half)
         nodes.errors.append(float(err))
         if err <= MAP_TOL * nodes.rtol:
-            return c[0], c[1], c[2], int(rows[0, 3])
+            return CycleMap(lo, hi, c[0], c[1], c[2], int(rows[0, 3]), theta_lo)
         if n == 9:
             cycles = iterate(*start, lo, hi, c[0], c[1], c[2], 0, theta_lo, math.inf)[4]
             if cycles < 2 * (n - 1):
@@ -298,16 +334,22 @@ def _build_map(nodes: _Nodes, lo: float, hi: float, start: tuple[float, float, i
     return None
 
 
-def integrate(problem: Problem, controls: Controls, run: RunCycles) -> RawSolution:
+def integrate(
+    problem: Problem, controls: Controls, run: RunCycles, shared: CycleMap | None = None
+) -> RawSolution:
     """The run of :mod:`.stick_slip` with its cycles through the return map.
 
     `run(problem, controls, cycle_end)` is the mode loop stopping at the first
-    breakaway at or after `cycle_end`. Counters (nfev, steps, ...) include the nodes.
+    breakaway at or after `cycle_end` [s]. `shared` is a map built for this problem's
+    spin by :func:`.stick_slip_family.shared_maps` (cases that differ in spin alone):
+    it is iterated from the first breakaway on if that lies in its interval, and no
+    map is built here. Counters (nfev, steps, ...) include this run's own nodes.
     """
     wp = float(problem.y0[7])
     nodes = _Nodes(problem, controls, run)
     y, t = problem.y0, problem.t0  # where the next run starts
     thetas = []
+    built = None
     for _ in range(2):  # to the first breakaway, and one cycle: theta's first change
         res = run(problem._replace(y0=y, t0=t), controls, t + 0.5 * nodes.half)
         nodes.count(res)
@@ -316,18 +358,19 @@ def integrate(problem: Problem, controls: Controls, run: RunCycles) -> RawSoluti
         ok, theta, k, phi = decompose(res.y_end, problem.p, wp)
         thetas.append(theta if ok else math.nan)
         y, t = _rewound(res.y_end, wp), res.t_end - _BACK / abs(wp)
-    t_break = res.t_end
-    d = thetas[1] - thetas[0]
+        t_break = res.t_end
+        if shared is not None and ok and shared.covers(theta):
+            built = shared
+            break
     theta_lo = max(float(problem.p[P_THETA_CR]), THETA_LOW)
-    built = None
-    if d < 0.0 and theta > theta_lo and cycles_ahead(theta_lo, theta, -d) > MIN_CYCLES:
-        lo, hi = abscissa(theta_lo), abscissa(theta)
-        built = _build_map(nodes, lo, hi, (theta, t_break, k, phi))
+    if built is None and len(thetas) == 2:
+        d = thetas[1] - thetas[0]
+        if d < 0.0 and theta > theta_lo and cycles_ahead(theta_lo, theta, -d) > MIN_CYCLES:
+            built = _build_map(nodes, theta_lo, theta, (theta, t_break, k, phi))
     if built is not None:
-        c_logd, c_time, c_phi, k_step = built
         theta, t_map, k, phi, cycles = iterate(
-            theta, t_break, k, phi, lo, hi, c_logd, c_time, c_phi, k_step, theta_lo,
-            controls.t_max,
+            theta, t_break, k, phi, built.lo, built.hi, built.c_logd, built.c_time,
+            built.c_phi, built.k_step, built.theta_stop, controls.t_max,
         )  # fmt: skip
         y_map = np.empty_like(y)
         if cycles > 0 and compose(theta, k, phi, problem.p, wp, y_map):

@@ -1,0 +1,153 @@
+"""Return maps shared across spins (core/integrators/stick_slip_family.py).
+
+References: the node cycles integrated one at a time (:class:`stick_slip_map._Nodes`,
+the map's own definition), the one-spin run (:func:`obturator.solve.opening_time`:
+its own map, or its cycles one by one), the regularised family limit (tanh and linear
+at width 1e-10 omega_p, Radau IIA at rtol 1e-12: an independent path), and the stick
+ratio kappa = omega_p^2 |C - A| sin(2 theta) / (2 M) of docs/stick_slip.md section 3
+(thesis Eqs. 5a-5c, 56-61).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from obturator.core.integrators import stick_slip, stick_slip_family, stick_slip_map
+from obturator.core.layout import P_A, P_C, P_FRIC
+from obturator.model.cases import rig_case
+from obturator.reference import THESIS_MU_S
+from obturator.solve import SolverOptions, opening_time, opening_times
+from obturator.solve.setup import integration_setup
+
+SET_VALUED = SolverOptions(method="set-valued")
+#: 14 spins in one band (ratio 1.16 < BAND_RATIO), ~150-250 cycles each.
+SPINS = np.linspace(50.0, 58.0, 14)
+
+
+def _setups(spins, mu_s=THESIS_MU_S):
+    pairs = [integration_setup(rig_case(float(w), mu_s), SET_VALUED) for w in spins]
+    return [p for p, _ in pairs], [c for _, c in pairs]
+
+
+@pytest.fixture(scope="module")
+def band():
+    problems, controls = _setups(SPINS)
+    maps, counts = stick_slip_family.shared_maps(problems, controls)
+    return problems, controls, maps, counts
+
+
+def test_one_band_gets_one_map_per_spin(band):
+    """Every spin of a band of >= MIN_SPINS gets its series; the nodes were integrated."""
+    _, _, maps, counts = band
+    assert len(SPINS) >= stick_slip_family.MIN_SPINS
+    assert all(m is not None for m in maps)
+    assert counts[0] > 0 and counts[2] > 0  # right-hand sides and steps of the nodes
+    assert len({m.lo for m in maps}) == 1 and len({m.k_step for m in maps}) == 1
+
+
+def test_series_interpolates_the_node_cycles_at_the_lowest_spin(band):
+    """At the band's lowest spin (a Chebyshev-Lobatto node in log spin) and the middle
+    theta node (one of every level's), the series of log(-D) and T reproduce the cycle
+    integrated there on its own: interpolation is exact at its nodes."""
+    problems, controls, maps, _ = band
+    problem = problems[0]._replace(p=stick_slip.zero_width(problems[0].p.copy()))
+    nodes = stick_slip_map._Nodes(problem, controls[0], stick_slip.run_cycles())
+    m = maps[0]
+    x = stick_slip_map._lobatto(9)[4]  # cos(pi / 2): the middle node of every level
+    theta = float(stick_slip_map.nutation_at(np.array(m.lo + 0.5 * (m.hi - m.lo) * (1.0 + x))))
+    log_d, t_half, _, k = nodes.cycle(theta)
+    assert k == m.k_step
+    assert np.polynomial.chebyshev.chebval(x, m.c_logd) == pytest.approx(log_d, abs=1e-8)
+    t_series = np.polynomial.chebyshev.chebval(x, m.c_time)
+    assert t_series == pytest.approx(t_half * math.pi / SPINS[0], rel=1e-9)
+
+
+def test_shared_maps_give_the_one_spin_opening_times(band):
+    """Each spin's t_cr through its shared map within 1e-6 of the one-spin run (its own
+    map or its cycles); the front door gives the same as the core with the maps."""
+    problems, controls, maps, _ = band
+    by_family = np.array(
+        [
+            stick_slip.integrate(p, c, shared=m).t_event
+            for p, c, m in zip(problems, controls, maps, strict=True)
+        ]
+    )
+    cases = [rig_case(float(w), THESIS_MU_S) for w in SPINS]
+    one_by_one = np.array([opening_time(c, SET_VALUED) for c in cases])
+    assert np.max(np.abs(by_family / one_by_one - 1.0)) < 1e-6
+    t_cr, status, stats = opening_times(cases, SET_VALUED)
+    assert stats["n_set_valued"] == len(SPINS)
+    np.testing.assert_array_equal(t_cr, by_family)
+
+
+@pytest.mark.slow
+def test_shared_map_agrees_with_the_regularised_limit(band):
+    """At the band's ends the shared-map t_cr within 1e-6 of the regularised family limit
+    (plus that limit's own tanh-linear spread)."""
+    problems, controls, maps, _ = band
+    for i in (0, len(SPINS) - 1):
+        t = stick_slip.integrate(problems[i], controls[i], shared=maps[i]).t_event
+        fam = [
+            opening_time(
+                rig_case(float(SPINS[i]), THESIS_MU_S),
+                SolverOptions(
+                    method="radau",
+                    rtol=1e-12,
+                    atol=1e-14,
+                    friction_width=1e-10,
+                    friction_family=f,
+                ),  # fmt: skip
+            )
+            for f in ("tanh", "linear")
+        ]
+        ref = 0.5 * (fam[0] + fam[1])
+        assert abs(t / ref - 1.0) < 1e-6 + abs(fam[0] - fam[1]) / ref
+
+
+def test_only_cases_equal_but_the_spin_share_a_map():
+    """Two friction coefficients are two groups; a group of fewer than MIN_SPINS spins,
+    a Coulomb patch case (no map) and an Euler-angle case (outside the solver) get none,
+    and none of them raises here."""
+    few = SPINS[: stick_slip_family.MIN_SPINS - 1]
+    problems, controls = _setups(few, 0.6)
+    more, more_c = _setups(SPINS[:2])  # mu_s 0.5473: a group of two
+    euler, euler_c = integration_setup(
+        rig_case(55.0, THESIS_MU_S), SolverOptions(method="set-valued", formulation="euler")
+    )
+    maps, counts = stick_slip_family.shared_maps(
+        problems + more + [euler], controls + more_c + [euler_c]
+    )
+    assert maps == [None] * (len(few) + 3)
+    assert counts[0] == 0  # no node was integrated
+
+
+def test_bands_split_at_the_ratio_and_drop_short_runs():
+    n = stick_slip_family.MIN_SPINS
+    spins = list(np.linspace(40.0, 49.0, n)) + list(np.linspace(52.0, 53.0, n - 1))
+    bands = stick_slip_family._bands(spins)
+    assert bands == [list(range(n))]  # 40-49 (ratio 1.225); the second run is too short
+    wide = list(np.linspace(40.0, 80.0, 4 * n))
+    for b in stick_slip_family._bands(wide):
+        assert wide[b[-1]] <= stick_slip_family.BAND_RATIO * wide[b[0]]
+        assert len(b) >= n
+
+
+@pytest.mark.parametrize("spin", [60.0, 90.0, 140.0])
+def test_interval_ends_where_kappa_reaches_its_limit(spin):
+    """theta_lo of a band up to `spin`: kappa(theta_lo) = KAPPA_END when that is above
+    THETA_LOW and theta_cr (kappa from docs/stick_slip.md section 3, not the module)."""
+    problems, controls = _setups([spin])
+    problem = problems[0]._replace(p=stick_slip.zero_width(problems[0].p.copy()))
+    grid = stick_slip_family._Grid(problem, controls[0], stick_slip.run_cycles())
+    lo, hi, theta_lo = grid.interval(spin)
+    p = problem.p
+    kappa = spin**2 * abs(p[P_C] - p[P_A]) * math.sin(2.0 * theta_lo) / (2.0 * p[P_FRIC + 1])
+    if theta_lo > stick_slip_map.THETA_LOW + 1e-12:
+        assert kappa == pytest.approx(stick_slip_family.KAPPA_END, rel=1e-12)
+    else:
+        assert kappa <= stick_slip_family.KAPPA_END
+    assert lo == pytest.approx(stick_slip_map.abscissa(theta_lo))
+    assert hi == pytest.approx(stick_slip_map.abscissa(grid.theta0))
