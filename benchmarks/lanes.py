@@ -22,11 +22,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 from typing import Any
 
 import numpy as np
 
+from benchmarks._module import environment
 from obturator.model.cases import flight_case, rig_case
 from obturator.runs import Runner
 from obturator.solve import OPENING_TIME_ACCURACY, SolverOptions, opening_time
@@ -58,16 +58,8 @@ _PATHS = {"lanes": ("1", "1"), "stiff-one-by-one": ("1", "0"), "scalar": ("0", "
 
 def _sweep(spec: SweepSpec, workers: int, path: str) -> tuple[float, np.ndarray]:
     names = ("OBTURATOR_LANES", "OBTURATOR_RADAU_LANES")
-    old = {k: os.environ.get(k) for k in names}
-    os.environ.update(dict(zip(names, _PATHS[path], strict=True)))
-    try:
+    with environment(dict(zip(names, _PATHS[path], strict=True))):
         run = execute_sweep(spec, runner=Runner(workers=workers))
-    finally:
-        for k, v in old.items():
-            if v is None:
-                del os.environ[k]
-            else:
-                os.environ[k] = v
     return run.elapsed_s, np.asarray(run.dataset["t_cr"].values, dtype=float).ravel()
 
 

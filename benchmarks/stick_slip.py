@@ -14,9 +14,11 @@ family limit, ``docs/stick_slip.md``).
 :func:`sweep`: a rig sweep over 40-1000 rad/s through ``obturator.sweeps`` (the
 front door, :func:`obturator.solve.opening_times`, same workers) with the default
 method ("auto": set-valued below the stick-ratio threshold of
-:mod:`obturator.solve.dispatch`, regularised lanes above) and with "regularised",
-in the same run: points/s, their ratio, and the worst error of a seeded sample of points
-against the set-valued solver at rtol 1e-12.
+:mod:`obturator.solve.dispatch`, its points of one band of spins sharing return maps,
+regularised lanes above), with each set-valued point building its own map
+(``OBTURATOR_SHARED_MAPS=0``) and with "regularised", in the same run: points/s, the
+ratios, and the worst error of a seeded sample of points against the set-valued solver
+at rtol 1e-12.
 """
 
 from __future__ import annotations
@@ -71,26 +73,39 @@ def cost(spins: Sequence[float] = SPINS, repeat: int = 5) -> list[dict[str, Any]
 #: The sweep's range [rad/s] and the points of its full and quick runs.
 SWEEP_RANGE = (40.0, 1000.0)
 SWEEP_POINTS, SWEEP_POINTS_QUICK = 10_000, 500
-SWEEP_METHODS = ("auto", "regularised")
+#: The sweep's paths: label -> (method, environment). "own maps" is the default with
+#: each set-valued point building its own return map (before the shared maps of
+#: :mod:`obturator.core.integrators.stick_slip_family`).
+SWEEP_PATHS: dict[str, tuple[str, dict[str, str]]] = {
+    "auto": ("auto", {}),
+    "auto, own maps": ("auto", {"OBTURATOR_SHARED_MAPS": "0"}),
+    "regularised": ("regularised", {}),
+}
 
 
 def sweep(
     n_points: int = SWEEP_POINTS, workers: Sequence[int] = (1, 2), n_check: int = 60
 ) -> list[dict[str, Any]]:
-    """One row per worker count: points/s of each method, their ratio, and each
-    method's worst and median error on `n_check` seeded points against :data:`REFERENCE`."""
+    """One row per worker count: points/s of each of :data:`SWEEP_PATHS`, the ratios of
+    ``auto`` to the others, and each path's worst and median error on `n_check` seeded
+    points against :data:`REFERENCE`."""
+    from benchmarks._module import environment
     from benchmarks.operating_range import throughput
 
     rows = []
     for k in workers:
         row: dict[str, Any] = {"n_points": n_points, "spin_range_rad_s": list(SWEEP_RANGE)}
-        for method in SWEEP_METHODS:
+        for label, (method, env) in SWEEP_PATHS.items():
             opts = SolverOptions(method=method)  # type: ignore[arg-type]
-            row[method] = throughput(
-                n_points, SWEEP_RANGE, k, options=opts, n_check=n_check, reference=REFERENCE
-            )
+            with environment(env):
+                row[label] = throughput(
+                    n_points, SWEEP_RANGE, k, options=opts, n_check=n_check, reference=REFERENCE
+                )
         row["workers"] = row["auto"]["workers"]
-        row["ratio"] = row["auto"]["points_per_s"] / row["regularised"]["points_per_s"]
+        auto = row["auto"]["points_per_s"]
+        row["ratio"] = {
+            label: auto / row[label]["points_per_s"] for label in SWEEP_PATHS if label != "auto"
+        }
         rows.append(row)
     return rows
 
@@ -100,20 +115,26 @@ def print_sweep(rows: list[dict[str, Any]]) -> None:
     from rich.console import Console
     from rich.table import Table
 
-    t = Table(title="rig sweep 40-1000 rad/s: auto (dispatch) vs regularised, same run")
-    for col in ("points", "workers", "auto [pts/s]", "regularised [pts/s]", "ratio"):
-        t.add_column(col, justify="right")
-    for col in ("auto max err", "reg. max err", "auto median err", "reg. median err"):
-        t.add_column(col, justify="right")
+    others = [label for label in SWEEP_PATHS if label != "auto"]
+    t = Table(title="rig sweep 40-1000 rad/s: auto (dispatch, shared maps) vs others, same run")
+    t.add_column("points", justify="right")
+    t.add_column("workers", justify="right")
+    for label in SWEEP_PATHS:
+        t.add_column(f"{label} [pts/s]", justify="right")
+    for label in others:
+        t.add_column(f"auto / {label}", justify="right")
+    for label in SWEEP_PATHS:
+        t.add_column(f"{label} max / median err", justify="right")
     for r in rows:
-        a, g = r["auto"], r["regularised"]
-        t.add_row(
-            str(r["n_points"]), str(r["workers"]), f"{a['points_per_s']:.0f}",
-            f"{g['points_per_s']:.0f}", f"{r['ratio']:.1f}",
-            f"{a['max_rel_error']:.1e}", f"{g['max_rel_error']:.1e}",
-            f"{a['median_rel_error']:.1e}", f"{g['median_rel_error']:.1e}",
-        )  # fmt: skip
-    Console(width=160).print(t)
+        cells = [str(r["n_points"]), str(r["workers"])]
+        cells += [f"{r[label]['points_per_s']:.0f}" for label in SWEEP_PATHS]
+        cells += [f"{r['ratio'][label]:.2f}" for label in others]
+        cells += [
+            f"{r[label]['max_rel_error']:.1e} / {r[label]['median_rel_error']:.1e}"
+            for label in SWEEP_PATHS
+        ]
+        t.add_row(*cells)
+    Console(width=200).print(t)
     print(f"  errors: {rows[0]['auto']['n_checked']} seeded points against set-valued, rtol 1e-12")
 
 

@@ -36,7 +36,8 @@ Per lane the arithmetic is that of the one-trajectory DOP853, so t_cr agrees
 with the scalar path to the last bit on the cases checked
 (``tests/core/test_lanes.py``); points continued in Radau IIA lanes agree with the
 scalar Radau IIA to rounding amplified by the near-stick dynamics (~1e-8
-relative measured; ``OBTURATOR_RADAU_LANES=0`` continues them one by one).
+relative measured; ``OBTURATOR_RADAU_LANES=0`` continues them one by one,
+``OBTURATOR_SHARED_MAPS=0`` has each set-valued case build its own return map).
 This module is the only one above :mod:`obturator.core` besides
 :mod:`obturator.solve.one` that drives the integrators.
 """
@@ -433,7 +434,7 @@ def integrate_packed(
     for idx, chosen_method in one_by_one:
         setups = [_point_setup(packed, int(k), options, chosen_method, to_t_max) for k in idx]
         shared: list[Any] = [None] * len(idx)
-        if chosen_method == "set-valued":
+        if chosen_method == "set-valued" and env_switch("OBTURATOR_SHARED_MAPS"):
             from ..core.integrators.stick_slip_family import shared_maps
 
             shared, counts = shared_maps([s[0] for s in setups], [s[1] for s in setups])

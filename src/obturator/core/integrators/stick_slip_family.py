@@ -181,7 +181,8 @@ class _Grid:
         ratio kappa = omega_p^2 |C - A| sin(2 theta) / (2 M) reaches :data:`KAPPA_END`
         at `w_hi` (theta above 45 deg), whichever is higher."""
         p = self.problem.p
-        theta_lo = max(float(p[P_THETA_CR]), THETA_LOW)
+        theta_cr = float(p[P_THETA_CR])
+        theta_lo = theta_cr if 0.0 < theta_cr < 0.5 * math.pi else THETA_LOW
         s = 2.0 * KAPPA_END * moment_scale(p) / (w_hi * w_hi * abs(p[P_C] - p[P_A]))
         if s < 1.0:
             theta_lo = max(theta_lo, 0.5 * (math.pi - math.asin(s)))
