@@ -9,18 +9,19 @@ at constant spin the cycle from the breakaway state B(theta) depends on theta an
 omega_p alone (the other parameters equal), D ~ kappa^3 with kappa ~ omega_p^2, so
 log(-D) is close to linear in log(omega_p). So the cases are grouped (equal parameters,
 initial attitude, tolerances, and steps proportional to the spin period) and each
-group's spins split into bands no wider than :data:`BAND_RATIO`; per band the cycles
-are integrated on a tensor grid of Chebyshev-Lobatto nodes, in :func:`abscissa` of theta
-(from max(theta_cr, THETA_LOW) up to the initial nutation) and in log(omega_p), and
-interpolated. The error estimate is that of the one-spin map in each direction (the
-last two Chebyshev coefficients, summed over the other direction, which bounds them at
-every node of it) against :data:`~.stick_slip_map.MAP_TOL` times rtol; the grid grows
-(nested levels, 9-17-33 in theta, 5-9-17 in the spin) until both hold. A band whose
-nodes' cycles differ in kind, or that does not converge, is split in two while it
-holds :data:`MIN_SPINS` spins; else its spins build their own maps as before. Each
-case then gets its spin's series in theta (the sums over the spin's Chebyshev
-polynomials), and :func:`.stick_slip_map.integrate` iterates it from the case's first
-breakaway: the case integrates its first breakaway and its last cycles only.
+group's spins split into bands no wider than :data:`BAND_RATIO`; per band the cycles are
+integrated on a tensor grid of Chebyshev-Lobatto nodes, in :func:`abscissa` of theta
+(from the initial nutation down to theta_cr, or to where the stick ratio reaches
+:data:`KAPPA_END`: :meth:`_Grid.interval`) and in log(omega_p), and interpolated. The
+error estimate is that of the one-spin map in each direction (the last two Chebyshev
+coefficients, summed over the other direction, which bounds them at every node of it)
+against :data:`~.stick_slip_map.MAP_TOL` times rtol; the grid grows (nested levels,
+9-17-33 in theta, 5-9-17 in the spin) until both hold. A band whose nodes' cycles differ
+in kind, or that does not converge, is split in two while each half holds
+:data:`MIN_SPINS` spins; else its spins build their own maps as before. Each case then
+gets its spin's series in theta (the sums over the spin's Chebyshev polynomials), and
+:func:`.stick_slip_map.integrate` iterates it from the case's first breakaway: the case
+integrates its first breakaway and its last cycles only.
 
 This is the envelope-following idea of :mod:`.stick_slip_map` (Petzold 1981) with the
 spin as a second interpolation variable; the opening itself is never interpolated
@@ -51,10 +52,11 @@ from .stick_slip_map import (
     abscissa,
     applies,
     coefficient_matrix,
+    cycles_ahead,
     nutation_at,
 )
 
-__all__ = ["BAND_RATIO", "KAPPA_END", "MAX_SPIN_NODES", "MIN_SPINS", "shared_maps"]
+__all__ = ["BAND_RATIO", "KAPPA_END", "MAX_SPIN_NODES", "MIN_CYCLES", "MIN_SPINS", "shared_maps"]
 
 #: Stick ratio kappa down to which a band's map reaches (theta_lo of
 #: :meth:`_Grid.interval`): on the rig (Table 1, mu_s 0.5473) a cycle from B(theta)
@@ -62,11 +64,20 @@ __all__ = ["BAND_RATIO", "KAPPA_END", "MAX_SPIN_NODES", "MIN_SPINS", "shared_map
 #: failed at 70.9 deg from 80.7 rad/s, at 78.6 deg from 93.8 rad/s); below it the case
 #: integrates its cycles itself.
 KAPPA_END = 0.38
-#: Widest ratio of the highest to the lowest spin of one band.
-BAND_RATIO = 1.25
-#: Fewest spins of a band that share its map: a band's grid costs 45-150 cycles, the
-#: map saves a spin about 10-40 (the one-spin map's nodes, or its integrated cycles).
+#: Widest ratio of the highest to the lowest spin of one band: the set-valued band of a
+#: 10,000-point 40-1000 rad/s rig sweep took 2.4-2.5 s in one process at 1.15, 2.6-2.7 s
+#: at 1.08, 1.1, 1.25 and 1.4 (wider bands need more spin nodes, narrower more bands).
+BAND_RATIO = 1.15
+#: Fewest spins of a band that share its map: a band's grid costs 45-561 node cycles
+#: (0.2-0.3 ms each), the map saves a case 5-40 cycles (the one-spin map's nodes, or its
+#: integrated cycles).
 MIN_SPINS = 12
+#: Fewest cycles (:meth:`_Grid.cycles_ahead`) through the map at a band's highest spin
+#: for which the band's grid is built: the case integrates the last
+#: :data:`~.stick_slip_map.LAST_CYCLES` of them anyway. On the rig (mu_s 0.5473) from
+#: ~125 rad/s up fewer are left above kappa = :data:`KAPPA_END` (120 rad/s: 5.1, 140:
+#: 2.1, 160: 0.6), where the grids made the 150-218 rad/s points 8 % slower.
+MIN_CYCLES = 4.0
 #: Most spin nodes of a band (Chebyshev-Lobatto levels 5, 9, 17).
 MAX_SPIN_NODES = 17
 
@@ -146,6 +157,9 @@ def _fill_band(idx, problems, controls, run, maps, counts) -> None:
     grid = _Grid(problems[idx[0]], controls[idx[0]], run)
     w_lo = abs(float(problems[idx[0]].y0[7]))
     w_hi = abs(float(problems[idx[-1]].y0[7]))
+    if grid.cycles_ahead(w_lo, w_hi) < MIN_CYCLES:
+        counts += grid.counts()
+        return
     built = grid.build(w_lo, w_hi)
     counts += grid.counts()
     if built is None:
@@ -177,9 +191,10 @@ class _Grid:
 
     def interval(self, w_hi: float) -> tuple[float, float, float]:
         """(lo, hi) of :func:`abscissa` and theta_lo [rad] of a band up to spin `w_hi`:
-        from the initial nutation down to max(theta_cr, THETA_LOW) or to where the stick
-        ratio kappa = omega_p^2 |C - A| sin(2 theta) / (2 M) reaches :data:`KAPPA_END`
-        at `w_hi` (theta above 45 deg), whichever is higher."""
+        from the initial nutation down to theta_cr (THETA_LOW where theta_cr is not in
+        (0, 90 deg)) or to where the stick ratio kappa = omega_p^2 |C - A| sin(2 theta)
+        / (2 M) reaches :data:`KAPPA_END` at `w_hi` (theta above 45 deg, where kappa
+        peaks), whichever is higher."""
         p = self.problem.p
         theta_cr = float(p[P_THETA_CR])
         theta_lo = theta_cr if 0.0 < theta_cr < 0.5 * math.pi else THETA_LOW
@@ -198,6 +213,19 @@ class _Grid:
             self.nodes[wp] = _Nodes(self.problem._replace(y0=y0, scale=scale), ctl, self.run)
         return self.nodes[wp]
 
+    def cycles_ahead(self, w_lo: float, w_hi: float) -> float:
+        """Cycles a case at the band's highest spin `w_hi` [rad/s] would go through the
+        map (:func:`~.stick_slip_map.cycles_ahead` from the cycle at the initial nutation,
+        the grid's first node, kept for :meth:`build`); 0 where that cycle fails."""
+        lo, hi, theta_lo = self.interval(w_hi)
+        if not self.theta0 > theta_lo:
+            return 0.0
+        theta = _node_thetas(lo, hi, 2)[:1]
+        row = self.at_spin(float(_node_spins(w_lo, w_hi, 2)[0])).at(theta)
+        if row is None:
+            return 0.0
+        return cycles_ahead(theta_lo, float(theta[0]), math.exp(row[0, 0]))
+
     def counts(self) -> np.ndarray:
         return sum((n.counts for n in self.nodes.values()), np.zeros(4, dtype=np.int64))
 
@@ -212,8 +240,7 @@ class _Grid:
         tol = MAP_TOL * self.controls.rtol
         n_t, n_w = 9, 5
         while True:
-            thetas = nutation_at(lo + 0.5 * (hi - lo) * (1.0 + _lobatto(n_t)))
-            spins = np.exp(math.log(w_lo) + 0.5 * math.log(w_hi / w_lo) * (1.0 + _lobatto(n_w)))
+            thetas, spins = _node_thetas(lo, hi, n_t), _node_spins(w_lo, w_hi, n_w)
             values = np.empty((n_t, n_w, 4))
             for j, w in enumerate(spins):
                 rows = self.at_spin(float(w)).at(thetas)
@@ -233,3 +260,14 @@ class _Grid:
             if not (grow_t or grow_w):
                 return None
             n_t, n_w = (2 * n_t - 1 if grow_t else n_t), (2 * n_w - 1 if grow_w else n_w)
+
+
+def _node_thetas(lo: float, hi: float, n: int) -> np.ndarray:
+    """Nutation angles [rad] of `n` Chebyshev-Lobatto nodes of :func:`abscissa` on
+    [lo, hi], from hi (the same floats at every nested level)."""
+    return nutation_at(lo + 0.5 * (hi - lo) * (1.0 + _lobatto(n)))
+
+
+def _node_spins(w_lo: float, w_hi: float, n: int) -> np.ndarray:
+    """Spins [rad/s] of `n` Chebyshev-Lobatto nodes of log(omega_p), from `w_hi`."""
+    return np.exp(math.log(w_lo) + 0.5 * math.log(w_hi / w_lo) * (1.0 + _lobatto(n)))
