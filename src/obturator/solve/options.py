@@ -231,8 +231,11 @@ OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
 #: the stick-ratio threshold, at a third of the tolerances; the regularised path above,
 #: :mod:`obturator.solve.dispatch`): 3 x the worst relative error against the width-free
 #: limit (the set-valued solver at rtol 1e-12) over 2,000 rig points at 40-1000 rad/s
-#: (mu_s 0.5473), the sweep path and the one-trajectory path bit-identical: rtol 1e-8
-#: 1.89e-7, 3e-9 1.31e-7, 1e-9 4.96e-8, 1e-10 5.10e-9 (2026-11-26, AMD EPYC Zen 4;
+#: (mu_s 0.5473), the sweep path and the one-trajectory path then bit-identical: rtol
+#: 1e-8 1.89e-7, 3e-9 1.31e-7, 1e-9 4.96e-8, 1e-10 5.10e-9 (2026-11-26, AMD EPYC Zen 4;
+#: at rtol 1e-8 again on 2026-11-27, the sweep's set-valued points sharing return maps
+#: across spins: both paths 1.89e-7, at 330 rad/s; below 100 rad/s the sweep path
+#: 1.2e-7, the one-trajectory path 1.8e-7;
 #: ``python -m benchmarks.dense_accuracy --limit`` at each rtol; freshly compiled code
 #: differs from cached code there by at most 4.1e-11, ``python -m
 #: benchmarks.cache_binding``). The width error is
