@@ -162,3 +162,28 @@ def test_no_grid_where_few_cycles_are_left_to_skip():
     maps, counts = stick_slip_family.shared_maps(problems, controls)
     assert maps == [None] * len(spins)
     assert counts[2] < 400  # the steps of at most one cycle
+
+
+def test_maps_do_not_depend_on_the_order_of_the_cases(band):
+    """The same cases shuffled get the same maps (each group is sorted by spin)."""
+    problems, controls, maps, _ = band
+    order = np.random.default_rng(3).permutation(len(SPINS))
+    shuffled, _ = stick_slip_family.shared_maps(
+        [problems[i] for i in order], [controls[i] for i in order]
+    )
+    for j, i in enumerate(order):
+        np.testing.assert_array_equal(shuffled[j].c_logd, maps[i].c_logd)
+        np.testing.assert_array_equal(shuffled[j].c_time, maps[i].c_time)
+
+
+def test_a_failing_node_leaves_the_cases_to_run_alone(band, monkeypatch):
+    """A node integration that raises gives no map (the cases' own runs report their
+    failures), not an error of the whole batch."""
+    problems, controls, _, _ = band
+
+    def broken(self, theta):
+        raise ZeroDivisionError("node")
+
+    monkeypatch.setattr(stick_slip_map._Nodes, "cycle", broken)
+    maps, _ = stick_slip_family.shared_maps(problems, controls)
+    assert maps == [None] * len(SPINS)

@@ -157,11 +157,14 @@ def _fill_band(idx, problems, controls, run, maps, counts) -> None:
     grid = _Grid(problems[idx[0]], controls[idx[0]], run)
     w_lo = abs(float(problems[idx[0]].y0[7]))
     w_hi = abs(float(problems[idx[-1]].y0[7]))
-    if grid.cycles_ahead(w_lo, w_hi) < MIN_CYCLES:
-        counts += grid.counts()
-        return
-    built = grid.build(w_lo, w_hi)
+    try:
+        pays = grid.cycles_ahead(w_lo, w_hi) >= MIN_CYCLES
+        built = grid.build(w_lo, w_hi) if pays else None
+    except (RuntimeError, ArithmeticError):  # a node that fails: its cases run alone
+        pays, built = False, None
     counts += grid.counts()
+    if not pays:
+        return
     if built is None:
         if len(idx) >= 2 * MIN_SPINS:
             half = len(idx) // 2
