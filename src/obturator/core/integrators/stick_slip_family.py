@@ -42,6 +42,7 @@ from ..layout import P_A, P_C, P_THETA_CR
 from .contract import Controls, Problem
 from .stick_slip import at_zero_width, run_cycles
 from .stick_slip_map import (
+    LAST_CYCLES,
     MAP_TOL,
     MAX_NODES,
     THETA_LOW,
@@ -172,13 +173,16 @@ def _fill_band(idx, problems, controls, run, maps, counts) -> None:
             _fill_band(idx[half:], problems, controls, run, maps, counts)
         return
     lo, hi, theta_lo, (c_logd, c_time, c_phi), k_step = built
+    # the opening lies below a map that ends above theta_cr: the iteration may stop one
+    # cycle before its end, not LAST_CYCLES
+    last = 1 if theta_lo > problems[idx[0]].p[P_THETA_CR] else LAST_CYCLES
     for i in idx:
         wp = abs(float(problems[i].y0[7]))
         x = (2.0 * math.log(wp) - math.log(w_lo) - math.log(w_hi)) / math.log(w_hi / w_lo)
         t_w = np.cos(np.arange(c_logd.shape[1]) * math.acos(min(1.0, max(-1.0, x))))
         maps[i] = CycleMap(
             lo, hi, c_logd @ t_w, (c_time @ t_w) * (math.pi / wp), c_phi @ t_w, k_step,
-            theta_lo,
+            theta_lo, last,
         )  # fmt: skip
 
 

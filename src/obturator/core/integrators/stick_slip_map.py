@@ -103,6 +103,9 @@ class CycleMap(NamedTuple):
     k_step: int
     #: Nutation angle [rad] at which the iteration stops (that of `lo`).
     theta_stop: float
+    #: Cycles before `theta_stop` that the case integrates itself: :data:`LAST_CYCLES`
+    #: where the opening may follow, 1 where the map ends above theta_cr.
+    last_cycles: int
 
     def covers(self, theta: float) -> bool:
         """Whether the nutation `theta` [rad] lies in the map's interval."""
@@ -213,22 +216,21 @@ def nutation_at(x: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def iterate(theta, t, k, phi, lo, hi, c_logd, c_time, c_phi, k_step, theta_stop, t_stop):
-    """Iterate the map from the breakaway (theta, t, k, phi) while more than
-    :data:`LAST_CYCLES` cycles are left to `theta_stop` and the time stays below
-    `t_stop`; [lo, hi] the interval of :func:`abscissa`. Returns (theta, t, k, phi,
-    cycles)."""
+def iterate(theta, t, phi, lo, hi, c_logd, c_time, c_phi, theta_stop, t_stop, last):
+    """Iterate the map from the breakaway (theta, t, phi) while more than `last` cycles
+    are left to `theta_stop` and the time stays below `t_stop`; [lo, hi] the interval of
+    :func:`abscissa`. Returns (theta, t, phi, cycles); the half turns about Z are
+    k + cycles k'."""
     cycles = 0
     while True:
         x = (2.0 * abscissa(theta) - lo - hi) / (hi - lo)
         d = -math.exp(_clenshaw(c_logd, x))
         dt = _clenshaw(c_time, x)
-        if theta + LAST_CYCLES * d <= theta_stop or t + LAST_CYCLES * dt >= t_stop:
-            return theta, t, k, phi, cycles
+        if theta + last * d <= theta_stop or t + last * dt >= t_stop:
+            return theta, t, phi, cycles
         theta += d
         t += dt
         phi += _clenshaw(c_phi, x)
-        k += k_step
         cycles += 1
 
 
@@ -325,9 +327,10 @@ def _build_map(
         err = max(np.max(np.abs(c[0][-2:])), np.max(np.abs(c[1][-2:])) / nodes.half)
         nodes.errors.append(float(err))
         if err <= MAP_TOL * nodes.rtol:
-            return CycleMap(lo, hi, c[0], c[1], c[2], int(rows[0, 3]), theta_lo)
+            return CycleMap(lo, hi, c[0], c[1], c[2], int(rows[0, 3]), theta_lo, LAST_CYCLES)
         if n == 9:
-            cycles = iterate(*start, lo, hi, c[0], c[1], c[2], 0, theta_lo, math.inf)[4]
+            theta, t = start[:2]
+            cycles = iterate(theta, t, 0.0, lo, hi, *c, theta_lo, math.inf, LAST_CYCLES)[3]
             if cycles < 2 * (n - 1):
                 return None
         n = 2 * n - 1
@@ -368,10 +371,11 @@ def integrate(
         if d < 0.0 and theta > theta_lo and cycles_ahead(theta_lo, theta, -d) > MIN_CYCLES:
             built = _build_map(nodes, theta_lo, theta, (theta, t_break, k, phi))
     if built is not None:
-        theta, t_map, k, phi, cycles = iterate(
-            theta, t_break, k, phi, built.lo, built.hi, built.c_logd, built.c_time,
-            built.c_phi, built.k_step, built.theta_stop, controls.t_max,
+        theta, t_map, phi, cycles = iterate(
+            theta, t_break, phi, built.lo, built.hi, built.c_logd, built.c_time,
+            built.c_phi, built.theta_stop, controls.t_max, built.last_cycles,
         )  # fmt: skip
+        k += cycles * built.k_step
         y_map = np.empty_like(y)
         if cycles > 0 and compose(theta, k, phi, problem.p, wp, y_map):
             y, t = _rewound(y_map, wp), t_map - _BACK / abs(wp)
