@@ -63,7 +63,9 @@ __all__ = ["BAND_RATIO", "KAPPA_END", "MAX_SPIN_NODES", "MIN_CYCLES", "MIN_SPINS
 #: :meth:`_Grid.interval`): on the rig (Table 1, mu_s 0.5473) a cycle from B(theta)
 #: no longer sticks again within two revolutions from kappa ~ 0.52 on (node cycles
 #: failed at 70.9 deg from 80.7 rad/s, at 78.6 deg from 93.8 rad/s); below it the case
-#: integrates its cycles itself.
+#: integrates its cycles itself. At 0.45 and 0.48 nodes still failed (bands split and
+#: rebuilt: the set-valued band of a 40-1000 rad/s sweep took 3.8 and 4.6 s in one
+#: process); 0.30-0.42 took the same 2.5-2.8 s; 0.38 is the largest with no failure.
 KAPPA_END = 0.38
 #: Widest ratio of the highest to the lowest spin of one band: the set-valued band of a
 #: 10,000-point 40-1000 rad/s rig sweep took 2.4-2.5 s in one process at 1.15, 2.6-2.7 s
@@ -74,7 +76,7 @@ BAND_RATIO = 1.15
 #: integrated cycles).
 MIN_SPINS = 12
 #: Fewest cycles (:meth:`_Grid.cycles_ahead`) through the map at a band's highest spin
-#: for which the band's grid is built: the case integrates the last
+#: for which the band's grid is built: the case integrates the last one to
 #: :data:`~.stick_slip_map.LAST_CYCLES` of them anyway. On the rig (mu_s 0.5473) from
 #: ~125 rad/s up fewer are left above kappa = :data:`KAPPA_END` (120 rad/s: 5.1, 140:
 #: 2.1, 160: 0.6), where the grids made the 150-218 rad/s points 8 % slower.
