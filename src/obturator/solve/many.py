@@ -433,7 +433,7 @@ def integrate_packed(
     to_t_max = end_states is not None
     for idx, chosen_method in one_by_one:
         setups = [_point_setup(packed, int(k), options, chosen_method, to_t_max) for k in idx]
-        shared: list[Any] = [None] * len(idx)
+        shared: list[CycleMap | None] = [None] * len(idx)
         if chosen_method == "set-valued" and env_switch("OBTURATOR_SHARED_MAPS"):
             from ..core.integrators.stick_slip_family import shared_maps
 

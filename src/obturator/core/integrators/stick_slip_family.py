@@ -37,6 +37,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ...errors import InputError
+from ..dynamics import nutation_angle_of_state
 from ..friction_sets import moment_scale
 from ..layout import P_A, P_C, P_THETA_CR
 from .contract import Controls, Problem
@@ -54,7 +55,7 @@ from .stick_slip_map import (
     applies,
     coefficient_matrix,
     cycles_ahead,
-    nutation_at,
+    node_thetas,
 )
 
 __all__ = ["BAND_RATIO", "KAPPA_END", "MAX_SPIN_NODES", "MIN_CYCLES", "MIN_SPINS", "shared_maps"]
@@ -194,8 +195,7 @@ class _Grid:
     def __init__(self, problem: Problem, controls: Controls, run: RunCycles) -> None:
         self.problem, self.controls, self.run = problem, controls, run
         self.wp = float(problem.y0[7])
-        q = problem.y0[:4] / np.linalg.norm(problem.y0[:4])
-        self.theta0 = math.acos(min(1.0, max(-1.0, 1.0 - 2.0 * (q[1] ** 2 + q[2] ** 2))))
+        self.theta0 = nutation_angle_of_state(problem.y0, problem.p)
         self.nodes: dict[float, _Nodes] = {}
 
     def interval(self, w_hi: float) -> tuple[float, float, float]:
@@ -229,7 +229,7 @@ class _Grid:
         lo, hi, theta_lo = self.interval(w_hi)
         if not self.theta0 > theta_lo:
             return 0.0
-        theta = _node_thetas(lo, hi, 2)[:1]
+        theta = node_thetas(lo, hi, 2)[:1]
         row = self.at_spin(float(_node_spins(w_lo, w_hi, 2)[0])).at(theta)
         if row is None:
             return 0.0
@@ -249,7 +249,7 @@ class _Grid:
         tol = MAP_TOL * self.controls.rtol
         n_t, n_w = 9, 5
         while True:
-            thetas, spins = _node_thetas(lo, hi, n_t), _node_spins(w_lo, w_hi, n_w)
+            thetas, spins = node_thetas(lo, hi, n_t), _node_spins(w_lo, w_hi, n_w)
             values = np.empty((n_t, n_w, 4))
             for j, w in enumerate(spins):
                 rows = self.at_spin(float(w)).at(thetas)
@@ -269,12 +269,6 @@ class _Grid:
             if not (grow_t or grow_w):
                 return None
             n_t, n_w = (2 * n_t - 1 if grow_t else n_t), (2 * n_w - 1 if grow_w else n_w)
-
-
-def _node_thetas(lo: float, hi: float, n: int) -> np.ndarray:
-    """Nutation angles [rad] of `n` Chebyshev-Lobatto nodes of :func:`abscissa` on
-    [lo, hi], from hi (the same floats at every nested level)."""
-    return nutation_at(lo + 0.5 * (hi - lo) * (1.0 + _lobatto(n)))
 
 
 def _node_spins(w_lo: float, w_hi: float, n: int) -> np.ndarray:

@@ -59,6 +59,7 @@ __all__ = [
     "applies",
     "cycles_ahead",
     "integrate",
+    "node_thetas",
 ]
 
 #: Largest estimated interpolation error accepted (the last two Chebyshev coefficients),
@@ -89,7 +90,7 @@ RunCycles = Callable[[Problem, Controls, float], RawSolution]
 class CycleMap(NamedTuple):
     """One spin's return map: Chebyshev series in :func:`abscissa` over [lo, hi]."""
 
-    #: :func:`abscissa` of the map's lowest nutation angle, max(theta_cr, THETA_LOW).
+    #: :func:`abscissa` of the map's lowest nutation angle, `theta_stop`.
     lo: float
     #: :func:`abscissa` of its highest nutation angle.
     hi: float
@@ -252,6 +253,12 @@ def coefficient_matrix(n_points: int) -> np.ndarray:
     return m
 
 
+def node_thetas(lo: float, hi: float, n: int) -> np.ndarray:
+    """Nutation angles [rad] of `n` Chebyshev-Lobatto nodes of :func:`abscissa` on
+    [lo, hi], from hi (the same floats at every nested level, so nodes are reused)."""
+    return nutation_at(lo + 0.5 * (hi - lo) * (1.0 + _lobatto(n)))
+
+
 def _coefficients(values: np.ndarray) -> np.ndarray:
     """Chebyshev coefficients of the interpolant through values at :func:`_lobatto` points."""
     return coefficient_matrix(values.shape[0]) @ values
@@ -308,17 +315,16 @@ class _Nodes:
         return np.array(rows)
 
 
-def _build_map(
-    nodes: _Nodes, theta_lo: float, theta: float, start: tuple[float, float, int, float]
-) -> CycleMap | None:
-    """The map on [theta_lo, theta] [rad] from this run's spin alone; None where
-    the estimate does not reach :data:`MAP_TOL` by :data:`MAX_NODES` nodes, where the
-    nodes' cycles differ in kind (k', or whole half periods), or where the 9-node map
-    leaves fewer cycles than the next level's nodes."""
+def _build_map(nodes: _Nodes, theta_lo: float, theta: float, t: float) -> CycleMap | None:
+    """The map on [theta_lo, theta] [rad] from this run's spin alone, the run at its
+    breakaway at nutation `theta` and time `t` [s]; None where the estimate does not
+    reach :data:`MAP_TOL` by :data:`MAX_NODES` nodes, where the nodes' cycles differ in
+    kind (k', or whole half periods), or where the 9-node map leaves fewer cycles than
+    the next level's nodes."""
     lo, hi = abscissa(theta_lo), abscissa(theta)
     n = 9
     while n <= MAX_NODES:
-        rows = nodes.at(nutation_at(lo + 0.5 * (hi - lo) * (1.0 + _lobatto(n))))
+        rows = nodes.at(node_thetas(lo, hi, n))
         if rows is None or np.ptp(rows[:, 3]) != 0.0 or np.ptp(np.round(rows[:, 1])) != 0.0:
             return None
         c = [_coefficients(rows[:, i]) for i in range(3)]
@@ -329,7 +335,6 @@ def _build_map(
         if err <= MAP_TOL * nodes.rtol:
             return CycleMap(lo, hi, c[0], c[1], c[2], int(rows[0, 3]), theta_lo, LAST_CYCLES)
         if n == 9:
-            theta, t = start[:2]
             cycles = iterate(theta, t, 0.0, lo, hi, *c, theta_lo, math.inf, LAST_CYCLES)[3]
             if cycles < 2 * (n - 1):
                 return None
@@ -369,7 +374,7 @@ def integrate(
     if built is None and len(thetas) == 2:
         d = thetas[1] - thetas[0]
         if d < 0.0 and theta > theta_lo and cycles_ahead(theta_lo, theta, -d) > MIN_CYCLES:
-            built = _build_map(nodes, theta_lo, theta, (theta, t_break, k, phi))
+            built = _build_map(nodes, theta_lo, theta, t_break)
     if built is not None:
         theta, t_map, phi, cycles = iterate(
             theta, t_break, phi, built.lo, built.hi, built.c_logd, built.c_time,
