@@ -15,8 +15,9 @@ to ~5e-9 and the regularised one is the faster.
 The choice is a function of the packed parameter vector and the start state alone
 (:func:`dispatched_method`), so the one-trajectory path (:mod:`obturator.solve.one`) and
 the lanes (:func:`obturator.solve.opening_times`) choose the same integrator for every
-case and give the same t_cr to the bit. Every other method name runs that integrator
-for every case.
+case and give the same t_cr to the bit, but for the set-valued cases of
+:func:`~obturator.solve.opening_times` that share return maps across spins (to the
+maps' tolerance). Every other method name runs that integrator for every case.
 """
 
 from __future__ import annotations

@@ -6,14 +6,14 @@ returns t_cr, a :class:`~obturator.status.Status` per case and work counters. Wh
 the options allow (method ``auto`` or ``regularised``; with a convergence check, its
 reruns too) the cases are integrated together in the SIMD lanes of
 :func:`obturator.core.integrators.lanes.integrate_lanes`, else one by one through
-:func:`obturator.solve.opening_time`; both give the same t_cr and status per case:
+:func:`obturator.solve.opening_time`; same status and t_cr (bit for bit, but see item 1):
 
 1. every case is packed (:func:`pack_points`, :class:`PackedPoints`); under ``auto``
    the cases :func:`~obturator.solve.dispatch.dispatched_method` gives to the
    set-valued solver (low spin) run one by one through it, as
    :func:`~obturator.solve.opening_time` runs them, but cases differing in spin alone
    share their cycles' return maps (:mod:`obturator.core.integrators.stick_slip_family`:
-   t_cr within 5.4e-7 of :func:`~obturator.solve.opening_time` on 1,855 points of a
+   t_cr within 5.3e-7 of :func:`~obturator.solve.opening_time` on 1,855 points of a
    40-1000 rad/s sweep, closer to the width-free limit), and the rest in lanes with the
    regularised law; those are grouped by right-hand-side kernel, and a group too
    small for lanes to pay (:func:`lanes_pay_from`: under five thesis-kernel points,
