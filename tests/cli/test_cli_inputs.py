@@ -187,6 +187,7 @@ def test_fifos_and_empty_names_do_not_hang(tmp_path):
         ("NUMBA_DISABLE_JIT", "x"),
         ("OBTURATOR_DEBUG", "yes"),
         ("OBTURATOR_LANES", "2"),
+        ("OBTURATOR_SLIP_LANES", "on"),
     ],
 )
 def test_environment_variables_are_checked_at_start_up(variable, value):

@@ -593,7 +593,8 @@ def test_default_chunks_lanes_and_tasks() -> None:
 
 def test_contiguous_chunks_are_runs_of_consecutive_points() -> None:
     """A contiguous job's chunks (a sweep in lanes: its spins share return maps) are runs
-    of consecutive points, as many and as large as the strided ones, each point once."""
+    of consecutive points, as many and as large as the strided ones, each point once,
+    handed out from both ends of the run inwards."""
     todo = np.arange(3, 10_003)
     strided = run_chunks.make_chunks(todo, 2, None, LANE_CHUNK)
     runs = run_chunks.make_chunks(todo, 2, None, LANE_CHUNK, contiguous=True)
@@ -601,7 +602,12 @@ def test_contiguous_chunks_are_runs_of_consecutive_points() -> None:
     assert max(c.size for c in runs) == max(c.size for c in strided)
     for c in runs:
         np.testing.assert_array_equal(np.diff(c), 1)
-    np.testing.assert_array_equal(np.concatenate(runs), todo)
+    starts = [int(c[0]) for c in runs]
+    np.testing.assert_array_equal(np.concatenate([runs[k] for k in np.argsort(starts)]), todo)
+    rank = np.argsort(np.argsort(starts))  # position of each handed-out chunk in the run
+    assert rank.tolist() == [0, 15, 1, 14, 2, 13, 3, 12, 4, 11, 5, 10, 6, 9, 7, 8]
+    odd = run_chunks.make_chunks(np.arange(5), 2, 1, LANE_CHUNK, contiguous=True)
+    assert [int(c[0]) for c in odd] == [0, 4, 1, 3, 2]
     spec = SweepSpec(case="spin-rig", axes={"spin_rate": [40.0, 41.0]})
     assert sweep_job(spec, ("spin_rate",), lambda idx: idx).contiguous
     one_by_one = SweepSpec(

@@ -22,6 +22,7 @@ SWITCHES: dict[str, str] = {
     "OBTURATOR_LANES": "0: every study point on the scalar path (no lanes)",
     "OBTURATOR_RADAU_LANES": "0: stiff lanes continued one by one",
     "OBTURATOR_SHARED_MAPS": "0: set-valued study points each build their own return map",
+    "OBTURATOR_SLIP_LANES": "0: set-valued study points run their last slip one by one",
 }
 _ON_OFF = ("", "0", "1")
 #: numba variables that take one of a few words.

@@ -73,15 +73,21 @@ def make_chunks(
 
     A chunk takes every k-th remaining task, which mixes cheap and expensive
     points (t_cr grows with spin) and balances the load; with `contiguous` it is a
-    run of consecutive tasks (:attr:`Job.contiguous`; the pools hand chunks out as
-    workers free up, and about 8 chunks per worker keep them balanced). Default
-    size: about 8 chunks per worker, at most `max_chunk` tasks.
+    run of consecutive tasks (:attr:`Job.contiguous`), and the chunks come in the
+    order first, last, second, second last, ...: the pools hand them out in order as
+    workers free up, so the last ones handed out come from the middle of the run, and
+    a cost that rises (or falls) along the run leaves no costly chunk for the end (a
+    10,000-point rig sweep over 40-1000 rad/s on 2 workers, whose last chunk in plain
+    order cost 0.32-0.34 s, ended with its workers 0.2 s apart; so, 0.06-0.1 s).
+    Default size: about 8 chunks per worker, at most `max_chunk` tasks.
     """
     if todo.size == 0:
         return []
     n_chunks = math.ceil(todo.size / chunk_length(todo.size, workers, chunk_size, max_chunk))
     if contiguous:
-        return np.array_split(todo, n_chunks)
+        runs = np.array_split(todo, n_chunks)
+        ends = np.c_[np.arange(n_chunks), np.arange(n_chunks)[::-1]].ravel()
+        return [runs[k] for k in dict.fromkeys(ends.tolist())]
     return [todo[k::n_chunks] for k in range(n_chunks)]
 
 

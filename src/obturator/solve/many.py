@@ -45,32 +45,27 @@ This module is the only one above :mod:`obturator.core` besides
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from ..core.integrators import (
     AUTO_HAND_BACKS,
-    Controls,
     Problem,
     RawSolution,
     auto_radau_tolerances,
     continue_auto,
-    integrate,
 )
 from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes, integrate_radau_lanes
 from ..core.layout import KERNEL_GENERIC, N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError, SolverError
 from ..status import MESSAGES, Status
-from .dispatch import core_method, dispatched_controls, dispatched_method
+from .dispatch import dispatched_method
 from .one import opening_time, simulate
+from .one_by_one import env_switch, failed_status, run_one_by_one
 from .options import SolverOptions
 from .setup import integration_controls, integration_setup
-
-if TYPE_CHECKING:
-    from ..core.integrators.stick_slip_map import CycleMap
 
 __all__ = [
     "BATCH_METHODS",
@@ -115,20 +110,6 @@ RADAU_LANES_MIN_GENERIC = 128
 THESIS_LANES_MIN = 5
 #: Fewest generic-kernel points that run in lanes (:func:`lanes_pay_from`).
 GENERIC_LANES_MIN = RADAU_LANES_MIN_GENERIC
-
-
-def env_switch(name: str) -> bool:
-    """An on/off environment variable: unset or ``1`` is on, ``0`` off.
-
-    Raises
-    ------
-    InputError
-        Any other value (a typo must not silently select a path).
-    """
-    value = os.environ.get(name, "1")
-    if value not in ("0", "1"):
-        raise InputError(name, f"{value!r}; allowed: 0 (off), 1 (on)")
-    return value == "1"
 
 
 def batchable(options: SolverOptions) -> bool:
@@ -325,13 +306,8 @@ def _one_by_one(case: Any, options: SolverOptions) -> tuple[float, int]:
     try:
         t = opening_time(case, options)
     except RuntimeError as exc:  # SolverError, or anything else the integrator raised
-        return point_status(_failed_status(exc), math.nan)
+        return point_status(failed_status(exc), math.nan)
     return point_status(Status.OPENED, t)
-
-
-def _failed_status(exc: RuntimeError) -> Status:
-    """``STEP_LIMIT`` where an integrator raised at its step limit, else ``FAILED``."""
-    return Status.STEP_LIMIT if getattr(exc, "status", None) == Status.STEP_LIMIT else Status.FAILED
 
 
 class PackedPoints(NamedTuple):
@@ -432,15 +408,9 @@ def integrate_packed(
             groups.append(idx)
     to_t_max = end_states is not None
     for idx, chosen_method in one_by_one:
-        setups = [_point_setup(packed, int(k), options, chosen_method, to_t_max) for k in idx]
-        shared: list[CycleMap | None] = [None] * len(idx)
-        if chosen_method == "set-valued" and env_switch("OBTURATOR_SHARED_MAPS"):
-            from ..core.integrators.stick_slip_family import shared_maps
-
-            shared, counts = shared_maps([s[0] for s in setups], [s[1] for s in setups])
-            stats["nfev"] += int(counts[0])
-        for k, setup, cycle_map in zip(idx, setups, shared, strict=True):
-            out = _point(*setup, chosen_method, cycle_map)
+        outs, nfev = run_one_by_one(packed, idx, options, chosen_method, to_t_max, n_lanes)
+        stats["nfev"] += nfev
+        for k, out in zip(idx, outs, strict=True):
             t_cr[k], status[k] = point_status(Status(out.status), float(out.t_event))
             stats["nfev"] += int(out.nfev)
             if chosen_method == "set-valued":
@@ -479,41 +449,6 @@ def lanes_pay_from(kernel: float) -> int:
     return GENERIC_LANES_MIN if kernel == KERNEL_GENERIC else THESIS_LANES_MIN
 
 
-def _point_setup(
-    packed: PackedPoints, k: int, options: SolverOptions, chosen: str, to_t_max: bool
-) -> tuple[Problem, Controls]:
-    """Point `k`'s problem and controls for the integrator `chosen`, as
-    :func:`~obturator.solve.opening_time` builds them (with `to_t_max`, as
-    :func:`advance`'s one-by-one path: an output at t_max)."""
-    problem = Problem(packed.y0[k], packed.p[k], packed.scale[k])
-    t_max = float(packed.t_max[k])
-    controls = integration_controls(
-        options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
-        t_eval=np.array([t_max]) if to_t_max else None,
-    )  # fmt: skip
-    return problem, dispatched_controls(options.method, chosen, controls)
-
-
-def _point(
-    problem: Problem, controls: Controls, chosen: str, cycle_map: CycleMap | None = None
-) -> RawSolution:
-    """One point through the integrator `chosen` (``"set-valued"``, with the shared
-    return map `cycle_map` where given, or ``"regularised"``); an integrator that
-    raises counts as failed, as in the one-by-one path."""
-    try:
-        if cycle_map is not None:
-            from ..core.integrators.stick_slip import integrate as integrate_set_valued
-
-            return integrate_set_valued(problem, controls, shared=cycle_map)
-        return integrate(core_method(chosen), problem, controls)
-    except RuntimeError as exc:
-        nan = np.full(N_STATE, math.nan)
-        return RawSolution(
-            _failed_status(exc), math.nan, nan, np.empty(0), np.empty((0, N_STATE)),
-            0, 0, 0, 0, 0.0, nan,
-        )  # fmt: skip
-
-
 def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.ndarray, np.ndarray]:
     """Points of one kernel: DOP853 lanes, stiff points on in Radau IIA lanes, the points
     where sliding resumed back in DOP853 lanes, and so on, as :func:`continue_auto` does
@@ -539,7 +474,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
         st, t_ev = _advance(
             integrate_lanes, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps,
             np.argsort(-spin[sel], kind="stable"), options.rtol, options.atol,
-            options.event_tol, n_lanes,
+            options.event_tol, n_lanes, np.zeros(sel.size),
         )  # fmt: skip
         _settle(sel, st, t_ev, st != Status.STIFF, end_status, t_event)
         stiff = sel[st == Status.STIFF]

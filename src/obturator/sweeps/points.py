@@ -80,11 +80,19 @@ def run_chunk(
 
 
 def warm(options: SolverOptions, radau_lanes: bool = False) -> None:
-    """Load (or compile) the integrators once: a short rig run with these options that
-    turns stiff (150 rad/s, 10 ms), so ``regularised`` loads DOP853 and Radau IIA (and
-    ``auto``, which runs it set-valued, those too), and the same run in lanes
-    (:func:`obturator.solve.opening_times`), and with `radau_lanes` the Radau
-    IIA lanes (~0.4 s to load; chunks too small to use them skip it)."""
+    """Load (or compile) the integrators once: a short rig run that turns stiff (150
+    rad/s, 10 ms) with these options, so ``regularised`` loads DOP853 and Radau IIA, the
+    same run through :func:`obturator.solve.opening_times` (one point: one by one, so
+    the DOP853 lanes load with a worker's first lane chunk, ~0.06 s; loaded here
+    instead, before the fork, a 10,000-point sweep on 2 workers was no faster), and with
+    `radau_lanes` the Radau IIA lanes (~0.1-0.4 s to load; chunks too small to use them
+    skip it).
+
+    ``auto`` loads its regularised path here; its set-valued solver (~0.3 s) loads with
+    the first case it takes (in the runner's probe, before workers fork, or in each
+    worker), so a study with none does not pay it (8,140 rig points over 218-1000 rad/s
+    on 2 workers: 1.66-1.69 s with it loaded here, as before the set-valued solver
+    1.37-1.41 s without)."""
     from ..warmup import load_radau_lanes
 
     if is_warm(options, radau_lanes):
@@ -92,8 +100,7 @@ def warm(options: SolverOptions, radau_lanes: bool = False) -> None:
     case = rig_case(150.0, 0.5, t_max=1e-2)
     regularised = replace(options, method="regularised") if options.method == "auto" else options
     try:
-        for opts in dict.fromkeys((options, regularised)):
-            opening_time(case, opts)
+        opening_time(case, regularised)
         if batchable(options):
             opening_times([case], regularised)
             if radau_lanes:

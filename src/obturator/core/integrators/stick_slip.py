@@ -81,10 +81,12 @@ from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import (
     FAMILY_ALGEBRAIC,
     FORM_QUATERNION,
+    KERNEL_THESIS,
     N_STATE,
     P_A,
     P_FAMILY,
     P_FORM,
+    P_KERNEL,
     P_SPIN_MODE,
     P_THETA_CR,
     P_WIDTH,
@@ -109,7 +111,7 @@ from .radau import (
 from .radau_coefficients import C1, C2, E1, E2, E3
 from .radau_control import _LIM_SHRINK, next_step, step_quotient
 from .stick_slip_jacobian import slip_jacobian
-from .stick_slip_modes import HOLD_THROUGH, REKICK, check_set_valued_law
+from .stick_slip_modes import HOLD_THROUGH, REKICK, check_set_valued_law, hands_off
 from .stick_slip_modes import break_away as _break_away
 from .stick_slip_modes import slip as _slip
 from .stick_slip_modes import slip_rate as _slip_rate
@@ -233,6 +235,8 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
     """
     p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
+    # a last slip goes to the DOP853 lanes (stick_slip_lanes), on the thesis kernel
+    hand_off = controls.hand_back and p[P_KERNEL] == KERNEL_THESIS
     n = N_STATE
     theta_cr = p[P_THETA_CR]
     t, y, ts, ys, n_out, y_event = start(problem, controls)
@@ -523,6 +527,9 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
         first = False
         rejected = False
         jac_fresh = False
+        if hand_off and hands_off(y, p, r, h_max):  # the DOP853 lanes finish this slip
+            status = Status.NONSTIFF
+            break
         # fast slip: DOP853 stretches, each too short for |omega_r| to fall to r_fast / 2
         # at twice its present rate of change, floored at |omega_r| omega_p / (4 pi) (a
         # slip that turns with the ball changes at ~ omega_p |omega_r|); DOP853's own

@@ -275,7 +275,10 @@ class _Nodes:
         self.problem = problem._replace(p=p, t0=0.0)
         self.rtol = controls.rtol
         rtol, atol = controls.rtol * NODE_TOL_FACTOR, controls.atol * NODE_TOL_FACTOR
-        self.controls = controls._replace(t_max=4.0 * self.half, rtol=rtol, atol=atol)
+        # a node's cycle is run whole: no hand-off to the lanes (stick_slip_lanes)
+        self.controls = controls._replace(
+            t_max=4.0 * self.half, rtol=rtol, atol=atol, hand_back=False
+        )
         self.run = run
         self.values: dict[float, tuple[float, float, float, int]] = {}
         self.counts = np.zeros(4, dtype=np.int64)

@@ -37,14 +37,20 @@ from ..layout import (
 )
 
 __all__ = [
+    "HAND_OFF_KAPPA",
+    "HAND_OFF_SLIP",
     "HOLD_THROUGH",
     "REKICK",
+    "SLIP_FLOOR",
     "break_away",
     "check_set_valued_law",
     "excess",
+    "hands_off",
     "slip",
+    "slip_floor",
     "slip_rate",
     "stick_admissible",
+    "stick_ratio",
     "through_window",
 ]
 
@@ -55,6 +61,19 @@ REKICK = 0.5
 HOLD_THROUGH = 1e-4
 #: Relative margin (of M) that G_req must keep inside F to enter stick.
 _MARGIN = 1e-9
+
+#: A slip is handed to the DOP853 lanes (:mod:`.stick_slip_lanes`) once the stick
+#: ratio kappa = |G_req| / M is at least this: on the rig a ball past kappa ~0.55 no
+#: longer sticks (section 10 of docs/stick_slip.md), and at 0.8 no handed slip of the
+#: 1,860 set-valued points of a 40-218 rad/s sweep came back (0.55: 31-49 % did) ...
+HAND_OFF_KAPPA = 0.8
+#: ... and its slip speed is at least this, in units of (M / A) h_max (the speed at
+#: which the slip direction relaxes within ~2 largest steps) ...
+HAND_OFF_SLIP = 0.5
+#: ... and the lanes hand it back where an accepted step ends below this (same units):
+#: DOP853 then has ~4 largest steps per relaxation time of the direction, which is
+#: singular at zero slip.
+SLIP_FLOOR = 0.25
 
 
 def check_set_valued_law(p: np.ndarray, solver: str) -> None:
@@ -89,6 +108,29 @@ def stick_admissible(y: np.ndarray, p: np.ndarray) -> bool:
     """G_req of `y` inside F with the relative margin _MARGIN."""
     gx, gy, gz = required_reaction(y, p, y[7])
     return stick_margin(gx, gy, gz, p) > _MARGIN * moment_scale(p)
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def stick_ratio(y: np.ndarray, p: np.ndarray) -> float:
+    """kappa = |G_req| / M [-] at `y` (inf for a law with no moment scale)."""
+    gx, gy, gz = required_reaction(y, p, y[7])
+    scale = moment_scale(p)
+    return math.sqrt(gx * gx + gy * gy + gz * gz) / scale if scale > 0.0 else math.inf
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def slip_floor(p: np.ndarray, h_max: float) -> float:
+    """:data:`SLIP_FLOOR` in rad/s for a case packed as `p` with largest step `h_max` [s]."""
+    return SLIP_FLOOR * moment_scale(p) / p[P_A] * h_max
+
+
+@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+def hands_off(y: np.ndarray, p: np.ndarray, r: float, h_max: float) -> bool:
+    """Whether a slip at `y` with |omega_r| = `r` [rad/s] goes to the DOP853 lanes
+    (:data:`HAND_OFF_KAPPA`, :data:`HAND_OFF_SLIP`; largest step `h_max` [s])."""
+    return r >= HAND_OFF_SLIP * moment_scale(p) / p[P_A] * h_max and (
+        stick_ratio(y, p) >= HAND_OFF_KAPPA
+    )
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")

@@ -39,6 +39,7 @@ import numpy as np
 from numba import njit, uint64
 
 from ...dynamics import nutation_angle_of_state, rhs
+from ...friction_sets import relative_rate
 from ...layout import KERNEL_GENERIC, N_STATE, P_KERNEL, P_THETA_CR
 from ..common import crossed, underflow
 from ..contract import Status
@@ -77,6 +78,7 @@ class Lanes(NamedTuple):
     h: np.ndarray  #: next step [s]
     t_max: np.ndarray  #: end time [s]
     h_max: np.ndarray  #: largest step [s]
+    slip_floor: np.ndarray  #: |omega_r| below which the point ends [rad/s] (0: none)
     steps_per_s: np.ndarray  #: step budget per second of simulated time
     g_old: np.ndarray  #: theta - theta_cr at the step start (inf: not computed)
     cos_cr: np.ndarray  #: cos(theta_cr)
@@ -122,6 +124,7 @@ def _new_lanes(n_par: int) -> Lanes:
         h=f.copy(),
         t_max=f.copy(),
         h_max=f.copy(),
+        slip_floor=f.copy(),
         steps_per_s=f.copy(),
         g_old=f.copy(),
         cos_cr=f.copy(),
@@ -159,8 +162,9 @@ def _new_attempt(n_par: int) -> Attempt:
 
 @njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
 def integrate_lanes(
-    y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes
-):
+    y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes,
+    slip_floor,
+):  # fmt: skip
     """Integrate points until theta = theta_cr (terminal) or t_max, `n_lanes` at a time.
 
     Parameters
@@ -185,6 +189,11 @@ def integrate_lanes(
         Bracket width of the event time [s].
     n_lanes : int
         Lanes advanced together, 1 to :data:`LANES`.
+    slip_floor : ndarray, shape (n,)
+        Slip speed [rad/s] below which a point ends with ``STIFF`` after an accepted
+        step (0: never): for the set-valued solver's slips at zero width, whose
+        direction is singular at zero slip
+        (:mod:`obturator.core.integrators.stick_slip_lanes`).
 
     Returns
     -------
@@ -196,7 +205,7 @@ def integrate_lanes(
     """
     n_pts = y0.shape[0]
     no_hand_back = np.zeros(n_pts, dtype=np.bool_)
-    pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, no_hand_back, order)
+    pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, no_hand_back, slip_floor, order)
     out = new_outcome(n_pts)
     quaternion = n_pts > 0 and p[0, P_KERNEL] != KERNEL_GENERIC  # the thesis kernel's form
     nl = max(1, min(n_lanes, LANES, n_pts))
@@ -254,6 +263,7 @@ def _load(pts: Points, ln: Lanes, at: Attempt, out: Outcome, j, q) -> bool:
     ln.t0[j] = t0
     ln.t_max[j] = t_max
     ln.h_max[j] = h_max
+    ln.slip_floor[j] = pts.slip_floor[q]
     ln.max_steps[j] = pts.max_steps[q]
     ln.steps_per_s[j] = STEPS_PER_PERIOD * w0 / (2.0 * math.pi)
     ln.h[j] = min(pts.h0[q], h_max, t_max - t0)
@@ -271,7 +281,9 @@ def _move_lane(ln: Lanes, a, b) -> None:
     """Copy every per-lane quantity of lane a into lane b; lane a is then free."""
     for x in (ln.y, ln.k, ln.p, ln.scale):  # vectors
         copy_lane(x, a, b)
-    for x in (ln.t, ln.t0, ln.h, ln.t_max, ln.h_max, ln.steps_per_s, ln.g_old, ln.cos_cr):
+    for x in (ln.t, ln.t0, ln.h, ln.t_max, ln.h_max, ln.slip_floor):
+        copy_lane(x, a, b)
+    for x in (ln.steps_per_s, ln.g_old, ln.cos_cr):
         copy_lane(x, a, b)
     copy_lane(ln.max_steps, a, b)
     copy_lane(ln.idx, a, b)
@@ -335,7 +347,9 @@ def _settle(ln: Lanes, at: Attempt, out: Outcome, j, quaternion, event_tol) -> b
         ln.y[i * LANES + j] = at.ynew[i * LANES + j]
         ln.k[i * LANES + j] = at.f1[i * LANES + j]
     ln.cnt[1, j] += 1
-    if not (ln.y[j] == ln.y[j]):
+    if not (ln.y[j] == ln.y[j]) or (
+        ln.slip_floor[j] > 0.0 and _slip_speed(ln, at, j) < ln.slip_floor[j]
+    ):
         ln.live[j] = _end(ln, out, j, Status.STIFF)
         return False
     fac = min(10.0, max(0.2, at.fac[j]))
@@ -344,6 +358,15 @@ def _settle(ln: Lanes, at: Attempt, out: Outcome, j, quaternion, event_tol) -> b
     ln.rejected[j] = False
     ln.h[j] = min(h * fac, ln.h_max[j])
     return True
+
+
+@njit(**DRIVER_PHASE)
+def _slip_speed(ln: Lanes, at: Attempt, j) -> float:
+    """|omega_r| of lane j's state [rad/s]."""
+    for i in range(_N):
+        at.ys[i] = ln.y[i * LANES + j]
+    wx, wy, wz = relative_rate(at.ys, at.ys[7])
+    return math.sqrt(wx * wx + wy * wy + wz * wz)
 
 
 @njit(**DRIVER_PHASE)
