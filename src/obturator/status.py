@@ -26,7 +26,9 @@ class Status(IntEnum):
     ``FAILED`` (-1), ``STIFF`` (3, DOP853 only: the ``auto`` method then continues
     with Radau IIA, so results never carry it), ``NONSTIFF`` (6, Radau IIA under
     ``auto`` only: sliding has resumed for half a revolution, ``auto`` goes back to
-    DOP853). Study values:
+    DOP853; the set-valued solver of a study's point: its last slip goes on in DOP853
+    lanes, :mod:`obturator.core.integrators.stick_slip_lanes`; results never carry it).
+    Study values:
     ``INVALID_INPUT`` (-2, the point is not a valid case and was not
     integrated), ``UNCONVERGED`` (4, opened but t_cr moved by more than the
     threshold in the convergence check) and, for trajectory-coupled flights

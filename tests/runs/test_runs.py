@@ -89,6 +89,37 @@ def test_the_probe_estimates_the_run(
     assert 1.0 <= float(est.group(1)) <= 2.5  # 168 tasks left after the probe: 1.68 s
 
 
+def test_a_pools_probe_stops_once_the_pool_pays() -> None:
+    """With `enough_s` (a pool's threshold) the probe runs batches of 1, 2, 4, ... of the
+    first chunk's tasks and stops once the tasks left would take that long: 10,000 tasks
+    of 1 ms, one task (kept, gone from the first chunk); without, PROBE_TASKS; a cheap
+    run (40 tasks, no CPU) all its first chunk, for the caller to keep it in-process."""
+    import numpy as np
+
+    from obturator.runs.chunks import PROBE_TASKS, Job, make_chunks, probe
+
+    ran: list[int] = []
+
+    def run(idx, cpu_s):
+        Slow(cpu_s * idx.size)({"x": 0.0})
+        ran.extend(idx.tolist())
+        return idx
+
+    def kept(n, cpu_s, enough_s):
+        ran.clear()
+        sunk: list[int] = []
+        chunks = make_chunks(np.arange(n), 2, None, contiguous=True)
+        job = Job(run, lambda idx: (idx, cpu_s))
+        cost = probe(job, chunks, lambda idx, _: sunk.extend(idx.tolist()), True, enough_s)
+        assert sunk == ran and sorted(np.concatenate(chunks).tolist() + sunk) == list(range(n))
+        return cost
+
+    cost = kept(10_000, 1e-3, 0.1)
+    assert cost.n_tasks == 1 and ran == [0] and cost.seconds_per_task >= 1e-3
+    assert kept(10_000, 1e-3, float("inf")).n_tasks == PROBE_TASKS == len(ran)
+    assert kept(40, 0.0, 0.1).n_tasks == 3 and ran == [0, 1, 2]  # the first chunk: 3 tasks
+
+
 def test_fmt_duration() -> None:
     assert fmt_duration(4.25) == "4.2 s" and fmt_duration(42.4) == "42 s"
     assert fmt_duration(330) == "5.5 min" and fmt_duration(7200) == "2.0 h"

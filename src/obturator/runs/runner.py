@@ -11,6 +11,7 @@ stored under the content hash of each task (:class:`~obturator.runs.results.MapR
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import time
@@ -220,7 +221,7 @@ class Runner:
                 # splitting a chunk could change results (and where that costs <3 %)
                 keep = pool or job.separable
                 if pool or (self.reporter.enabled and (keep or todo.size > 32 * PROBE_TASKS)):
-                    cost = probe(job, chunks, sink, keep)
+                    cost = probe(job, chunks, sink, keep, POOL_MIN_SERIAL_S if pool else math.inf)
                     serial = cost.serial_s(sum(c.size for c in chunks))
                     if pool and serial < POOL_MIN_SERIAL_S:
                         executor = InProcess()

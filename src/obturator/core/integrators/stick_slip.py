@@ -49,6 +49,11 @@ Transitions:
 * grazing exit: a kicked slip that cannot take off (|omega_r| below the kick with
   G_req still outside F, Radau IIA's steps collapsed) is held rigidly through the rest of
   the window (:func:`_through_window`); its creep is below the kick's scale.
+* hand-off: with ``controls.hand_back`` (a study's points, t_cr only) a slip past stick
+  ratio :data:`~.stick_slip_modes.HAND_OFF_KAPPA` and slip speed
+  :data:`~.stick_slip_modes.HAND_OFF_SLIP` (M / A) h_max stops the run (status
+  ``NONSTIFF``): the ball no longer sticks, and :mod:`.stick_slip_lanes` runs the slip on
+  with other cases' in DOP853 lanes.
 
 The friction moment at zero slip is never evaluated in slip, and the stick reaction
 is never integrated, so there is no width (the thesis law's slip phases run the
