@@ -89,35 +89,56 @@ def test_the_probe_estimates_the_run(
     assert 1.0 <= float(est.group(1)) <= 2.5  # 168 tasks left after the probe: 1.68 s
 
 
-def test_a_pools_probe_stops_once_the_pool_pays() -> None:
-    """With `enough_s` (a pool's threshold) the probe runs batches of 1, 2, 4, ... of the
-    first chunk's tasks and stops once the tasks left would take that long: 10,000 tasks
-    of 1 ms, one task (kept, gone from the first chunk); without, PROBE_TASKS; a cheap
-    run (40 tasks, no CPU) all its first chunk, for the caller to keep it in-process."""
+def test_the_probe_runs_a_fixed_count_of_tasks() -> None:
+    """The probe runs the first `n_tasks` tasks of the first chunk (kept: sunk and gone
+    from it), a count never taken from a timing, so a run's chunks, and with them the
+    results of tasks that depend on their chunk-mates, are the same every time; the
+    runner asks for one task before a pool of a non-separable job (a sweep in lanes)."""
     import numpy as np
 
     from obturator.runs.chunks import PROBE_TASKS, Job, make_chunks, probe
 
-    ran: list[int] = []
-
-    def run(idx, cpu_s):
-        Slow(cpu_s * idx.size)({"x": 0.0})
-        ran.extend(idx.tolist())
-        return idx
-
-    def kept(n, cpu_s, enough_s):
-        ran.clear()
+    def kept(n, n_tasks):
         sunk: list[int] = []
         chunks = make_chunks(np.arange(n), 2, None, contiguous=True)
-        job = Job(run, lambda idx: (idx, cpu_s))
-        cost = probe(job, chunks, lambda idx, _: sunk.extend(idx.tolist()), True, enough_s)
-        assert sunk == ran and sorted(np.concatenate(chunks).tolist() + sunk) == list(range(n))
-        return cost
+        job = Job(lambda idx: idx, lambda idx: (idx,))
+        cost = probe(job, chunks, lambda idx, _: sunk.extend(idx.tolist()), True, n_tasks)
+        assert sorted(np.concatenate(chunks).tolist() + sunk) == list(range(n))
+        return cost.n_tasks, sunk
 
-    cost = kept(10_000, 1e-3, 0.1)
-    assert cost.n_tasks == 1 and ran == [0] and cost.seconds_per_task >= 1e-3
-    assert kept(10_000, 1e-3, float("inf")).n_tasks == PROBE_TASKS == len(ran)
-    assert kept(40, 0.0, 0.1).n_tasks == 3 and ran == [0, 1, 2]  # the first chunk: 3 tasks
+    assert kept(10_000, 1) == (1, [0])
+    assert kept(10_000, PROBE_TASKS) == (PROBE_TASKS, list(range(PROBE_TASKS)))
+    assert kept(40, PROBE_TASKS) == (3, [0, 1, 2])  # the first chunk holds 3 tasks
+
+
+def _pid_of_each(batch):
+    """Batched toy task (module level: picklable): the process that ran each task."""
+    import os
+
+    return [os.getpid()] * len(batch)
+
+
+def test_a_pool_probes_one_task_of_a_non_separable_job(monkeypatch) -> None:
+    """Before a pool (forced here), a batched job (non-separable: its tasks' results may
+    depend on their chunk-mates) runs one probe task in this process, the rest in the
+    workers; a separable one runs PROBE_TASKS here."""
+    import os
+
+    from obturator.runs import runner as runs_runner
+    from obturator.runs.chunks import PROBE_TASKS
+
+    monkeypatch.setattr(runs_runner, "POOL_MIN_SERIAL_S", 0.0)
+    here = os.getpid()
+    batched = Runner(workers=2, chunk_size=50).map(_pid_of_each, tasks(200), batched=True)
+    assert sum(p == here for p in batched) == 1
+    one_by_one = Runner(workers=2, chunk_size=50).map(_pid_of_each_task, tasks(200))
+    assert sum(p == here for p in one_by_one) == PROBE_TASKS
+
+
+def _pid_of_each_task(task):
+    import os
+
+    return os.getpid()
 
 
 def test_fmt_duration() -> None:

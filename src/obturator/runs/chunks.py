@@ -120,41 +120,29 @@ def probe(
     chunks: list[np.ndarray],
     sink: Callable[[np.ndarray, Any], None],
     keep: bool = True,
-    enough_s: float = math.inf,
+    n_tasks: int = PROBE_TASKS,
 ) -> Probe:
-    """Run the first tasks of the first chunk here, timed: up to :data:`PROBE_TASKS`, in
-    batches of 1, 2, 4, ..., and no more once the tasks left would take at least
-    `enough_s` [s] at the cost so far (the caller's decision needs no more).
+    """Run the first `n_tasks` tasks of the first chunk here, timed.
 
     Chunks take every k-th task of the run (see :func:`make_chunks`), so the probe's
     cost per task is representative (of a contiguous job's first chunk, less so).
-    With `keep`, each batch's result goes to `sink` (and the resume store) like any other
+    With `keep`, its result goes to `sink` (and the resume store) like any other
     chunk's and its tasks are removed from `chunks` (in place); else it is only timed.
-    A pool's probe stops at the first task of a large run: that work is serial (the
-    workers start after it), and a 10,000-point rig sweep's 32 lowest spins had taken
-    0.18 s of it (2 workers, four interleaved rounds: 2.67-2.79 s with one task,
-    2.83-2.96 s with 32).
+    The count is fixed, never from a timing: where a task's result depends on the tasks
+    it runs with (:attr:`Job.separable`), the probe's tasks run as one chunk of their own.
     """
     if job.warm is not None:
         job.warm()  # compile/load once; not part of the per-task cost
-    head = chunks[0][:PROBE_TASKS]
-    total = sum(c.size for c in chunks)
-    done, seconds, batch = 0, 0.0, 1
-    while done < head.size:
-        idx = head[done : done + batch]
-        # CPU time of this thread: other threads (or a busy machine) must not inflate it
-        t0 = time.thread_time()
-        result = job.run(idx)
-        seconds += time.thread_time() - t0
-        if keep:
-            sink(idx, result)
-        done += idx.size
-        batch *= 2
-        if seconds / done * (total - done) >= enough_s:
-            break
+    first, rest = chunks[0][:n_tasks], chunks[0][n_tasks:]
     if keep:
-        if chunks[0].size > done:
-            chunks[0] = chunks[0][done:]
+        if rest.size:
+            chunks[0] = rest
         else:
             chunks.pop(0)
-    return Probe(done, seconds / done)
+    # CPU time of this thread: other threads (or a busy machine) must not inflate it
+    t0 = time.thread_time()
+    result = job.run(first)
+    seconds = time.thread_time() - t0
+    if keep:
+        sink(first, result)
+    return Probe(int(first.size), seconds / first.size)
