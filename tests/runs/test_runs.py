@@ -118,19 +118,24 @@ def _pid_of_each(batch):
     return [os.getpid()] * len(batch)
 
 
-def test_a_pool_probes_one_task_of_a_non_separable_job(monkeypatch) -> None:
+def test_a_pool_probes_one_task_of_a_non_separable_job(monkeypatch, capsys) -> None:
     """Before a pool (forced here), a batched job (non-separable: its tasks' results may
     depend on their chunk-mates) runs one probe task in this process, the rest in the
-    workers; a separable one runs PROBE_TASKS here."""
+    workers, and announces no estimate from that one task; a separable one runs
+    PROBE_TASKS here."""
     import os
 
+    import obturator.runs.progress as progress
     from obturator.runs import runner as runs_runner
     from obturator.runs.chunks import PROBE_TASKS
 
     monkeypatch.setattr(runs_runner, "POOL_MIN_SERIAL_S", 0.0)
+    monkeypatch.setattr(progress, "PLAN_MIN_S", 0.0)
     here = os.getpid()
-    batched = Runner(workers=2, chunk_size=50).map(_pid_of_each, tasks(200), batched=True)
+    runner = Runner(workers=2, chunk_size=50, progress=Progress("lines", interval_s=1e9))
+    batched = runner.map(_pid_of_each, tasks(200), batched=True, label="toy")
     assert sum(p == here for p in batched) == 1
+    assert "obturator: toy: 200 points on 2 workers\n" in capsys.readouterr().err
     one_by_one = Runner(workers=2, chunk_size=50).map(_pid_of_each_task, tasks(200))
     assert sum(p == here for p in one_by_one) == PROBE_TASKS
 

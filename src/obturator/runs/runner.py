@@ -229,7 +229,10 @@ class Runner:
                     serial = cost.serial_s(sum(c.size for c in chunks))
                     if pool and serial < POOL_MIN_SERIAL_S:
                         executor = InProcess()
-                    estimate = serial / max(1, executor.workers)
+                    # one task (the costliest end of a sweep, with the first loads) tells
+                    # whether a pool pays, not how long the run takes: no estimate then
+                    if n_probe > 1:
+                        estimate = serial / max(1, executor.workers)
             if chunks:
                 where = (
                     "a Dask cluster"
