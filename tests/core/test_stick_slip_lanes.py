@@ -9,6 +9,7 @@ kappa = |G_req| / M and slip speed computed here from the state (thesis Eqs. 5a-
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -123,3 +124,22 @@ def test_zero_floors_leave_the_lanes_as_they_were():
     assert st[0] == Status.OPENED
     regularised = SolverOptions(method="regularised")
     assert t_ev[0] == opening_time(rig_case(600.0, THESIS_MU_S), regularised)
+
+
+def test_cases_of_different_tolerances_finish_at_their_own():
+    """finish_in_lanes runs each set of tolerances in lanes of its own: 200 rad/s at
+    rtol 1e-8 and 1e-10, each within 1e-8 of the mode loop alone at its rtol."""
+    problems, controls, runs, alone = [], [], [], []
+    for rtol in (1e-8, 1e-10):
+        problem, ctl = integration_setup(
+            rig_case(200.0, THESIS_MU_S), replace(SET_VALUED, rtol=rtol)
+        )
+        problems.append(problem)
+        controls.append(ctl._replace(hand_back=True))
+        runs.append(stick_slip.integrate(problem, controls[-1]))
+        alone.append(stick_slip.integrate(problem, ctl).t_event)
+    assert all(run.status == Status.NONSTIFF for run in runs)
+    done = stick_slip_lanes.finish_in_lanes(problems, controls, runs, LANES)
+    assert [d.status for d in done] == [Status.OPENED, Status.OPENED]
+    np.testing.assert_allclose([d.t_event for d in done], alone, rtol=1e-8)
+    assert done[1].nfev > done[0].nfev  # the tighter one took more work

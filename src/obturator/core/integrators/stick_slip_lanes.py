@@ -73,8 +73,18 @@ def finish_in_lanes(
     """
     out = list(runs)
     handed = [k for k, run in enumerate(runs) if run.status == Status.NONSTIFF]
-    if not handed:
-        return out
+    groups: dict[tuple[float, float, float], list[int]] = {}
+    for k in handed:  # the lanes take one set of tolerances
+        groups.setdefault((controls[k].rtol, controls[k].atol, controls[k].event_tol), []).append(k)
+    for (rtol, atol, event_tol), group in groups.items():
+        finished = _in_lanes(problems, controls, runs, group, rtol, atol, event_tol, n_lanes)
+        for k, run in zip(group, finished, strict=True):
+            out[k] = run
+    return out
+
+
+def _in_lanes(problems, controls, runs, handed, rtol, atol, event_tol, n_lanes):
+    """The runs `handed` (one set of tolerances) to their ends (see the module)."""
     zero = [at_zero_width(problems[k]) for k in handed]
     ctl = [controls[k] for k in handed]
     h_max = np.array([c.h_max for c in ctl])
@@ -91,13 +101,14 @@ def finish_in_lanes(
         h_max,
         left.astype(np.int64),
         np.argsort(-np.array([abs(z.y0[7]) for z in zero]), kind="stable"),
-        ctl[0].rtol,
-        ctl[0].atol,
-        ctl[0].event_tol,
+        rtol,
+        atol,
+        event_tol,
         n_lanes,
         np.array([slip_floor(z.p, c.h_max) for z, c in zip(zero, ctl, strict=True)]),
     )
     loop = run_cycles()
+    done = []
     for j, k in enumerate(handed):
         run = runs[k]
         counts = (
@@ -108,16 +119,16 @@ def finish_in_lanes(
         if status == Status.STIFF and np.all(np.isfinite(y_end[j])):
             rest = ctl[j]._replace(hand_back=False, max_steps=max(int(left[j] - n_steps[j]), 1))
             last = loop(zero[j]._replace(y0=y_end[j].copy(), t0=float(t_end[j])), rest, math.inf)
-            out[k] = last._replace(
+            done.append(last._replace(
                 nfev=counts[0] + last.nfev, njev=counts[1] + last.njev,
                 n_steps=counts[2] + last.n_steps, n_rejected=counts[3] + last.n_rejected,
-            )  # fmt: skip
+            ))  # fmt: skip
             continue
         if status == Status.STIFF:
             status = Status.FAILED
         opened = status == Status.OPENED
-        out[k] = RawSolution(
+        done.append(RawSolution(
             status, float(t_ev[j]), y_end[j].copy() if opened else np.full(N_STATE, math.nan),
             np.empty(0), np.empty((0, N_STATE)), *counts, float(t_end[j]), y_end[j].copy(),
-        )  # fmt: skip
-    return out
+        ))  # fmt: skip
+    return done
