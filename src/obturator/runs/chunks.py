@@ -78,7 +78,7 @@ def make_chunks(
     workers free up, so the last ones handed out come from the middle of the run, and
     a cost that rises (or falls) along the run leaves no costly chunk for the end (a
     10,000-point rig sweep over 40-1000 rad/s on 2 workers, whose last chunk in plain
-    order cost 0.32-0.34 s, ended with its workers 0.2 s apart; so, 0.06-0.1 s).
+    order cost 0.32-0.34 s, ended with its workers 0.2 s apart; so, 0.06-0.12 s apart).
     Default size: about 8 chunks per worker, at most `max_chunk` tasks.
     """
     if todo.size == 0:

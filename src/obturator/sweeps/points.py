@@ -88,11 +88,9 @@ def warm(options: SolverOptions, radau_lanes: bool = False) -> None:
     `radau_lanes` the Radau IIA lanes (~0.1-0.4 s to load; chunks too small to use them
     skip it).
 
-    ``auto`` loads its regularised path here; its set-valued solver (~0.3 s) loads with
-    the first case it takes (in the runner's probe, before workers fork, or in each
-    worker), so a study with none does not pay it (8,140 rig points over 218-1000 rad/s
-    on 2 workers: 1.66-1.69 s with it loaded here, as before the set-valued solver
-    1.37-1.41 s without)."""
+    ``auto`` loads its regularised path here; its set-valued solver (~0.05 s more)
+    loads with the first case it takes (in the runner's probe, before workers fork, or
+    in each worker), so a study with none does not pay it."""
     from ..warmup import load_radau_lanes
 
     if is_warm(options, radau_lanes):
