@@ -2,8 +2,9 @@
 
 References: the set-valued solver on each case alone at rtol 1e-12, atol 1e-14 (the
 one-case path, no lanes: its own Radau IIA and DOP853 stretches), and the stick ratio
-kappa = |G_req| / M and slip speed computed here from the state (thesis Eqs. 5a-5c,
-61: :func:`obturator.solve.dispatch.stick_ratio`, an independent Python path).
+in closed form, kappa = omega_p^2 |C - A| sin(theta) |cos(theta)| / M
+(docs/stick_slip.md section 3, from thesis Eqs. 5a-5c and 61: |G_req| depends on the
+nutation alone).
 """
 
 from __future__ import annotations
@@ -14,14 +15,14 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from obturator.core.friction_sets import moment_scale, relative_rate
+from obturator.core.dynamics import nutation_angle_of_state
+from obturator.core.friction_sets import moment_scale
 from obturator.core.integrators import Status, stick_slip, stick_slip_lanes, stick_slip_modes
 from obturator.core.integrators.lanes import LANES, integrate_lanes
-from obturator.core.layout import P_A
+from obturator.core.layout import P_A, P_C
 from obturator.model.cases import rig_case
 from obturator.reference import THESIS_MU_S
 from obturator.solve import SolverOptions, opening_time, opening_times
-from obturator.solve.dispatch import stick_ratio
 from obturator.solve.setup import integration_setup
 
 SET_VALUED = SolverOptions(method="set-valued")
@@ -36,7 +37,7 @@ def _setup(spin: float, hand_off: bool):
 
 
 def _slip_speed(y: np.ndarray) -> float:
-    return math.hypot(*relative_rate(y, y[7]))
+    return stick_slip_modes.slip(y)[3]
 
 
 def _unit(p: np.ndarray, h_max: float) -> float:
@@ -44,15 +45,28 @@ def _unit(p: np.ndarray, h_max: float) -> float:
     return moment_scale(p) / p[P_A] * h_max
 
 
+def _stick_ratio(p: np.ndarray, y: np.ndarray) -> float:
+    """kappa in closed form from the nutation (see the module)."""
+    theta = nutation_angle_of_state(y, p)
+    return (
+        y[7] ** 2
+        * abs(p[P_C] - p[P_A])
+        * math.sin(theta)
+        * abs(math.cos(theta))
+        / (moment_scale(p))
+    )
+
+
 @pytest.mark.parametrize("spin", SPINS)
 def test_hand_off_where_the_ball_no_longer_sticks(spin):
-    """Asked to, the mode loop stops in a slip (NONSTIFF) whose stick ratio and slip speed
-    are past the thresholds, before the opening; not asked, it runs to the opening."""
+    """Asked to, the mode loop stops in a slip (NONSTIFF) whose stick ratio (closed form)
+    and slip speed are past the thresholds, before the opening; not asked, it runs to the
+    opening."""
     problem, controls = _setup(spin, hand_off=True)
     out = stick_slip.integrate(problem, controls)
     assert out.status == Status.NONSTIFF
     p = stick_slip.at_zero_width(problem).p
-    assert stick_ratio(p, out.y_end) >= stick_slip_modes.HAND_OFF_KAPPA
+    assert _stick_ratio(p, out.y_end) >= stick_slip_modes.HAND_OFF_KAPPA
     assert _slip_speed(out.y_end) >= stick_slip_modes.HAND_OFF_SLIP * _unit(p, controls.h_max)
     alone = stick_slip.integrate(*_setup(spin, hand_off=False))
     assert alone.status == Status.OPENED and out.t_end < alone.t_event

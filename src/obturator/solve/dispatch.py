@@ -22,14 +22,13 @@ maps' tolerance). Every other method name runs that integrator for every case.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
-from ..core.friction_sets import moment_scale, required_reaction
 from ..core.integrators import Controls, auto_radau_tolerances
 from ..core.integrators.stick_slip_modes import check_set_valued_law
+from ..core.integrators.stick_slip_modes import stick_ratio as core_stick_ratio
 from ..core.layout import (
     FORM_QUATERNION,
     FRIC_COULOMB,
@@ -130,9 +129,7 @@ def stick_ratio(p: np.ndarray, y: np.ndarray) -> float:
     growing as omega_p^2 / mu_s. t_cr, in spin periods, and the stick-slip it goes
     through depend on kappa, not on omega_p and mu_s apart (the dimensionless form of
     Eqs. 5a-5c; see :data:`SET_VALUED_BELOW`)."""
-    gx, gy, gz = required_reaction(y, p, y[7])
-    scale = moment_scale(p)
-    return math.hypot(gx, gy, gz) / scale if scale > 0.0 else math.inf
+    return core_stick_ratio(y, p)
 
 
 def dispatched_method(method: str, p: np.ndarray, y0: np.ndarray) -> str:

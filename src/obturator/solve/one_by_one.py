@@ -72,7 +72,8 @@ def run_one_by_one(
     (``"set-valued"`` or ``"regularised"``; see the module), with `to_t_max` to
     ``t_max`` with an output there (:func:`~obturator.solve.advance`), else to the
     opening. Returns their runs and the right-hand sides spent on shared maps."""
-    setups = [_point_setup(packed, int(k), options, chosen, to_t_max) for k in idx]
+    hand_off = chosen == "set-valued" and not to_t_max and env_switch("OBTURATOR_SLIP_LANES")
+    setups = [_point_setup(packed, int(k), options, chosen, to_t_max, hand_off) for k in idx]
     problems, controls = [s[0] for s in setups], [s[1] for s in setups]
     maps: list[CycleMap | None] = [None] * len(idx)
     nfev = 0
@@ -86,19 +87,23 @@ def run_one_by_one(
 
 
 def _point_setup(
-    packed: PackedPoints, k: int, options: SolverOptions, chosen: str, to_t_max: bool
+    packed: PackedPoints,
+    k: int,
+    options: SolverOptions,
+    chosen: str,
+    to_t_max: bool,
+    hand_off: bool,
 ) -> tuple[Problem, Controls]:
     """Point `k`'s problem and controls for the integrator `chosen`, as
     :func:`~obturator.solve.opening_time` builds them (with `to_t_max`, as
-    :func:`~obturator.solve.advance`'s one-by-one path: an output at t_max), and a
-    set-valued point's hand-off of its last slip where only t_cr is wanted."""
+    :func:`~obturator.solve.advance`'s one-by-one path: an output at t_max), with
+    `hand_off` a set-valued point's last slip to the DOP853 lanes."""
     problem = Problem(packed.y0[k], packed.p[k], packed.scale[k])
     t_max = float(packed.t_max[k])
     controls = integration_controls(
         options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
         t_eval=np.array([t_max]) if to_t_max else None,
     )  # fmt: skip
-    hand_off = chosen == "set-valued" and not to_t_max and env_switch("OBTURATOR_SLIP_LANES")
     controls = controls._replace(hand_back=hand_off)
     return problem, dispatched_controls(options.method, chosen, controls)
 

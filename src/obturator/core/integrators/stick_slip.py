@@ -49,11 +49,9 @@ Transitions:
 * grazing exit: a kicked slip that cannot take off (|omega_r| below the kick with
   G_req still outside F, Radau IIA's steps collapsed) is held rigidly through the rest of
   the window (:func:`_through_window`); its creep is below the kick's scale.
-* hand-off: with ``controls.hand_back`` (a study's points, t_cr only) a slip past stick
-  ratio :data:`~.stick_slip_modes.HAND_OFF_KAPPA` and slip speed
-  :data:`~.stick_slip_modes.HAND_OFF_SLIP` (M / A) h_max stops the run (status
-  ``NONSTIFF``): the ball no longer sticks, and :mod:`.stick_slip_lanes` runs the slip on
-  with other cases' in DOP853 lanes.
+* hand-off: with ``controls.hand_back`` (a study's points, t_cr only) a slip past
+  :data:`~.stick_slip_modes.HAND_OFF_KAPPA` and :data:`~.stick_slip_modes.HAND_OFF_SLIP`,
+  where the ball no longer sticks, stops the run (``NONSTIFF``) for :mod:`.stick_slip_lanes`.
 
 The friction moment at zero slip is never evaluated in slip, and the stick reaction
 is never integrated, so there is no width (the thesis law's slip phases run the
@@ -78,7 +76,6 @@ from ..dynamics import nutation_angle_of_state, rhs
 from ..friction_sets import (
     breakaway_angle,
     hold_stick,
-    moment_scale,
     turn_by,
     turn_rigidly,
 )
@@ -88,7 +85,6 @@ from ..layout import (
     FORM_QUATERNION,
     KERNEL_THESIS,
     N_STATE,
-    P_A,
     P_FAMILY,
     P_FORM,
     P_KERNEL,
@@ -116,7 +112,15 @@ from .radau import (
 from .radau_coefficients import C1, C2, E1, E2, E3
 from .radau_control import _LIM_SHRINK, next_step, step_quotient
 from .stick_slip_jacobian import slip_jacobian
-from .stick_slip_modes import HOLD_THROUGH, REKICK, check_set_valued_law, hands_off
+from .stick_slip_modes import (
+    HAND_OFF_KAPPA,
+    HAND_OFF_SLIP,
+    HOLD_THROUGH,
+    REKICK,
+    check_set_valued_law,
+    slip_speed_unit,
+    stick_ratio,
+)
 from .stick_slip_modes import break_away as _break_away
 from .stick_slip_modes import slip as _slip
 from .stick_slip_modes import slip_rate as _slip_rate
@@ -240,8 +244,7 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
     """
     p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
-    # a last slip goes to the DOP853 lanes (stick_slip_lanes), on the thesis kernel
-    hand_off = controls.hand_back and p[P_KERNEL] == KERNEL_THESIS
+    hand_off = controls.hand_back and p[P_KERNEL] == KERNEL_THESIS  # to stick_slip_lanes
     n = N_STATE
     theta_cr = p[P_THETA_CR]
     t, y, ts, ys, n_out, y_event = start(problem, controls)
@@ -281,7 +284,8 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
     status = Status.T_MAX
     t_event = math.nan
     rtol0, atol0 = rtol, atol  # DOP853 stretches take the tolerances as given
-    r_fast = moment_scale(p) / p[P_A] * h_max * FAST_SLIP
+    r_fast = slip_speed_unit(p, h_max) * FAST_SLIP
+    r_hand = slip_speed_unit(p, h_max) * HAND_OFF_SLIP
     # Radau IIA at auto's fraction of the tolerances (near-stick t_cr amplifies its
     # local errors), transformed as RADAU5 does (as in .radau)
     rtol *= AUTO_RADAU_TOL_FACTOR
@@ -532,7 +536,7 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
         first = False
         rejected = False
         jac_fresh = False
-        if hand_off and hands_off(y, p, r, h_max):  # the DOP853 lanes finish this slip
+        if hand_off and r >= r_hand and stick_ratio(y, p) >= HAND_OFF_KAPPA:
             status = Status.NONSTIFF
             break
         # fast slip: DOP853 stretches, each too short for |omega_r| to fall to r_fast / 2

@@ -45,10 +45,10 @@ __all__ = [
     "break_away",
     "check_set_valued_law",
     "excess",
-    "hands_off",
     "slip",
     "slip_floor",
     "slip_rate",
+    "slip_speed_unit",
     "stick_admissible",
     "stick_ratio",
     "through_window",
@@ -119,18 +119,17 @@ def stick_ratio(y: np.ndarray, p: np.ndarray) -> float:
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def slip_floor(p: np.ndarray, h_max: float) -> float:
-    """:data:`SLIP_FLOOR` in rad/s for a case packed as `p` with largest step `h_max` [s]."""
-    return SLIP_FLOOR * moment_scale(p) / p[P_A] * h_max
+def slip_speed_unit(p: np.ndarray, h_max: float) -> float:
+    """(M / A) h_max [rad/s]: the slip speed whose direction relaxes in about one largest
+    step `h_max` [s] (relaxation rate ~ M / (A |omega_r|)); the unit of
+    :data:`~.stick_slip.FAST_SLIP`, :data:`HAND_OFF_SLIP` and :data:`SLIP_FLOOR`."""
+    return moment_scale(p) / p[P_A] * h_max
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def hands_off(y: np.ndarray, p: np.ndarray, r: float, h_max: float) -> bool:
-    """Whether a slip at `y` with |omega_r| = `r` [rad/s] goes to the DOP853 lanes
-    (:data:`HAND_OFF_KAPPA`, :data:`HAND_OFF_SLIP`; largest step `h_max` [s])."""
-    return r >= HAND_OFF_SLIP * moment_scale(p) / p[P_A] * h_max and (
-        stick_ratio(y, p) >= HAND_OFF_KAPPA
-    )
+def slip_floor(p: np.ndarray, h_max: float) -> float:
+    """:data:`SLIP_FLOOR` in rad/s for a case packed as `p` with largest step `h_max` [s]."""
+    return slip_speed_unit(p, h_max) * SLIP_FLOOR
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")

@@ -39,7 +39,6 @@ import numpy as np
 from numba import njit, uint64
 
 from ...dynamics import nutation_angle_of_state, rhs
-from ...friction_sets import relative_rate
 from ...layout import KERNEL_GENERIC, N_STATE, P_KERNEL, P_THETA_CR
 from ..common import crossed, underflow
 from ..contract import Status
@@ -53,6 +52,7 @@ from ..dop853 import (
     step_factor,
     stiffness_product,
 )
+from ..stick_slip_modes import slip
 from .dop853_sums import error_sums, stage_sum
 from .points import Outcome, Points, copy_lane, finish, new_outcome, pack_lanes
 from .rates import cos_nutation_lanes, rhs_generic_lanes, rhs_thesis_lanes
@@ -365,8 +365,7 @@ def _slip_speed(ln: Lanes, at: Attempt, j) -> float:
     """|omega_r| of lane j's state [rad/s]."""
     for i in range(_N):
         at.ys[i] = ln.y[i * LANES + j]
-    wx, wy, wz = relative_rate(at.ys, at.ys[7])
-    return math.sqrt(wx * wx + wy * wy + wz * wz)
+    return slip(at.ys)[3]
 
 
 @njit(**DRIVER_PHASE)
