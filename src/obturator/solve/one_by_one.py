@@ -81,7 +81,7 @@ def run_one_by_one(
         maps, counts = shared_maps(problems, controls)
         nfev = int(counts[0])
     runs = [_point(*setup, chosen, m) for setup, m in zip(setups, maps, strict=True)]
-    if any(c.hand_back for c in controls):
+    if hand_off:
         runs = finish_in_lanes(problems, controls, runs, n_lanes)
     return runs, nfev
 

@@ -284,8 +284,8 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
     status = Status.T_MAX
     t_event = math.nan
     rtol0, atol0 = rtol, atol  # DOP853 stretches take the tolerances as given
-    r_fast = slip_speed_unit(p, h_max) * FAST_SLIP
-    r_hand = slip_speed_unit(p, h_max) * HAND_OFF_SLIP
+    unit = slip_speed_unit(p, h_max)
+    r_fast, r_hand = unit * FAST_SLIP, unit * HAND_OFF_SLIP
     # Radau IIA at auto's fraction of the tolerances (near-stick t_cr amplifies its
     # local errors), transformed as RADAU5 does (as in .radau)
     rtol *= AUTO_RADAU_TOL_FACTOR
