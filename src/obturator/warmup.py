@@ -86,6 +86,26 @@ def _load(method: str) -> None:
         rig_case(300.0, 0.5, t_max=1e-3),
         SolverOptions(method="regularised" if method == "dop853" else method),  # type: ignore[arg-type]
     )
+    if method == "set-valued":
+        _load_set_valued_study()
+
+
+def _load_set_valued_study() -> None:
+    """Load (or compile) what a study's set-valued points run beyond opening_time: the
+    return map two spins share (60 and 62 rad/s, ~0.3 s) and the floor of the last slips'
+    hand-off to the DOP853 lanes (the lanes themselves are the "lanes" target).
+
+    Without it the first study after ``obturator warmup`` compiled these in every worker
+    (2 s of a 2,000-point sweep's 3.4-3.7 s), and, numba binding a freshly compiled
+    function's callees differently from a loaded one's (:mod:`benchmarks.cache_binding`),
+    gave 109 of its 2,000 t_cr (40-114 rad/s) up to 2.4e-9 apart from every later run's."""
+    from .core.integrators.stick_slip_modes import slip_floor
+    from .model.cases import rig_case
+    from .solve import SolverOptions, integration_setup, opening_times
+
+    opening_times([rig_case(w, 0.5473) for w in (60.0, 62.0)], SolverOptions())
+    problem, controls = integration_setup(rig_case(100.0, 0.5473), SolverOptions())
+    slip_floor(problem.p, controls.h_max)
 
 
 def load_radau_lanes() -> None:
