@@ -13,16 +13,20 @@ from collections.abc import Mapping
 
 from ..errors import InputError
 
-__all__ = ["check_environment", "SWITCHES", "NUMBA_WORDS", "NUMBA_INTEGERS"]
+__all__ = ["check_environment", "RETIRED", "SWITCHES", "NUMBA_WORDS", "NUMBA_INTEGERS"]
 
 #: Our on/off variables and what they do.
 SWITCHES: dict[str, str] = {
     "OBTURATOR_DEBUG": "1: an internal error re-raises with its traceback",
     "OBTURATOR_FULL_EXIT": "1: end through the interpreter's full teardown (coverage tools)",
-    "OBTURATOR_LANES": "0: every study point on the scalar path (no lanes)",
-    "OBTURATOR_RADAU_LANES": "0: stiff lanes continued one by one",
-    "OBTURATOR_SHARED_MAPS": "0: set-valued study points each build their own return map",
-    "OBTURATOR_SLIP_LANES": "0: set-valued study points run their last slip one by one",
+}
+#: Variables that once chose a solver path and are no longer read: a path is a solver
+#: option, recorded in each result's route and in the study digest; each names it.
+RETIRED: dict[str, str] = {
+    "OBTURATOR_LANES": "the solver option 'lanes' (config key lanes = false)",
+    "OBTURATOR_RADAU_LANES": "the solver option 'radau_lanes' (config key radau_lanes = false)",
+    "OBTURATOR_SHARED_MAPS": "the solver option 'shared_maps' (config key shared_maps)",
+    "OBTURATOR_SLIP_LANES": "nothing: the last slips no longer run in lanes",
 }
 _ON_OFF = ("", "0", "1")
 #: numba variables that take one of a few words.
@@ -52,6 +56,9 @@ NUMBA_INTEGERS: dict[str, int] = {
 def check_environment(env: Mapping[str, str] | None = None) -> None:
     """Raise InputError naming the first variable with a value that would break a run."""
     env = os.environ if env is None else env
+    for name, instead in RETIRED.items():
+        if name in env:
+            raise InputError(name, f"is no longer read; unset it (use {instead})")
     for name, what in SWITCHES.items():
         value = env.get(name)
         if value is not None and value.strip() not in _ON_OFF:

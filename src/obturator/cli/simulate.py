@@ -24,6 +24,7 @@ from ..solve import (
     simulate,
     start_times,
 )
+from ..solve.plan import route_of
 from ..status import Status
 from ..units import parse_quantity
 from ..vocab import (
@@ -129,7 +130,7 @@ def _start_rows(st: StartTimes, check: ConvergenceCheck | None) -> list[tuple[st
     ]
     if check is not None:
         verdict = "converged" if check.converged else "NOT converged"
-        change = max(check.tolerance_change, check.width_change, check.family_change)
+        change = check.largest_change
         rows.append(("t_start convergence", f"{verdict}: relative change {change:.1e}", ""))
     return rows
 
@@ -164,17 +165,32 @@ def _print_table(
     ]
     if check is not None:
         verdict = "converged" if check.converged else "NOT converged"
-        rows.append(
-            (  # set-valued methods: checked against the regularised limit
-                f"convergence (tol / 10, width / 10, {check.family})"
-                if s["solver"] not in SET_VALUED_METHODS
-                else f"convergence (tol / 10; regularised: width {s['friction_width'] / 10:g}, "
-                f"{check.family})",
-                f"{verdict}: relative change {check.tolerance_change:.1e}, "
-                f"{check.width_change:.1e}, {check.family_change:.1e}",
-                "",
+        if check.strategy == "set-valued":
+            rows.append(
+                (
+                    "convergence (tol / 10)",
+                    f"{verdict}: relative change {check.tolerance_change:.1e}",
+                    "",
+                )
             )
-        )
+            rows.append(
+                (
+                    "cross-check (regularised, width -> 0)",
+                    f"t_cr {check.cross_check:.6g} s: relative change "
+                    f"{check.cross_check_change:.1e} (its own spread "
+                    f"{check.cross_check_spread:.1e})",
+                    "",
+                )
+            )
+        else:
+            rows.append(
+                (
+                    f"convergence (tol / 10, width / 10, {check.family})",
+                    f"{verdict}: relative change {check.tolerance_change:.1e}, "
+                    f"{check.width_change:.1e}, {check.family_change:.1e}",
+                    "",
+                )
+            )
     inputs = s["inputs"]
     rows.append(("inputs", "", ""))
     for key, value in inputs.items():
@@ -280,6 +296,7 @@ def _run(args: argparse.Namespace) -> int:
         start = _flight_start(case, settings, options, not args.no_check)
     if args.json:
         out = res.summary()
+        out["route"] = route_of(res.solver, options, t_cr_only=False)
         if check is not None:
             out["convergence"] = check.to_dict()
         if start is not None:

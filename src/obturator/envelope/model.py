@@ -127,7 +127,7 @@ def opening_rows(
             [cases[i] for i in opened], options, opening_times_s=t_cr[opened]
         )  # type: ignore[misc]
         for i, c in zip(opened, checks, strict=True):
-            change[i] = max(c.tolerance_change, c.width_change, c.family_change)
+            change[i] = c.largest_change
     out = []
     for i, case in enumerate(cases):
         if isinstance(case, InputError):

@@ -37,12 +37,21 @@ def alternative_family(family: str) -> str:
 @field_docs
 @dataclass(frozen=True)
 class ConvergenceCheck:
-    """t_cr re-computed with tighter tolerances, a narrower width and another family.
+    """t_cr re-computed to bound its own error, and, for the set-valued solver, an
+    independent cross-check.
 
-    A width study alone cannot reveal a regularisation that converges to the
-    wrong limit (each family looks converged as its own width shrinks); a
-    second family with a different shape can. t_cr counts as converged only
-    when all three reruns agree with it.
+    Regularised law (every method but ``set-valued``): t_cr with tighter tolerances, a
+    narrower width and another family. A width study alone cannot reveal a
+    regularisation that converges to the wrong limit (each family looks converged as its
+    own width shrinks); a second family with a different shape can. Its error is bounded
+    by all three changes.
+
+    Set-valued solver (no width): its own error is the change at tighter tolerances. The
+    regularised law is an independent computation of the same limit: extrapolated to
+    zero width from two widths (t_cr about linear in the width, so Richardson's
+    t_0 = t(w/f) + (t(w/f) - t(w)) / (f - 1)) in two families, whose difference is the
+    cross-check's own error. The regularised runs' changes (:attr:`width_change`,
+    :attr:`family_change`) are that path's width error, not the reported t_cr's.
     """
 
     #: t_cr with the given options [s] (NaN if it did not open).
@@ -52,7 +61,8 @@ class ConvergenceCheck:
     #: t_cr with ``friction_width`` divided by `factor` [s] (tolerances divided by `factor` too, so
     #: slip speeds of order delta stay resolved).
     narrower_width: float
-    #: t_cr with ``friction_family`` replaced by `family` [s].
+    #: t_cr with ``friction_family`` replaced by `family` [s] (for the set-valued solver: at the
+    #: narrower width).
     other_family: float
     #: The family of that rerun.
     family: str
@@ -60,6 +70,12 @@ class ConvergenceCheck:
     factor: float
     #: Largest relative change accepted as converged.
     threshold: float
+    #: The route checked: ``"set-valued"`` or ``"regularised"`` (every method with a width).
+    strategy: str = "regularised"
+    #: Set-valued only: the regularised law at the given width, tolerances / `factor`, in
+    #: ``friction_family`` and in `family` [s] (NaN otherwise): with :attr:`narrower_width`
+    #: and :attr:`other_family` the two widths of the extrapolation.
+    wide_width: tuple[float, float] = (math.nan, math.nan)
 
     @staticmethod
     def _rel(a: float, b: float) -> float:
@@ -76,34 +92,102 @@ class ConvergenceCheck:
 
     @property
     def width_change(self) -> float:
-        """|t_narrow - t| / t [-]."""
+        """|t_narrow - t| / t [-] (set-valued: the regularised path's, |t(w/f) - t(w)| / t)."""
+        if self.strategy == "set-valued":
+            return self._rel(self.wide_width[0], self.narrower_width)
         return self._rel(self.opening_time, self.narrower_width)
 
     @property
     def family_change(self) -> float:
-        """|t_family - t| / t [-]."""
+        """|t_family - t| / t [-] (set-valued: the regularised path's at the narrower width)."""
+        if self.strategy == "set-valued":
+            return self._rel(self.narrower_width, self.other_family)
         return self._rel(self.opening_time, self.other_family)
 
     @property
+    def extrapolated(self) -> tuple[float, float]:
+        """Set-valued only: the regularised t_cr extrapolated to zero width [s] in
+        ``friction_family`` and in `family` (NaN otherwise)."""
+        f = self.factor
+        narrow = (self.narrower_width, self.other_family)
+        return tuple(n + (n - w) / (f - 1.0) for n, w in zip(narrow, self.wide_width, strict=True))
+
+    @property
+    def cross_check(self) -> float:
+        """Set-valued only: the mean of :attr:`extrapolated` [s] (NaN otherwise)."""
+        return 0.5 * sum(self.extrapolated)
+
+    @property
+    def cross_check_change(self) -> float:
+        """|t_extrapolated - t| / t [-]: the set-valued t_cr against the regularised
+        limit (0 for the regularised law, which is its own check)."""
+        if self.strategy != "set-valued":
+            return 0.0
+        return self._rel(self.opening_time, self.cross_check)
+
+    @property
+    def cross_check_spread(self) -> float:
+        """The cross-check's own error: its two families' extrapolations apart, / t [-]."""
+        if self.strategy != "set-valued":
+            return 0.0
+        a, b = self.extrapolated
+        return self._rel(self.opening_time, self.opening_time + abs(a - b))
+
+    @property
+    def own_change(self) -> float:
+        """The bound on the reported t_cr's own error [-]: the tolerance change for the
+        set-valued solver, the largest of the three changes for the regularised law."""
+        if self.strategy == "set-valued":
+            return self.tolerance_change
+        return max(self.tolerance_change, self.width_change, self.family_change)
+
+    @property
+    def largest_change(self) -> float:
+        """The larger of :attr:`own_change` and :attr:`cross_check_change` [-]."""
+        return max(self.own_change, self.cross_check_change)
+
+    @property
     def converged(self) -> bool:
-        """All three changes below the threshold."""
-        return max(self.tolerance_change, self.width_change, self.family_change) < self.threshold
+        """The own error below the threshold, and the set-valued t_cr within the
+        threshold (or the cross-check's own spread, if larger) of the regularised limit."""
+        if not self.own_change < self.threshold:
+            return False
+        if self.strategy != "set-valued":
+            return True
+        return self.cross_check_change < max(self.threshold, self.cross_check_spread)
 
     def to_dict(self) -> dict[str, object]:
-        """JSON-ready summary (None for NaN/inf)."""
-
-        return {
+        """JSON-ready summary (None for NaN/inf): the reported t_cr's own changes, and
+        for the set-valued solver the regularised cross-check under ``cross_check``."""
+        out: dict[str, object] = {
             "converged": self.converged,
+            "strategy": self.strategy,
             "tolerance_rel_change": finite_or_none(self.tolerance_change),
-            "width_rel_change": finite_or_none(self.width_change),
-            "family_rel_change": finite_or_none(self.family_change),
             "t_cr_tighter_tolerance_s": finite_or_none(self.tighter_tolerance),
-            "t_cr_narrower_width_s": finite_or_none(self.narrower_width),
-            "t_cr_other_family_s": finite_or_none(self.other_family),
-            "other_family": self.family,
             "factor": self.factor,
             "threshold": self.threshold,
         }
+        regularised = {
+            "width_rel_change": finite_or_none(self.width_change),
+            "family_rel_change": finite_or_none(self.family_change),
+            "t_cr_narrower_width_s": finite_or_none(self.narrower_width),
+            "t_cr_other_family_s": finite_or_none(self.other_family),
+            "other_family": self.family,
+        }
+        if self.strategy != "set-valued":
+            return out | regularised
+        ext = self.extrapolated
+        out["cross_check"] = {
+            "strategy": "regularised law extrapolated to zero width (Richardson in the "
+            f"width, widths w and w / {self.factor:g}, two families)",
+            "t_cr_s": finite_or_none(self.cross_check),
+            "rel_change": finite_or_none(self.cross_check_change),
+            "own_spread_rel": finite_or_none(self.cross_check_spread),
+            "t_cr_extrapolated_s": [finite_or_none(x) for x in ext],
+            "regularised_path": regularised
+            | {"t_cr_width_s": [finite_or_none(x) for x in self.wide_width]},
+        }
+        return out
 
 
 def convergence_check(
@@ -137,9 +221,25 @@ def convergence_check(
     options = options or SolverOptions()
     family = alternative_family(options.friction_family) if family is None else family
     t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
-    reruns = _reruns(options, _resolved(case, options), factor, family)
+    chosen = _resolved(case, options)
+    reruns = _reruns(options, chosen, factor, family)
     t1, t2, t3 = (opening_time(case, o) for o in reruns)
-    return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
+    if chosen.method != "set-valued":
+        return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
+    wide = tuple(opening_time(case, o) for o in _wide_reruns(reruns, factor))
+    return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold, "set-valued", wide)
+
+
+def _wide_reruns(
+    reruns: tuple[SolverOptions, ...], factor: float
+) -> tuple[SolverOptions, SolverOptions]:
+    """The regularised runs at the given width of a set-valued case's check: the
+    narrow-width reruns (`reruns` [1:]) at `factor` times their width, same tolerances."""
+    narrow, other = reruns[1:]
+    return (
+        replace(narrow, friction_width=narrow.friction_width * factor),
+        replace(other, friction_width=other.friction_width * factor),
+    )
 
 
 def _reruns(
@@ -216,14 +316,28 @@ def convergence_checks(
     for i, case in enumerate(cases):
         method = _resolved(case, options).method if isinstance(case, Case) else options.method
         groups.setdefault(method, []).append(i)
-    reruns = np.full((3, len(cases)), np.nan)
+    reruns = np.full((5, len(cases)), np.nan)
+    strategy = ["regularised"] * len(cases)
     for method, idx in groups.items():
         chosen = replace(options, method=method)  # type: ignore[arg-type]
         some = [cases[i] for i in idx]
-        for r, o in enumerate(_reruns(options, chosen, factor, family)):
+        planned = _reruns(options, chosen, factor, family)
+        if method == "set-valued":
+            planned = (*planned, *_wide_reruns(planned, factor))
+            for i in idx:
+                strategy[i] = "set-valued"
+        for r, o in enumerate(planned):
             reruns[r, idx] = opening_times(some, o)[0]
     return [
-        ConvergenceCheck(float(t0[i]), *(float(r[i]) for r in reruns), family, factor, threshold)
+        ConvergenceCheck(
+            float(t0[i]),
+            *(float(r[i]) for r in reruns[:3]),
+            family,
+            factor,
+            threshold,
+            strategy[i],
+            (float(reruns[3, i]), float(reruns[4, i])),
+        )  # fmt: skip
         for i in range(len(cases))
     ]
 

@@ -2,46 +2,28 @@
 
 :func:`opening_times` takes a sequence of cases (an
 :class:`~obturator.errors.InputError` in place of a case marks an invalid point) and
-returns t_cr, a :class:`~obturator.status.Status` per case and work counters. Where
-the options allow (method ``auto`` or ``regularised``; with a convergence check, its
-reruns too) the cases are integrated together in the SIMD lanes of
-:func:`obturator.core.integrators.lanes.integrate_lanes`, else one by one through
-:func:`obturator.solve.opening_time`; same status and t_cr (bit for bit, but see item 1):
+returns t_cr, a :class:`~obturator.status.Status` per case and work counters, with the
+route each case took (:mod:`obturator.solve.plan`). Every case's route is planned from
+that case and the options alone, so a case gives the same t_cr, status and counters
+alone (:func:`~obturator.solve.opening_time`, which is a batch of one) and in any batch:
 
-1. every case is packed (:func:`pack_points`, :class:`PackedPoints`); under ``auto``
-   the cases :func:`~obturator.solve.dispatch.dispatched_method` gives to the
-   set-valued solver (low spin) run one by one through it, as
-   :func:`~obturator.solve.opening_time` runs them, but cases differing in spin alone
-   share their cycles' return maps (:mod:`obturator.core.integrators.stick_slip_family`:
-   t_cr within 5.3e-7 of :func:`~obturator.solve.opening_time` on 1,855 points of a
-   40-1000 rad/s sweep, closer to the width-free limit) and run their last slips on in
-   DOP853 lanes (:mod:`obturator.core.integrators.stick_slip_lanes`: within 2.4e-9 of
-   each case alone; :mod:`obturator.solve.one_by_one`), and the rest in lanes with the
-   regularised law; those are grouped by right-hand-side kernel, and a group too
-   small for lanes to pay (:func:`lanes_pay_from`: under five thesis-kernel points,
-   under :data:`RADAU_LANES_MIN_GENERIC` of the generic kernel, whose lanes do not
-   vectorise the right-hand side) runs one by one as well;
-2. each group runs in lanes, highest spin rate first (spin sets the steps per
-   second of simulated time, so the costliest enter first and the tail of the
-   batch is short);
-3. a lane that DOP853 finds stiff continues with Radau IIA from its last
-   accepted state, as :func:`obturator.core.integrators.integrate` does for one
-   trajectory: in Radau IIA lanes
-   (:func:`obturator.core.integrators.lanes.integrate_radau_lanes`) when
-   the batch has at least :data:`RADAU_LANES_MIN` such points
-   (:data:`RADAU_LANES_MIN_GENERIC` for the generic right-hand side), else one by one;
-4. a Radau IIA lane whose ball slides again (status ``NONSTIFF``, the end of the
-   stick-slip phase; :func:`obturator.core.integrators.continue_auto`) goes back
-   to the DOP853 lanes, in rounds until every point has ended.
+1. every case is packed (:func:`pack_points`, :class:`PackedPoints`) and its route
+   planned (:func:`~obturator.solve.plan.plan_routes`);
+2. the set-valued ones run one by one through the event-driven solver
+   (:mod:`obturator.solve.one_by_one`; with ``shared_maps`` each reads the return map of
+   its spin's fixed band, :mod:`obturator.core.integrators.stick_slip_family`);
+3. the regularised ones run by right-hand-side kernel (:func:`_run_group`): DOP853
+   stretches (in SIMD lanes where the group is large enough to pay,
+   :func:`lanes_pay_from`, else one by one: the lanes run the scalar arithmetic per lane,
+   so the bits are the same), a stiff stretch continued in Radau IIA from the last
+   accepted state (in Radau IIA lanes with ``radau_lanes``, alone or in any batch,
+   else the scalar Radau IIA), and back to DOP853 once the ball slides again
+   (status ``NONSTIFF``; :func:`obturator.core.integrators.continue_auto`), in rounds
+   until every point has ended.
 
-Per lane the arithmetic is that of the one-trajectory DOP853, so t_cr agrees
-with the scalar path to the last bit on the cases checked
-(``tests/core/test_lanes.py``); points continued in Radau IIA lanes agree with the
-scalar Radau IIA to rounding amplified by the near-stick dynamics (~1e-8
-relative measured; ``OBTURATOR_RADAU_LANES=0`` continues them one by one,
-``OBTURATOR_SHARED_MAPS=0`` has each set-valued case build its own return map).
 This module is the only one above :mod:`obturator.core` besides
-:mod:`obturator.solve.one` that drives the integrators.
+:mod:`obturator.solve.one` and :mod:`obturator.solve.one_by_one` that drives the
+integrators.
 """
 
 from __future__ import annotations
@@ -54,34 +36,33 @@ import numpy as np
 
 from ..core.integrators import (
     AUTO_HAND_BACKS,
+    Controls,
     Problem,
     RawSolution,
     auto_radau_tolerances,
     continue_auto,
+    method_module,
 )
 from ..core.integrators.lanes import DEFAULT_LANES, LANES, integrate_lanes, integrate_radau_lanes
 from ..core.layout import KERNEL_GENERIC, N_PARAM, N_STATE, P_KERNEL
 from ..errors import InputError, SolverError
 from ..status import MESSAGES, Status
-from .dispatch import dispatched_method
 from .one import opening_time, simulate
-from .one_by_one import env_switch, failed_status, run_one_by_one
+from .one_by_one import failed_status, run_one_by_one
 from .options import SolverOptions
+from .plan import ROUTE_CODES, plan_routes, route_counts, route_of
 from .setup import integration_controls, integration_setup
 
 __all__ = [
     "BATCH_METHODS",
     "PACKED_WIDTHS",
     "POINT_STATUSES",
-    "RADAU_LANES_MIN",
-    "RADAU_LANES_MIN_GENERIC",
     "THESIS_LANES_MIN",
     "GENERIC_LANES_MIN",
     "Advanced",
     "PackedPoints",
     "advance",
     "batchable",
-    "env_switch",
     "integrate_packed",
     "lanes_pay_from",
     "opening_times",
@@ -89,41 +70,23 @@ __all__ = [
     "point_status",
 ]
 
-#: Methods :func:`integrate_packed` takes (``regularised``: DOP853 lanes, stiff lanes
-#: handed to Radau IIA; ``auto``: its regularised cases so, its set-valued ones one by
-#: one; ``set-valued``: every case one by one). The set-valued cases that differ in spin
-#: alone share return maps (:mod:`obturator.core.integrators.stick_slip_family`).
+#: Methods :func:`integrate_packed` takes (``regularised``: DOP853 stretches, stiff ones
+#: continued in Radau IIA; ``auto``: its regularised cases so, its set-valued ones one by
+#: one; ``set-valued``: every case one by one).
 BATCH_METHODS = ("auto", "regularised", "set-valued")
-#: Fewest stiff points of a batch that continue in Radau IIA lanes; fewer go one by one
-#: through the scalar Radau IIA. The lanes advance in lock step, so with few points the
-#: tail (lanes idle while the last points finish) outweighs the vector speed: measured
-#: on 10,000 rig points in strided chunks, ~11 stiff points per chunk took 9.2 s in
-#: lanes against 7.0 s one by one, ~23 broke even, ~46 took 5.1 s against 6.4 s.
-RADAU_LANES_MIN = 32
-#: The same for the generic right-hand side (every kernel but the thesis's). Its lanes
-#: evaluate the right-hand side lane by lane (as the scalar code does), so they save only
-#: the vectorised LU: measured on a loaded 2-core Zen 4, Radau IIA alone from release on
-#: 64 coulomb-patch rig points 1.21-1.26x faster than one by one, 1.05x on 8; in
-#: opening_times with its hand-back rounds (64 points) and in validate's coulomb-patch
-#: fits (32-56 stiff points a batch: 60-62 s against 57-59 s CPU) no gain. Only large
-#: batches (sweeps) take them.
-RADAU_LANES_MIN_GENERIC = 128
-#: Fewest thesis-kernel points that run in DOP853 lanes (:func:`lanes_pay_from`).
+#: Fewest thesis-kernel points of a batch whose DOP853 stretches run in SIMD lanes;
+#: fewer run them one by one. The lanes run the scalar arithmetic lane by lane, so this
+#: is an execution choice (speed), not a route: the bits are the same either way.
 THESIS_LANES_MIN = 5
-#: Fewest generic-kernel points that run in lanes (:func:`lanes_pay_from`).
-GENERIC_LANES_MIN = RADAU_LANES_MIN_GENERIC
+#: The same for the generic right-hand side (every kernel but the thesis's), whose lanes
+#: evaluate the right-hand side lane by lane and so pay only for large batches.
+GENERIC_LANES_MIN = 128
 
 
 def batchable(options: SolverOptions) -> bool:
-    """True when cases with these options run in lanes (with or without convergence
-    checks: :func:`opening_times` batches those too).
-
-    ``OBTURATOR_LANES=0`` in the environment turns the lanes off (every case
-    through :func:`~obturator.solve.opening_time`, the scalar path): for
-    benchmarks and for cross-checks; results are the same.
-    """
-    if not env_switch("OBTURATOR_LANES"):
-        return False
+    """True when :func:`opening_times` runs cases with these options through the packed
+    path (:func:`integrate_packed`: methods ``auto``, ``regularised``, ``set-valued``);
+    the other methods run each case through :func:`~obturator.solve.opening_time`."""
     return options.method in BATCH_METHODS
 
 
@@ -192,8 +155,10 @@ def opening_times(
     stats : dict
         ``n_points``, ``nfev`` (right-hand sides, all points; lanes only),
         ``n_stiff`` (points handed to Radau IIA), ``n_hand_backs`` (Radau IIA lanes
-        that went back to DOP853 lanes), ``n_set_valued`` (points ``auto`` gave to the
-        set-valued solver; lanes only).
+        that went back to DOP853), ``n_set_valued`` (points run set-valued),
+        ``nfev_shared`` (right-hand sides of the return-map grids this call built),
+        ``route`` (int8 per case: its :data:`~obturator.solve.plan.ROUTES` code) and
+        ``routes`` (cases per route name).
 
     Raises
     ------
@@ -212,7 +177,11 @@ def opening_times(
         for k, case in enumerate(cases):
             if not isinstance(case, InputError):
                 t_cr[k], status[k] = _one_by_one(case, options)
-        out = t_cr, status, _stats(n)
+        routes = np.zeros(n, dtype=np.int8)
+        for k, case in enumerate(cases):
+            if not isinstance(case, InputError):
+                routes[k] = ROUTE_CODES[route_of(options.method, options)]
+        out = t_cr, status, _stats(n, routes=routes)
     if check_convergence:
         from .convergence import mark_unconverged
 
@@ -284,12 +253,21 @@ def advance(
         nfev[k] = res.nfev
         if res.state.shape[0]:
             end[k] = res.state[-1]
-    return Advanced(t_cr, status, end, nfev, _stats(n, int(nfev.sum())))
+    routes = np.array(
+        [0 if isinstance(c, InputError) else ROUTE_CODES[route_of(options.method, options, False)]
+         for c in cases], dtype=np.int8,
+    )  # fmt: skip
+    return Advanced(t_cr, status, end, nfev, _stats(n, int(nfev.sum()), routes))
 
 
-def _stats(n: int, nfev: int = 0) -> dict[str, int]:
-    """The work counters of :func:`opening_times` for `n` points before any lane work."""
-    return {"n_points": n, "nfev": nfev, "n_stiff": 0, "n_hand_backs": 0, "n_set_valued": 0}
+def _stats(n: int, nfev: int = 0, routes: np.ndarray | None = None) -> dict[str, Any]:
+    """The work counters of :func:`opening_times` for `n` points before any lane work,
+    with the points' `routes` (codes of :data:`~obturator.solve.plan.ROUTES`)."""
+    routes = np.zeros(n, dtype=np.int8) if routes is None else routes
+    return {
+        "n_points": n, "nfev": nfev, "nfev_shared": 0, "n_stiff": 0, "n_hand_backs": 0,
+        "n_set_valued": 0, "route": routes, "routes": route_counts(routes),
+    }  # fmt: skip
 
 
 def _raise_failed(cases: Sequence[object], status: np.ndarray) -> None:
@@ -376,54 +354,41 @@ def integrate_packed(
     n_lanes: int = DEFAULT_LANES,
     end_states: np.ndarray | None = None,
     point_nfev: np.ndarray | None = None,
-) -> tuple[np.ndarray, np.ndarray, dict[str, int]]:
+) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
     """:func:`opening_times` of points already packed (:func:`pack_points`); where
     given, row i of `end_states` (n, 8) receives point i's last state and entry i of
-    `point_nfev` its right-hand-side evaluations. Under ``auto`` the points
-    :func:`~obturator.solve.dispatch.dispatched_method` gives to the set-valued solver
-    run one by one through it (``stats["n_set_valued"]``), the rest in lanes, except
-    kernels with fewer points than the lanes need to pay (:func:`lanes_pay_from`),
-    which run one by one too, to the same t_cr."""
+    `point_nfev` its right-hand-side evaluations.
+
+    Each point's route is planned once from its own inputs
+    (:func:`~obturator.solve.plan.plan_routes`): the set-valued ones run one by one
+    (:func:`~obturator.solve.one_by_one.run_one_by_one`), the regularised ones by kernel
+    through :func:`_run_group`. Nothing a point computes depends on the other points."""
     if options.method not in BATCH_METHODS:
         raise InputError("method", f"{options.method!r}: packed points take {BATCH_METHODS}")
     n = packed.valid.size
     t_cr = np.full(n, math.nan)
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
-    stats = _stats(n)
+    routes = plan_routes(packed.valid, packed.p, packed.y0, options)
+    stats = _stats(n, routes=routes)
     valid = np.flatnonzero(packed.valid)
-    one_by_one = []
-    if options.method == "set-valued":
-        one_by_one.append((valid, "set-valued"))
-        valid = valid[:0]
-    elif options.method == "auto":
-        chosen = [dispatched_method("auto", packed.p[k], packed.y0[k]) for k in valid]
-        exact = np.array([m == "set-valued" for m in chosen], dtype=bool)
-        one_by_one.append((valid[exact], "set-valued"))
-        valid = valid[~exact]
+    set_valued = np.isin(
+        routes[valid], [ROUTE_CODES["set-valued"], ROUTE_CODES["set-valued, shared map"]]
+    )
+    exact, valid = valid[set_valued], valid[~set_valued]
+    to_t_max = end_states is not None
+    outs, nfev = run_one_by_one(packed, exact, options, to_t_max)
+    stats["nfev_shared"] += nfev
+    for k, out in zip(exact, outs, strict=True):
+        t_cr[k], status[k] = point_status(Status(out.status), float(out.t_event))
+        stats["nfev"] += int(out.nfev)
+        stats["n_set_valued"] += 1
+        if end_states is not None:
+            end_states[k] = out.y[-1] if out.y.shape[0] else out.y_end
+        if point_nfev is not None:
+            point_nfev[k] = out.nfev
     kernels = packed.p[valid, P_KERNEL]
-    groups = []
     for kernel in np.unique(kernels):
         idx = valid[kernels == kernel]
-        if end_states is None and idx.size < lanes_pay_from(kernel):
-            one_by_one.append((idx, "regularised"))
-        else:
-            groups.append(idx)
-    to_t_max = end_states is not None
-    for idx, chosen_method in one_by_one:
-        outs, nfev = run_one_by_one(packed, idx, options, chosen_method, to_t_max, n_lanes)
-        stats["nfev"] += nfev
-        for k, out in zip(idx, outs, strict=True):
-            t_cr[k], status[k] = point_status(Status(out.status), float(out.t_event))
-            stats["nfev"] += int(out.nfev)
-            if chosen_method == "set-valued":
-                stats["n_set_valued"] += 1
-            else:  # Radau IIA ran if it evaluated a Jacobian
-                stats["n_stiff"] += int(out.njev > 0)
-            if end_states is not None:
-                end_states[k] = out.y[-1] if out.y.shape[0] else out.y_end
-            if point_nfev is not None:
-                point_nfev[k] = out.nfev
-    for idx in groups:
         y_end, nfev = _run_group(idx, packed.take(idx), options, n_lanes, t_cr, status, stats)
         if end_states is not None:
             end_states[idx] = y_end
@@ -433,29 +398,21 @@ def integrate_packed(
 
 
 def lanes_pay_from(kernel: float) -> int:
-    """Fewest points of one right-hand-side `kernel` that :func:`integrate_packed` runs in
-    lanes; fewer run one by one (the same t_cr: the DOP853 lanes are bit-equal to the
-    scalar DOP853, and so few stiff points would go one by one anyway).
-
-    The thesis kernel's lanes evaluate the right-hand side as vectors: measured on a
-    2-vCPU Zen 4 (``python -m benchmarks.small_groups``: rig, 250-440 rad/s, rtol 1e-9),
-    one point in lanes took 3.3x its time one by one, two 2.3x, three 1.55x, four 1.2x,
-    six 0.82x, eight 0.66x; its strengthening variant alike (one 3.2x, eight 0.63x). The
-    generic kernel's lanes evaluate it lane by lane, so its DOP853 lanes never paid
-    (a slip-speed law, measured before it had a variant: one point 2.5x, eight 1.2x, 28
-    1.04x; the tanh family now: one point 2.6-2.7x, eight 1.24-1.27x); only
-    the Radau IIA lanes of :data:`RADAU_LANES_MIN_GENERIC` points do
-    (:data:`GENERIC_LANES_MIN`). With the rule, one to four points cost 1.03-1.2x the
-    loop over :func:`~obturator.solve.opening_time`.
-    """
+    """Fewest points of one right-hand-side `kernel` whose DOP853 stretches
+    :func:`_run_group` runs in lanes; fewer run them one by one, to the same bits (the
+    lanes run the scalar arithmetic per lane). The thesis kernel's lanes evaluate the
+    right-hand side as vectors and pay from a handful of points; the generic kernel's
+    evaluate it lane by lane and pay only in large batches (``python -m
+    benchmarks.small_groups``; docs/benchmarks.md)."""
     return GENERIC_LANES_MIN if kernel == KERNEL_GENERIC else THESIS_LANES_MIN
 
 
 def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.ndarray, np.ndarray]:
-    """Points of one kernel: DOP853 lanes, stiff points on in Radau IIA lanes, the points
-    where sliding resumed back in DOP853 lanes, and so on, as :func:`continue_auto` does
-    for one point; stiff points too few for Radau IIA lanes finish one by one through
-    :func:`continue_auto` itself."""
+    """Points of one kernel under the regularised law: DOP853 stretches, stiff points on
+    in Radau IIA (in lanes with ``options.radau_lanes``, else the scalar Radau IIA of
+    :func:`continue_auto`), the points where sliding resumed back to DOP853, and so on, as
+    :func:`continue_auto` does for one point. Every decision is per point; the DOP853
+    stretches run in lanes or one by one (:func:`lanes_pay_from`) to the same bits."""
     n = idx.size
     p, scale, spin = packed.p, packed.scale, packed.spin
     t_max, h0, h_max = packed.t_max, packed.h0, packed.h_max
@@ -467,24 +424,23 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
     end_status = np.zeros(n, dtype=np.int8)
     t_event = np.full(n, math.nan)
     went_stiff = np.zeros(n, dtype=bool)
-    radau_lanes = env_switch("OBTURATOR_RADAU_LANES")
-    thesis = p[0, P_KERNEL] != KERNEL_GENERIC
-    fewest = RADAU_LANES_MIN if thesis else RADAU_LANES_MIN_GENERIC
+    in_lanes = options.lanes and n >= lanes_pay_from(float(p[0, P_KERNEL]))
+    dop853 = integrate_lanes if in_lanes else _dop853_one_by_one
     pending = np.arange(n)
     while pending.size:
         sel = pending
         st, t_ev = _advance(
-            integrate_lanes, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps,
+            dop853, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps,
             np.argsort(-spin[sel], kind="stable"), options.rtol, options.atol,
             options.event_tol, n_lanes, np.zeros(sel.size),
         )  # fmt: skip
         _settle(sel, st, t_ev, st != Status.STIFF, end_status, t_event)
         stiff = sel[st == Status.STIFF]
         went_stiff[stiff] = True
-        in_lanes = stiff[np.all(np.isfinite(y[stiff]), axis=1) & (t[stiff] > 0.0)]
-        if in_lanes.size < fewest or not radau_lanes:
-            in_lanes = in_lanes[:0]
-        for g in np.setdiff1d(stiff, in_lanes):
+        radau = stiff[np.all(np.isfinite(y[stiff]), axis=1) & (t[stiff] > 0.0)]
+        if not options.radau_lanes:
+            radau = radau[:0]
+        for g in np.setdiff1d(stiff, radau):
             problem = Problem(packed.y0[g], p[g], scale[g])
             controls = integration_controls(options, float(t_max[g]), float(h0[g]), float(h_max[g]))
             dop = RawSolution(
@@ -496,18 +452,18 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
             cnt[0, g] = out.nfev
             y[g] = out.y_end
             end_status[g], t_event[g] = out.status, out.t_event
-        pending = in_lanes
-        if in_lanes.size:
+        pending = radau
+        if radau.size:
             rtol, atol = auto_radau_tolerances(options.rtol, options.atol)
             st, t_ev = _advance(
-                integrate_radau_lanes, in_lanes, y, t, cnt, p, scale, t_max, h0, h_max,
-                max_steps, hand_backs[in_lanes] < AUTO_HAND_BACKS,
-                np.argsort(spin[in_lanes], kind="stable"), rtol, atol, options.event_tol,
+                integrate_radau_lanes, radau, y, t, cnt, p, scale, t_max, h0, h_max,
+                max_steps, hand_backs[radau] < AUTO_HAND_BACKS,
+                np.argsort(spin[radau], kind="stable"), rtol, atol, options.event_tol,
                 n_lanes, LANES,
             )  # fmt: skip
             back = st == Status.NONSTIFF
-            _settle(in_lanes, st, t_ev, ~back, end_status, t_event)
-            pending = in_lanes[back]
+            _settle(radau, st, t_ev, ~back, end_status, t_event)
+            pending = radau[back]
             hand_backs[pending] += 1
     stats["nfev"] += int(cnt[0].sum())
     stats["n_stiff"] += int(went_stiff.sum())
@@ -515,6 +471,30 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
     for g, k in enumerate(idx):
         t_cr[k], status[k] = point_status(Status(int(end_status[g])), float(t_event[g]))
     return y, cnt[0]
+
+
+def _dop853_one_by_one(
+    y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes,
+    slip_floor,
+):  # fmt: skip
+    """:func:`integrate_lanes`'s contract, point by point through the scalar DOP853 (the
+    same arithmetic: the lanes run it per lane); `order`, `n_lanes` and `slip_floor`
+    (always 0 here) are the lanes' and unused."""
+    run = method_module("dop853").integrate
+    n = y0.shape[0]
+    st = np.zeros(n, dtype=np.int8)
+    t_ev, t_end = np.full(n, math.nan), np.zeros(n)
+    y_end = np.empty_like(y0)
+    counts = np.zeros((3, n), dtype=np.int64)
+    for i in range(n):
+        controls = Controls(
+            float(t_max[i]), rtol, atol, float(h0[i]), float(h_max[i]), int(max_steps[i]),
+            np.empty(0), False, True, event_tol,
+        )  # fmt: skip
+        out = run(Problem(y0[i], p[i], scale[i], float(t0[i])), controls)
+        st[i], t_ev[i], t_end[i], y_end[i] = out.status, out.t_event, out.t_end, out.y_end
+        counts[:, i] = out.nfev, out.n_steps, out.n_rejected
+    return st, t_ev, t_end, y_end, counts[0], counts[1], counts[2]
 
 
 def _advance(lanes, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps, *rest):

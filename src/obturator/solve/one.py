@@ -111,7 +111,9 @@ def simulate(
 def opening_time(case: Case, options: SolverOptions | None = None) -> float:
     """Opening time t_cr [s] of a case (NaN if it does not open by ``case.t_max``).
 
-    Stores no time series; this is the call sweeps and fits make.
+    Stores no time series. Under the methods of the front door (``auto``, ``regularised``,
+    ``set-valued``) this is :func:`~obturator.solve.opening_times` of a batch of one, so
+    a case gives the same bits alone and in any study (:mod:`obturator.solve.plan`).
 
     Raises
     ------
@@ -119,6 +121,14 @@ def opening_time(case: Case, options: SolverOptions | None = None) -> float:
         If the integrator fails or reaches its step limit (a RuntimeError).
     """
     options = options or SolverOptions()
+    from .many import batchable, integrate_packed, pack_points
+
+    if batchable(options):
+        t_cr, codes, _ = integrate_packed(pack_points([case], options), options)
+        status = Status(int(codes[0]))
+        if status in (Status.FAILED, Status.STEP_LIMIT):
+            raise SolverError(f"{case.name or 'case'}: {MESSAGES[status]}", status=status)
+        return float(t_cr[0])
     _, out = _run(case, options, None, False, None, True)
     status = Status(out.status)
     if not status.success:

@@ -1,58 +1,31 @@
-"""The points of the front door that run one at a time.
+"""The set-valued points of the front door, run one at a time.
 
-:func:`~obturator.solve.many.integrate_packed` runs some packed points one by one
-instead of in lanes: those ``auto`` gives to the set-valued solver (and every point
-under ``method="set-valued"``), and right-hand-side kernels with too few points for the
-lanes to pay. :func:`run_one_by_one` runs such a set of points as
-:func:`~obturator.solve.opening_time` would, one integrator call each, except that
-
-* set-valued points that differ in spin alone share their cycles' return maps
-  (:mod:`obturator.core.integrators.stick_slip_family`; ``OBTURATOR_SHARED_MAPS=0``: each
-  builds its own), and
-* where only t_cr is wanted, a set-valued point's last slip (past stick ratio 0.8,
-  where the ball no longer sticks) goes on with the others' in DOP853 lanes
-  (:mod:`obturator.core.integrators.stick_slip_lanes`; ``OBTURATOR_SLIP_LANES=0``: in
-  the one-case solver).
+:func:`~obturator.solve.many.integrate_packed` runs the points whose route is the
+set-valued solver (:mod:`obturator.solve.plan`) one by one, as
+:func:`~obturator.solve.opening_time` runs a case alone; with ``options.shared_maps``
+each reads the return map of its spin's fixed band
+(:func:`obturator.core.integrators.stick_slip_family.band_map`), a function of the point
+alone, so the same t_cr alone or in any batch.
 """
 
 from __future__ import annotations
 
-import math
-import os
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..core.integrators import Controls, Problem, RawSolution, integrate
+from ..core.integrators import Controls, Problem, RawSolution
 from ..core.integrators.stick_slip import integrate as integrate_set_valued
-from ..core.integrators.stick_slip_family import shared_maps
-from ..core.integrators.stick_slip_lanes import finish_in_lanes
-from ..core.layout import N_STATE
-from ..errors import InputError
+from ..core.integrators.stick_slip_family import band_map
 from ..status import Status
-from .dispatch import core_method, dispatched_controls
+from .dispatch import dispatched_controls
 from .options import SolverOptions
 from .setup import integration_controls
 
 if TYPE_CHECKING:
-    from ..core.integrators.stick_slip_map import CycleMap
     from .many import PackedPoints
 
-__all__ = ["env_switch", "failed_status", "run_one_by_one"]
-
-
-def env_switch(name: str) -> bool:
-    """An on/off environment variable: unset or ``1`` is on, ``0`` off.
-
-    Raises
-    ------
-    InputError
-        Any other value (a typo must not silently select a path).
-    """
-    value = os.environ.get(name, "1")
-    if value not in ("0", "1"):
-        raise InputError(name, f"{value!r}; allowed: 0 (off), 1 (on)")
-    return value == "1"
+__all__ = ["failed_status", "run_one_by_one", "run_set_valued"]
 
 
 def failed_status(exc: RuntimeError) -> Status:
@@ -61,66 +34,42 @@ def failed_status(exc: RuntimeError) -> Status:
 
 
 def run_one_by_one(
-    packed: PackedPoints,
-    idx: np.ndarray,
-    options: SolverOptions,
-    chosen: str,
-    to_t_max: bool,
-    n_lanes: int,
+    packed: PackedPoints, idx: np.ndarray, options: SolverOptions, to_t_max: bool
 ) -> tuple[list[RawSolution], int]:
-    """The points `idx` of `packed`, each through the integrator `chosen`
-    (``"set-valued"`` or ``"regularised"``; see the module), with `to_t_max` to
-    ``t_max`` with an output there (:func:`~obturator.solve.advance`), else to the
-    opening. Returns their runs and the right-hand sides spent on shared maps."""
-    hand_off = chosen == "set-valued" and not to_t_max and env_switch("OBTURATOR_SLIP_LANES")
-    setups = [_point_setup(packed, int(k), options, chosen, to_t_max, hand_off) for k in idx]
-    problems, controls = [s[0] for s in setups], [s[1] for s in setups]
-    maps: list[CycleMap | None] = [None] * len(idx)
-    nfev = 0
-    if chosen == "set-valued" and env_switch("OBTURATOR_SHARED_MAPS"):
-        maps, counts = shared_maps(problems, controls)
-        nfev = int(counts[0])
-    runs = [_point(*setup, chosen, m) for setup, m in zip(setups, maps, strict=True)]
-    if hand_off:
-        runs = finish_in_lanes(problems, controls, runs, n_lanes)
-    return runs, nfev
+    """The points `idx` of `packed` through the set-valued solver, each as
+    :func:`~obturator.solve.opening_time` runs it (with `to_t_max` to ``t_max`` with an
+    output there, :func:`~obturator.solve.advance`). Returns their runs and the
+    right-hand sides spent on the band grids of shared maps built here."""
+    counts = np.zeros(4, dtype=np.int64)
+    runs = []
+    for k in idx:
+        problem = Problem(packed.y0[k], packed.p[k], packed.scale[k])
+        t_max = float(packed.t_max[k])
+        controls = integration_controls(
+            options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
+            t_eval=np.array([t_max]) if to_t_max else None,
+        )  # fmt: skip
+        runs.append(run_set_valued(problem, controls, options, counts))
+    return runs, int(counts[0])
 
 
-def _point_setup(
-    packed: PackedPoints,
-    k: int,
-    options: SolverOptions,
-    chosen: str,
-    to_t_max: bool,
-    hand_off: bool,
-) -> tuple[Problem, Controls]:
-    """Point `k`'s problem and controls for the integrator `chosen`, as
-    :func:`~obturator.solve.opening_time` builds them (with `to_t_max`, as
-    :func:`~obturator.solve.advance`'s one-by-one path: an output at t_max), with
-    `hand_off` a set-valued point's last slip to the DOP853 lanes."""
-    problem = Problem(packed.y0[k], packed.p[k], packed.scale[k])
-    t_max = float(packed.t_max[k])
-    controls = integration_controls(
-        options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
-        t_eval=np.array([t_max]) if to_t_max else None,
-    )  # fmt: skip
-    controls = controls._replace(hand_back=hand_off)
-    return problem, dispatched_controls(options.method, chosen, controls)
-
-
-def _point(
-    problem: Problem, controls: Controls, chosen: str, cycle_map: CycleMap | None = None
+def run_set_valued(
+    problem: Problem, controls: Controls, options: SolverOptions, counts: np.ndarray | None = None
 ) -> RawSolution:
-    """One point through the integrator `chosen` (``"set-valued"``, with the shared
-    return map `cycle_map` where given, or ``"regularised"``); an integrator that
-    raises counts as failed, as in the one-by-one path."""
+    """One point through the set-valued solver at the controls ``options.method`` gives
+    it (:func:`~obturator.solve.dispatch.dispatched_controls`), with its band's shared
+    return map under ``options.shared_maps``; an integrator that raises counts as
+    failed. `counts` gains the band grid's work where one is built."""
+    controls = dispatched_controls(options.method, "set-valued", controls)
     try:
-        if cycle_map is not None:
-            return integrate_set_valued(problem, controls, shared=cycle_map)
-        return integrate(core_method(chosen), problem, controls)
+        shared = band_map(problem, controls, counts) if options.shared_maps else None
+        if shared is not None:
+            return integrate_set_valued(problem, controls, shared=shared)
+        return integrate_set_valued(problem, controls)
     except RuntimeError as exc:
-        nan = np.full(N_STATE, math.nan)
+        status = failed_status(exc)
+        nan = np.full(problem.y0.shape[0], np.nan)
         return RawSolution(
-            failed_status(exc), math.nan, nan, np.empty(0), np.empty((0, N_STATE)),
-            0, 0, 0, 0, 0.0, nan,
+            status, np.nan, nan, np.empty(0), np.empty((0, problem.y0.shape[0])), 0, 0, 0, 0,
+            0.0, nan,
         )  # fmt: skip

@@ -117,6 +117,30 @@ class SolverOptions:
     fixed_step : float or None
         Step of ``method="moreau-jean"`` [s], > 0; default None: 1e-4 of a spin period
         (the initial step of the adaptive methods). Only with that method.
+    lanes : bool
+        Speed strategy of :func:`~obturator.solve.opening_times`: the regularised points
+        of a batch advance together in DOP853 SIMD lanes (default True). Each lane runs
+        the scalar DOP853's arithmetic, so t_cr, status and counters are those of the
+        point alone, bit for bit; False runs every point one by one (cross-checks,
+        benchmarks).
+    radau_lanes : bool
+        Speed strategy of the regularised law in :func:`~obturator.solve.opening_times`
+        (default True): a point whose DOP853 stretch turns stiff continues in Radau IIA
+        SIMD lanes (:func:`obturator.core.integrators.lanes.integrate_radau_lanes`), alone
+        or in any batch alike (their vectorised LU rounds differently from the scalar
+        Radau IIA's, so the choice is a route, :mod:`obturator.solve.plan`); False: the
+        scalar Radau IIA. A time history (:func:`~obturator.solve.simulate`) always takes
+        the scalar one.
+    shared_maps : bool
+        Speed strategy of the set-valued solver (default False): its cycles' return map
+        is interpolated in the spin as well as in the nutation, from a grid of node
+        cycles over a fixed band of spins (:mod:`obturator.core.integrators.stick_slip_family`),
+        which every case whose parameters differ in the spin alone reuses. The band, its
+        nodes and so the map are functions of the case alone (never of the other cases of
+        a batch), so a case gives the same t_cr alone or in any batch; it differs from the
+        case's own one-spin map (``False``) within the maps' tolerance. It pays where many
+        cases share a band (spin sweeps: ``obturator sweep`` turns it on); one case alone
+        pays for its band's whole grid.
     """
 
     rtol: float = 1e-8
@@ -129,6 +153,9 @@ class SolverOptions:
     max_step: float | None = None
     method: Method = "auto"
     fixed_step: float | None = None
+    lanes: bool = True
+    radau_lanes: bool = True
+    shared_maps: bool = False
 
     def __post_init__(self) -> None:
         # DOP853 works at 0.01 rtol, floored at 1e-14: a smaller rtol would be clamped.
@@ -143,6 +170,9 @@ class SolverOptions:
         check_choice("method", self.method, METHODS)
         if self.max_step is not None:
             check_range("max_step", self.max_step, 0.0, math.inf, lo_open=True, unit="s")
+        for name in ("lanes", "radau_lanes", "shared_maps"):
+            if not isinstance(getattr(self, name), bool):
+                raise InputError(name, f"{getattr(self, name)!r}; allowed: true, false")
         if self.fixed_step is not None:
             if self.method != "moreau-jean":
                 raise InputError("fixed_step", "applies to method 'moreau-jean' only")

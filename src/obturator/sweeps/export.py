@@ -22,6 +22,7 @@ from ..errors import InputError
 from ..params import SWEEP_PARAMS
 from ..reference import TABLE1
 from ..runs.store import atomic_write_text
+from ..solve.plan import ROUTES
 from ..status import FLAGS
 from .points import POINT_STATUSES
 from .spec import SweepSpec
@@ -37,6 +38,7 @@ __all__ = [
     "common_attrs",
     "coord_attrs",
     "grid_dataset",
+    "route_attrs",
     "status_attrs",
     "write_csv",
     "write_netcdf",
@@ -95,6 +97,15 @@ def status_attrs() -> dict[str, Any]:
     }
 
 
+def route_attrs() -> dict[str, Any]:
+    """CF flag attributes of the ``route`` variable (:data:`~obturator.solve.plan.ROUTES`)."""
+    return {
+        "long_name": "how t_cr was computed (obturator.solve.plan)",
+        "flag_values": np.arange(len(ROUTES), dtype=np.int8),
+        "flag_meanings": " ".join(r.replace(", ", "+").replace(" ", "_") for r in ROUTES),
+    }
+
+
 T_CR_ATTRS = {
     "units": "s",
     "long_name": "opening time t_cr (theta reaches theta_cr = beta_s)",
@@ -102,8 +113,10 @@ T_CR_ATTRS = {
 }
 
 
-def grid_dataset(spec: SweepSpec, t_cr: np.ndarray, status: np.ndarray) -> xarray.Dataset:
-    """The sweep's Dataset: t_cr and status over the swept dimensions."""
+def grid_dataset(
+    spec: SweepSpec, t_cr: np.ndarray, status: np.ndarray, route: np.ndarray
+) -> xarray.Dataset:
+    """The sweep's Dataset: t_cr, status and route over the swept dimensions."""
     import xarray as xr
 
     dims = spec.dims
@@ -114,6 +127,7 @@ def grid_dataset(spec: SweepSpec, t_cr: np.ndarray, status: np.ndarray) -> xarra
     data = {
         "t_cr": (dims, t_cr.reshape(spec.shape), T_CR_ATTRS),
         "status": (dims, status.reshape(spec.shape), status_attrs()),
+        "route": (dims, route.reshape(spec.shape), route_attrs()),
     }
     attrs = {"title": f"obturator sweep of t_cr over {', '.join(dims) or 'one point'}"}
     attrs.update(common_attrs(spec))
@@ -149,19 +163,22 @@ def write_csv(ds: xarray.Dataset, path: str | os.PathLike[str]) -> None:
     settings, package version and the command line (the dataset's attributes),
     so a CSV alone says what it was computed with. Then one row per grid point
     (C order) or sample: the swept (or sampled) parameters, ``t_cr [s]`` (empty
-    where not opened) and ``status``. Written to a temporary file and renamed.
+    where not opened), ``status`` and ``route`` (by name: :mod:`obturator.solve.plan`).
+    Written to a temporary file and renamed.
     """
     if "sample" in ds.dims:
         cols = [v for v in ds.data_vars if ds[v].dims == ("sample",) and v in SWEEP_PARAMS]
         table = [ds[c].values for c in cols]
         t = ds["t_cr"].values
         s = ds["status"].values
+        r = ds["route"].values
     else:
         cols = list(ds["t_cr"].dims)
         mesh = np.meshgrid(*[ds[c].values for c in cols], indexing="ij")
         table = [m.reshape(-1) for m in mesh]
         t = ds["t_cr"].values.reshape(-1)
         s = ds["status"].values.reshape(-1)
+        r = ds["route"].values.reshape(-1)
     lines = []
     for name, coord in ds.coords.items():
         if coord.ndim == 0:
@@ -170,12 +187,13 @@ def write_csv(ds: xarray.Dataset, path: str | os.PathLike[str]) -> None:
     for key, value in ds.attrs.items():
         if np.ndim(value) == 0:
             lines.append(f"# {key} = {' '.join(str(value).split())}")
-    header = [f"{c} [{SWEEP_PARAMS[c].unit}]" for c in cols] + ["t_cr [s]", "status"]
+    header = [f"{c} [{SWEEP_PARAMS[c].unit}]" for c in cols] + ["t_cr [s]", "status", "route"]
     lines.append(",".join(header))
     for k in range(t.size):
         cells = [f"{col[k]:.12g}" for col in table]
         cells.append(f"{t[k]:.12g}" if math.isfinite(t[k]) else "")
         cells.append(str(int(s[k])))
+        cells.append(ROUTES[int(r[k])])
         lines.append(",".join(cells))
     atomic_write_text(Path(path), "\n".join(lines) + "\n")
 

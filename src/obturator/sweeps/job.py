@@ -19,7 +19,7 @@ import numpy as np
 from ..runs.chunks import Job
 from ..runs.pools import default_workers, gc_frozen, mp_context
 from ..solve import batchable
-from ..solve.many import RADAU_LANES_MIN
+from ..solve.plan import ROUTES
 from .ahead import pack_ahead
 from .points import POINT_STATUSES, is_warm, run_chunk, warm
 from .spec import SweepSpec
@@ -39,22 +39,26 @@ _KNOWN = frozenset(int(s) for s in POINT_STATUSES)
 
 
 class PointResults:
-    """t_cr [s] and status of `n` points (status -128: not computed yet)."""
+    """t_cr [s], status and route (:data:`~obturator.solve.plan.ROUTES` code) of `n`
+    points (status -128: not computed yet)."""
 
     def __init__(self, n: int) -> None:
         self.n = n
         self.t_cr = np.full(n, np.nan)
         self.status = np.full(n, _NOT_DONE, dtype=np.int8)
+        self.route = np.zeros(n, dtype=np.int8)
 
     def todo(self) -> np.ndarray:
         """Flat indices of the points not computed yet."""
         return np.flatnonzero(self.status == _NOT_DONE)
 
-    def put(self, idx: np.ndarray, result: tuple[np.ndarray, np.ndarray]) -> tuple[list[Any], Any]:
-        """Keep a chunk's ``(t_cr, status)``; its store record."""
-        t, s = result
-        self.t_cr[idx], self.status[idx] = t, s
-        return idx.tolist(), {"t_cr": t.tolist(), "status": s.tolist()}
+    def put(
+        self, idx: np.ndarray, result: tuple[np.ndarray, np.ndarray, np.ndarray]
+    ) -> tuple[list[Any], Any]:
+        """Keep a chunk's ``(t_cr, status, route)``; its store record."""
+        t, s, r = result
+        self.t_cr[idx], self.status[idx], self.route[idx] = t, s, r
+        return idx.tolist(), {"t_cr": t.tolist(), "status": s.tolist(), "route": r.tolist()}
 
     def restore(self, keys: list[Any], values: Any) -> bool:
         """Take a stored chunk; False if its indices, shapes or statuses do not fit."""
@@ -62,13 +66,15 @@ class PointResults:
             idx = np.asarray(keys, dtype=np.int64)
             t = np.asarray(values["t_cr"], dtype=float)
             s = np.asarray(values["status"], dtype=np.int64)
+            r = np.asarray(values["route"], dtype=np.int64)
         except (KeyError, TypeError, ValueError):
             return False
-        ok = idx.ndim == 1 and idx.shape == t.shape == s.shape
+        ok = idx.ndim == 1 and idx.shape == t.shape == s.shape == r.shape
         ok = ok and bool(np.all((idx >= 0) & (idx < self.n)))
+        ok = ok and bool(np.all((r >= 0) & (r < len(ROUTES))))
         if not (ok and all(int(x) in _KNOWN for x in s)):
             return False
-        self.t_cr[idx], self.status[idx] = t, s.astype(np.int8)
+        self.t_cr[idx], self.status[idx], self.route[idx] = t, s.astype(np.int8), r.astype(np.int8)
         return True
 
     def check_complete(self) -> None:
@@ -77,30 +83,26 @@ class PointResults:
             raise RuntimeError("some points were not computed")
 
 
-def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of, largest_chunk: int = 0) -> Job:
+def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of) -> Job:
     """The :class:`Job` of a sweep or Monte Carlo study: :func:`run_chunk` on rows of
-    values of `names` (``rows_of(idx)``), returning ``(t_cr, status)`` per chunk.
+    values of `names` (``rows_of(idx)``), returning ``(t_cr, status, route)`` per chunk.
 
-    The warm-up loads the Radau IIA lanes only when a chunk (`largest_chunk` points)
-    can hold enough stiff points to use them: a small sweep does not pay their load.
-    Where the points run in lanes, the job can pack points ahead (:mod:`.ahead`), and
-    its chunks are runs of consecutive points: cases that differ in spin alone share
-    the set-valued solver's return maps (a spin axis varies fastest).
+    A point's result never depends on its chunk (:mod:`obturator.solve.plan`), so the
+    job is separable. Where the points are packed, the job can
+    pack them ahead (:mod:`.ahead`), and its chunks are runs of consecutive points: with
+    ``shared_maps`` the cases of one spin band reuse the band's grid within a worker
+    (a spin axis varies fastest), which saves time, not bits.
     """
-    radau_lanes = largest_chunk >= RADAU_LANES_MIN
     lanes = batchable(spec.options)
     job = Job(
         run_chunk,
         lambda idx: (spec, names, rows_of(idx)),
-        partial(warm, spec.options, radau_lanes=radau_lanes),
+        partial(warm, spec.options),
         meanwhile=prefetch_output,
-        separable=not lanes,
         contiguous=lanes,
     )
     if lanes:
-        job = replace(
-            job, ahead=partial(_pack_while_loading, job, spec, names, rows_of, radau_lanes)
-        )
+        job = replace(job, ahead=partial(_pack_while_loading, job, spec, names, rows_of))
     return job
 
 
@@ -109,7 +111,6 @@ def _pack_while_loading(
     spec: SweepSpec,
     names: tuple[str, ...],
     rows_of: Callable[[np.ndarray], np.ndarray],
-    radau_lanes: bool,
     chunks: list[np.ndarray],
 ) -> Job:
     """`job` with the points a helper packed while this process loaded the integrators
@@ -120,7 +121,7 @@ def _pack_while_loading(
         if (
             mp_context().get_start_method() != "fork"
             or default_workers() < 2
-            or is_warm(spec.options, radau_lanes)
+            or is_warm(spec.options)
             or not chunks
         ):
             job.warm()

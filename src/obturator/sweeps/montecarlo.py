@@ -28,6 +28,7 @@ from .export import (
     check_distinct_outputs,
     common_attrs,
     coord_attrs,
+    route_attrs,
     status_attrs,
     write_outputs,
 )
@@ -146,6 +147,7 @@ def monte_carlo(
     data: dict[str, Any] = {k: ("sample", values[k], coord_attrs(k)) for k in names}
     data["t_cr"] = ("sample", out.t_cr, T_CR_ATTRS)
     data["status"] = ("sample", out.status, status_attrs())
+    data["route"] = ("sample", out.route, route_attrs())
     data |= _quantile_variables(summ)
     coords: dict[str, Any] = {
         "sample": ("sample", np.arange(n), {"long_name": "sample number"}),

@@ -61,8 +61,9 @@ def pack_rows(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> Pack
 
 def run_chunk(
     spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray, packed: PackedPoints | None = None
-) -> tuple[np.ndarray, np.ndarray]:
-    """t_cr [s] and status of the points of one chunk (rows of values in ``names`` order).
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """t_cr [s], status and route code (:data:`~obturator.solve.plan.ROUTES`) of the
+    points of one chunk (rows of values in ``names`` order).
 
     Through :func:`obturator.solve.opening_times` (lanes where the options allow, the
     convergence checks' reruns too);
@@ -72,28 +73,22 @@ def run_chunk(
     """
     if batchable(spec.options) and not spec.check_convergence:
         packed = pack_rows(spec, names, rows) if packed is None else packed
-        t, s, _ = integrate_packed(packed, spec.options)
+        t, s, stats = integrate_packed(packed, spec.options)
     else:
         cases = rows_to_cases(spec, names, rows)
-        t, s, _ = opening_times(cases, spec.options, check_convergence=spec.check_convergence)
-    return t, s
+        t, s, stats = opening_times(cases, spec.options, check_convergence=spec.check_convergence)
+    return t, s, stats["route"]
 
 
-def warm(options: SolverOptions, radau_lanes: bool = False) -> None:
+def warm(options: SolverOptions) -> None:
     """Load (or compile) the integrators once: a short rig run that turns stiff (150
-    rad/s, 10 ms) with these options, so ``regularised`` loads DOP853 and Radau IIA, the
-    same run through :func:`obturator.solve.opening_times` (one point: one by one, so
-    the DOP853 lanes load with a worker's first lane chunk, ~0.06 s; loaded here
-    instead, before the fork, a 10,000-point sweep on 2 workers was no faster), and with
-    `radau_lanes` the Radau IIA lanes (~0.1-0.4 s to load; chunks too small to use them
-    skip it).
-
-    ``auto`` loads its regularised path here; its set-valued solver (~0.05 s more)
-    loads with the first case it takes (in the runner's probe, before workers fork, or
-    in each worker), so a study with none does not pay it."""
-    from ..warmup import load_radau_lanes
-
-    if is_warm(options, radau_lanes):
+    rad/s, 10 ms) with these options, so ``regularised`` loads DOP853 and Radau IIA, and
+    the same run through :func:`obturator.solve.opening_times` (one point: one by one,
+    so the DOP853 lanes load with a worker's first lane chunk). ``auto``'s set-valued
+    solver and the Radau IIA lanes load with the first point that takes them (in the
+    runner's probe, before workers fork, or in each worker), so a study with none does
+    not pay them. Loading never changes a result (:mod:`obturator.core.jit_flags`)."""
+    if is_warm(options):
         return
     case = rig_case(150.0, 0.5, t_max=1e-2)
     regularised = replace(options, method="regularised") if options.method == "auto" else options
@@ -101,18 +96,16 @@ def warm(options: SolverOptions, radau_lanes: bool = False) -> None:
         opening_time(case, regularised)
         if batchable(options):
             opening_times([case], regularised)
-            if radau_lanes:
-                load_radau_lanes()
     except RuntimeError:  # pragma: no cover - warm-up only
         pass
-    _WARM.add((options, radau_lanes))
+    _WARM.add(options)
 
 
-#: (options, radau_lanes) of the :func:`warm` calls done in this process (forked
-#: workers inherit it with the loaded code).
-_WARM: set[tuple[SolverOptions, bool]] = set()
+#: The options of the :func:`warm` calls done in this process (forked workers inherit
+#: it with the loaded code).
+_WARM: set[SolverOptions] = set()
 
 
-def is_warm(options: SolverOptions, radau_lanes: bool = False) -> bool:
+def is_warm(options: SolverOptions) -> bool:
     """True when :func:`warm` has loaded the integrators for `options` in this process."""
-    return (options, radau_lanes) in _WARM
+    return options in _WARM

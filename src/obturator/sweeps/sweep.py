@@ -21,7 +21,7 @@ import numpy as np
 from .._docs import field_docs
 from ..errors import InputError
 from ..runs import Runner
-from ..runs.chunks import TASK_CHUNK, chunk_length
+from ..runs.chunks import TASK_CHUNK
 from ..solve import batchable
 from ..status import Status
 from .export import check_distinct_outputs, grid_dataset, write_outputs
@@ -40,6 +40,7 @@ class Outcome:
 
     t_cr: np.ndarray
     status: np.ndarray
+    route: np.ndarray
     n_resumed: int
     n_computed: int
     workers: int
@@ -63,17 +64,14 @@ def run_points(
     writing to its resume store when it has one (:mod:`obturator.runs.store`)."""
     runner.open(digest, extra_outputs)
     results = PointResults(n_points)
-    todo = results.todo()
-    lanes = batchable(spec.options)
-    max_chunk = LANE_CHUNK if lanes else TASK_CHUNK
-    workers = runner.n_workers if runner.scheduler is None else 8
-    largest = min(chunk_length(todo.size, workers, runner.chunk_size, max_chunk), todo.size)
-    job = sweep_job(spec, names, rows_of, largest)
+    max_chunk = LANE_CHUNK if batchable(spec.options) else TASK_CHUNK
+    job = sweep_job(spec, names, rows_of)
     info = runner.run(job, results, n_points, label=label, unit=unit, max_chunk=max_chunk)
     results.check_complete()
     return Outcome(
         results.t_cr,
         results.status,
+        results.route,
         info.n_resumed,
         info.n_computed,
         info.workers,
@@ -126,7 +124,7 @@ def execute_sweep(
         label="sweep",
         extra_outputs=() if csv is None else (str(csv),),
     )
-    ds = grid_dataset(spec, out.t_cr, out.status)
+    ds = grid_dataset(spec, out.t_cr, out.status, out.route)
     write_outputs(ds, runner, csv)
     return SweepRun(ds, out.n_computed, out.n_resumed, out.workers, out.backend, out.elapsed_s)
 

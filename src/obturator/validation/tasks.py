@@ -106,7 +106,7 @@ def curve_task(
         opening_times_s=run_t,
     )
     for w, chk in zip(run_w, checks, strict=True):
-        change = max(chk.tolerance_change, chk.width_change, chk.family_change)
+        change = chk.largest_change
         if change > max(tol, wid, fam):
             worst_w = float(w)
         tol = max(tol, chk.tolerance_change)

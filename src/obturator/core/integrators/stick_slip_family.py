@@ -7,21 +7,27 @@ the spin alone. Each would build its own return map from 17-33 integrated cycles
 cycle. Yet the map's three functions D, T, Phi of theta are smooth in the spin too:
 at constant spin the cycle from the breakaway state B(theta) depends on theta and
 omega_p alone (the other parameters equal), D ~ kappa^3 with kappa ~ omega_p^2, so
-log(-D) is close to linear in log(omega_p). So the cases are grouped (equal parameters,
+log(-D) is close to linear in log(omega_p). So cases are grouped (equal parameters,
 initial attitude, tolerances, and steps proportional to the spin period) and each
-group's spins split into bands no wider than :data:`BAND_RATIO`; per band the cycles are
-integrated on a tensor grid of Chebyshev-Lobatto nodes, in :func:`abscissa` of theta
-(from the initial nutation down to theta_cr, or to where the stick ratio reaches
-:data:`KAPPA_END`: :meth:`_Grid.interval`) and in log(omega_p), and interpolated. The
-error estimate is that of the one-spin map in each direction (the last two Chebyshev
-coefficients, summed over the other direction, which bounds them at every node of it)
-against :data:`~.stick_slip_map.MAP_TOL` times rtol; the grid grows (nested levels,
-9-17-33 in theta, 5-9-17 in the spin) until both hold. A band whose nodes' cycles differ
-in kind, or that does not converge, is split in two while each half holds
-:data:`MIN_SPINS` spins; else its spins build their own maps as before. Each case then
-gets its spin's series in theta (the sums over the spin's Chebyshev polynomials), and
-:func:`.stick_slip_map.integrate` iterates it from the case's first breakaway: the case
-integrates its first breakaway and its last cycles only.
+group's spins fall into fixed bands, [BAND_RATIO^k, BAND_RATIO^(k+1)) rad/s
+(:func:`band_edges`); per band the cycles are integrated on a tensor grid of
+Chebyshev-Lobatto nodes, in :func:`abscissa` of theta (from the initial nutation down
+to theta_cr, or to where the stick ratio reaches :data:`KAPPA_END`:
+:meth:`_Grid.interval`) and in log(omega_p), and interpolated. The error estimate is
+that of the one-spin map in each direction (the last two Chebyshev coefficients,
+summed over the other direction, which bounds them at every node of it) against
+:data:`~.stick_slip_map.MAP_TOL` times rtol; the grid grows (nested levels, 9-17-33 in
+theta, 5-9-17 in the spin) until both hold. A band whose nodes' cycles differ in kind,
+or that does not converge, is halved (at most :data:`MAX_SPLITS` times); else its cases
+build their own maps. Each case then gets its spin's series in theta (the sums over the
+spin's Chebyshev polynomials), and :func:`.stick_slip_map.integrate` iterates it from
+the case's first breakaway: the case integrates its first breakaway and its last
+cycles only.
+
+Because the bands and nodes are fixed and the node problems are built from the group's
+spin-normalised data, a case's map, and so its t_cr, are the same alone
+(:func:`band_map`) or in any batch (:func:`shared_maps`); a process keeps the grids it
+built (:data:`_MEMO_SIZE`), so the cases of one band pay for its grid once.
 
 This is the envelope-following idea of :mod:`.stick_slip_map` (Petzold 1981) with the
 spin as a second interpolation variable; the opening itself is never interpolated
@@ -32,7 +38,9 @@ case locates it by integration.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 
@@ -58,144 +66,183 @@ from .stick_slip_map import (
     node_thetas,
 )
 
-__all__ = ["BAND_RATIO", "KAPPA_END", "MAX_SPIN_NODES", "MIN_CYCLES", "MIN_SPINS", "shared_maps"]
+__all__ = [
+    "BAND_RATIO",
+    "KAPPA_END",
+    "MAX_SPIN_NODES",
+    "MAX_SPLITS",
+    "MIN_CYCLES",
+    "band_edges",
+    "band_map",
+    "shared_maps",
+]
 
 #: Stick ratio kappa down to which a band's map reaches (theta_lo of
-#: :meth:`_Grid.interval`): on the rig (Table 1, mu_s 0.5473) a cycle from B(theta)
-#: no longer sticks again within two revolutions from kappa ~ 0.52 on (node cycles
-#: failed at 70.9 deg from 80.7 rad/s, at 78.6 deg from 93.8 rad/s); below it the case
-#: integrates its cycles itself. At 0.45 and 0.48 nodes still failed (bands split and
-#: rebuilt: the set-valued band of a 40-1000 rad/s sweep took 3.8 and 4.6 s in one
-#: process); 0.30-0.42 took the same 2.5-2.8 s; 0.38 is the largest with no failure.
+#: :meth:`_Grid.interval`): below it a cycle from B(theta) may no longer stick again
+#: within two revolutions (a node that fails splits its band); the case integrates its
+#: cycles below it itself. The largest value with no node failure on the rig
+#: (``docs/benchmarks.md``).
 KAPPA_END = 0.38
-#: Widest ratio of the highest to the lowest spin of one band: the set-valued band of a
-#: 10,000-point 40-1000 rad/s rig sweep took 2.4-2.5 s in one process at 1.15, 2.6-2.7 s
-#: at 1.08, 1.1, 1.25 and 1.4 (wider bands need more spin nodes, narrower more bands).
+#: Ratio of the highest to the lowest spin of one band. The bands are a fixed lattice,
+#: [BAND_RATIO^k, BAND_RATIO^(k+1)) rad/s, so which band a case is in, and so its map,
+#: depend on its own spin alone, never on the other cases of a batch.
 BAND_RATIO = 1.15
-#: Fewest spins of a band that share its map: a band's grid costs 45-561 node cycles
-#: (0.2-0.3 ms each), the map saves a case 5-40 cycles (the one-spin map's nodes, or its
-#: integrated cycles).
-MIN_SPINS = 12
+#: Times a band whose grid fails (a node cycle that does not stick again, cycles that
+#: differ in kind, no convergence) is halved in log(omega_p) before its cases keep their
+#: own one-spin maps.
+MAX_SPLITS = 2
 #: Fewest cycles (:meth:`_Grid.cycles_ahead`) through the map at a band's highest spin
-#: for which the band's grid is built: the case integrates the last one to
-#: :data:`~.stick_slip_map.LAST_CYCLES` of them anyway. On the rig (mu_s 0.5473) from
-#: ~125 rad/s up fewer are left above kappa = :data:`KAPPA_END` (120 rad/s: 5.1, 140:
-#: 2.1, 160: 0.6), where the grids made the 150-218 rad/s points 8 % slower.
+#: for which the band's grid is built: the case integrates its last
+#: :data:`~.stick_slip_map.LAST_CYCLES` cycles anyway, so with fewer left the grid costs
+#: more than it saves.
 MIN_CYCLES = 4.0
 #: Most spin nodes of a band (Chebyshev-Lobatto levels 5, 9, 17).
 MAX_SPIN_NODES = 17
+#: Band grids kept per process (least recently used dropped first). A grid is a function
+#: of its group and band alone, so dropping one costs time, never bits.
+_MEMO_SIZE = 256
+_MEMO: OrderedDict[tuple, tuple] = OrderedDict()
+
+
+def band_edges(wp: float) -> tuple[float, float]:
+    """The fixed band [lo, hi) of :data:`BAND_RATIO` powers [rad/s] that holds spin |wp|."""
+    wp = abs(wp)
+    k = math.floor(math.log(wp) / math.log(BAND_RATIO))
+    while BAND_RATIO**k > wp:  # log rounding at an edge
+        k -= 1
+    while BAND_RATIO ** (k + 1) <= wp:
+        k += 1
+    return BAND_RATIO**k, BAND_RATIO ** (k + 1)
 
 
 def shared_maps(
     problems: Sequence[Problem], controls: Sequence[Controls]
 ) -> tuple[list[CycleMap | None], np.ndarray]:
-    """Return maps shared by the `problems` that differ in spin alone.
-
-    Parameters
-    ----------
-    problems, controls : sequence of Problem, Controls
-        The cases as :func:`.stick_slip.integrate` takes them, with the controls of each.
+    """:func:`band_map` of each problem; the counters of the band grids built here.
 
     Returns
     -------
     maps : list of CycleMap or None
-        Per problem, its spin's map, for :func:`.stick_slip.integrate`'s `shared`; None
-        where it has none (outside the solver's scope or the map's, no group, a band of
-        fewer than :data:`MIN_SPINS` spins, or no converged map).
+        Per problem, its spin's map for :func:`.stick_slip.integrate`'s `shared`.
     counts : ndarray of int64, shape (4,)
-        Right-hand sides, Jacobians, steps and rejected steps of all node cycles.
+        Right-hand sides, Jacobians, steps and rejected steps of the node cycles this
+        call integrated (a grid built earlier in this process costs nothing again).
     """
-    maps: list[CycleMap | None] = [None] * len(problems)
     counts = np.zeros(4, dtype=np.int64)
-    groups: dict[tuple, list[int]] = {}
-    checked = []
-    for i, (problem, ctl) in enumerate(zip(problems, controls, strict=True)):
-        try:
-            problem = at_zero_width(problem)
-        except InputError:  # the case's own run says why
-            problem = None
-        checked.append(problem)
-        if problem is not None and applies(problem, ctl):
-            groups.setdefault(_group_key(problem, ctl), []).append(i)
-    run = run_cycles()
-    for members in groups.values():
-        members.sort(key=lambda i: abs(float(problems[i].y0[7])))
-        for band in _bands([abs(float(problems[i].y0[7])) for i in members]):
-            idx = [members[b] for b in band]
-            _fill_band(idx, checked, controls, run, maps, counts)
+    maps = [band_map(p, c, counts) for p, c in zip(problems, controls, strict=True)]
     return maps, counts
 
 
-def _group_key(problem: Problem, controls: Controls) -> tuple:
-    """What must be equal for cases to share a map: everything but the spin, with the
-    steps and error scales of the rates proportional to it."""
+def band_map(
+    problem: Problem, controls: Controls, counts: np.ndarray | None = None
+) -> CycleMap | None:
+    """The return map of `problem` (set-valued, constant spin, t_cr only) interpolated
+    from the grid of node cycles of its spin's fixed band (:func:`band_edges`), shared by
+    every case whose parameters differ in the spin alone.
+
+    The grid's node problems are built from the group's spin-normalised data
+    (:func:`_group`), so the map, and the case's t_cr, are functions of the case alone.
+    Where the band's grid fails it is halved (at most :data:`MAX_SPLITS` times); None
+    where the case is outside the map's scope, fewer than :data:`MIN_CYCLES` cycles are
+    left or no grid holds (the case then builds its own one-spin map). `counts`
+    (right-hand sides, Jacobians, steps, rejected steps) gains the node cycles integrated.
+    """
+    try:
+        problem = at_zero_width(problem)
+    except InputError:  # the case's own run says why
+        return None
+    if not applies(problem, controls):
+        return None
+    group = _group(problem, controls)
     wp = abs(float(problem.y0[7]))
-    rates = problem.y0[4:] / problem.y0[7]
-    return (
-        problem.p.tobytes(),
-        problem.y0[:4].tobytes(),
-        np.round(rates, 12).tobytes(),
-        math.copysign(1.0, problem.y0[7]),
-        np.round(problem.scale / np.r_[1.0, 1.0, 1.0, 1.0, wp, wp, wp, wp], 12).tobytes(),
-        float(problem.t0),
-        controls.t_max, controls.rtol, controls.atol, controls.max_steps, controls.event_tol,
-        round(controls.h0 * wp, 12), round(controls.h_max * wp, 12),
+    w_lo, w_hi = band_edges(wp)
+    for _ in range(MAX_SPLITS + 1):
+        kind, built = _band(group, w_lo, w_hi, counts)
+        if kind == "built":
+            return _series_at(built, wp, w_lo, w_hi, float(problem.p[P_THETA_CR]))
+        if kind == "none":
+            return None
+        mid = math.sqrt(w_lo * w_hi)
+        w_lo, w_hi = (w_lo, mid) if wp < mid else (mid, w_hi)
+    return None
+
+
+class _Group(NamedTuple):
+    """What cases that share a map have in common, spin-normalised: the key and the
+    data the node problems are built from."""
+
+    key: tuple
+    p: np.ndarray
+    attitude: np.ndarray  #: y0[:4]
+    rates: np.ndarray  #: y0[4:] / omega_p, rounded to 12 digits
+    scale: np.ndarray  #: scale with its rate components / omega_p, rounded to 12 digits
+    sign: float  #: sign of omega_p
+    controls: Controls  #: with h0, h_max times omega_p (rounded to 12 digits)
+
+
+def _group(problem: Problem, controls: Controls) -> _Group:
+    """The :class:`_Group` of `problem`: everything but the spin, with the rates, their
+    error scales and the steps normalised by it (rounded to 12 digits, so that the
+    spins' own rounding does not split a group; the node problems use the rounded
+    values, so a grid never depends on which case built it)."""
+    wp = abs(float(problem.y0[7]))
+    norm = np.r_[1.0, 1.0, 1.0, 1.0, wp, wp, wp, wp]
+    rates = np.round(problem.y0[4:] / problem.y0[7], 12)
+    scale = np.round(problem.scale / norm, 12)
+    sign = math.copysign(1.0, problem.y0[7])
+    ctl = controls._replace(h0=round(controls.h0 * wp, 12), h_max=round(controls.h_max * wp, 12))
+    key = (
+        problem.p.tobytes(), problem.y0[:4].tobytes(), rates.tobytes(), sign, scale.tobytes(),
+        float(problem.t0), ctl.t_max, ctl.rtol, ctl.atol, ctl.max_steps, ctl.event_tol,
+        ctl.h0, ctl.h_max,
     )  # fmt: skip
+    return _Group(key, problem.p, problem.y0[:4].copy(), rates, scale, sign, ctl)
 
 
-def _bands(spins: list[float]) -> list[list[int]]:
-    """Indices of the sorted `spins` in runs no wider than :data:`BAND_RATIO`, each at
-    least :data:`MIN_SPINS` long (shorter runs are left out)."""
-    bands, start = [], 0
-    for i in range(1, len(spins) + 1):
-        if i == len(spins) or spins[i] > BAND_RATIO * spins[start]:
-            if i - start >= MIN_SPINS:
-                bands.append(list(range(start, i)))
-            start = i
-    return bands
-
-
-def _fill_band(idx, problems, controls, run, maps, counts) -> None:
-    """Maps for the problems `idx` (sorted by spin) from one grid, or from the grids of
-    its halves where that fails and they are long enough."""
-    grid = _Grid(problems[idx[0]], controls[idx[0]], run)
-    w_lo = abs(float(problems[idx[0]].y0[7]))
-    w_hi = abs(float(problems[idx[-1]].y0[7]))
+def _band(group: _Group, w_lo: float, w_hi: float, counts: np.ndarray | None) -> tuple:
+    """("built", grid) of the band [w_lo, w_hi) of `group`, ("none", None) where no grid
+    pays, ("split", None) where its grid failed; memoised per process."""
+    key = (group.key, w_lo, w_hi)
+    if key in _MEMO:
+        _MEMO.move_to_end(key)
+        return _MEMO[key]
+    grid = _Grid(group, run_cycles())
     try:
         pays = grid.cycles_ahead(w_lo, w_hi) >= MIN_CYCLES
         built = grid.build(w_lo, w_hi) if pays else None
-    except (RuntimeError, ArithmeticError):  # a node that fails: its cases run alone
-        pays, built = False, None
-    counts += grid.counts()
-    if not pays:
-        return
-    if built is None:
-        if len(idx) >= 2 * MIN_SPINS:
-            half = len(idx) // 2
-            _fill_band(idx[:half], problems, controls, run, maps, counts)
-            _fill_band(idx[half:], problems, controls, run, maps, counts)
-        return
+    except (RuntimeError, ArithmeticError):  # a node that fails: split the band
+        pays, built = True, None
+    if counts is not None:
+        counts += grid.counts()
+    out = ("none", None) if not pays else ("split", None) if built is None else ("built", built)
+    _MEMO[key] = out
+    if len(_MEMO) > _MEMO_SIZE:
+        _MEMO.popitem(last=False)
+    return out
+
+
+def _series_at(built: tuple, wp: float, w_lo: float, w_hi: float, theta_cr: float) -> CycleMap:
+    """The band's grid summed over the Chebyshev polynomials of log(omega_p) at `wp`."""
     lo, hi, theta_lo, (c_logd, c_time, c_phi), k_step = built
     # the opening lies below a map that ends above theta_cr: the iteration may stop one
     # cycle before its end, not LAST_CYCLES
-    last = 1 if theta_lo > problems[idx[0]].p[P_THETA_CR] else LAST_CYCLES
-    for i in idx:
-        wp = abs(float(problems[i].y0[7]))
-        x = (2.0 * math.log(wp) - math.log(w_lo) - math.log(w_hi)) / math.log(w_hi / w_lo)
-        t_w = np.cos(np.arange(c_logd.shape[1]) * math.acos(min(1.0, max(-1.0, x))))
-        maps[i] = CycleMap(
-            lo, hi, c_logd @ t_w, (c_time @ t_w) * (math.pi / wp), c_phi @ t_w, k_step,
-            theta_lo, last,
-        )  # fmt: skip
+    last = 1 if theta_lo > theta_cr else LAST_CYCLES
+    x = (2.0 * math.log(wp) - math.log(w_lo) - math.log(w_hi)) / math.log(w_hi / w_lo)
+    t_w = np.cos(np.arange(c_logd.shape[1]) * math.acos(min(1.0, max(-1.0, x))))
+    return CycleMap(
+        lo, hi, c_logd @ t_w, (c_time @ t_w) * (math.pi / wp), c_phi @ t_w, k_step, theta_lo,
+        last,
+    )  # fmt: skip
 
 
 class _Grid:
     """Node cycles of one group on a (theta, spin) grid, each integrated once."""
 
-    def __init__(self, problem: Problem, controls: Controls, run: RunCycles) -> None:
-        self.problem, self.controls, self.run = problem, controls, run
-        self.wp = float(problem.y0[7])
-        self.theta0 = nutation_angle_of_state(problem.y0, problem.p)
+    def __init__(self, group: _Group, run: RunCycles) -> None:
+        self.group, self.run = group, run
+        self.theta0 = nutation_angle_of_state(
+            np.r_[group.attitude, group.rates * group.sign], group.p
+        )
         self.nodes: dict[float, _Nodes] = {}
 
     def interval(self, w_hi: float) -> tuple[float, float, float]:
@@ -204,7 +251,7 @@ class _Grid:
         (0, 90 deg)) or to where the stick ratio kappa = omega_p^2 |C - A| sin(2 theta)
         / (2 M) reaches :data:`KAPPA_END` at `w_hi` (theta above 45 deg, where kappa
         peaks), whichever is higher."""
-        p = self.problem.p
+        p = self.group.p
         theta_cr = float(p[P_THETA_CR])
         theta_lo = theta_cr if 0.0 < theta_cr < 0.5 * math.pi else THETA_LOW
         s = 2.0 * KAPPA_END * moment_scale(p) / (w_hi * w_hi * abs(p[P_C] - p[P_A]))
@@ -213,13 +260,15 @@ class _Grid:
         return abscissa(theta_lo), abscissa(self.theta0), theta_lo
 
     def at_spin(self, wp: float) -> _Nodes:
-        """The node runs at spin `wp` [rad/s] (its sign that of the group)."""
+        """The node runs at spin `wp` [rad/s] (its sign that of the group), from the
+        group's spin-normalised data."""
         if wp not in self.nodes:
-            r = wp / abs(self.wp)
-            y0 = self.problem.y0 * np.r_[1.0, 1.0, 1.0, 1.0, r, r, r, r]
-            scale = self.problem.scale * np.r_[1.0, 1.0, 1.0, 1.0, r, r, r, r]
-            ctl = self.controls._replace(h0=self.controls.h0 / r, h_max=self.controls.h_max / r)
-            self.nodes[wp] = _Nodes(self.problem._replace(y0=y0, scale=scale), ctl, self.run)
+            g = self.group
+            rates = np.r_[1.0, 1.0, 1.0, 1.0, wp, wp, wp, wp]
+            y0 = np.r_[g.attitude, g.rates * (g.sign * wp)]
+            problem = Problem(y0, g.p, g.scale * rates)
+            ctl = g.controls._replace(h0=g.controls.h0 / wp, h_max=g.controls.h_max / wp)
+            self.nodes[wp] = _Nodes(problem, ctl, self.run)
         return self.nodes[wp]
 
     def cycles_ahead(self, w_lo: float, w_hi: float) -> float:
@@ -246,7 +295,7 @@ class _Grid:
         lo, hi, theta_lo = self.interval(w_hi)
         if not (self.theta0 > theta_lo and w_hi > w_lo):
             return None
-        tol = MAP_TOL * self.controls.rtol
+        tol = MAP_TOL * self.group.controls.rtol
         n_t, n_w = 9, 5
         while True:
             thetas, spins = node_thetas(lo, hi, n_t), _node_spins(w_lo, w_hi, n_w)
