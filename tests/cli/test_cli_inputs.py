@@ -186,8 +186,8 @@ def test_fifos_and_empty_names_do_not_hang(tmp_path):
         ("NUMBA_OPT", "abc"),
         ("NUMBA_DISABLE_JIT", "x"),
         ("OBTURATOR_DEBUG", "yes"),
-        ("OBTURATOR_LANES", "2"),
-        ("OBTURATOR_SLIP_LANES", "on"),
+        ("OBTURATOR_LANES", "0"),  # retired: a solver path is an option, never a variable
+        ("OBTURATOR_SLIP_LANES", "1"),
     ],
 )
 def test_environment_variables_are_checked_at_start_up(variable, value):

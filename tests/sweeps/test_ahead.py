@@ -121,7 +121,7 @@ def test_sweep_with_helper_is_identical_to_sweep_without(monkeypatch):
 
 def test_warm_process_does_not_pack_ahead(monkeypatch):
     """Integrators already loaded: nothing to overlap, no helper."""
-    points.warm(SPEC.options, radau_lanes=False)
+    points.warm(SPEC.options)
     called = []
     monkeypatch.setattr("obturator.sweeps.job.pack_ahead", lambda *a, **k: called.append(1))
     run = execute_sweep(SPEC, runner=Runner(workers=2, chunk_size=2))

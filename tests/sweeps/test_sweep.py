@@ -232,11 +232,12 @@ def test_solver_failure_is_recorded(monkeypatch: pytest.MonkeyPatch) -> None:
     def fail(case: object, options: object) -> float:
         raise RuntimeError("step limit")
 
-    # the failure is injected into the per-point path; the lanes' statuses are
-    # checked against it in tests/core/test_lanes.py
-    monkeypatch.setenv("OBTURATOR_LANES", "0")
+    # the failure is injected into the per-point path of a method outside the packed
+    # path; the lanes' statuses are checked against it in tests/core/test_lanes.py
     monkeypatch.setattr("obturator.solve.many.opening_time", fail)
-    ds = run_sweep(small_spec(axes={"spin_rate": [300.0, 400.0]}), runner=Runner(workers=1))
+    spec = small_spec(axes={"spin_rate": [300.0, 400.0]})
+    spec = replace(spec, options=replace(spec.options, method="radau"))
+    ds = run_sweep(spec, runner=Runner(workers=1))
     assert ds["status"].values.tolist() == [Status.FAILED] * 2
     assert np.all(np.isnan(ds["t_cr"].values))
 
