@@ -5,8 +5,8 @@
 
 For each size, case, tolerance setting and worker count: a sweep through
 :func:`obturator.sweeps.execute_sweep` in lanes, in lanes with the stiff points
-continued one by one (``OBTURATOR_RADAU_LANES=0``, the previous release's batched
-path) and with ``OBTURATOR_LANES=0`` (one trajectory at a time); points/s as the
+continued in the scalar Radau IIA (the solver option ``radau_lanes=False``) and
+one trajectory at a time (``lanes=False, radau_lanes=False``); points/s as the
 sweep reports them (pool start included, compiled code loaded beforehand), the
 ratios, and the accuracy of the batched results: every point against the scalar
 path's t_cr (same options) and a seeded sample of 100 against Radau IIA at rtol
@@ -22,11 +22,11 @@ from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
-from benchmarks._module import environment
 from obturator.model.cases import flight_case, rig_case
 from obturator.runs import Runner
 from obturator.solve import OPENING_TIME_ACCURACY, SolverOptions, opening_time
@@ -52,14 +52,17 @@ def _spec(case: str, n: int, tcr_rtol: str = "default") -> tuple[SweepSpec, np.n
     return SweepSpec(case="flight", axes={"mach": x}, options=o), x
 
 
-#: path -> (OBTURATOR_LANES, OBTURATOR_RADAU_LANES)
-_PATHS = {"lanes": ("1", "1"), "stiff-one-by-one": ("1", "0"), "scalar": ("0", "1")}
+#: path -> the solver options (lanes, radau_lanes) it sets
+_PATHS = {
+    "lanes": {"lanes": True, "radau_lanes": True},
+    "stiff-one-by-one": {"lanes": True, "radau_lanes": False},
+    "scalar": {"lanes": False, "radau_lanes": False},
+}
 
 
 def _sweep(spec: SweepSpec, workers: int, path: str) -> tuple[float, np.ndarray]:
-    names = ("OBTURATOR_LANES", "OBTURATOR_RADAU_LANES")
-    with environment(dict(zip(names, _PATHS[path], strict=True))):
-        run = execute_sweep(spec, runner=Runner(workers=workers))
+    spec = replace(spec, options=replace(spec.options, **_PATHS[path]))
+    run = execute_sweep(spec, runner=Runner(workers=workers))
     return run.elapsed_s, np.asarray(run.dataset["t_cr"].values, dtype=float).ravel()
 
 

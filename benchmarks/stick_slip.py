@@ -16,8 +16,7 @@ front door, :func:`obturator.solve.opening_times`, same workers) with the defaul
 method ("auto": set-valued below the stick-ratio threshold of
 :mod:`obturator.solve.dispatch`, its points of one band of spins sharing return maps,
 regularised lanes above), with each set-valued point building its own map
-(``OBTURATOR_SHARED_MAPS=0``), with each running its last slip itself instead of in
-the DOP853 lanes (``OBTURATOR_SLIP_LANES=0``) and with "regularised", in the same run:
+(``shared_maps=False``, the solver option) and with "regularised", in the same run:
 points/s, the
 ratios, and the worst error of a seeded sample of points against the set-valued solver
 at rtol 1e-12.
@@ -75,15 +74,15 @@ def cost(spins: Sequence[float] = SPINS, repeat: int = 5) -> list[dict[str, Any]
 #: The sweep's range [rad/s] and the points of its full and quick runs.
 SWEEP_RANGE = (40.0, 1000.0)
 SWEEP_POINTS, SWEEP_POINTS_QUICK = 10_000, 500
-#: The sweep's paths: label -> (method, environment). "own maps" is the default with
-#: each set-valued point building its own return map (before the shared maps of
-#: :mod:`obturator.core.integrators.stick_slip_family`), "own slips" with each running
-#: its last slip itself (before :mod:`obturator.core.integrators.stick_slip_lanes`).
-SWEEP_PATHS: dict[str, tuple[str, dict[str, str]]] = {
-    "auto": ("auto", {}),
-    "auto, own maps": ("auto", {"OBTURATOR_SHARED_MAPS": "0"}),
-    "auto, own slips": ("auto", {"OBTURATOR_SLIP_LANES": "0"}),
-    "regularised": ("regularised", {}),
+#: The sweep's paths: label -> solver options. "auto" is ``obturator sweep``'s default
+#: (the band maps of :mod:`obturator.core.integrators.stick_slip_family`), "own maps"
+#: each set-valued point with its own return map, "scalar Radau" the regularised law's
+#: stiff stretches in the scalar Radau IIA.
+SWEEP_PATHS: dict[str, dict[str, Any]] = {
+    "auto": {"shared_maps": True},
+    "auto, own maps": {"shared_maps": False},
+    "auto, scalar Radau": {"shared_maps": True, "radau_lanes": False},
+    "regularised": {"method": "regularised"},
 }
 
 
@@ -93,18 +92,16 @@ def sweep(
     """One row per worker count: points/s of each of :data:`SWEEP_PATHS`, the ratios of
     ``auto`` to the others, and each path's worst and median error on `n_check` seeded
     points against :data:`REFERENCE`."""
-    from benchmarks._module import environment
     from benchmarks.operating_range import throughput
 
     rows = []
     for k in workers:
         row: dict[str, Any] = {"n_points": n_points, "spin_range_rad_s": list(SWEEP_RANGE)}
-        for label, (method, env) in SWEEP_PATHS.items():
-            opts = SolverOptions(method=method)  # type: ignore[arg-type]
-            with environment(env):
-                row[label] = throughput(
-                    n_points, SWEEP_RANGE, k, options=opts, n_check=n_check, reference=REFERENCE
-                )
+        for label, fields in SWEEP_PATHS.items():
+            opts = SolverOptions(**fields)
+            row[label] = throughput(
+                n_points, SWEEP_RANGE, k, options=opts, n_check=n_check, reference=REFERENCE
+            )
         row["workers"] = row["auto"]["workers"]
         auto = row["auto"]["points_per_s"]
         row["ratio"] = {
