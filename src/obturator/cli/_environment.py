@@ -23,9 +23,9 @@ SWITCHES: dict[str, str] = {
 #: Variables that once chose a solver path and are no longer read: a path is a solver
 #: option, recorded in each result's route and in the study digest; each names it.
 RETIRED: dict[str, str] = {
-    "OBTURATOR_LANES": "the solver option 'lanes' (config key lanes = false)",
-    "OBTURATOR_RADAU_LANES": "the solver option 'radau_lanes' (config key radau_lanes = false)",
-    "OBTURATOR_SHARED_MAPS": "the solver option 'shared_maps' (config key shared_maps)",
+    "OBTURATOR_LANES": "SolverOptions(lanes=False) in Python",
+    "OBTURATOR_RADAU_LANES": "SolverOptions(radau_lanes=False) in Python",
+    "OBTURATOR_SHARED_MAPS": "SolverOptions(shared_maps=...) in Python",
     "OBTURATOR_SLIP_LANES": "nothing: the last slips no longer run in lanes",
 }
 _ON_OFF = ("", "0", "1")

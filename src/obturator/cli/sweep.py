@@ -28,6 +28,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -72,7 +73,9 @@ def _run_sweep(args: argparse.Namespace) -> int:
         fixed,
         torque_model=args.torque_model,
         spin_mode=args.spin_mode,
-        options=study_options(args),
+        # the cases of a sweep share their spin bands' return maps (a solver option,
+        # recorded in each point's route and in the study digest)
+        options=replace(study_options(args), shared_maps=True),
         t_max=study_t_max(args),
         check_convergence=args.check_convergence,
         speed_law=args.speed_law,

@@ -57,6 +57,8 @@ class SweepSpec:
     torque_model : {"thesis", "coulomb"}
     spin_mode : {"constant", "free", "thesis-energy"}
     options : SolverOptions
+        Default: the defaults with ``shared_maps=True`` (a sweep's cases that differ in
+        spin alone reuse their spin band's return map; :mod:`obturator.solve.plan`).
     t_max : float or None
         Give-up time [s]; None keeps the factory default (100 s rig, 0.5 s flight).
     check_convergence : bool
@@ -93,7 +95,7 @@ class SweepSpec:
     fixed: Mapping[str, float] = field(default_factory=dict)
     torque_model: str = "thesis"
     spin_mode: str = "constant"
-    options: SolverOptions = field(default_factory=SolverOptions)
+    options: SolverOptions = field(default_factory=lambda: SolverOptions(shared_maps=True))
     t_max: float | None = None
     check_convergence: bool = False
     speed_law: str = "constant"
