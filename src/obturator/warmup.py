@@ -99,13 +99,10 @@ def _load_set_valued_study() -> None:
     (2 s of a 2,000-point sweep's 3.4-3.7 s), and, numba binding a freshly compiled
     function's callees differently from a loaded one's (:mod:`benchmarks.cache_binding`),
     gave 109 of its 2,000 t_cr (40-114 rad/s) up to 2.4e-9 apart from every later run's."""
-    from .core.integrators.stick_slip_modes import slip_floor
     from .model.cases import rig_case
-    from .solve import SolverOptions, integration_setup, opening_times
+    from .solve import SolverOptions, opening_times
 
-    opening_times([rig_case(w, 0.5473) for w in (60.0, 62.0)], SolverOptions())
-    problem, controls = integration_setup(rig_case(100.0, 0.5473), SolverOptions())
-    slip_floor(problem.p, controls.h_max)
+    opening_times([rig_case(w, 0.5473) for w in (60.0, 62.0)], SolverOptions(shared_maps=True))
 
 
 def load_radau_lanes() -> None:
