@@ -10,7 +10,6 @@ side by side, and leaves the machine code in the cache directory of
 
 from __future__ import annotations
 
-import os
 import time
 from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_context
@@ -150,5 +149,12 @@ def warm_up(*, jobs: int = 2, everything: bool = False) -> dict[str, object]:
         "seconds": {m: s for m, s, _, _ in done},
         "compiled": {m: c for m, _, _, c in done},
         "wall_s": time.perf_counter() - t0,
-        "directory": done[0][2] or os.environ.get("NUMBA_CACHE_DIR"),
+        "directory": done[0][2] or _numba_cache_dir(),
     }
+
+
+def _numba_cache_dir() -> str:
+    """numba's cache folder as numba read it (``NUMBA_CACHE_DIR``)."""
+    import numba
+
+    return str(numba.config.CACHE_DIR)

@@ -130,3 +130,44 @@ def test_every_route_name_is_unique_and_invalid_is_zero():
     assert len(set(ROUTES)) == len(ROUTES) and ROUTES[0] == "invalid"
     t, _, stats = opening_times([rig_case(300.0, 0.5473)], SolverOptions(method="radau"))
     assert stats["routes"] == {"radau": 1} and math.isfinite(t[0])
+
+
+def test_every_solver_option_is_in_the_study_digest():
+    """Flip each SolverOptions field: the sweep digest (what a resume store is keyed by)
+    changes, so a study never mixes points computed under two settings."""
+    from dataclasses import fields
+
+    from obturator.sweeps import SweepSpec
+
+    base = SweepSpec(axes={"spin_rate": [100.0, 200.0]})
+    flipped = {
+        "rtol": 1e-9, "atol": 1e-11, "friction_width": 1e-6, "friction_family": "tanh",
+        "formulation": "euler", "max_steps": 1000, "event_tol": 1e-10, "max_step": 1e-3,
+        "method": "regularised", "fixed_step": None, "lanes": False, "radau_lanes": False,
+        "shared_maps": False,
+    }  # fmt: skip
+    assert set(flipped) == {f.name for f in fields(SolverOptions)}
+    for name, value in flipped.items():
+        if name == "fixed_step":  # only with moreau-jean
+            other = replace(base.options, method="moreau-jean", fixed_step=1e-5)
+        else:
+            other = replace(base.options, **{name: value})
+        assert replace(base, options=other).digest() != base.digest(), name
+
+
+def test_no_environment_is_read_below_the_cli():
+    """A result never depends on an environment variable: only ``cli/`` (the program's
+    edge) reads the environment."""
+    import re
+    from pathlib import Path
+
+    import obturator
+
+    root = Path(obturator.__file__).parent
+    pattern = re.compile(r"os\.environ|os\.getenv|environ\.get")
+    offenders = [
+        str(p.relative_to(root))
+        for p in root.rglob("*.py")
+        if "cli" not in p.relative_to(root).parts[:1] and pattern.search(p.read_text())
+    ]
+    assert not offenders, offenders

@@ -18,7 +18,6 @@ warm starts). Either way a damaged cache file is set aside and recompiled
 from __future__ import annotations
 
 import hashlib
-import os
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -63,11 +62,13 @@ def configure_cache() -> str | None:
     from .cache_guard import install
 
     install()
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        return None
     import numba
 
-    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    import platformdirs
+
+    base = platformdirs.user_cache_path()  # $XDG_CACHE_HOME or ~/.cache on Linux
     path = str(base / "obturator" / "numba" / core_digest())
+    if numba.config.CACHE_DIR and numba.config.CACHE_DIR != path:
+        return None  # NUMBA_CACHE_DIR, as numba read it
     numba.config.CACHE_DIR = path
     return path
