@@ -16,8 +16,7 @@ front door, :func:`obturator.solve.opening_times`, same workers) with the defaul
 method ("auto": set-valued below the stick-ratio threshold of
 :mod:`obturator.solve.dispatch`, its points of one band of spins sharing return maps,
 regularised lanes above), with each set-valued point building its own map
-(``OBTURATOR_SHARED_MAPS=0``), with each running its last slip itself instead of in
-the DOP853 lanes (``OBTURATOR_SLIP_LANES=0``) and with "regularised", in the same run:
+(``OBTURATOR_SHARED_MAPS=0``) and with "regularised", in the same run:
 points/s, the
 ratios, and the worst error of a seeded sample of points against the set-valued solver
 at rtol 1e-12.
@@ -77,12 +76,10 @@ SWEEP_RANGE = (40.0, 1000.0)
 SWEEP_POINTS, SWEEP_POINTS_QUICK = 10_000, 500
 #: The sweep's paths: label -> (method, environment). "own maps" is the default with
 #: each set-valued point building its own return map (before the shared maps of
-#: :mod:`obturator.core.integrators.stick_slip_family`), "own slips" with each running
-#: its last slip itself (before :mod:`obturator.core.integrators.stick_slip_lanes`).
+#: :mod:`obturator.core.integrators.stick_slip_family`).
 SWEEP_PATHS: dict[str, tuple[str, dict[str, str]]] = {
     "auto": ("auto", {}),
     "auto, own maps": ("auto", {"OBTURATOR_SHARED_MAPS": "0"}),
-    "auto, own slips": ("auto", {"OBTURATOR_SLIP_LANES": "0"}),
     "regularised": ("regularised", {}),
 }
 

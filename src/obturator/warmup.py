@@ -77,7 +77,7 @@ def _load(method: str) -> None:
         integrate_lanes(
             pr.y0[None], 0.0 * one, pr.p[None], pr.scale[None], c.t_max * one, c.h0 * one,
             c.h_max * one, np.full(1, c.max_steps), np.zeros(1, dtype=np.int64), c.rtol,
-            c.atol, c.event_tol, 16, np.zeros(1),
+            c.atol, c.event_tol, 16,
         )  # fmt: skip
         return
     # a short run that stays non-stiff: "regularised" compiles DOP853 alone; each process
@@ -92,20 +92,16 @@ def _load(method: str) -> None:
 
 def _load_set_valued_study() -> None:
     """Load (or compile) what a study's set-valued points run beyond opening_time: the
-    return map two spins share (60 and 62 rad/s, ~0.3 s) and the floor of the last slips'
-    hand-off to the DOP853 lanes (the lanes themselves are the "lanes" target).
+    return map two spins share (60 and 62 rad/s, ~0.3 s).
 
     Without it the first study after ``obturator warmup`` compiled these in every worker
     (2 s of a 2,000-point sweep's 3.4-3.7 s), and, numba binding a freshly compiled
     function's callees differently from a loaded one's (:mod:`benchmarks.cache_binding`),
     gave 109 of its 2,000 t_cr (40-114 rad/s) up to 2.4e-9 apart from every later run's."""
-    from .core.integrators.stick_slip_modes import slip_floor
     from .model.cases import rig_case
-    from .solve import SolverOptions, integration_setup, opening_times
+    from .solve import SolverOptions, opening_times
 
     opening_times([rig_case(w, 0.5473) for w in (60.0, 62.0)], SolverOptions())
-    problem, controls = integration_setup(rig_case(100.0, 0.5473), SolverOptions())
-    slip_floor(problem.p, controls.h_max)
 
 
 def load_radau_lanes() -> None:

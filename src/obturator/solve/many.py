@@ -14,9 +14,8 @@ reruns too) the cases are integrated together in the SIMD lanes of
    :func:`~obturator.solve.opening_time` runs them, but cases differing in spin alone
    share their cycles' return maps (:mod:`obturator.core.integrators.stick_slip_family`:
    t_cr within 5.3e-7 of :func:`~obturator.solve.opening_time` on 1,855 points of a
-   40-1000 rad/s sweep, closer to the width-free limit) and run their last slips on in
-   DOP853 lanes (:mod:`obturator.core.integrators.stick_slip_lanes`: within 2.4e-9 of
-   each case alone; :mod:`obturator.solve.one_by_one`), and the rest in lanes with the
+   40-1000 rad/s sweep, closer to the width-free limit;
+   :mod:`obturator.solve.one_by_one`), and the rest in lanes with the
    regularised law; those are grouped by right-hand-side kernel, and a group too
    small for lanes to pay (:func:`lanes_pay_from`: under five thesis-kernel points,
    under :data:`RADAU_LANES_MIN_GENERIC` of the generic kernel, whose lanes do not
@@ -476,7 +475,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
         st, t_ev = _advance(
             integrate_lanes, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps,
             np.argsort(-spin[sel], kind="stable"), options.rtol, options.atol,
-            options.event_tol, n_lanes, np.zeros(sel.size),
+            options.event_tol, n_lanes,
         )  # fmt: skip
         _settle(sel, st, t_ev, st != Status.STIFF, end_status, t_event)
         stiff = sel[st == Status.STIFF]

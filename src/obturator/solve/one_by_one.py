@@ -6,13 +6,9 @@ under ``method="set-valued"``), and right-hand-side kernels with too few points 
 lanes to pay. :func:`run_one_by_one` runs such a set of points as
 :func:`~obturator.solve.opening_time` would, one integrator call each, except that
 
-* set-valued points that differ in spin alone share their cycles' return maps
-  (:mod:`obturator.core.integrators.stick_slip_family`; ``OBTURATOR_SHARED_MAPS=0``: each
-  builds its own), and
-* where only t_cr is wanted, a set-valued point's last slip (past stick ratio 0.8,
-  where the ball no longer sticks) goes on with the others' in DOP853 lanes
-  (:mod:`obturator.core.integrators.stick_slip_lanes`; ``OBTURATOR_SLIP_LANES=0``: in
-  the one-case solver).
+set-valued points that differ in spin alone share their cycles' return maps
+(:mod:`obturator.core.integrators.stick_slip_family`; ``OBTURATOR_SHARED_MAPS=0``: each
+builds its own).
 """
 
 from __future__ import annotations
@@ -26,7 +22,6 @@ import numpy as np
 from ..core.integrators import Controls, Problem, RawSolution, integrate
 from ..core.integrators.stick_slip import integrate as integrate_set_valued
 from ..core.integrators.stick_slip_family import shared_maps
-from ..core.integrators.stick_slip_lanes import finish_in_lanes
 from ..core.layout import N_STATE
 from ..errors import InputError
 from ..status import Status
@@ -72,8 +67,7 @@ def run_one_by_one(
     (``"set-valued"`` or ``"regularised"``; see the module), with `to_t_max` to
     ``t_max`` with an output there (:func:`~obturator.solve.advance`), else to the
     opening. Returns their runs and the right-hand sides spent on shared maps."""
-    hand_off = chosen == "set-valued" and not to_t_max and env_switch("OBTURATOR_SLIP_LANES")
-    setups = [_point_setup(packed, int(k), options, chosen, to_t_max, hand_off) for k in idx]
+    setups = [_point_setup(packed, int(k), options, chosen, to_t_max) for k in idx]
     problems, controls = [s[0] for s in setups], [s[1] for s in setups]
     maps: list[CycleMap | None] = [None] * len(idx)
     nfev = 0
@@ -81,8 +75,6 @@ def run_one_by_one(
         maps, counts = shared_maps(problems, controls)
         nfev = int(counts[0])
     runs = [_point(*setup, chosen, m) for setup, m in zip(setups, maps, strict=True)]
-    if hand_off:
-        runs = finish_in_lanes(problems, controls, runs, n_lanes)
     return runs, nfev
 
 
@@ -92,19 +84,16 @@ def _point_setup(
     options: SolverOptions,
     chosen: str,
     to_t_max: bool,
-    hand_off: bool,
 ) -> tuple[Problem, Controls]:
     """Point `k`'s problem and controls for the integrator `chosen`, as
     :func:`~obturator.solve.opening_time` builds them (with `to_t_max`, as
-    :func:`~obturator.solve.advance`'s one-by-one path: an output at t_max), with
-    `hand_off` a set-valued point's last slip to the DOP853 lanes."""
+    :func:`~obturator.solve.advance`'s one-by-one path: an output at t_max)."""
     problem = Problem(packed.y0[k], packed.p[k], packed.scale[k])
     t_max = float(packed.t_max[k])
     controls = integration_controls(
         options, t_max, float(packed.h0[k]), float(packed.h_max[k]),
         t_eval=np.array([t_max]) if to_t_max else None,
     )  # fmt: skip
-    controls = controls._replace(hand_back=hand_off)
     return problem, dispatched_controls(options.method, chosen, controls)
 
 

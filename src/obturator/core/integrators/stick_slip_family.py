@@ -58,7 +58,14 @@ from .stick_slip_map import (
     node_thetas,
 )
 
-__all__ = ["BAND_RATIO", "KAPPA_END", "MAX_SPIN_NODES", "MIN_CYCLES", "MIN_SPINS", "shared_maps"]
+__all__ = [
+    "BAND_RATIO",
+    "KAPPA_END",
+    "MAX_SPIN_NODES",
+    "BAND_MIN_CYCLES",
+    "MIN_SPINS",
+    "shared_maps",
+]
 
 #: Stick ratio kappa down to which a band's map reaches (theta_lo of
 #: :meth:`_Grid.interval`): on the rig (Table 1, mu_s 0.5473) a cycle from B(theta)
@@ -81,7 +88,7 @@ MIN_SPINS = 12
 #: :data:`~.stick_slip_map.LAST_CYCLES` of them anyway. On the rig (mu_s 0.5473) from
 #: ~125 rad/s up fewer are left above kappa = :data:`KAPPA_END` (120 rad/s: 5.1, 140:
 #: 2.1, 160: 0.6), where the grids made the 150-218 rad/s points 8 % slower.
-MIN_CYCLES = 4.0
+BAND_MIN_CYCLES = 4.0
 #: Most spin nodes of a band (Chebyshev-Lobatto levels 5, 9, 17).
 MAX_SPIN_NODES = 17
 
@@ -162,7 +169,7 @@ def _fill_band(idx, problems, controls, run, maps, counts) -> None:
     w_lo = abs(float(problems[idx[0]].y0[7]))
     w_hi = abs(float(problems[idx[-1]].y0[7]))
     try:
-        pays = grid.cycles_ahead(w_lo, w_hi) >= MIN_CYCLES
+        pays = grid.cycles_ahead(w_lo, w_hi) >= BAND_MIN_CYCLES
         built = grid.build(w_lo, w_hi) if pays else None
     except (RuntimeError, ArithmeticError):  # a node that fails: its cases run alone
         pays, built = False, None
