@@ -68,7 +68,7 @@ def raw_solve(
         record=record,
         terminal=terminal,
         event_tol=options.event_tol,
-        hand_back=hand_back,
+        stop_when_sliding=hand_back,
     )
     problem = Problem(y0, p, error_scale(case, options.formulation), t0)
     return integrate(method or options.method, problem, controls), p

@@ -23,11 +23,11 @@ class Status(IntEnum):
     """Outcome of one integration or one study point.
 
     Integrator values: ``OPENED`` (1), ``T_MAX`` (0), ``STEP_LIMIT`` (2),
-    ``FAILED`` (-1), ``STIFF`` (3, DOP853 only: the ``auto`` method then continues
-    with Radau IIA, so results never carry it), ``NONSTIFF`` (6, Radau IIA under
-    ``auto`` only: sliding has resumed for half a revolution, ``auto`` goes back to
-    DOP853; the set-valued solver of a study's point: its last slip goes on in DOP853
-    lanes, :mod:`obturator.core.integrators.stick_slip_lanes`; results never carry it).
+    ``FAILED`` (-1), and two hand-over signals between the explicit and the implicit
+    method that results never carry (:mod:`obturator.core.integrators.switching`):
+    ``STIFF`` (3, DOP853 only: stiff here, Radau IIA continues) and ``NONSTIFF`` (6,
+    Radau IIA under ``auto`` only: sliding has resumed for half a revolution, DOP853
+    continues).
     Study values:
     ``INVALID_INPUT`` (-2, the point is not a valid case and was not
     integrated), ``UNCONVERGED`` (4, opened but t_cr moved by more than the

@@ -13,7 +13,7 @@ from conftest import THESIS_CASES, raw_solve
 from obturator import Case, SolverOptions, TorqueModel, rig_case, simulate
 from obturator.core.dynamics import nutation_angle_of_state, slip_and_spin
 from obturator.core.integrators import AUTO_HAND_BACKS, AUTO_RADAU_TOL_FACTOR
-from obturator.core.integrators.radau_control import SLIDING_WIDTHS
+from obturator.core.integrators.switching import SLIDING_WIDTHS
 from obturator.core.layout import P_WIDTH
 from obturator.model.cases import table1_ball
 from obturator.solve import opening_time

@@ -63,7 +63,6 @@ def configure_cache() -> str | None:
 
     install()
     import numba
-
     import platformdirs
 
     base = platformdirs.user_cache_path()  # $XDG_CACHE_HOME or ~/.cache on Linux

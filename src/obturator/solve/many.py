@@ -432,7 +432,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
         st, t_ev = _advance(
             dop853, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps,
             np.argsort(-spin[sel], kind="stable"), options.rtol, options.atol,
-            options.event_tol, n_lanes, np.zeros(sel.size),
+            options.event_tol, n_lanes,
         )  # fmt: skip
         _settle(sel, st, t_ev, st != Status.STIFF, end_status, t_event)
         stiff = sel[st == Status.STIFF]
@@ -474,12 +474,11 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
 
 
 def _dop853_one_by_one(
-    y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes,
-    slip_floor,
+    y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes
 ):  # fmt: skip
     """:func:`integrate_lanes`'s contract, point by point through the scalar DOP853 (the
-    same arithmetic: the lanes run it per lane); `order`, `n_lanes` and `slip_floor`
-    (always 0 here) are the lanes' and unused."""
+    same arithmetic: the lanes run it per lane); `order` and `n_lanes` are the lanes'
+    and unused."""
     run = method_module("dop853").integrate
     n = y0.shape[0]
     st = np.zeros(n, dtype=np.int8)

@@ -9,11 +9,18 @@ what they share. Methods:
   ``STIFF`` in sticking phases;
 * :mod:`.radau`: fifth-order Radau IIA collocation (simplified Newton); under
   ``auto`` reports ``NONSTIFF`` once sliding has resumed;
+* :mod:`.stick_slip`: the set-valued (width-free) law, event-driven: exact stick and
+  slip modes (:mod:`.stick_slip_modes`, the admissible set of
+  :mod:`obturator.core.friction_sets`), slips by the phases of :mod:`.radau` and
+  stretches of :mod:`.dop853`;
+* :mod:`.moreau_jean`: the same law by time-stepping (Moreau-Jean), first order, a
+  cross-check;
 * :mod:`.rosenbrock`: Shampine's L-stable Rosenbrock pair (ode23s).
 
 :func:`integrate` dispatches on the method name of :data:`obturator.vocab.METHODS`;
 ``"auto"`` is DOP853 handing the run over to Radau IIA in flight when DOP853
-reports stiffness, and back when sliding has resumed: each continues from the
+reports stiffness, and back when sliding has resumed (one switch policy for every
+driver: :mod:`.switching`): each continues from the
 other's last accepted state and time (counters add up; outputs join). The method
 modules (and numba) are imported on first use.
 """
@@ -25,10 +32,12 @@ import importlib
 import numpy as np
 
 from .contract import Controls, Problem, RawSolution, Status
+from .switching import SWITCH
 
 __all__ = [
     "AUTO_HAND_BACKS",
     "AUTO_RADAU_TOL_FACTOR",
+    "CORE_METHODS",
     "auto_radau_tolerances",
     "continue_auto",
     "Controls",
@@ -62,14 +71,19 @@ _MODULES = {
 }
 
 
+#: Every method :func:`integrate` runs: ``"auto"`` (the regularised law, DOP853 and
+#: Radau IIA switching) and the one-module methods above.
+CORE_METHODS: tuple[str, ...] = ("auto", *_MODULES)
+
+
 def method_module(name: str):
     """The module of one compiled method (``"dop853"``, ``"radau"``, ``"rosenbrock"``)."""
     return importlib.import_module(f".{_MODULES[name]}", __name__)
 
 
-#: Largest number of times one ``auto`` run goes back from Radau IIA to DOP853; after
-#: that Radau IIA runs to the end (bounds the cost of a run that keeps switching).
-AUTO_HAND_BACKS = 4
+#: Largest number of times one ``auto`` run goes back from Radau IIA to DOP853
+#: (:data:`.switching.SWITCH`).
+AUTO_HAND_BACKS = SWITCH.auto_hand_backs
 
 
 def integrate(method: str, problem: Problem, controls: Controls) -> RawSolution:
@@ -89,7 +103,7 @@ def continue_auto(
 
     Where DOP853 reports ``STIFF``, Radau IIA continues from its last accepted state
     (:func:`_hand_over`); where sliding then resumes for half a revolution (status
-    ``NONSTIFF``, :func:`.radau_control.sliding_resumed`), DOP853 again, and so on,
+    ``NONSTIFF``, :func:`.switching.sliding_resumed`), DOP853 again, and so on,
     at most :data:`AUTO_HAND_BACKS` times in all (`hand_backs` already done). On the
     rig the stiff stretch is the stick-slip phase after release; the sliding that
     follows costs DOP853 far less than Radau IIA. The batched lanes
@@ -118,7 +132,7 @@ def _hand_over(
     """
     radau = method_module("radau").integrate
     rtol, atol = auto_radau_tolerances(controls.rtol, controls.atol)
-    stiff = controls._replace(rtol=rtol, atol=atol, hand_back=hand_back)
+    stiff = controls._replace(rtol=rtol, atol=atol, stop_when_sliding=hand_back)
     if not (np.all(np.isfinite(dop.y_end)) and dop.t_end > problem.t0):
         rad = radau(problem, stiff)
         return rad._replace(nfev=rad.nfev + dop.nfev, n_rejected=rad.n_rejected + dop.n_rejected)

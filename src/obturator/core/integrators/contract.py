@@ -77,13 +77,11 @@ class Controls(NamedTuple):
     terminal: bool
     #: Bracket width at which the event time is accepted [s].
     event_tol: float
-    #: Radau IIA (set by ``auto``): stop with status ``NONSTIFF`` once the slip speed has
-    #: stayed above the saturation of the regularised Coulomb law for half a revolution
-    #: (:func:`.radau_control.sliding_resumed`), so that ``auto`` continues with the cheaper
-    #: explicit method. The set-valued solver (set by the front door for a study's points):
-    #: stop with ``NONSTIFF`` in a slip past stick ratio 0.8, for the DOP853 lanes
-    #: (:mod:`.stick_slip_lanes`).
-    hand_back: bool = False
+    #: Radau IIA only (set by ``auto``): stop with the hand-over signal ``NONSTIFF`` once
+    #: the slip speed has stayed above the saturation of the regularised Coulomb law for
+    #: half a revolution (:func:`.switching.sliding_resumed`), so that ``auto`` continues
+    #: with the cheaper explicit method. Every other integrator ignores it.
+    stop_when_sliding: bool = False
 
 
 @field_docs

@@ -31,8 +31,8 @@ Radau IIA from there.
   finds h*lambda = h |f(y_new) - f(y_12)| / |y_new - y_12| beyond the stability
   boundary 6.1 on 15 accepted steps in a row (detects a sticking phase within a few
   dozen steps), when the number of accepted plus rejected steps exceeds
-  ``STEPS_PER_PERIOD`` per spin period of simulated time plus ``STEP_ALLOWANCE`` (200
-  and 1000; a backstop: non-stiff runs need ~15-70 steps per period), when the step
+  ``STEPS_PER_PERIOD`` per spin period of simulated time plus ``STEP_ALLOWANCE``
+  (the thresholds of :mod:`.switching`, shared with every driver), when the step
   size collapses, or when the state turns non-finite. The state it returns is the
   last accepted one.
 """
@@ -63,6 +63,14 @@ from .dop853_coefficients import E5 as _E5
 from .dop853_coefficients import A as _A
 from .dop853_coefficients import B as _B
 from .dop853_coefficients import C as _C
+from .switching import (
+    STEP_ALLOWANCE,
+    STEPS_PER_PERIOD,
+    STIFF_HLAMBDA,
+    STIFF_STEPS,
+    over_step_budget,
+    stiffness_count,
+)
 
 __all__ = [
     "STEPS_PER_PERIOD",
@@ -73,13 +81,6 @@ __all__ = [
     "integrate",
 ]
 
-#: Step budget per spin period of simulated time, and the fixed allowance on top.
-STEPS_PER_PERIOD = 200.0
-STEP_ALLOWANCE = 1000
-#: Hairer's stiffness test: h*lambda beyond the stability boundary of DOP853 (6.1) on
-#: this many accepted steps in a row (dop853.f uses 15) ends the run with ``STIFF``.
-STIFF_HLAMBDA = 6.1
-STIFF_STEPS = 15
 #: The step error is controlled to this fraction of the requested (rtol, atol).
 TOL_FACTOR = 0.01
 
@@ -229,7 +230,7 @@ def integrate(problem, controls):
         if n_steps >= max_steps:
             status = Status.STEP_LIMIT
             break
-        if n_steps + n_rej > steps_per_time * (t - t0) + STEP_ALLOWANCE:
+        if over_step_budget(n_steps + n_rej, steps_per_time, t, t0):
             status = Status.STIFF
             break
         if t + 1.01 * h >= t_max:
@@ -261,16 +262,10 @@ def integrate(problem, controls):
         for i in range(n):
             num += (f1[i] - k[11, i]) ** 2
             den += (ynew[i] - work[i]) ** 2
-        if stiffness_product(h, num, den) > STIFF_HLAMBDA:
-            n_calm = 0
-            n_stiff += 1
-            if n_stiff >= STIFF_STEPS:
-                status = Status.STIFF
-                break
-        else:
-            n_calm += 1
-            if n_calm >= 6:
-                n_stiff = 0
+        n_stiff, n_calm, stiff = stiffness_count(stiffness_product(h, num, den), n_stiff, n_calm)
+        if stiff:
+            status = Status.STIFF
+            break
         g_new = nutation_angle_of_state(ynew, p) - theta_cr
         if crossed(g_old, g_new, t_event):
             for i in range(n):

@@ -58,394 +58,324 @@ from numba import njit
 
 from ..dynamics import nutation_angle_of_state, rhs, slip_and_spin
 from ..jit_flags import NO_REFCOUNT, REFCOUNT
-from ..layout import FORM_EULER, N_STATE, P_FORM, P_THETA_CR, P_WIDTH
-from .common import (
-    append_row,
-    bracket_closed,
-    illinois_trial,
-    illinois_update,
-    jacobian,
-    record_row,
-    rms_norm,
-    start,
-    underflow,
-)
+from ..layout import N_STATE, P_THETA_CR, P_WIDTH
+from .common import append_row, jacobian, record_row, start, underflow
 from .contract import RawSolution, Status
-from .linalg import lu_solve
-from .radau_coefficients import (
-    C1,
-    C2,
-    E1,
-    E2,
-    E3,
-)
 from .radau_control import (
     _LIM_SHRINK,
+    ERR_GUS_MIN,
+    FIRST_CUT,
+    NEWTON_CUT,
     next_step,
     radau5_tolerances,
-    sliding_resumed,
     step_quotient,
 )
-from .radau_control import _UROUND as _UROUND  # re-exported: the lanes, stick_slip
-from .radau_step import _colloc_weights, _dense, _factor, _newton
+from .radau_step import (
+    EventWork,
+    RadauWork,
+    _factor,
+    _newton,
+    dense_rows,
+    error_estimate,
+    guess_stages,
+    locate_opening_at,
+    new_work,
+)
+from .switching import sliding_resumed
 
-__all__ = ["integrate", "locate_opening_at", "EventWork"]
+__all__ = [
+    "EventWork",
+    "RadauState",
+    "accepted_outputs",
+    "advance",
+    "attempt",
+    "factored",
+    "integrate",
+    "jump",
+    "locate_opening_at",
+    "new_state",
+    "new_work",
+    "plan_next",
+    "took_jacobian",
+]
 
-
-class EventWork(NamedTuple):
-    """The arrays the event location writes (:func:`locate_opening_at`)."""
-
-    zacc: np.ndarray  #: (3, N_STATE): receives the accepted step's stage increments
-    stage: tuple  #: (z, w, f) of the trial steps (:func:`_newton`)
-    lu: tuple  #: the trial steps' factors (:func:`_factor`)
-    scratch: tuple  #: (work, cbr, cbi)
-    ytry: np.ndarray  #: a trial state
-    y_event: np.ndarray  #: the event state
-
-
-class RadauWork(NamedTuple):
-    """The arrays of one :func:`integrate` run (:func:`_new_work`)."""
-
-    f0: np.ndarray  #: f(t, y)
-    ynew: np.ndarray  #: y + Z_3: the step's end
-    fwork: np.ndarray  #: right-hand side scratch
-    scal: np.ndarray  #: reciprocal error weights 1 / (atol scale_i + rtol |y_i|)
-    err_v: np.ndarray  #: right side of the error estimate
-    jac: np.ndarray  #: (N_STATE, N_STATE) Jacobian
-    stage: tuple  #: (z, w, f): stage increments, their transform, stage derivatives
-    lu: tuple  #: (lu_r, piv_r, lu_cr, lu_ci, piv_c) of :func:`_factor`
-    scratch: tuple  #: (work, cbr, cbi)
-    event: EventWork  #: its zacc: the last accepted step's z; its stage keeps z and w
-
-
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
-def _cos_nutation(y, p) -> float:
-    """cos(theta) of a state, without the atan2 of nutation_angle_of_state."""
-    if p[P_FORM] == FORM_EULER:
-        return math.cos(y[0])
-    q2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]
-    return 1.0 - 2.0 * (y[1] * y[1] + y[2] * y[2]) / q2
+# the counters of RadauState.cnt
+NFEV, NJEV, N_STEPS, N_REJ = 0, 1, 2, 3
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
-def _restep(t, y, h, s, p, scal, jac, fnewt, ev) -> int:
-    """Re-solve the step from (t, y) with length s h (event location); result in ev.ytry.
+class RadauState(NamedTuple):
+    """What a Radau IIA run carries from step to step, updated by the phases below (the
+    one-trajectory counterpart of :class:`.lanes.radau_state.Lanes`): one-element arrays."""
 
-    The stage guess comes from the accepted step's collocation polynomial
-    (ev.zacc); if Newton does not converge the polynomial value itself is used.
-    Returns the number of right-hand-side evaluations spent.
-    """
-    n = N_STATE
-    zacc, ytry = ev.zacc, ev.ytry
-    z = ev.stage[0]
-    hs = s * h
-    for k in range(3):
-        ck = C1 if k == 0 else (C2 if k == 1 else 1.0)
-        l1, l2, l3 = _colloc_weights(s * ck)
-        for i in range(n):
-            z[k, i] = l1 * zacc[0, i] + l2 * zacc[1, i] + l3 * zacc[2, i]
-    nfev = 0
-    ok = _factor(hs, jac, ev.lu)
-    if ok:
-        ok, newt, _, _, _ = _newton(t, y, hs, p, scal, ev.stage, ev.lu, ev.scratch, 1.0, fnewt)
-        nfev = 3 * newt
-    if ok:
-        for i in range(n):
-            ytry[i] = y[i] + z[2, i]
-    else:
-        _dense(y, zacc, s, ytry)
-    return nfev
-
-
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
-def locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev):
-    """Look for the opening inside an accepted step and locate it.
-
-    `step` is (t, y, h, z, ynew, g_old, g_new): the step from (t, y) of length h
-    with stage increments z to ynew, g = theta - theta_cr at its start (> 0) and
-    end. The first node (c1, c2, 1) at which the collocation solution is past
-    theta_cr brackets the crossing; Illinois false position on g(s) = theta(step(y,
-    s h)) - theta_cr then re-solves the step from its start (:func:`_restep`), so
-    the event state is as accurate as an accepted step. `ev` (:class:`EventWork`):
-    its zacc receives a copy of z, its lu and stage are overwritten (trial steps).
-    Shared by :func:`integrate` and the batched Radau lanes.
-
-    Returns
-    -------
-    tuple
-        (found, t_event, nfev); the event state is written into ``ev.y_event``.
-    """
-    t, y, h, z, ynew, g_old, g_new = step
-    ytry, y_event = ev.ytry, ev.y_event
-    n = N_STATE
-    theta_cr = p[P_THETA_CR]
-    cos_cr = math.cos(theta_cr)
-    s_hi = 0.0
-    g_hi = 0.0
-    for k in range(2):
-        for i in range(n):
-            ytry[i] = y[i] + z[k, i]
-        if _cos_nutation(ytry, p) >= cos_cr:  # cheap pre-test, then the angle
-            gk = nutation_angle_of_state(ytry, p) - theta_cr
-            if gk <= 0.0:
-                s_hi = C1 if k == 0 else C2
-                g_hi = gk
-                break
-    if s_hi == 0.0 and g_new <= 0.0:
-        s_hi = 1.0
-        g_hi = g_new
-        for i in range(n):
-            ytry[i] = ynew[i]
-    if s_hi == 0.0:
-        return False, math.nan, 0
-    for k in range(3):
-        for i in range(n):
-            ev.zacc[k, i] = z[k, i]
-    for i in range(n):
-        y_event[i] = ytry[i]
-    s_lo = 0.0
-    g_lo = g_old
-    side = 0
-    nfev = 0
-    for _ in range(200):
-        if bracket_closed(s_lo, s_hi, h, event_tol):
-            break
-        s = illinois_trial(s_lo, g_lo, s_hi, g_hi)
-        nfev += _restep(t, y, h, s, p, scal, jac, fnewt, ev)
-        g = nutation_angle_of_state(ytry, p) - theta_cr
-        s_lo, g_lo, s_hi, g_hi, side = illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side)
-        if not g > 0.0:  # same branch as illinois_update (NaN included)
-            for i in range(n):
-                y_event[i] = ytry[i]
-    return True, t + s_hi * h, nfev
+    h: np.ndarray  #: the step to try [s]
+    h_lu: np.ndarray  #: the step the LU factors belong to [s] (NaN: none)
+    h_acc: np.ndarray  #: the last accepted step [s] (the stage predictor's)
+    h_new: np.ndarray  #: the controller's proposal after the step just accepted [s]
+    h_gus: np.ndarray  #: Gustafsson's previous accepted step [s]
+    err_gus: np.ndarray  #: Gustafsson's previous error
+    h_lim: np.ndarray  #: the step cap after Newton failures [s]
+    faccon: np.ndarray  #: Newton's contraction estimate carried over
+    theta: np.ndarray  #: the last Newton contraction rate
+    need_jac: np.ndarray  #: bool: the Jacobian is stale
+    jac_fresh: np.ndarray  #: bool: the Jacobian was taken at this step's start
+    have_poly: np.ndarray  #: bool: the event work's zacc holds a collocation polynomial
+    first: np.ndarray  #: bool: the first step since the start or a jump
+    rejected: np.ndarray  #: bool: the last step was rejected
+    #: bool: the run just jumped (start, mode change, a stretch of another method): no
+    #: polynomial or step history to extrapolate (diffrax's ``made_jump``)
+    made_jump: np.ndarray
+    cnt: np.ndarray  #: int64 (4,): NFEV, NJEV, N_STEPS, N_REJ
 
 
 @njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
-def _new_work() -> RadauWork:
-    """The arrays of one run (allocated once per :func:`integrate` call)."""
-    n = N_STATE
-    z = np.zeros((3, n))
-    f = np.empty((3, n))
-    piv = np.empty(n, dtype=np.int64)
-    lu = (np.empty((n, n)), piv, np.empty((n, n)), np.empty((n, n)), piv.copy())
-    scratch = (np.empty(n), np.empty(n), np.empty(n))
-    # the event re-steps keep the accepted step's z and w (their own), and share f
-    event = EventWork(
-        np.zeros((3, n)), (np.zeros((3, n)), np.zeros((3, n)), f), lu, scratch, np.empty(n),
-        np.empty(n),
+def new_state(h: float) -> RadauState:
+    """The state at a run's start, first step `h` [s] (a jump: see :func:`jump`)."""
+    b = np.zeros(1, dtype=np.bool_)
+    st = RadauState(
+        np.full(1, h), np.full(1, math.nan), np.zeros(1), np.zeros(1), np.zeros(1),
+        np.ones(1), np.full(1, math.inf), np.ones(1), np.zeros(1), b.copy(), b.copy(),
+        b.copy(), b.copy(), b.copy(), b.copy(), np.zeros(4, dtype=np.int64),
     )  # fmt: skip
-    return RadauWork(
-        np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty((n, n)),
-        (z, np.zeros((3, n)), f), lu, scratch, event,
-    )  # fmt: skip
+    jump(st, h, math.inf, math.inf)
+    return st
 
 
 @njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
-def _guess_stages(z, zacc, h, h_acc, have_poly) -> None:
-    """The Newton start: the last step's collocation polynomial extrapolated to this
-    step's nodes, or zero before the first accepted step."""
-    n = N_STATE
-    for k in range(3):
-        ck = C1 if k == 0 else (C2 if k == 1 else 1.0)
-        if have_poly:
-            l1, l2, l3 = _colloc_weights(1.0 + ck * h / h_acc)
-            for i in range(n):
-                z[k, i] = l1 * zacc[0, i] + l2 * zacc[1, i] + l3 * zacc[2, i] - zacc[2, i]
-        else:
-            for i in range(n):
-                z[k, i] = 0.0
+def jump(st: RadauState, h: float, h_max: float, t_left: float) -> None:
+    """After a discontinuity (the start, a mode change, a stretch of another method): the
+    next step min(h, h_max, t_left) [s] with a new Jacobian and LU, no polynomial to
+    extrapolate and no Newton-failure cap; counters, Newton's and Gustafsson's history kept."""
+    st.h[0] = min(h, h_max, t_left)
+    st.h_lu[0] = math.nan
+    st.need_jac[0] = True
+    st.have_poly[0] = False
+    st.first[0] = True
+    st.h_lim[0] = math.inf
+    st.made_jump[0] = True
 
 
 @njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
-def error_estimate(t, y, h, p, scale, rtol, atol, once_more, ws) -> tuple[float, int]:
-    """The embedded error estimate of a converged step (H&W IV.8).
+def took_jacobian(st: RadauState) -> None:
+    """After the driver evaluated the Jacobian (N_STATE right-hand sides): fresh, LU stale."""
+    st.cnt[NFEV] += N_STATE
+    st.cnt[NJEV] += 1
+    st.need_jac[0] = False
+    st.jac_fresh[0] = True
+    st.h_lu[0] = math.nan
 
-    (gamma/h - J)^-1 (f0 + sum e_k Z_k / h) in the real LU of ``ws.lu``, with ynew =
-    y + Z_3 written into ``ws.ynew``; where it is >= 1 and `once_more` (first or
-    rejected step) it is filtered once more, as it is unreliable for very stiff
-    components. Returns (its RMS norm, 1e10 for NaN; right-hand sides spent).
-    """
+
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+def factored(st: RadauState, t: float, t_max: float, ws: RadauWork) -> bool:
+    """The step cut to end at `t_max` where it nearly does, and the LU of its Newton
+    matrices (kept while h is); False where the LU failed: then the step is cut
+    (rejected) and the driver checks it for underflow."""
+    h = st.h[0]
+    if t + 1.01 * h >= t_max:
+        h = t_max - t
+        st.h[0] = h
+    if h != st.h_lu[0]:
+        if not _factor(h, ws.jac, ws.lu):
+            st.cnt[N_REJ] += 1
+            st.h[0] = h * NEWTON_CUT
+            st.h_lu[0] = math.nan
+            return False
+        st.h_lu[0] = h
+    return True
+
+
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+def predict(st: RadauState, ws: RadauWork) -> None:
+    """Newton's start in ``ws.stage[0]``: the last step's polynomial extrapolated, or zero
+    after a jump (a driver with a better guess writes its own)."""
+    guess_stages(ws.stage[0], ws.event.zacc, st.h[0], st.h_acc[0], st.have_poly[0])
+
+
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+def attempt(st: RadauState, ws: RadauWork, t, y, p, scale, rtol, atol, fnewt) -> bool:
+    """One step of length ``st.h`` from (t, y): Newton from the guess in ``ws.stage[0]``,
+    the error estimate and the step-size quotient (RADAU5's rules, tolerances already
+    transformed). Accepted: True, ``ws.ynew`` the step's end and ``st.h_new`` the
+    controller's proposal. Rejected: False, ``st.h`` the shorter step to retry (capped
+    after a Newton failure); the driver checks it for underflow."""
     n = N_STATE
+    h = st.h[0]
+    scal = ws.scal
+    for i in range(n):  # reciprocal error weights: the Newton norm multiplies
+        scal[i] = 1.0 / (atol * scale[i] + rtol * abs(y[i]))
+    ok, newt, theta, faccon, hfac = _newton(
+        t, y, h, p, scal, ws.stage, ws.lu, ws.scratch, st.faccon[0], fnewt
+    )
+    st.cnt[NFEV] += 3 * newt
+    st.theta[0] = theta
+    st.faccon[0] = faccon
+    first = st.first[0]
+    if ok:
+        err, nf = error_estimate(t, y, h, p, scale, rtol, atol, first or st.rejected[0], ws)
+        st.cnt[NFEV] += nf
+        quot, quot_std = step_quotient(err, newt, h, first, st.h_gus[0], st.err_gus[0])
+        h_retry = h * FIRST_CUT if first else h / quot_std
+    else:  # Newton failed: a shorter step, capped below this one
+        err, quot = math.inf, 1.0
+        st.h_lim[0] = min(st.h_lim[0], h * _LIM_SHRINK)
+        h_retry = h * hfac
+    if err >= 1.0:  # rejected: a Jacobian at this point if it was stale
+        st.cnt[N_REJ] += 1
+        st.rejected[0] = True
+        st.h[0] = h_retry
+        if not st.jac_fresh[0]:
+            st.need_jac[0] = True
+        return False
+    st.h_new[0] = h / quot
+    st.h_gus[0] = h
+    st.err_gus[0] = max(ERR_GUS_MIN, err)
+    return True
+
+
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+def accepted_outputs(st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt, out):
+    """The opening inside the accepted step (looked for while `g_old` > 0 and none found
+    yet; located as :func:`locate_opening_at` does) and its dense output up to the step's
+    end or a terminal event. `out` is (t_eval, i_eval, ts, ys, n_out). Returns
+    (t_event, opened (terminal event found), g_new, i_eval, n_out)."""
+    t_eval, i_eval, ts, ys, n_out = out
+    h = st.h[0]
     z = ws.stage[0]
-    f0, ynew, err_v, fwork = ws.f0, ws.ynew, ws.err_v, ws.fwork
-    work, ytry = ws.scratch[0], ws.event.ytry
-    lu_r, piv_r = ws.lu[0], ws.lu[1]
-    for i in range(n):
-        ynew[i] = y[i] + z[2, i]
-        err_v[i] = f0[i] + (E1 * z[0, i] + E2 * z[1, i] + E3 * z[2, i]) / h
-    for i in range(n):
-        work[i] = err_v[i]
-    lu_solve(lu_r, piv_r, work)
-    err = rms_norm(work, y, ynew, rtol, atol, scale)
-    nfev = 0
-    if err >= 1.0 and once_more:
-        for i in range(n):
-            ytry[i] = y[i] + work[i]
-        rhs(t, ytry, p, fwork)
-        nfev = 1
-        for i in range(n):
-            work[i] = fwork[i] + err_v[i] - f0[i]
-        lu_solve(lu_r, piv_r, work)
-        err = rms_norm(work, y, ynew, rtol, atol, scale)
-    if not (err == err):
-        err = 1e10
-    return err, nfev
+    t_stop = t + h
+    g_new = nutation_angle_of_state(ws.ynew, p) - p[P_THETA_CR]
+    opened = False
+    if g_old > 0.0 and t_event != t_event:
+        step = (t, y, h, z, ws.ynew, g_old, g_new)
+        found, t_ev, nf = locate_opening_at(step, p, ws.scal, ws.jac, fnewt, event_tol, ws.event)
+        st.cnt[NFEV] += nf
+        if found:
+            st.h_lu[0] = math.nan  # the LU now belongs to a trial step
+            t_event = t_ev
+            if terminal:
+                opened = True
+                t_stop = t_event
+    if t_eval.shape[0] > 0:
+        i_eval, n_out = dense_rows(t, y, h, z, t_stop, t_eval, i_eval, ts, ys, n_out, ws.event.ytry)
+    return t_event, opened, g_new, i_eval, n_out
 
 
 @njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
-def _dense_rows(t, y, h, z, t_stop, t_eval, i_eval, ts, ys, n_out, ytry) -> tuple[int, int]:
-    """Dense output (the step's collocation polynomial) at the output times inside
-    (t, t_stop]; returns the next output time's index and the row count."""
-    while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_stop:
-        _dense(y, z, (t_eval[i_eval] - t) / h, ytry)
-        ts[n_out] = t_eval[i_eval]
+def advance(st: RadauState, ws: RadauWork, t: float, y) -> float:
+    """Move to the accepted step's end (`y` in place); its polynomial is kept for the next
+    guess. Returns the new time [s]."""
+    z, zacc, ynew = ws.stage[0], ws.event.zacc, ws.ynew
+    for k in range(3):
         for i in range(N_STATE):
-            ys[n_out, i] = ytry[i]
-        n_out += 1
-        i_eval += 1
-    return i_eval, n_out
+            zacc[k, i] = z[k, i]
+    h = st.h[0]
+    st.h_acc[0] = h
+    st.have_poly[0] = True
+    st.made_jump[0] = False
+    for i in range(N_STATE):
+        y[i] = ynew[i]
+    st.cnt[N_STEPS] += 1
+    return t + h
+
+
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+def plan_next(st: RadauState, h_max: float) -> None:
+    """The next step after an accepted one (:func:`.radau_control.next_step`)."""
+    h, h_lim, slow = next_step(
+        st.h[0], st.h_new[0], st.h_lim[0], h_max, st.rejected[0], st.theta[0]
+    )
+    st.h[0] = h
+    st.h_lim[0] = h_lim
+    st.need_jac[0] = st.need_jac[0] or slow
+    st.first[0] = False
+    st.rejected[0] = False
+    st.jac_fresh[0] = False
+
+
+@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+def work_with(y_event) -> RadauWork:
+    """:func:`new_work` whose event state is the run's `y_event` (from :func:`.common.start`)."""
+    ws = new_work()
+    e = ws.event
+    ev = EventWork(e.zacc, e.stage, e.lu, e.scratch, e.ytry, y_event)
+    return RadauWork(
+        ws.f0, ws.ynew, ws.fwork, ws.scal, ws.err_v, ws.jac, ws.stage, ws.lu, ws.scratch, ev
+    )
 
 
 @njit(cache=True, nogil=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
     p, scale = problem.p, problem.scale
-    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, hand_back = (
-        controls
-    )
-    n = N_STATE
-    theta_cr = p[P_THETA_CR]
+    (
+        t_max,
+        rtol,
+        atol,
+        h0,
+        h_max,
+        max_steps,
+        t_eval,
+        record,
+        terminal,
+        event_tol,
+        stop_when_sliding,
+    ) = controls
     t, y, ts, ys, n_out, y_event = start(problem, controls)
-    ws = _new_work()
-    ev = ws.event
-    ev = EventWork(ev.zacc, ev.stage, ev.lu, ev.scratch, ev.ytry, y_event)
-    f0, ynew, jac, scal, z, zacc = ws.f0, ws.ynew, ws.jac, ws.scal, ws.stage[0], ev.zacc
+    ws = work_with(y_event)
     use_eval = t_eval.shape[0] > 0
     i_eval = 0
-    nfev = 0
-    njev = 0
-    n_steps = 0
-    n_rej = 0
     status = Status.T_MAX
     t_event = math.nan
     rtol, atol, fnewt = radau5_tolerances(rtol, atol)
-    rhs(t, y, p, f0)
-    nfev += 1
-    h = min(h0, h_max, t_max - t)
-    h_lu = math.nan  # step size the LU factors belong to
-    need_jac = True
-    jac_fresh = False
-    have_poly = False
-    h_acc = 0.0  # length of the last accepted step (for the stage predictor)
-    first = True
-    rejected = False
-    faccon = 1.0
-    h_gus = 0.0  # previous accepted step and error (predictive controller)
-    err_gus = 1.0
-    g_old = nutation_angle_of_state(y, p) - theta_cr
-    h_lim = math.inf
-    t_stick = t  # last time the slip speed was below saturation (hand_back)
+    st = new_state(min(h0, h_max, t_max - t))
+    rhs(t, y, p, ws.f0)
+    st.cnt[NFEV] += 1
+    g_old = nutation_angle_of_state(y, p) - p[P_THETA_CR]
+    t_stick = t  # last time the slip speed was below saturation (stop_when_sliding)
     while t < t_max:
-        if n_steps >= max_steps:
+        if st.cnt[N_STEPS] >= max_steps:
             status = Status.STEP_LIMIT
             break
-        if need_jac:
-            jacobian(t, y, f0, p, scale, jac, ws.scratch[0], ws.fwork)
-            nfev += n
-            njev += 1
-            need_jac = False
-            jac_fresh = True
-            h_lu = math.nan
-        if t + 1.01 * h >= t_max:
-            h = t_max - t
-        if h != h_lu:
-            if not _factor(h, jac, ws.lu):
-                n_rej += 1
-                h *= 0.5
-                h_lu = math.nan
-                if underflow(h, t):
-                    status = Status.FAILED
-                    break
-                continue
-            h_lu = h
-        for i in range(n):  # reciprocal error weights: the Newton norm multiplies
-            scal[i] = 1.0 / (atol * scale[i] + rtol * abs(y[i]))
-        _guess_stages(z, zacc, h, h_acc, have_poly)
-        ok, newt, theta, faccon, hfac = _newton(
-            t, y, h, p, scal, ws.stage, ws.lu, ws.scratch, faccon, fnewt
-        )
-        nfev += 3 * newt
-        if ok:
-            err, nf = error_estimate(t, y, h, p, scale, rtol, atol, first or rejected, ws)
-            nfev += nf
-            quot, quot_std = step_quotient(err, newt, h, first, h_gus, err_gus)
-            h_retry = h * 0.1 if first else h / quot_std
-        else:  # Newton failed: a shorter step, capped below this one
-            err, quot = math.inf, 1.0
-            h_lim = min(h_lim, h * _LIM_SHRINK)
-            h_retry = h * hfac
-        if err >= 1.0:  # rejected: a Jacobian at this point if it was stale
-            n_rej += 1
-            rejected = True
-            h = h_retry
-            if not jac_fresh:
-                need_jac = True
-            if underflow(h, t):
+        if st.need_jac[0]:
+            jacobian(t, y, ws.f0, p, scale, ws.jac, ws.scratch[0], ws.fwork)
+            took_jacobian(st)
+        if not factored(st, t, t_max, ws):
+            if underflow(st.h[0], t):
                 status = Status.FAILED
                 break
             continue
-        # ---- accepted ----
-        h_new = h / quot
-        h_gus = h
-        err_gus = max(1e-2, err)
-        t_new = t + h
-        t_stop = t_new
-        g_new = nutation_angle_of_state(ynew, p) - theta_cr
-        if g_old > 0.0 and t_event != t_event:
-            step = (t, y, h, z, ynew, g_old, g_new)
-            found, t_ev, nf = locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev)
-            nfev += nf
-            if found:
-                h_lu = math.nan  # the LU now belongs to a trial step
-                t_event = t_ev
-                if terminal:
-                    status = Status.OPENED
-                    t_stop = t_event
-        if use_eval:
-            i_eval, n_out = _dense_rows(t, y, h, z, t_stop, t_eval, i_eval, ts, ys, n_out, ev.ytry)
-        if status == Status.OPENED:
+        predict(st, ws)
+        if not attempt(st, ws, t, y, p, scale, rtol, atol, fnewt):
+            if underflow(st.h[0], t):
+                status = Status.FAILED
+                break
+            continue
+        out = (t_eval, i_eval, ts, ys, n_out)
+        t_event, opened, g_new, i_eval, n_out = accepted_outputs(
+            st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt, out
+        )
+        if opened:
+            status = Status.OPENED
             ts, ys, n_out = record_row(ts, ys, n_out, t_event, y_event, record, use_eval)
             y[:] = y_event
             t = t_event
             break
         g_old = g_new
-        for k in range(3):
-            for i in range(n):
-                zacc[k, i] = z[k, i]
-        h_acc = h
-        have_poly = True
-        t = t_new
-        for i in range(n):
-            y[i] = ynew[i]
-        rhs(t, y, p, f0)
-        nfev += 1
-        n_steps += 1
+        t = advance(st, ws, t, y)
+        rhs(t, y, p, ws.f0)
+        st.cnt[NFEV] += 1
         if record and not use_eval:  # a call per step costs reference counts
             ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         if not (y[0] == y[0]):
             status = Status.FAILED
             break
-        if hand_back:
+        if stop_when_sliding:
             slip, spin = slip_and_spin(y, p)
             back, t_stick = sliding_resumed(t, t_stick, slip, spin, p[P_WIDTH])
             if back:
                 status = Status.NONSTIFF
                 break
-        h, h_lim, slow = next_step(h, h_new, h_lim, h_max, rejected, theta)
-        need_jac = need_jac or slow
-        first = False
-        rejected = False
-        jac_fresh = False
+        plan_next(st, h_max)
+    c = st.cnt
     return RawSolution(
-        status, t_event, y_event, ts[:n_out], ys[:n_out], nfev, njev, n_steps, n_rej, t, y
-    )
+        status, t_event, y_event, ts[:n_out], ys[:n_out], c[NFEV], c[NJEV], c[N_STEPS], c[N_REJ],
+        t, y,
+    )  # fmt: skip

@@ -1,4 +1,5 @@
-"""Step control of Radau IIA: the decisions shared by :mod:`.radau` and :mod:`.radau_lanes`.
+"""Step control of Radau IIA: RADAU5's constants and the decisions every Radau IIA driver
+shares (:mod:`.radau`, :mod:`.stick_slip`, the lanes of :mod:`.lanes.radau`).
 
 RADAU5's Newton convergence test, the step-size quotient with Gustafsson's
 predictive controller, and the rule for the next step (Hairer & Wanner, *Solving
@@ -9,47 +10,94 @@ the one-trajectory integrator and the lanes decide alike.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 from numba import njit
+
+from ..._docs import field_docs
 
 __all__ = [
     "newton_contraction",
     "step_quotient",
     "next_step",
-    "sliding_resumed",
+    "RADAU5",
+    "Radau5Settings",
     "radau5_tolerances",
 ]
 
-_UROUND = 2.220446049250313e-16
 
-_NIT = 7  # Newton iterations per step before the step is cut (RADAU5 default)
-_THET = 0.01  # keep the Jacobian while Newton contracts faster than this (RADAU5: 0.001)
-_QUOT1 = 1.0  # keep h, J and the LU when h_new / h falls in [_QUOT1, _QUOT2] (RADAU5)
-_QUOT2 = 1.2
-_SAFE = 0.9
-_FAC_MIN = 0.2  # h_new / h bounds
-_FAC_MAX = 8.0
-# Newton-limited regime (Coulomb sticking): after a Newton failure at h, cap the
-# step at _LIM_SHRINK h and let the cap grow by _LIM_GROW per accepted step, so
-# the error-based controller does not keep proposing steps that fail again. A growth
-# of 1.2 met the keep-h window [_QUOT1, _QUOT2] every other step, so after a stick
-# transition the step crept up ~1.1x per step while the error allowed 8x (at 100
-# rad/s, 1,100 of 2,690 steps sat at the cap with errors ~1e-8); 2 took 17 % fewer
-# steps and 10 % less time on 1,786 near-stick rig points (1.5: 6 %, 3: 9 %).
-_LIM_SHRINK = 0.7
-_LIM_GROW = 2.0
-#: Hand-back to DOP853 (``auto``): a slip speed above this many regularisation widths
-#: delta leaves the regularised Coulomb magnitude saturated (1 - 5e-9 for the algebraic
-#: family), so the stiffness that sticking brings is gone. Sticking stretches reach
-#: |omega_r| ~ 1e-8..1e-7 omega_p0, i.e. ~0.1..1 delta, clean sliding >= 1e-2 omega_p0
-#: (measured on rig points at 100-207 rad/s), far on either side of 1e4 delta = 1e-3 omega_p0.
-SLIDING_WIDTHS = 1e4
-#: Revolutions of uninterrupted sliding before the hand-back: sticking recurs twice per
-#: revolution in the stick-slip phase, so half a revolution without it means the phase
-#: is over (on the rig it does not come back). Measured on 44 rig points at 100-207
-#: rad/s, Radau IIA's right-hand sides fell by 15 % (1: 16 % fewer, 0.25: DOP853 and
-#: Radau IIA took turns within the stick-slip phase).
-SLIDING_REVOLUTIONS = 0.5
+@field_docs
+class Radau5Settings(NamedTuple):
+    """RADAU5's control constants (Hairer & Wanner, Sec. IV.8, and radau5.f), the one
+    place they are written (defaults: :data:`RADAU5`); the tableau is
+    :mod:`.radau_coefficients`."""
+
+    #: Unit roundoff of float64 (radau5.f's UROUND).
+    uround: float = 2.220446049250313e-16
+    #: Newton iterations per step before the step is cut (radau5.f's NIT).
+    nit: int = 7
+    #: Keep the Jacobian while Newton contracts faster than this (radau5.f: 0.001; an
+    #: 8-equation Jacobian costs 8 right-hand sides, so it is kept longer here).
+    thet: float = 0.01
+    #: Keep h, J and the LU when h_new / h falls in [quot1, quot2] (radau5.f) ...
+    quot1: float = 1.0
+    #: ... its upper end.
+    quot2: float = 1.2
+    #: Safety factor of the step-size controller (radau5.f's SAFE).
+    safe: float = 0.9
+    #: Smallest h_new / h (radau5.f's FACL = 5 as 1 / FACL).
+    fac_min: float = 0.2
+    #: Largest h_new / h (radau5.f's FACR = 1/8 as 1 / FACR).
+    fac_max: float = 8.0
+    #: Tolerance transformation rtol' = tol_scale rtol^tol_power: the embedded estimate is
+    #: of order 3, the solution of order 5 (radau5.f) ...
+    tol_scale: float = 0.1
+    #: ... its exponent.
+    tol_power: float = 2.0 / 3.0
+    #: Newton stopping tolerance FNEWT = max(fnewt_uround UROUND / rtol', min(fnewt_max,
+    #: sqrt(rtol'))) (radau5.f) ...
+    fnewt_uround: float = 10.0
+    #: ... its cap.
+    fnewt_max: float = 0.03
+    #: Exponent of the carried-over contraction estimate FACCON (radau5.f).
+    faccon_power: float = 0.8
+    #: Floor of the previous error in Gustafsson's controller (radau5.f's ERRACC floor).
+    err_gus_min: float = 1e-2
+    #: Step reduction after a Newton failure without a contraction estimate, and after a
+    #: failed LU (radau5.f).
+    newton_cut: float = 0.5
+    #: Step reduction after a rejected first step (radau5.f).
+    first_cut: float = 0.1
+    #: Newton-limited regime (Coulomb sticking): after a Newton failure at h the step is
+    #: capped at lim_shrink h, so the error controller does not retry steps that fail ...
+    lim_shrink: float = 0.7
+    #: ... and the cap grows by this per accepted step (1.2 met the keep-h window every
+    #: other step and crept up ~1.1x per step where the error allowed 8x).
+    lim_grow: float = 2.0
+
+
+#: RADAU5's control constants every Radau IIA driver uses.
+RADAU5 = Radau5Settings()
+
+# module constants for the compiled code (numba freezes plain globals)
+_UROUND = RADAU5.uround
+_NIT = RADAU5.nit
+_THET = RADAU5.thet
+_QUOT1 = RADAU5.quot1
+_QUOT2 = RADAU5.quot2
+_SAFE = RADAU5.safe
+_FAC_MIN = RADAU5.fac_min
+_FAC_MAX = RADAU5.fac_max
+_TOL_SCALE = RADAU5.tol_scale
+_TOL_POWER = RADAU5.tol_power
+_FNEWT_UROUND = RADAU5.fnewt_uround
+_FNEWT_MAX = RADAU5.fnewt_max
+FACCON_POWER = RADAU5.faccon_power
+ERR_GUS_MIN = RADAU5.err_gus_min
+NEWTON_CUT = RADAU5.newton_cut
+FIRST_CUT = RADAU5.first_cut
+_LIM_SHRINK = RADAU5.lim_shrink
+_LIM_GROW = RADAU5.lim_grow
 
 
 @njit(cache=True, fastmath={"contract"}, inline="always")
@@ -79,7 +127,7 @@ def newton_contraction(newt, dyno, dynold, thqold, theta, faccon, fnewt):
                 qnewt = max(1e-4, min(20.0, dyth))
                 return True, theta, thqold, faccon, 0.8 * qnewt ** (-1.0 / (4 + _NIT - 1 - newt))
         else:
-            return True, theta, thqold, faccon, 0.5
+            return True, theta, thqold, faccon, NEWTON_CUT
     return False, theta, thqold, faccon, 1.0
 
 
@@ -120,20 +168,6 @@ def next_step(h, h_new, h_lim, h_max, rejected, theta):
 
 
 @njit(cache=True, fastmath={"contract"}, inline="always")
-def sliding_resumed(t, t_stick, slip, spin, width):
-    """After an accepted step at time t: (hand back, t_stick).
-
-    t_stick is the last time the slip speed `slip` [rad/s] was below
-    :data:`SLIDING_WIDTHS` regularisation widths `width` [rad/s]; the run hands back
-    when the time since then covers :data:`SLIDING_REVOLUTIONS` revolutions at the
-    spin `spin` [rad/s]. Shared by :func:`.radau.integrate` and the Radau lanes.
-    """
-    if slip < SLIDING_WIDTHS * width:
-        return False, t
-    return (t - t_stick) * abs(spin) >= 2.0 * math.pi * SLIDING_REVOLUTIONS, t_stick
-
-
-@njit(cache=True, fastmath={"contract"}, inline="always")
 def radau5_tolerances(rtol: float, atol: float) -> tuple[float, float, float]:
     """RADAU5's tolerance transformation and its Newton stopping tolerance FNEWT.
 
@@ -143,7 +177,7 @@ def radau5_tolerances(rtol: float, atol: float) -> tuple[float, float, float]:
     Returns (rtol', atol', fnewt), fnewt relative to the error weights.
     """
     quot_tol = atol / rtol
-    rtol = 0.1 * rtol ** (2.0 / 3.0)
+    rtol = _TOL_SCALE * rtol**_TOL_POWER
     atol = rtol * quot_tol
-    fnewt = max(10.0 * _UROUND / rtol, min(0.03, math.sqrt(rtol)))
+    fnewt = max(_FNEWT_UROUND * _UROUND / rtol, min(_FNEWT_MAX, math.sqrt(rtol)))
     return rtol, atol, fnewt

@@ -19,13 +19,15 @@ and for the Coulomb patch law from its dissipation function, section 9 there):
   sticking is stiff in the slip *direction* (relaxation rate ~ M / (A |omega_r|),
   unbounded as omega_r -> 0: the rig's creep about X is a sliding motion on this slow
   manifold), so an explicit method would need unboundedly many steps there: it is
-  integrated by fifth-order Radau IIA (the steps, Newton iteration, error estimate and
-  opening-event location of :mod:`.radau`, at ``auto``'s third of the tolerances).
-  Above |omega_r| = :data:`FAST_SLIP` (M / A) h_max the direction is resolved by the
-  largest step and the slip runs in DOP853 stretches (:mod:`.dop853`, the tolerances
-  as given), each short enough that |omega_r| cannot fall below half that level at
-  twice its present rate of change; DOP853's stiffness test (status ``STIFF``) hands
-  back to Radau IIA otherwise.
+  integrated by fifth-order Radau IIA: the loop calls the step phases of :mod:`.radau`
+  (:func:`~.radau.factored`, :func:`~.radau.attempt`, :func:`~.radau.accepted_outputs`,
+  :func:`~.radau.advance`, :func:`~.radau.plan_next`, and :func:`~.radau.jump` after
+  every mode change) at ``auto``'s third of the tolerances.
+  Above |omega_r| = :data:`~.switching.FAST_SLIP` (M / A) h_max the direction is
+  resolved by the largest step and the slip runs in DOP853 stretches (:mod:`.dop853`,
+  the tolerances as given), each short enough that |omega_r| cannot fall below half
+  that level at twice its present rate of change; DOP853's stiffness test (the signal
+  ``STIFF``, :mod:`.switching`) hands back to Radau IIA otherwise.
 
 Transitions:
 
@@ -49,9 +51,6 @@ Transitions:
 * grazing exit: a kicked slip that cannot take off (|omega_r| below the kick with
   G_req still outside F, Radau IIA's steps collapsed) is held rigidly through the rest of
   the window (:func:`_through_window`); its creep is below the kick's scale.
-* hand-off: with ``controls.hand_back`` (a study's points, t_cr only) a slip past
-  :data:`~.stick_slip_modes.HAND_OFF_KAPPA` and :data:`~.stick_slip_modes.HAND_OFF_SLIP`,
-  where the ball no longer sticks, stops the run (``NONSTIFF``) for :mod:`.stick_slip_lanes`.
 
 The friction moment at zero slip is never evaluated in slip, and the stick reaction
 is never integrated, so there is no width (the thesis law's slip phases run the
@@ -67,10 +66,12 @@ constant mu_s, and a constant or free spin.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
+from ..._docs import field_docs
 from ...errors import InputError
 from ..dynamics import nutation_angle_of_state, rhs
 from ..friction_sets import (
@@ -83,11 +84,9 @@ from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import (
     FAMILY_ALGEBRAIC,
     FORM_QUATERNION,
-    KERNEL_THESIS,
     N_STATE,
     P_FAMILY,
     P_FORM,
-    P_KERNEL,
     P_SPIN_MODE,
     P_THETA_CR,
     P_WIDTH,
@@ -96,38 +95,45 @@ from ..layout import (
 from ..specialised import specialise
 from . import AUTO_RADAU_TOL_FACTOR
 from . import stick_slip_map as return_map
-from .common import append_row, record_row, rms_norm, start, underflow
+from .common import append_row, record_row, start, underflow
 from .contract import Controls, Problem, RawSolution, Status
 from .dop853 import integrate as dop853_integrate
-from .linalg import lu_solve
 from .radau import (
-    _UROUND,
-    EventWork,
-    _colloc_weights,
-    _dense,
-    _factor,
-    _newton,
-    locate_opening_at,
+    N_REJ,
+    N_STEPS,
+    NFEV,
+    RadauState,
+    RadauWork,
+    accepted_outputs,
+    advance,
+    attempt,
+    factored,
+    jump,
+    new_state,
+    plan_next,
+    took_jacobian,
+    work_with,
 )
-from .radau_coefficients import C1, C2, E1, E2, E3
-from .radau_control import _LIM_SHRINK, next_step, step_quotient
+from .radau_coefficients import C1, C2
+from .radau_control import radau5_tolerances
+from .radau_step import guess_stages
 from .stick_slip_jacobian import slip_jacobian
 from .stick_slip_modes import (
-    HAND_OFF_KAPPA,
-    HAND_OFF_SLIP,
     HOLD_THROUGH,
     REKICK,
     check_set_valued_law,
     slip_speed_unit,
-    stick_ratio,
 )
 from .stick_slip_modes import break_away as _break_away
 from .stick_slip_modes import slip as _slip
 from .stick_slip_modes import slip_rate as _slip_rate
 from .stick_slip_modes import stick_admissible as _stick_admissible
 from .stick_slip_modes import through_window as _through_window
+from .switching import CHUNK, FAST_SLIP
 
 __all__ = [
+    "EVENT_DRIVEN",
+    "EventDrivenSettings",
     "STICK_SLIP",
     "KICK",
     "HOME_IN",
@@ -142,32 +148,40 @@ __all__ = [
     "zero_width",
 ]
 
-#: Slip speed, in units of |omega_p|, at which a decaying slip with G_req inside F
-#: becomes stick.
-STICK_SLIP = 1e-6
-#: Slip speed, in units of |omega_p|, given at breakaway (along -G_req / |G_req|).
-#: 1e-9 let Radau IIA hover at the kick's level for ~100 steps in the wide windows
-#: near theta = 49 deg (40 rad/s), and rounding alone then decided whether a window
-#: slipped in full (t_cr moved by a whole cycle, 1.9e-3, between two equivalent
-#: starts); at 1e-8 and 1e-7 it took off in every window tried.
-KICK = 1e-8
-#: The kick at release (zero slip, G_req outside F: flight, the rig at some azimuths),
-#: where G_req is well outside F and the slip takes off at once: 1e-9 as before (at 1e-8
-#: the flight t_cr moved by up to 4e-8 at rtol 1e-9, by 3e-7 at rtol 1e-8, Mach 3).
-RELEASE_KICK = 1e-9
-#: Fraction of the predicted time to zero slip taken as the step when homing in. The
-#: slip, and with it the stiffness of its direction, changes about 1 / (1 - HOME_IN)
-#: fold across such a step: at 0.98 the simplified Newton iteration failed on most of
-#: them (40 rad/s: 566 rejected steps against 375 at 0.5; right-hand sides -4 %).
-HOME_IN = 0.5
-#: Slip speed above which slip is integrated by DOP853, in units of (M / A) h_max: the
-#: slip direction relaxes at ~ M / (A |omega_r|), so there h_max resolves it.
-FAST_SLIP = 4.0
-#: First Radau IIA step after a breakaway, in units of the kicked slip's age (the time
-#: from the exit of F to the kick).
-TAKE_OFF = 1.0
-#: Fraction of |omega_r| / |omega_r'| that one DOP853 stretch may last.
-_CHUNK = 0.5
+
+@field_docs
+class EventDrivenSettings(NamedTuple):
+    """The mode transitions' thresholds (defaults: :data:`EVENT_DRIVEN`)."""
+
+    #: Slip speed, in units of |omega_p|, at which a decaying slip with G_req inside F
+    #: becomes stick (projecting from it moves the attitude by O(r^2 / a), below the
+    #: step error).
+    stick_slip: float = 1e-6
+    #: Slip speed, in units of |omega_p|, given at breakaway: at 1e-9 Radau IIA hovered
+    #: at the kick's level in the wide windows near theta = 49 deg (40 rad/s) and
+    #: rounding decided whether a window slipped; at 1e-8 it took off in every window.
+    kick: float = 1e-8
+    #: The kick at release (zero slip, G_req well outside F: flight, the rig at some
+    #: azimuths), where the slip takes off at once: larger kicks moved the flight t_cr.
+    release_kick: float = 1e-9
+    #: Fraction of the predicted time to zero slip taken as the step when homing in
+    #: (the slip changes ~1 / (1 - home_in) fold across it; near 1 Newton fails).
+    home_in: float = 0.5
+    #: First Radau IIA step after a breakaway, in units of the kicked slip's age (the
+    #: time from the exit of F to the kick): longer first steps let Newton land on a
+    #: decaying branch of the non-smooth law.
+    take_off: float = 1.0
+
+
+#: The thresholds the mode loop uses.
+EVENT_DRIVEN = EventDrivenSettings()
+
+# module constants for the compiled code (numba freezes plain globals)
+STICK_SLIP = EVENT_DRIVEN.stick_slip
+KICK = EVENT_DRIVEN.kick
+RELEASE_KICK = EVENT_DRIVEN.release_kick
+HOME_IN = EVENT_DRIVEN.home_in
+TAKE_OFF = EVENT_DRIVEN.take_off
 
 
 def integrate(
@@ -228,11 +242,176 @@ def run_cycles(stick_slip: float = STICK_SLIP, kick: float = KICK):
     return run
 
 
-@njit(cache=True, inline="always", **NO_REFCOUNT)
-def _fresh_radau(h: float, h_max: float, t_left: float) -> tuple:
-    """Radau IIA state after a mode change or a DOP853 stretch: (h, h_lu, need_jac,
-    have_poly, first, h_lim), no collocation polynomial or Jacobian carried over."""
-    return min(h, h_max, t_left), math.nan, True, False, True, math.inf
+_PHASE = dict(cache=True, fastmath={"contract"}, error_model="python")
+
+
+@njit(**_PHASE, **NO_REFCOUNT)
+def _release(st: RadauState, y, p, t: float, f0, ytry) -> float:
+    """A run that starts in slip: where it starts at (or near) zero slip with G_req
+    outside F (released), kicked at :data:`RELEASE_KICK`; f0 = f(t, y). Returns t [s]."""
+    spin = abs(y[7]) if y[7] != 0.0 else 1.0
+    r_release = RELEASE_KICK * spin
+    if _slip(y)[3] < r_release:
+        tau = _break_away(y, p, r_release, ytry)
+        t += tau
+        if tau > 0.0:
+            st.h[0] = min(st.h[0], TAKE_OFF * tau)
+    rhs(t, y, p, f0)
+    st.cnt[NFEV] += 1
+    return t
+
+
+@njit(**_PHASE, **REFCOUNT)
+def _stick(y, p, t, t_max, record, out, ytry):
+    """The stick mode: the rigid turn with the socket to the breakaway angle (or t_max),
+    with its outputs; `out` is (t_eval, i_eval, ts, ys, n_out). Returns (t, exit angle
+    (< 0: a re-kick inside a window), i_eval, ts, ys, n_out)."""
+    t_eval, i_eval, ts, ys, n_out = out
+    wp = y[7]
+    hold_stick(y, wp)
+    exit_angle = breakaway_angle(y, p, wp)
+    angle = max(exit_angle, 0.0)
+    t_b = min(t + angle / abs(wp), t_max) if wp != 0.0 else t_max
+    while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_b:
+        turn_rigidly(y, wp * (t_eval[i_eval] - t), ytry)
+        ts[n_out] = t_eval[i_eval]
+        ys[n_out, :] = ytry
+        n_out += 1
+        i_eval += 1
+    turn_rigidly(y, wp * (t_b - t), ytry)
+    y[:] = ytry
+    if record and t_eval.shape[0] == 0:
+        ts, ys, n_out = append_row(ts, ys, n_out, t_b, y)
+    return t_b, exit_angle, i_eval, ts, ys, n_out
+
+
+@njit(**_PHASE, **NO_REFCOUNT)
+def _kick(st: RadauState, y, p, t, t_max, h0, h_max, r_kick, f0, ytry) -> float:
+    """Stick -> slip at the breakaway: the kick (:func:`.stick_slip_modes.break_away`) and
+    a jump of the Radau IIA state, its first step the slip's age tau (it about doubles:
+    a longer first step let Newton land on a decaying branch of the non-smooth law).
+    Returns t [s]."""
+    tau = _break_away(y, p, r_kick, ytry)
+    t += tau
+    rhs(t, y, p, f0)
+    st.cnt[NFEV] += 1
+    h_first = TAKE_OFF * tau if tau > 0.0 else h0
+    jump(st, min(h0, h_first), h_max, t_max - t)
+    st.rejected[0] = False
+    st.faccon[0] = 1.0
+    return t
+
+
+@njit(**_PHASE, **NO_REFCOUNT)
+def _predict(st: RadauState, ws: RadauWork, y) -> None:
+    """Newton's start: the last step's polynomial, or after a jump (a kick) the rigid turn
+    with the socket, so that Newton corrects only the slip; from z = 0 its linearised
+    rotation errs by ~ (omega_p h)^2 omega_p in omega_r, the kicked slip's size for a
+    step of the slip's age, and the iteration failed down to h ~ age / 100."""
+    z = ws.stage[0]
+    if st.have_poly[0]:
+        guess_stages(z, ws.event.zacc, st.h[0], st.h_acc[0], True)
+        return
+    h, fwork = st.h[0], ws.fwork
+    for k in range(3):
+        ck = C1 if k == 0 else (C2 if k == 1 else 1.0)
+        turn_rigidly(y, y[7] * ck * h, fwork)
+        for i in range(N_STATE):
+            z[k, i] = fwork[i] - y[i]
+
+
+@njit(**_PHASE, **NO_REFCOUNT)
+def _slip_after_step(st: RadauState, y, p, t, f0, armed, took_off, r_stick):
+    """The slip mode at an accepted step's end (f0 = f(t, y) evaluated here): whether it
+    ends at zero slip, with G_req inside F (stick; `armed` once G_req has left F since the
+    breakaway) or outside (a reversal; `took_off` once |omega_r| has passed r_stick
+    since the kick). Returns (armed, took_off, to_zero, (wx, wy, wz, r), rate)."""
+    inside = _stick_admissible(y, p)
+    armed = armed or not inside
+    admissible = inside and armed
+    rhs(t, y, p, f0)
+    st.cnt[NFEV] += 1
+    w = _slip(y)
+    r = w[3]
+    took_off = took_off or r > r_stick
+    reversal = took_off and not inside and r <= r_stick
+    rate = _slip_rate(y, f0) if admissible or reversal else 0.0
+    to_zero = (admissible or reversal) and r <= r_stick and rate < 0.0
+    return armed, took_off, to_zero, w, rate
+
+
+@njit(**_PHASE, **NO_REFCOUNT)
+def _to_zero_slip(y, t, w, rate, ytry) -> float:
+    """Slip -> stick (or a reversal through zero slip): zero slip at t + tau, tau = r / |r'|;
+    the attitude gets the slip's turn omega_r tau / 2 and the spin's omega_p tau (error
+    O(r tau^2 |u'|)); the stick mode then zeroes omega_r (with G_req outside F it kicks
+    the slip out at once: the rig's creep about X under the Coulomb patch law). Returns t."""
+    wx, wy, wz, r = w
+    tau = -r / rate
+    turn_by(y, 0.5 * tau * wx, 0.5 * tau * wy, 0.5 * tau * wz)
+    turn_rigidly(y, y[7] * tau, ytry)
+    for i in range(N_STATE):
+        y[i] = ytry[i]
+    return t + tau
+
+
+@njit(**_PHASE, **REFCOUNT)
+def _fast_slip(st: RadauState, y, p, scale, f0, t, r, speeds, controls, out, ends):
+    """Fast slip: DOP853 stretches (:func:`.dop853.integrate`, the tolerances as given in
+    `controls`), each too short for |omega_r| (`r`) to fall to r_fast / 2 at twice its
+    present rate of change, floored at |omega_r| omega_p / (4 pi) (a slip that turns with
+    the ball changes at ~ omega_p |omega_r|); DOP853's stiffness test stops one should the
+    slip still approach zero. `speeds` is (r_fast, omega_p at the start) [rad/s]; `out`
+    is (t_eval, i_eval, ts, ys, n_out); `ends` is
+    (status, t_event, y_event). Returns (t, ran (a stretch ran), ended (the run ends:
+    opened, step limit, non-finite state), status, t_event, i_eval, ts, ys, n_out)."""
+    t_max, rtol, atol, _, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
+    t_eval, i_eval, ts, ys, n_out = out
+    status, t_event, y_event = ends
+    use_eval = t_eval.shape[0] > 0
+    r_fast, spin = speeds
+    ran = False
+    while r >= r_fast and t < t_max:
+        rate_floor = r * spin / (4.0 * math.pi)
+        t_chunk = t + CHUNK * (r - 0.5 * r_fast) / max(abs(_slip_rate(y, f0)), rate_floor)
+        if t_chunk - t < 2.0 * h_max:
+            break
+        t_chunk = min(t_chunk, t_max)
+        j = i_eval
+        while j < t_eval.shape[0] and t_eval[j] <= t_chunk:
+            j += 1
+        stretch = Controls(
+            t_chunk, rtol, atol, min(st.h[0], h_max), h_max, max_steps - st.cnt[N_STEPS],
+            t_eval[i_eval:j], record and not use_eval, terminal, event_tol, False,
+        )  # fmt: skip
+        run = dop853_integrate(Problem(y.copy(), p, scale, t), stretch)
+        ran = True
+        st.cnt[NFEV] += run.nfev
+        st.cnt[N_STEPS] += run.n_steps
+        st.cnt[N_REJ] += run.n_rejected
+        for k in range(0 if use_eval else 1, run.t.shape[0]):  # a recorded stretch
+            if use_eval:  # starts with this state
+                ts[n_out] = run.t[k]
+                ys[n_out, :] = run.y[k]
+                n_out += 1
+                i_eval += 1
+            elif record:
+                ts, ys, n_out = append_row(ts, ys, n_out, run.t[k], run.y[k])
+        if run.t_event == run.t_event and t_event != t_event:
+            t_event = run.t_event
+            y_event[:] = run.y_event
+        ended = run.status == Status.OPENED or run.status == Status.STEP_LIMIT
+        ended = ended or not (run.y_end[0] == run.y_end[0])
+        if ended:
+            status = run.status
+        t = run.t_end
+        y[:] = run.y_end
+        if ended or run.status != Status.T_MAX:  # STIFF: back to Radau IIA
+            return t, ran, ended, status, t_event, i_eval, ts, ys, n_out
+        rhs(t, y, p, f0)
+        st.cnt[NFEV] += 1
+        r = _slip(y)[3]
+    return t, ran, False, status, t_event, i_eval, ts, ys, n_out
 
 
 @njit(cache=True, nogil=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
@@ -244,357 +423,99 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
     """
     p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
-    hand_off = controls.hand_back and p[P_KERNEL] == KERNEL_THESIS  # to stick_slip_lanes
-    n = N_STATE
-    theta_cr = p[P_THETA_CR]
     t, y, ts, ys, n_out, y_event = start(problem, controls)
-    f0 = np.empty(n)
-    ynew = np.empty(n)
-    ytry = np.empty(n)
-    work = np.empty(n)
-    fwork = np.empty(n)
-    scal = np.empty(n)
-    err_v = np.empty(n)
-    z = np.zeros((3, n))
-    w = np.zeros((3, n))
-    f = np.empty((3, n))
-    zacc = np.zeros((3, n))
-    zev = np.zeros((3, n))
-    wev = np.zeros((3, n))
-    jac = np.empty((n, n))
-    lu_r = np.empty((n, n))
-    lu_cr = np.empty((n, n))
-    lu_ci = np.empty((n, n))
-    piv_r = np.empty(n, dtype=np.int64)
-    piv_c = np.empty(n, dtype=np.int64)
-    cbr = np.empty(n)
-    cbi = np.empty(n)
-    lu = (lu_r, piv_r, lu_cr, lu_ci, piv_c)
-    scratch = (work, cbr, cbi)
-    stage = (z, w, f)
-    stage_ev = (zev, wev, f)
-    ev = EventWork(zacc, stage_ev, lu, scratch, ytry, y_event)
-    n_eval = t_eval.shape[0]
-    use_eval = n_eval > 0
+    ws = work_with(y_event)
+    f0, ytry = ws.f0, ws.event.ytry
+    use_eval = t_eval.shape[0] > 0
     i_eval = 0
-    nfev = 0
-    njev = 0
-    n_steps = 0
-    n_rej = 0
     status = Status.T_MAX
     t_event = math.nan
-    rtol0, atol0 = rtol, atol  # DOP853 stretches take the tolerances as given
-    unit = slip_speed_unit(p, h_max)
-    r_fast, r_hand = unit * FAST_SLIP, unit * HAND_OFF_SLIP
+    r_fast = slip_speed_unit(p, h_max) * FAST_SLIP
     # Radau IIA at auto's fraction of the tolerances (near-stick t_cr amplifies its
-    # local errors), transformed as RADAU5 does (as in .radau)
-    rtol *= AUTO_RADAU_TOL_FACTOR
-    atol *= AUTO_RADAU_TOL_FACTOR
-    quot_tol = atol / rtol
-    rtol = 0.1 * rtol ** (2.0 / 3.0)
-    atol = rtol * quot_tol
-    fnewt = max(10.0 * _UROUND / rtol, min(0.03, math.sqrt(rtol)))
+    # local errors), transformed as RADAU5 does; DOP853 stretches take them as given
+    f = AUTO_RADAU_TOL_FACTOR
+    rtol_r, atol_r, fnewt = radau5_tolerances(rtol * f, atol * f)
     spin = abs(y[7]) if y[7] != 0.0 else 1.0
-    r_stick = stick_slip * spin
-    r_kick = kick * spin
-    r0 = _slip(y)[3]
-    sticking = r0 <= r_stick and _stick_admissible(y, p)
-    # slip-phase state of the Radau IIA steps
-    h = min(h0, h_max, t_max - t)
-    h_lu = math.nan
-    need_jac = True
-    jac_fresh = False
-    have_poly = False
-    h_acc = 0.0
-    first = True
-    rejected = False
-    faccon = 1.0
-    h_gus = 0.0
-    err_gus = 1.0
-    h_lim = math.inf
-    theta = 0.0
+    r_stick, r_kick = stick_slip * spin, kick * spin
+    sticking = _slip(y)[3] <= r_stick and _stick_admissible(y, p)
+    st = new_state(min(h0, h_max, t_max - t))
     armed = True  # re-stick allowed (after a breakaway: once G_req has left F)
     took_off = True  # a reversal allowed (after a kick: once |omega_r| has passed r_stick)
     if not sticking:
-        r_release = RELEASE_KICK * spin
-        if r0 < r_release:  # released at (or near) zero slip with G_req outside F
-            tau = _break_away(y, p, r_release, ytry)
-            t += tau
-            if tau > 0.0:
-                h = min(h, TAKE_OFF * tau)
-        rhs(t, y, p, f0)
-        nfev += 1
-    g_old = nutation_angle_of_state(y, p) - theta_cr
+        t = _release(st, y, p, t, f0, ytry)
+    g_old = nutation_angle_of_state(y, p) - p[P_THETA_CR]
     while t < t_max:
         if sticking:
-            wp = y[7]
-            hold_stick(y, wp)
-            exit_angle = breakaway_angle(y, p, wp)  # < 0: a re-kick inside a window
-            angle = max(exit_angle, 0.0)
-            t_b = min(t + angle / abs(wp), t_max) if wp != 0.0 else t_max
-            if use_eval:
-                while i_eval < n_eval and t_eval[i_eval] <= t_b:
-                    turn_rigidly(y, wp * (t_eval[i_eval] - t), ytry)
-                    ts[n_out] = t_eval[i_eval]
-                    ys[n_out, :] = ytry
-                    n_out += 1
-                    i_eval += 1
-            turn_rigidly(y, wp * (t_b - t), ytry)
-            y[:] = ytry
-            t = t_b
-            if record and not use_eval:
-                ts, ys, n_out = append_row(ts, ys, n_out, t, y)
+            t, exit_angle, i_eval, ts, ys, n_out = _stick(
+                y, p, t, t_max, record, (t_eval, i_eval, ts, ys, n_out), ytry
+            )
             if t >= t_max or (t >= cycle_end and exit_angle >= 0.0):
                 break
-            tau = _break_away(y, p, r_kick, ytry)
-            t += tau
-            sticking = False
-            armed = False
-            took_off = False
-            rhs(t, y, p, f0)
-            nfev += 1
-            # first step: the slip's age tau (it about doubles): a longer first step
-            # let Newton land on a decaying branch of the non-smooth law (seen at
-            # 40 rad/s, one window in ~500 lost by rounding alone)
-            h_first = TAKE_OFF * tau if tau > 0.0 else h0
-            h, h_lu, need_jac, have_poly, first, h_lim = _fresh_radau(
-                min(h0, h_first), h_max, t_max - t
-            )
-            rejected = False
-            faccon = 1.0
-            g_old = nutation_angle_of_state(y, p) - theta_cr
+            t = _kick(st, y, p, t, t_max, h0, h_max, r_kick, f0, ytry)
+            sticking, armed, took_off = False, False, False
+            g_old = nutation_angle_of_state(y, p) - p[P_THETA_CR]
             continue
-        if n_steps >= max_steps:
+        if st.cnt[N_STEPS] >= max_steps:
             status = Status.STEP_LIMIT
             break
-        if need_jac:
-            # forward differences far below the slip speed (the law's scale near stick)
-            slip_jacobian(t, y, f0, p, scale, jac, work, fwork, r_kick)
-            nfev += n
-            njev += 1
-            need_jac = False
-            jac_fresh = True
-            h_lu = math.nan
-        if t + 1.01 * h >= t_max:
-            h = t_max - t
-        if h != h_lu:
-            if not _factor(h, jac, lu):
-                n_rej += 1
-                h *= 0.5
-                h_lu = math.nan
-                if underflow(h, t):
-                    status = Status.FAILED
-                    break
-                continue
-            h_lu = h
-        for i in range(n):
-            scal[i] = 1.0 / (atol * scale[i] + rtol * abs(y[i]))
-        if have_poly:
-            for k in range(3):
-                ck = C1 if k == 0 else (C2 if k == 1 else 1.0)
-                l1, l2, l3 = _colloc_weights(1.0 + ck * h / h_acc)
-                for i in range(n):
-                    z[k, i] = l1 * zacc[0, i] + l2 * zacc[1, i] + l3 * zacc[2, i] - zacc[2, i]
-        else:
-            # no polynomial yet (after a kick): predict the rigid turn with the socket,
-            # so that Newton corrects only the slip; from z = 0 its linearised rotation
-            # errs by ~ (omega_p h)^2 omega_p in omega_r, the kicked slip's size for a
-            # step of the slip's age, and the iteration failed down to h ~ age / 100
-            for k in range(3):
-                ck = C1 if k == 0 else (C2 if k == 1 else 1.0)
-                turn_rigidly(y, y[7] * ck * h, fwork)
-                for i in range(n):
-                    z[k, i] = fwork[i] - y[i]
-        ok, newt, theta, faccon, hfac = _newton(t, y, h, p, scal, stage, lu, scratch, faccon, fnewt)
-        nfev += 3 * newt
-        if not ok:
-            h_lim = min(h_lim, h * _LIM_SHRINK)
-            n_rej += 1
-            rejected = True
-            h *= hfac
-            if not jac_fresh:
-                need_jac = True
-            if underflow(h, t):
+        if st.need_jac[0]:  # forward differences far below the slip speed (stick's scale)
+            slip_jacobian(t, y, f0, p, scale, ws.jac, ws.scratch[0], ws.fwork, r_kick)
+            took_jacobian(st)
+        if not factored(st, t, t_max, ws):
+            if underflow(st.h[0], t):
+                status = Status.FAILED
+                break
+            continue
+        _predict(st, ws, y)
+        if not attempt(st, ws, t, y, p, scale, rtol_r, atol_r, fnewt):
+            if underflow(st.h[0], t):  # a kicked slip that cannot take off
                 t_w, i_eval, n_out = _through_window(
                     y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval
                 )
                 if t_w < 0.0:
                     status = Status.FAILED
                     break
-                t = t_w
-                sticking = True
-                continue
+                t, sticking = t_w, True
             continue
-        for i in range(n):
-            ynew[i] = y[i] + z[2, i]
-            err_v[i] = f0[i] + (E1 * z[0, i] + E2 * z[1, i] + E3 * z[2, i]) / h
-        for i in range(n):
-            work[i] = err_v[i]
-        lu_solve(lu_r, piv_r, work)
-        err = rms_norm(work, y, ynew, rtol, atol, scale)
-        if err >= 1.0 and (first or rejected):
-            for i in range(n):
-                ytry[i] = y[i] + work[i]
-            rhs(t, ytry, p, fwork)
-            nfev += 1
-            for i in range(n):
-                work[i] = fwork[i] + err_v[i] - f0[i]
-            lu_solve(lu_r, piv_r, work)
-            err = rms_norm(work, y, ynew, rtol, atol, scale)
-        if not (err == err):
-            err = 1e10
-        quot, quot_std = step_quotient(err, newt, h, first, h_gus, err_gus)
-        if err >= 1.0:
-            n_rej += 1
-            rejected = True
-            h = h * 0.1 if first else h / quot_std
-            if not jac_fresh:
-                need_jac = True
-            if underflow(h, t):
-                t_w, i_eval, n_out = _through_window(
-                    y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval
-                )
-                if t_w < 0.0:
-                    status = Status.FAILED
-                    break
-                t = t_w
-                sticking = True
-                continue
-            continue
-        # ---- accepted ----
-        h_new = h / quot
-        h_gus = h
-        err_gus = max(1e-2, err)
-        t_new = t + h
-        t_stop = t_new
-        g_new = nutation_angle_of_state(ynew, p) - theta_cr
-        if g_old > 0.0 and t_event != t_event:
-            step = (t, y, h, z, ynew, g_old, g_new)
-            found, t_ev, nf = locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev)
-            nfev += nf
-            if found:
-                h_lu = math.nan
-                t_event = t_ev
-                if terminal:
-                    status = Status.OPENED
-                    t_stop = t_event
-        if use_eval:
-            while i_eval < n_eval and t_eval[i_eval] <= t_stop:
-                _dense(y, z, (t_eval[i_eval] - t) / h, ytry)
-                ts[n_out] = t_eval[i_eval]
-                ys[n_out, :] = ytry
-                n_out += 1
-                i_eval += 1
-        if status == Status.OPENED:
+        t_event, opened, g_new, i_eval, n_out = accepted_outputs(
+            st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt,
+            (t_eval, i_eval, ts, ys, n_out),
+        )  # fmt: skip
+        if opened:
+            status = Status.OPENED
             ts, ys, n_out = record_row(ts, ys, n_out, t_event, y_event, record, use_eval)
             y[:] = y_event
             t = t_event
             break
         g_old = g_new
-        for k in range(3):
-            for i in range(n):
-                zacc[k, i] = z[k, i]
-        h_acc = h
-        have_poly = True
-        t = t_new
-        for i in range(n):
-            y[i] = ynew[i]
-        n_steps += 1
+        t = advance(st, ws, t, y)
         if not (y[0] == y[0]):
             status = Status.FAILED
             break
-        inside = _stick_admissible(y, p)
-        armed = armed or not inside
-        admissible = inside and armed
-        rhs(t, y, p, f0)
-        nfev += 1
-        wx, wy, wz, r = _slip(y)
-        took_off = took_off or r > r_stick
-        reversal = took_off and not inside and r <= r_stick
-        rate = _slip_rate(y, f0) if admissible or reversal else 0.0
-        if (admissible or reversal) and r <= r_stick and rate < 0.0:
-            # zero slip at t + tau, tau = r / |r'|; the attitude gets the slip's turn
-            # omega_r tau / 2 and the spin's omega_p tau (error O(r tau^2 |u'|)). With
-            # G_req inside F that is stick; outside, a reversal through zero slip (the
-            # rig's creep about X under the Coulomb patch law, twice a revolution): the
-            # stick branch finds G_req outside F and kicks the slip out at once
-            tau = -r / rate
-            turn_by(y, 0.5 * tau * wx, 0.5 * tau * wy, 0.5 * tau * wz)
-            turn_rigidly(y, y[7] * tau, ytry)
-            y[:] = ytry
-            t += tau
-            sticking = True  # hold_stick zeroes omega_r at the top of the loop
-            if record and not use_eval:
-                ts, ys, n_out = append_row(ts, ys, n_out, t, y)
-            continue
+        armed, took_off, to_zero, w, rate = _slip_after_step(
+            st, y, p, t, f0, armed, took_off, r_stick
+        )
+        if to_zero:
+            t, sticking = _to_zero_slip(y, t, w, rate, ytry), True
         if record and not use_eval:
             ts, ys, n_out = append_row(ts, ys, n_out, t, y)
-        h, h_lim, slow = next_step(h, h_new, h_lim, h_max, rejected, theta)
-        need_jac = need_jac or slow
-        if rate < 0.0 and -HOME_IN * r / rate < h:  # home in: Newton on |omega_r|(t)
-            h = -HOME_IN * r / rate
-        first = False
-        rejected = False
-        jac_fresh = False
-        if hand_off and r >= r_hand and stick_ratio(y, p) >= HAND_OFF_KAPPA:
-            status = Status.NONSTIFF
+        if sticking:
+            continue
+        plan_next(st, h_max)
+        if rate < 0.0 and -HOME_IN * w[3] / rate < st.h[0]:  # home in: Newton on |omega_r|(t)
+            st.h[0] = -HOME_IN * w[3] / rate
+        t, ran, ended, status, t_event, i_eval, ts, ys, n_out = _fast_slip(
+            st, y, p, scale, f0, t, w[3], (r_fast, spin), controls, (t_eval, i_eval, ts, ys, n_out),
+            (status, t_event, y_event),
+        )  # fmt: skip
+        if ended:
             break
-        # fast slip: DOP853 stretches, each too short for |omega_r| to fall to r_fast / 2
-        # at twice its present rate of change, floored at |omega_r| omega_p / (4 pi) (a
-        # slip that turns with the ball changes at ~ omega_p |omega_r|); DOP853's own
-        # stiffness test stops one should the slip still approach zero
-        stretched = False
-        done = False
-        while r >= r_fast and t < t_max:
-            rate_floor = r * spin / (4.0 * math.pi)
-            t_chunk = t + _CHUNK * (r - 0.5 * r_fast) / max(abs(_slip_rate(y, f0)), rate_floor)
-            if t_chunk - t < 2.0 * h_max:
-                break
-            t_chunk = min(t_chunk, t_max)
-            j = i_eval
-            while j < n_eval and t_eval[j] <= t_chunk:
-                j += 1
-            stretch = Controls(
-                t_chunk, rtol0, atol0, min(h, h_max), h_max, max_steps - n_steps,
-                t_eval[i_eval:j], record and not use_eval, terminal, event_tol, False,
-            )  # fmt: skip
-            out = dop853_integrate(Problem(y.copy(), p, scale, t), stretch)
-            stretched = True
-            nfev += out.nfev
-            n_steps += out.n_steps
-            n_rej += out.n_rejected
-            k0 = 0 if use_eval else 1  # a recorded stretch starts with this state
-            for k in range(k0, out.t.shape[0]):
-                if use_eval:
-                    ts[n_out] = out.t[k]
-                    ys[n_out, :] = out.y[k]
-                    n_out += 1
-                    i_eval += 1
-                elif record:
-                    ts, ys, n_out = append_row(ts, ys, n_out, out.t[k], out.y[k])
-            if out.t_event == out.t_event and t_event != t_event:
-                t_event = out.t_event
-                y_event[:] = out.y_event
-            if out.status == Status.OPENED:
-                status = Status.OPENED
-                done = True
-            elif not (out.y_end[0] == out.y_end[0]) or out.status == Status.STEP_LIMIT:
-                status = out.status
-                done = True
-            t = out.t_end
-            y[:] = out.y_end
-            if done or out.status != Status.T_MAX:  # STIFF: back to Radau IIA
-                break
+        if ran:
             rhs(t, y, p, f0)
-            nfev += 1
-            r = _slip(y)[3]
-        if done:
-            break
-        if stretched:
-            rhs(t, y, p, f0)
-            nfev += 1
-            h, h_lu, need_jac, have_poly, first, h_lim = _fresh_radau(h, h_max, t_max - t)
-            g_old = nutation_angle_of_state(y, p) - theta_cr
+            st.cnt[NFEV] += 1
+            jump(st, st.h[0], h_max, t_max - t)
+            g_old = nutation_angle_of_state(y, p) - p[P_THETA_CR]
+    c = st.cnt
     return RawSolution(
-        status, t_event, y_event, ts[:n_out], ys[:n_out], nfev, njev, n_steps, n_rej, t, y
+        status, t_event, y_event, ts[:n_out], ys[:n_out], c[0], c[1], c[2], c[3], t, y
     )

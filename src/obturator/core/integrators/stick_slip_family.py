@@ -71,7 +71,7 @@ __all__ = [
     "KAPPA_END",
     "MAX_SPIN_NODES",
     "MAX_SPLITS",
-    "MIN_CYCLES",
+    "BAND_MIN_CYCLES",
     "band_edges",
     "band_map",
     "shared_maps",
@@ -95,7 +95,7 @@ MAX_SPLITS = 2
 #: for which the band's grid is built: the case integrates its last
 #: :data:`~.stick_slip_map.LAST_CYCLES` cycles anyway, so with fewer left the grid costs
 #: more than it saves.
-MIN_CYCLES = 4.0
+BAND_MIN_CYCLES = 4.0
 #: Most spin nodes of a band (Chebyshev-Lobatto levels 5, 9, 17).
 MAX_SPIN_NODES = 17
 #: Band grids kept per process (least recently used dropped first). A grid is a function
@@ -143,7 +143,7 @@ def band_map(
     The grid's node problems are built from the group's spin-normalised data
     (:func:`_group`), so the map, and the case's t_cr, are functions of the case alone.
     Where the band's grid fails it is halved (at most :data:`MAX_SPLITS` times); None
-    where the case is outside the map's scope, fewer than :data:`MIN_CYCLES` cycles are
+    where the case is outside the map's scope, fewer than :data:`BAND_MIN_CYCLES` cycles are
     left or no grid holds (the case then builds its own one-spin map). `counts`
     (right-hand sides, Jacobians, steps, rejected steps) gains the node cycles integrated.
     """
@@ -208,7 +208,7 @@ def _band(group: _Group, w_lo: float, w_hi: float, counts: np.ndarray | None) ->
         return _MEMO[key]
     grid = _Grid(group, run_cycles())
     try:
-        pays = grid.cycles_ahead(w_lo, w_hi) >= MIN_CYCLES
+        pays = grid.cycles_ahead(w_lo, w_hi) >= BAND_MIN_CYCLES
         built = grid.build(w_lo, w_hi) if pays else None
     except (RuntimeError, ArithmeticError):  # a node that fails: split the band
         pays, built = True, None

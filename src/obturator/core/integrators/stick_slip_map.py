@@ -54,7 +54,7 @@ __all__ = [
     "CycleMap",
     "MAP_TOL",
     "MAX_NODES",
-    "MIN_CYCLES",
+    "MAP_MIN_CYCLES",
     "NODE_TOL_FACTOR",
     "applies",
     "cycles_ahead",
@@ -73,7 +73,7 @@ MAX_NODES = 33
 NODE_TOL_FACTOR = 0.1
 #: Fewest cycles (:func:`cycles_ahead`) for which the map is built: a node costs about
 #: two cycles integrated one by one, and 17 nodes are the usual need.
-MIN_CYCLES = 60.0
+MAP_MIN_CYCLES = 60.0
 #: Cycles left to the opening that are integrated one by one again.
 LAST_CYCLES = 3
 #: Lowest nutation angle [rad] of the map's interval (the cycles below it, a handful
@@ -275,9 +275,8 @@ class _Nodes:
         self.problem = problem._replace(p=p, t0=0.0)
         self.rtol = controls.rtol
         rtol, atol = controls.rtol * NODE_TOL_FACTOR, controls.atol * NODE_TOL_FACTOR
-        # a node's cycle is run whole: no hand-off to the lanes (stick_slip_lanes)
         self.controls = controls._replace(
-            t_max=4.0 * self.half, rtol=rtol, atol=atol, hand_back=False
+            t_max=4.0 * self.half, rtol=rtol, atol=atol, stop_when_sliding=False
         )
         self.run = run
         self.values: dict[float, tuple[float, float, float, int]] = {}
@@ -376,7 +375,7 @@ def integrate(
     theta_lo = max(float(problem.p[P_THETA_CR]), THETA_LOW)
     if built is None and len(thetas) == 2:
         d = thetas[1] - thetas[0]
-        if d < 0.0 and theta > theta_lo and cycles_ahead(theta_lo, theta, -d) > MIN_CYCLES:
+        if d < 0.0 and theta > theta_lo and cycles_ahead(theta_lo, theta, -d) > MAP_MIN_CYCLES:
             built = _build_map(nodes, theta_lo, theta, t_break)
     if built is not None:
         theta, t_map, phi, cycles = iterate(

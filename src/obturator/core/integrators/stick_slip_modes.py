@@ -11,10 +11,12 @@ falls back.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
+from ..._docs import field_docs
 from ...errors import InputError
 from ..friction_sets import (
     breakaway_angle,
@@ -37,16 +39,14 @@ from ..layout import (
 )
 
 __all__ = [
-    "HAND_OFF_KAPPA",
-    "HAND_OFF_SLIP",
+    "MODES",
+    "ModeSettings",
     "HOLD_THROUGH",
     "REKICK",
-    "SLIP_FLOOR",
     "break_away",
     "check_set_valued_law",
     "excess",
     "slip",
-    "slip_floor",
     "slip_rate",
     "slip_speed_unit",
     "stick_admissible",
@@ -54,26 +54,30 @@ __all__ = [
     "through_window",
 ]
 
-#: A kicked slip that falls back below the kick inside an exit window of F is held
-#: rigidly through this fraction of the window left, then kicked again ...
-REKICK = 0.5
-#: ... unless no more than this is left [rad]: then through the window (a grazing exit).
-HOLD_THROUGH = 1e-4
-#: Relative margin (of M) that G_req must keep inside F to enter stick.
-_MARGIN = 1e-9
 
-#: A slip is handed to the DOP853 lanes (:mod:`.stick_slip_lanes`) once the stick
-#: ratio kappa = |G_req| / M is at least this: on the rig a ball past kappa ~0.55 no
-#: longer sticks (section 10 of docs/stick_slip.md), and at 0.8 no handed slip of the
-#: 1,860 set-valued points of a 40-218 rad/s sweep came back (0.55: 23-71 % did) ...
-HAND_OFF_KAPPA = 0.8
-#: ... and its slip speed is at least this, in units of (M / A) h_max (the speed at
-#: which the slip direction relaxes within ~2 largest steps) ...
-HAND_OFF_SLIP = 0.5
-#: ... and the lanes hand it back where an accepted step ends below this (same units):
-#: DOP853 then has ~4 largest steps per relaxation time of the direction, which is
-#: singular at zero slip.
-SLIP_FLOOR = 0.25
+@field_docs
+class ModeSettings(NamedTuple):
+    """The mode decisions' thresholds (defaults: :data:`MODES`)."""
+
+    #: A kicked slip that falls back below the kick inside an exit window of F is held
+    #: rigidly through this fraction of the window left, then kicked again (with the
+    #: larger excess there) ...
+    rekick: float = 0.5
+    #: ... unless no more than this is left [rad]: then through the window (a grazing
+    #: exit, whose creep is below the kick's scale).
+    hold_through: float = 1e-4
+    #: Relative margin (of M) that G_req must keep inside F to enter stick (rounding of
+    #: G_req on the boundary must not decide the mode).
+    margin: float = 1e-9
+
+
+#: The thresholds the mode decisions use.
+MODES = ModeSettings()
+
+# module constants for the compiled code (numba freezes plain globals)
+REKICK = MODES.rekick
+HOLD_THROUGH = MODES.hold_through
+_MARGIN = MODES.margin
 
 
 def check_set_valued_law(p: np.ndarray, solver: str) -> None:
@@ -122,14 +126,8 @@ def stick_ratio(y: np.ndarray, p: np.ndarray) -> float:
 def slip_speed_unit(p: np.ndarray, h_max: float) -> float:
     """(M / A) h_max [rad/s]: the slip speed whose direction relaxes in about one largest
     step `h_max` [s] (relaxation rate ~ M / (A |omega_r|)); the unit of
-    :data:`~.stick_slip.FAST_SLIP`, :data:`HAND_OFF_SLIP` and :data:`SLIP_FLOOR`."""
+    :data:`~.stick_slip.FAST_SLIP`."""
     return moment_scale(p) / p[P_A] * h_max
-
-
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
-def slip_floor(p: np.ndarray, h_max: float) -> float:
-    """:data:`SLIP_FLOOR` in rad/s for a case packed as `p` with largest step `h_max` [s]."""
-    return slip_speed_unit(p, h_max) * SLIP_FLOOR
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")

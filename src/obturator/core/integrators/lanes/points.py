@@ -39,7 +39,6 @@ class Points(NamedTuple):
     h_max: np.ndarray  #: (n,) largest steps [s]
     max_steps: np.ndarray  #: (n,) accepted-step limits
     hand_back: np.ndarray  #: (n,) bool: Radau IIA stops once sliding has resumed
-    slip_floor: np.ndarray  #: (n,) DOP853 ends a point whose |omega_r| falls below [rad/s]
     order: np.ndarray  #: (n,) the order in which points enter the lanes
 
 

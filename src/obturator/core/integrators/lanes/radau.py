@@ -44,7 +44,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from ...dynamics import nutation_angle_of_state, slip_and_spin
@@ -59,17 +58,22 @@ from ...layout import (
 )
 from ..common import increment_cap, underflow
 from ..contract import Status
-from ..radau import _UROUND, locate_opening_at
+from ..radau import locate_opening_at
 from ..radau_control import (
     _LIM_SHRINK,
     _NIT,
     _THET,
+    _UROUND,
+    ERR_GUS_MIN,
+    FACCON_POWER,
+    FIRST_CUT,
+    NEWTON_CUT,
     newton_contraction,
     next_step,
     radau5_tolerances,
-    sliding_resumed,
     step_quotient,
 )
+from ..switching import sliding_resumed
 from .lu import lu_factor_complex_lanes, lu_factor_lanes
 from .points import Outcome, Points, copy_lane, finish, lane_vector, new_outcome, pack_lanes
 from .radau_state import (
@@ -168,8 +172,7 @@ def integrate_radau_lanes(
         raise ValueError("vw must be LANES")
     n_pts = y0.shape[0]
     n_par = p.shape[1]
-    no_floor = np.zeros(y0.shape[0])
-    pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, hand_back, no_floor, order)
+    pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, hand_back, order)
     out = new_outcome(n_pts)
     rtol, atol, fnewt = radau5_tolerances(rtol, atol)  # as radau.integrate
     generic = n_pts > 0 and p[0, P_KERNEL] == KERNEL_GENERIC
@@ -331,7 +334,7 @@ def _factor(ln: Lanes, at: Attempt, out: Outcome, nl, vw) -> None:
         at.state[j] = _RUNNING
         if not at.ok[j]:
             ln.cnt[2, j] += 1
-            ln.h[j] *= 0.5
+            ln.h[j] *= NEWTON_CUT
             at.state[j] = _IDLE
             if underflow(ln.h[j], ln.t[j]):
                 ln.live[j] = _end(ln, out, j, Status.FAILED)
@@ -352,7 +355,7 @@ def _newton(ln: Lanes, at: Attempt, nl, kernel, tol: Settings) -> None:
     to_w(at.nw, vw)
     for j in range(nl):
         if at.state[j] == _RUNNING:
-            ln.faccon[j] = max(ln.faccon[j], _UROUND) ** 0.8
+            ln.faccon[j] = max(ln.faccon[j], _UROUND) ** FACCON_POWER
         at.theta[j] = _THET
         at.dyn_old[j] = 1.0
         at.thq_old[j] = 1.0
@@ -384,7 +387,7 @@ def _running(at: Attempt, nl) -> bool:
         if at.state[j] == _RUNNING:
             if at.newt[j] >= _NIT:
                 at.state[j] = _FAILED
-                at.h_fac[j] = 0.5
+                at.h_fac[j] = NEWTON_CUT
             else:
                 running = True
     return running
@@ -397,7 +400,7 @@ def _contraction(ln: Lanes, at: Attempt, j, fnewt) -> None:
     ln.cnt[0, j] += 3
     if not at.fin[j]:
         at.state[j] = _FAILED
-        at.h_fac[j] = 0.5
+        at.h_fac[j] = NEWTON_CUT
         return
     dyno = at.dyno[j]
     failed, at.theta[j], at.thq_old[j], ln.faccon[j], at.h_fac[j] = newton_contraction(
@@ -475,7 +478,7 @@ def _decide(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Settings
     if err >= 1.0:
         ln.cnt[2, j] += 1
         ln.rejected[j] = True
-        ln.h[j] = h * 0.1 if ln.first[j] else h / quot_std
+        ln.h[j] = h * FIRST_CUT if ln.first[j] else h / quot_std
         if not ln.fresh[j]:
             ln.new_jac[j] = True
         if underflow(ln.h[j], ln.t[j]):
@@ -483,7 +486,7 @@ def _decide(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Settings
         return False
     h_new = h / quot
     ln.h_gus[j] = h
-    ln.err_gus[j] = max(1e-2, err)
+    ln.err_gus[j] = max(ERR_GUS_MIN, err)
     # opening: the nodes and the step end are well above theta_cr unless one of their
     # cos(theta) comes near cos(theta_cr); only then the scalar test
     if at.cos_n[j] >= ln.cos_cr[j] - 1e-9 or not (at.cos_n[j] == at.cos_n[j]):
@@ -551,7 +554,7 @@ def _opening(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Setting
 
 @njit(**DRIVER_PHASE)
 def _sliding_resumed(ln: Lanes, one: OneLane, j) -> bool:
-    """The hand-back test at lane j's accepted state (radau_control.sliding_resumed)."""
+    """The hand-back test at lane j's accepted state (switching.sliding_resumed)."""
     lane_vector(ln.y, j, 0, one.y)
     for i in range(one.p.shape[0]):
         one.p[i] = ln.p[i * LANES + j]
