@@ -7,10 +7,10 @@ where that solver takes the case and its stick ratio (:func:`stick_ratio`) is be
 to Radau IIA when stiff) elsewhere: for every case the set-valued solver refuses
 (slip-speed laws, the thesis's energy spin mode, Euler angles, Coulomb point contacts,
 no friction) and above the threshold. Below it the ball sticks and slips for many
-revolutions: the regularised law's width leaves 1e-6..1e-2 in t_cr there and the
-set-valued solver is within ~2e-7 of the width-free limit (``docs/stick_slip.md``),
-at lower or similar cost; above it the ball slides from release on, both paths agree
-to ~5e-9 and the regularised one is the faster.
+revolutions, where the regularised law's width error is largest and the set-valued
+solver has none; above it the ball slides from release on, both paths agree and the
+regularised one is the faster (``docs/benchmarks.md``, ``python -m
+benchmarks.dispatch_crossover``).
 
 The choice is a function of the packed parameter vector and the start state alone
 (:func:`dispatched_method`), so the one-trajectory path (:mod:`obturator.solve.one`) and
@@ -59,45 +59,10 @@ __all__ = [
 #: the set-valued solver takes with that solver, per friction law; at and above it, the
 #: regularised path. Set by accuracy, where the regularised law's width error at the
 #: default width (1e-7 omega_p) falls below 1e-6; cost only decides above that.
-#: Measured 2026-11-27 on an idle 2-vCPU AMD EPYC (Zen 4), rig mu_s 0.5473 unless said,
-#: ``python -m benchmarks.dispatch_crossover`` (errors against ``"set-valued"`` at rtol
-#: 1e-12, the width-free limit of ``docs/stick_slip.md``; default rtol 1e-8; ms per point,
-#: set-valued one by one / regularised one by one / regularised in lanes, a band of 32
-#: points over +-5 rad/s in ``opening_times``):
-#:
-#: ====== ======= ====================== =============== ===============
-#: spin   kappa   ms sv / 1x1 / lanes    error sv        error reg.
-#: ====== ======= ====================== =============== ===============
-#: 40     0.020   6.5 / 310 / 150        5e-8            1.3e-3
-#: 60     0.045   6.4 / 44 / 20.5        4e-8            2.9e-4
-#: 70     0.062   10.0 / 22.5 / 10.2     1.6e-7          2.7e-4
-#: 100    0.126   4.0 / 7.1 / 3.2        6e-8            1.3e-4
-#: 140    0.247   1.16 / 1.51 / 0.61     2e-7            3.6e-5
-#: 150    0.284   0.97 / 1.19 / 0.49     1.3e-7          2.9e-5
-#: 200    0.505   0.52 / 0.47 / 0.18     8e-9            2.7e-6
-#: 250    0.79    0.36 / 0.24 / 0.079    4e-9            6e-9
-#: ====== ======= ====================== =============== ===============
-#:
-#: So on speed alone the set-valued solver wins below ~190 rad/s (kappa 0.46) one by one
-#: and below ~72 rad/s (kappa 0.066) against the lanes, which are 1-4.6x cheaper per point;
-#: but up to kappa 0.536 (206 rad/s) the regularised t_cr is 1.8e-6..1.3e-3 off (the
-#: ball sticks and slips, and the width converges slowly there), and from 0.546 on
-#: within 1e-8: no stick after release. That edge is the same at mu_s 0.35, 0.5473 and
-#: 0.8 (spins 165, 207, 251 rad/s: errors 1.8e-6 at kappa 0.536 and <= 8e-9 at 0.546
-#: for all three), which is why the threshold is on kappa and not on the spin. Thesis
-#: law: 0.6 (218 rad/s at Table 1), a 10 % margin; between 0.546 and 0.6 the
-#: set-valued solver costs 1.1-1.3x (one by one) to 3-4x (lanes) for equal accuracy.
-#: Flight (Mach 3-4, mu_s 0.35-0.5473, spin scaled): below kappa = cos(beta) = 0.8 the
-#: ball never leaves stick (set-valued 0.05 ms, closed form; regularised 20-67 ms to
-#: t_max, both NaN); regularised errors 4.1e-5, 1.6e-6, 6.9e-7, 3.6e-7, 2.4e-7 at kappa
-#: 0.9, 1.0, 1.1, 1.2, 1.3 (the same at both Mach numbers), set-valued <= 5e-8 at
-#: 0.37 ms against 0.15: 1.2 (Table 1 flight: kappa 1.5-28, regularised). Coulomb patch
-#: law (rig): the set-valued solver costs 1.07-1.15x the regularised path one by one and
-#: 1.1-1.4x its lanes at 80-250 rad/s (the generic right-hand side, no vectorised gain),
-#: its errors 1e-8..8e-7 to 180 rad/s against the regularised 3.3e-4 (45 rad/s), 2.9e-6
-#: (65), 1.3e-2 (70: one slip window more), 7.6e-7 (80), 3.7e-6 (100), 2.1e-6 (140),
-#: 6.0e-7 (150) (45-70 rad/s: 2026-11-26): 0.28 (149 rad/s); above it both are ~1e-6
-#: off (set-valued 5.9e-6 at 200 rad/s).
+#: The threshold is on kappa, not on the spin, because the edge where the regularised
+#: t_cr stops being within 1e-6 of the width-free limit (no stick after release) falls at
+#: the same kappa for every mu_s; each value keeps a margin below that edge. Measured by
+#: ``python -m benchmarks.dispatch_crossover`` (tables in ``docs/benchmarks.md``).
 SET_VALUED_BELOW: dict[int, float] = {
     FRIC_THESIS_RIG: 0.6,
     FRIC_THESIS_FLIGHT: 1.2,
@@ -157,10 +122,9 @@ def dispatched_controls(method: str, chosen: str, controls: Controls) -> Control
     :data:`~obturator.core.integrators.AUTO_RADAU_TOL_FACTOR` (a third) of the
     tolerances, as the regularised path's Radau IIA stretches do near stick.
 
-    Why: at rtol 1e-8 one rig point of 2,000 over 40-1000 rad/s (77.46 rad/s, mu_s
-    0.5473) was 1.1e-5 from the width-free limit, and every other within 2.1e-7; at
-    rtol 3e-9 the worst of the 2,000 is 1.4e-7, for 1.5-1.7x the time
-    (``python -m benchmarks.dense_accuracy --limit``, docs/stick_slip.md section 11).
+    Why: at the full tolerances single near-stick points missed the 1e-6 accuracy
+    contract of the default (``python -m benchmarks.dense_accuracy --limit``,
+    ``docs/benchmarks.md``).
     """
     if method != "auto" or chosen != "set-valued":
         return controls

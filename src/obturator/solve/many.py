@@ -294,9 +294,9 @@ class PackedPoints(NamedTuple):
     """Points ready for the lanes: what :func:`~obturator.solve.integration_setup` gives
     for each, as arrays with one row per point (rows of invalid points are zeros).
 
-    Built in Python (case validation, parameter packing: ~30 us per point), so it can
-    be built in another process than the one that integrates
-    (:mod:`obturator.sweeps.ahead`); :meth:`take` selects points.
+    Built in Python (case validation, parameter packing), so it can be built in another
+    process than the one that integrates (:mod:`obturator.sweeps.ahead`); :meth:`take`
+    selects points.
     """
 
     valid: np.ndarray  #: bool (n,): the point is a valid case

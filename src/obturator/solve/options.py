@@ -93,15 +93,11 @@ class SolverOptions:
         step once the slip speed has stayed above 1e4 regularisation widths for half
         a revolution (the stick-slip phase is over; at most
         :data:`~obturator.core.integrators.AUTO_HAND_BACKS` times); counters add up.
-        t_cr errors at rtol 1e-8: median
-        ~5e-9, worst 3.0e-7 relative at 100-1000 rad/s, up to 1.6e-3 in the long
-        near-stick runs below 100 rad/s (:data:`OPENING_TIME_ACCURACY`; rtol 3e-9 keeps
-        them below 5e-6, rtol 1e-10 below 1.5e-7). ``"radau"``:
+        Its t_cr accuracy per rtol is :data:`OPENING_TIME_ACCURACY`. ``"radau"``:
         the fifth-order Radau IIA collocation method (Newton iterations follow the nonlinear
-        stiffness of sticking, 8-15x faster than Rosenbrock on the thesis cases
-        and ~1e2-1e4x fewer steps in long sticking phases). ``"rosenbrock"``:
-        the L-stable Rosenbrock pair of Shampine (ode23s). Radau transforms rtol as RADAU5 does
-        (0.1 rtol^(2/3)); t_cr errors stay below ~3e-7 relative at rtol 1e-8.
+        stiffness of sticking, far fewer steps than Rosenbrock in long sticking phases).
+        ``"rosenbrock"``: the L-stable Rosenbrock pair of Shampine (ode23s). Radau transforms
+        rtol as RADAU5 does (0.1 rtol^(2/3)).
         ``"set-valued"``: the friction law with no width (``friction_width`` and
         ``friction_family`` unused): exact stick and event-driven transitions
         (:mod:`obturator.core.integrators.stick_slip`, ``docs/stick_slip.md``); quaternion
@@ -111,8 +107,7 @@ class SolverOptions:
         ``"moreau-jean"``: the same law by first-order event-capturing time-stepping
         (:mod:`obturator.core.integrators.moreau_jean`) with the fixed step
         ``fixed_step``: an independent cross-check of ``"set-valued"`` (no modes, no
-        events), first order in the step (t_cr 1e-4..1e-2 relative off at
-        5e-6 s on the rig, ``docs/stick_slip.md``); constant spin, t_cr only (no time
+        events), first order in the step (``docs/stick_slip.md``); constant spin, t_cr only (no time
         history: :func:`~obturator.solve.simulate` with it is refused).
     fixed_step : float or None
         Step of ``method="moreau-jean"`` [s], > 0; default None: 1e-4 of a spin period
@@ -188,9 +183,7 @@ class SolverOptions:
         default ``"auto"`` (:data:`AUTO_OPENING_TIME_ACCURACY`) that is rtol 1e-8 down to
         5.7e-7; for the others (:data:`OPENING_TIME_ACCURACY`) the regularised path's
         long near-stick runs below 100 rad/s set it. Looser requests get rtol 1e-8 too
-        (the default): at rtol 3e-8 the 10,000-point rig sweep over 100-700 rad/s
-        already has a worst error of 6.6e-5 (near stick, 11 points beyond 1e-6) for 4 %
-        less time.
+        (the default): looser tolerances leave near-stick outliers for little gain.
 
         Parameters
         ----------
@@ -229,17 +222,9 @@ class SolverOptions:
 
 
 #: (t_cr accuracy, rtol): rtol (atol = rtol/100) whose worst relative t_cr error,
-#: times 3, is within that accuracy. Measured against Radau IIA at rtol 1e-12 (at
-#: 1e-11 it is itself up to 1e-7 off near stick) on the rig at mu_s 0.5473 (default
-#: width and family), every point of two sweeps through the sweep path and through the
-#: one-trajectory path (``python -m benchmarks.dense_accuracy``, which reports both):
-#: 10,000 points over 100-700 rad/s and 241 over 40-100 rad/s (the long near-stick
-#: runs, t_cr 0.6-43 s); plus 13 fixed spins and 100 random ones over 40-1000 rad/s and
-#: the flight case at Mach 1.5-4, mu_s 0.35 and 0.5473. Worst errors of either path
-#: (40-100 rad/s; 100-1000 rad/s): rtol 1e-8: 1.6e-3 (the one-trajectory path at 42.5
-#: rad/s, t_cr 31.6 s; the sweep path's worst 1.6e-4); 3.0e-7. 3e-9: 4.8e-6; 1.5e-7.
-#: 1e-9: 3.5e-6; 6.3e-8. 1e-10: 1.5e-7; 5.0e-8 (the reference's own floor is ~2e-8).
-#: Flight errors are <= 4e-10. The low band sets every entry. Each is the worst of
+#: times 3, is within that accuracy, over the rig at 40-1000 rad/s and the flight case,
+#: both paths (``python -m benchmarks.dense_accuracy``; tables and history in
+#: ``docs/benchmarks.md``). The low band sets every entry. Each is the worst of
 #: several measurements that differ only in rounding (the right-hand side before and
 #: after its rewrite with one square root, the compiled code before and after ``auto``
 #: learned to go back to DOP853, the sweep's vectorised Radau IIA and the scalar one):
@@ -260,15 +245,8 @@ OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
 #: (t_cr accuracy, rtol) of the default method ``"auto"`` (the set-valued solver below
 #: the stick-ratio threshold, at a third of the tolerances; the regularised path above,
 #: :mod:`obturator.solve.dispatch`): 3 x the worst relative error against the width-free
-#: limit (the set-valued solver at rtol 1e-12) over 2,000 rig points at 40-1000 rad/s
-#: (mu_s 0.5473), the sweep path and the one-trajectory path then bit-identical: rtol
-#: 1e-8 1.89e-7, 3e-9 1.31e-7, 1e-9 4.96e-8, 1e-10 5.10e-9 (2026-11-26, AMD EPYC Zen 4;
-#: at rtol 1e-8 again on 2026-11-27, the sweep's set-valued points sharing return maps
-#: across spins: both paths 1.89e-7, at 330 rad/s; below 100 rad/s the sweep path
-#: 1.2e-7, the one-trajectory path 1.8e-7;
-#: ``python -m benchmarks.dense_accuracy --limit`` at each rtol; freshly compiled code
-#: differs from cached code there by at most 4.1e-11, ``python -m
-#: benchmarks.cache_binding``). The width error is
+#: limit (the set-valued solver at rtol 1e-12) over the rig points of ``python -m
+#: benchmarks.dense_accuracy --limit`` (40-1000 rad/s) at each rtol. The width error is
 #: included here, unlike :data:`OPENING_TIME_ACCURACY` (the regularised path's own
 #: integration error, which every other method uses as its conservative bound).
 AUTO_OPENING_TIME_ACCURACY: tuple[tuple[float, float], ...] = (
@@ -289,13 +267,10 @@ def opening_time_accuracy(method: str = "auto") -> tuple[tuple[float, float], ..
 #: where the friction torque's moment arm vanishes in some slip direction (the rig's
 #: single bottom contact; :func:`max_step_periods`).
 MAX_STEP_PERIODS = 0.1
-#: With a tenth on the rig, DOP853 now and then took a step of that length across the
-#: sharp minimum of the moment arm (Eq. 61: sqrt(1 - u_X^2), small while omega_r
-#: points near the gravity axis X, twice per revolution) with an error estimate that
-#: missed it: isolated t_cr outliers of up to 8e-7 at rtol 1e-8 (0.3 % of a
-#: 10,000-point rig sweep over 100-700 rad/s, the state error jumping 300x in one step)
-#: where neighbouring spins were within ~3e-9. A twentieth cut the worst to 3e-7
-#: (1.2e-7 -> 1.7e-8 at rtol 1e-9) for ~10 % more DOP853 work. In flight (no such
+#: With a tenth on the rig, DOP853 now and then stepped across the sharp minimum of the
+#: moment arm (Eq. 61: sqrt(1 - u_X^2), small while omega_r points near the gravity axis
+#: X, twice per revolution) with an error estimate that missed it, leaving isolated t_cr
+#: outliers (``docs/benchmarks.md``). In flight (no such
 #: minimum) it only doubled the steps.
 MAX_STEP_PERIODS_SHARP = 0.05
 

@@ -55,7 +55,7 @@ def pack_parameters(case: Case, options: SolverOptions, y0: np.ndarray | None = 
     p[P_FAMILY] = FAMILY_CODES[options.friction_family]
     # total kinetic energy, read by the thesis's energy form only (Appendix A, C(4));
     # elsewhere it stays 0, so that packing calls no compiled code (a process that has
-    # not loaded numba packs points in ~30 us, obturator.sweeps.ahead)
+    # not loaded numba can pack points, obturator.sweeps.ahead)
     if case.spin_mode == "thesis-energy":
         obs = observables(y0[None, :], p)
         p[P_KE0] = obs[0, 5] + 0.5 * case.projectile_inertia * case.spin_rate**2
