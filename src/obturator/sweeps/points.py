@@ -83,12 +83,12 @@ def warm(options: SolverOptions, radau_lanes: bool = False) -> None:
     """Load (or compile) the integrators once: a short rig run that turns stiff (150
     rad/s, 10 ms) with these options, so ``regularised`` loads DOP853 and Radau IIA, the
     same run through :func:`obturator.solve.opening_times` (one point: one by one, so
-    the DOP853 lanes load with a worker's first lane chunk, ~0.06 s; loaded here
-    instead, before the fork, a 10,000-point sweep on 2 workers was no faster), and with
-    `radau_lanes` the Radau IIA lanes (~0.1-0.4 s to load; chunks too small to use them
-    skip it).
+    the DOP853 lanes load with a worker's first lane chunk, which is quick; loaded here
+    instead, before the fork, a large sweep was no faster), and with `radau_lanes` the
+    Radau IIA lanes (chunks too small to use them skip it; load times:
+    ``docs/benchmarks.md``).
 
-    ``auto`` loads its regularised path here; its set-valued solver (~0.05 s more)
+    ``auto`` loads its regularised path here; its set-valued solver
     loads with the first case it takes (in the runner's probe, before workers fork, or
     in each worker), so a study with none does not pay it."""
     from ..warmup import load_radau_lanes
