@@ -129,10 +129,9 @@ class Hit:
 def prose_lines(source: str) -> Iterator[tuple[int, str]]:
     """(line number, text) of every comment and string-statement line of `source`."""
     seen: set[int] = set()
-    for tok in tokenize.generate_tokens(io.StringIO(source).readline):
-        if tok.type == tokenize.COMMENT:
-            seen.add(tok.start[0])
-            yield tok.start[0], tok.string
+    for tok in _comments(source):
+        seen.add(tok.start[0])
+        yield tok.start[0], tok.string
     lines = source.splitlines()
     for node in ast.walk(ast.parse(source)):
         if (
@@ -146,8 +145,20 @@ def prose_lines(source: str) -> Iterator[tuple[int, str]]:
                     yield n, lines[n - 1]
 
 
+def _comments(source: str) -> Iterator[tokenize.TokenInfo]:
+    for tok in tokenize.generate_tokens(io.StringIO(source).readline):
+        if tok.type == tokenize.COMMENT:
+            yield tok
+
+
+#: What every rule needs somewhere in the text (a cheap test before the rules).
+_ANY = re.compile(r"\d|epyc|zen|xeon|ryzen|intel|amd|avx|vcpu|machine|speed-?up|points?/s", re.I)
+
+
 def matched_rules(text: str) -> tuple[str, ...]:
     """The rules of :data:`RULES` that `text` matches (none for a pure pointer)."""
+    if not _ANY.search(text):
+        return ()
     hits = tuple(name for name, pattern in RULES.items() if pattern.search(text))
     if hits and _POINTER.search(text):
         stripped = _POINTER.sub("", text)
@@ -164,14 +175,28 @@ _BULLET = re.compile(
 )
 
 
-def _blocks(lines: list[tuple[int, str]]) -> Iterator[list[tuple[int, str]]]:
-    """Runs of consecutive, non-empty prose lines (a paragraph of a comment or docstring)."""
+def _blocks(
+    lines: list[tuple[int, str]], alone: frozenset[int] = frozenset()
+) -> Iterator[list[tuple[int, str]]]:
+    """Runs of consecutive, non-empty prose lines of one kind (a paragraph of a comment or
+    of a docstring; a list item or a numpydoc entry starts a new one). The lines in
+    `alone` (comments after code) are blocks of their own."""
     block: list[tuple[int, str]] = []
+    comment = False
     for n, text in sorted(lines):
         body = _MARKER.sub("", text, count=1).strip()
-        if block and (n != block[-1][0] + 1 or not body or _BULLET.match(body)):
+        is_comment = text.lstrip().startswith("#")
+        if block and (
+            n != block[-1][0] + 1
+            or not body
+            or _BULLET.match(body)
+            or is_comment != comment
+            or n in alone
+            or block[-1][0] in alone
+        ):
             yield block
             block = []
+        comment = is_comment
         if body:
             block.append((n, body))
     if block:
@@ -185,7 +210,8 @@ def measured_lines(source: str) -> Iterator[tuple[int, str, tuple[str, ...]]]:
     that a rule matches (a measured sentence spread over lines counts on each line
     that holds its numbers)."""
     raw = dict(prose_lines(source))
-    for block in _blocks(list(raw.items())):
+    inline = frozenset(t.start[0] for t in _comments(source) if t.line[: t.start[1]].strip())
+    for block in _blocks(list(raw.items()), inline):
         text = ""
         starts = []
         for n, body in block:
