@@ -31,7 +31,7 @@ from .store import ResumeStore, full_disk_error
 __all__ = ["POOL_MIN_SERIAL_S", "Results", "RunInfo", "Runner"]
 
 #: A pool is started only when the tasks left after the probe would take at least this
-#: long in this process [s]: below it, forking the workers costs more than they share
+#: long in this process [s]: below it, starting the workers costs more than they save
 #: (the sweep table of ``python -m benchmarks``; ``docs/benchmarks.md``, history).
 POOL_MIN_SERIAL_S = 0.1
 

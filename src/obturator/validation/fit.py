@@ -98,8 +98,9 @@ _SETTINGS = LeastSquaresSettings("2-point", 1e-3, 1.0, _XTOL, _FTOL, 1e-3)
 #: Neither scaling suits every likelihood, so the first pass, scaled or not, has a
 #: budget of :data:`_FIRST_PASS_EVALUATIONS`; one that uses it up is crawling, and a pass
 #: with the other scaling from the same start follows, the lower cost of the two going
-#: on. On the thesis data each scaling crawls for some candidate where the other
-#: converges (the cases, from ``obturator validate``: ``docs/benchmarks.md``, history).
+#: on. On the thesis data a converging first pass needs fewer evaluations than this
+#: budget, and each scaling crawls for some candidate where the other converges (the
+#: cases, from ``obturator validate``: ``docs/benchmarks.md``, history).
 _FIRST_PASS_EVALUATIONS = 50
 _SETTINGS_FIRST = replace(_SETTINGS, x_scale="jac", max_nfev=_FIRST_PASS_EVALUATIONS)
 _SETTINGS_STARTED = replace(_SETTINGS, max_nfev=_FIRST_PASS_EVALUATIONS)
