@@ -540,11 +540,19 @@ def _meta() -> dict[str, Any]:
 def main(argv: Sequence[str] | None = None) -> int:
     """Command-line entry point (``python -m benchmarks``).
 
+    ``python -m benchmarks report ...`` runs :func:`benchmarks.report.main` instead
+    (measure and rewrite the measured sections of ``docs/benchmarks.md``).
+
     Returns
     -------
     int
         0, or 1 when a package t_cr disagrees with the baseline by more than 1e-3.
     """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["report"]:  # python -m benchmarks report: rewrite docs/benchmarks.md
+        from benchmarks import report
+
+        return report.main(argv[1:])
     ap = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n")[0])
     ap.add_argument("--json", metavar="PATH", help="write the results as JSON to PATH")
     ap.add_argument("--quick", action="store_true", help="small sweep and fewer repeats (CI)")

@@ -290,7 +290,7 @@ class ApproximateSolution:
         if t_max is None:
             t92 = self.opening_time()
             t_max = (2.0 * t92 if math.isfinite(t92) else 0.0) + 20.0 * period
-        from scipy.optimize import brentq  # on use: its import is 0.3 s of start-up
+        from scipy.optimize import brentq  # on use: kept out of start-up (docs/benchmarks.md)
 
         # Sample finely enough to resolve both the oscillation and the fast
         # overdamped decay, then polish the first sign change with brentq.

@@ -116,9 +116,8 @@ _POSITIVE = Range(0.0, math.inf, True, True)
 
 _PHYSICAL: tuple[Param, ...] = (
     # 1 rad/s to the case factories' 1e6 rad/s: below ~1 rad/s the integrators' step
-    # control, scaled by the spin period, degenerates (measured: 0.5 rad/s runs on for
-    # minutes, 1e-6 rad/s divides by zero inside Radau IIA); the rig's slowest run is
-    # 42 rad/s (Appendix B)
+    # control, scaled by the spin period, degenerates (a run stalls; far below, Radau
+    # IIA divides by zero); the rig's slowest run is 42 rad/s (Appendix B)
     Param("spin_rate", "rad/s", "projectile spin rate omega_p", "spin_rate", Range(1.0, 1e6), True),
     Param("mu_s", "1", "sliding friction coefficient mu_s", "mu_s", Range(0.0, 2.0), True),
     Param(

@@ -1,7 +1,7 @@
 """Build numba's on-disk cache of the compiled integrators once, in parallel.
 
-A fresh environment compiles each integrator on first use (about 12-13 s each for
-DOP853 and Radau IIA on the 2-core reference machine); a first sweep or study
+A fresh environment compiles each integrator on first use (seconds each; the compile
+table of ``python -m benchmarks``, ``docs/benchmarks.md``); a first sweep or study
 pays that inside its own time, once per integrator it meets. :func:`warm_up`
 compiles them ahead of time, each in its own fresh process so that they compile
 side by side, and leaves the machine code in the cache directory of
@@ -90,14 +90,11 @@ def _load(method: str) -> None:
 
 
 def _load_set_valued_study() -> None:
-    """Load (or compile) what a study's set-valued points run beyond opening_time: the
-    return map two spins share (60 and 62 rad/s, ~0.3 s) and the floor of the last slips'
-    hand-off to the DOP853 lanes (the lanes themselves are the "lanes" target).
+    """Load (or compile) what a study's set-valued points run beyond one case alone: the
+    return map of a fixed spin band (``shared_maps``, 60 and 62 rad/s).
 
     Without it the first study after ``obturator warmup`` compiled these in every worker
-    (2 s of a 2,000-point sweep's 3.4-3.7 s), and, numba binding a freshly compiled
-    function's callees differently from a loaded one's (:mod:`benchmarks.cache_binding`),
-    gave 109 of its 2,000 t_cr (40-114 rad/s) up to 2.4e-9 apart from every later run's."""
+    (most of a short sweep's time)."""
     from .model.cases import rig_case
     from .solve import SolverOptions, opening_times
 

@@ -40,10 +40,9 @@ __all__ = [
     "MAX_LINE_CHARS",
 ]
 
-#: Most runs in one data file. Every least-squares iteration integrates every run:
-#: the 54 runs of Appendix B fit in ~2 s (AMD EPYC Zen 4, loaded), so 2,000 runs
-#: take about a minute and 100,000 would take about an hour with no progress to
-#: show; a rig campaign has tens to hundreds of runs.
+#: Most runs in one data file. Every least-squares iteration integrates every run, so a
+#: fit's time grows with the runs, with no progress to show: this bound keeps it within
+#: minutes (``docs/benchmarks.md``, history); a rig campaign has tens to hundreds of runs.
 MAX_RUNS = 2_000
 #: Longest line of a data file [characters]: a row is a few numbers (the csv
 #: module's own field limit, 128 KiB, would otherwise end the read with its error).

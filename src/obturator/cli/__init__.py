@@ -210,7 +210,7 @@ def run() -> None:  # pragma: no cover - the console-script entry point
     After the command has finished (outputs written and closed, workers and
     clients shut down, exit handlers run) the process ends with ``os._exit``:
     the interpreter's own teardown of numba's LLVM state and the scientific
-    stack took ~0.45 s of a 20-point sweep's ~2 s (measured; see the CLI
+    stack is a large share of a short command's time (``docs/benchmarks.md``, the CLI
     latency table of ``python -m benchmarks``) and does nothing a user needs.
     """
     import atexit

@@ -9,8 +9,8 @@ for SIGTERM). The integrators release the GIL (``nogil=True``), so the watcher
 runs within milliseconds even mid-integration. The Python-level handler in the
 main thread does the same, whichever comes first: while the main thread runs a
 Python loop of small NumPy calls (each releasing and retaking the GIL) the woken
-watcher could wait seconds for the GIL (CPython's convoy effect; measured 2.8-4.5 s
-in ``calibrate``'s bootstrap), and there the main thread reaches its handler at
+watcher could wait seconds for the GIL (CPython's convoy effect, seen in
+``calibrate``'s bootstrap), and there the main thread reaches its handler at
 the next bytecode. Both write with ``os.write`` (no buffered-stream lock to
 re-enter) and only the first to take :data:`_EXITING` writes.
 

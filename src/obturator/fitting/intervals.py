@@ -27,7 +27,8 @@ from .parameters import ParameterSet
 __all__ = ["CHI2_95", "Estimate", "covariance_internal", "profile_limit", "wald"]
 
 # The quantiles come from scipy.special (chdtri, stdtrit: what scipy.stats' chi2 and t
-# evaluate), not scipy.stats, whose import alone took 0.4 s of every command's start-up.
+# evaluate), not scipy.stats, whose import would join every command's start-up
+# (docs/benchmarks.md, import costs).
 
 #: chi-square(1) 95 % quantile: the profile-likelihood threshold on 2 delta(-log L).
 CHI2_95 = float(special.chdtri(1, 0.05))

@@ -158,10 +158,9 @@ def bracketed_root(f: Callable[[float], float], lo: float, hi: float, xtol: floa
     """The root of `f` in [lo, hi] (a sign change) by scipy's ``brentq``, to `xtol` and
     4 ulp relative.
 
-    scipy.optimize is imported on the first call, not with the package: its import took
-    0.3 s of every command's start-up, and most runs never invert a flow relation
-    (measured: ``obturator simulate --case spin-rig`` 0.86-1.01 s before, 0.70 s after,
-    with scipy.integrate deferred likewise).
+    scipy.optimize is imported on the first call, not with the package: its import
+    would join every command's start-up, and most runs never invert a flow relation
+    (scipy.integrate is deferred likewise; import costs: ``docs/benchmarks.md``).
     """
     from scipy.optimize import brentq
 

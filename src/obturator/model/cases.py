@@ -61,7 +61,7 @@ def table1_ball(
 def _accepts_quantities(factory: Callable[..., Case]) -> Callable[..., Case]:
     """Let a case factory take pint.Quantity arguments (converted to SI, checked as usual)."""
 
-    names = list(inspect.signature(factory).parameters)  # once: ~0.1 ms per call otherwise
+    names = list(inspect.signature(factory).parameters)  # once, not on every call
 
     @functools.wraps(factory)
     def wrapper(*args: Any, **kwargs: Any) -> Case:

@@ -100,7 +100,7 @@ def _lens_area(theta: float, r_s: float, c: float) -> float:
 
 
 def _clipped_lens_area(theta: float, r_s: float, r_p: float, c: float) -> float:
-    from scipy.integrate import quad  # on use: scipy.integrate costs 0.3 s of start-up
+    from scipy.integrate import quad  # on use: kept out of start-up (docs/benchmarks.md)
 
     cos_t, sin_t = math.cos(theta), math.sin(theta)
     d = c * sin_t

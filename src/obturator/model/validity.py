@@ -4,12 +4,11 @@ The rig model is checked against the 54 spin-rig runs of Appendix B (77.8-446.1 
 ``obturator validate``) and its numerics for convergence down to 40 rad/s
 (``tests/solve/test_convergence.py``). Far below, the ball sticks for a long time and the
 regularised Coulomb friction, of width ``friction_width`` x omega_p, becomes very stiff:
-measured on the Zen 4 development machine with the defaults, the cost per simulated
-second rises from ~0.03 s at 40 rad/s to ~0.3 s at 5 rad/s and ~80 s at 2.6 rad/s
-(``--spin-rate "150 deg/s"``, a plausible unit slip), where a run reaches the step
-limit after minutes. That is the regularised law (``method="regularised"``); the default
-``auto`` runs such cases with the set-valued solver (:mod:`obturator.solve.dispatch`),
-whose stick phases are closed-form rotations (2.6 rad/s: stick to t_max in ~0.2 ms).
+with the defaults the cost per simulated second grows steeply as the spin falls, and
+at 2.6 rad/s (``--spin-rate "150 deg/s"``, a plausible unit slip) a run reaches the
+step limit (``docs/benchmarks.md``, history). That is the regularised law
+(``method="regularised"``); the default ``auto`` runs such cases with the set-valued
+solver (:mod:`obturator.solve.dispatch`), whose stick phases are closed-form rotations.
 """
 
 from __future__ import annotations

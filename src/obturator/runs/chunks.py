@@ -24,8 +24,8 @@ __all__ = ["Job", "PROBE_TASKS", "Probe", "TASK_CHUNK", "chunk_length", "make_ch
 TASK_CHUNK = 256
 _CHUNKS_PER_WORKER = 8
 #: Tasks of the probe (from the first chunk). Timing it in this process delays the
-#: workers; with whole 256-point chunks the probe was ~4 % of a 10,000-point rig sweep
-#: and left an odd number of chunks for 2 workers.
+#: workers; a whole chunk as the probe delayed a rig sweep noticeably and left an odd
+#: number of chunks for two workers (``docs/benchmarks.md``, history).
 PROBE_TASKS = 32
 
 
@@ -76,9 +76,8 @@ def make_chunks(
     run of consecutive tasks (:attr:`Job.contiguous`), and the chunks come in the
     order first, last, second, second last, ...: the pools hand them out in order as
     workers free up, so the last ones handed out come from the middle of the run, and
-    a cost that rises (or falls) along the run leaves no costly chunk for the end (a
-    10,000-point rig sweep over 40-1000 rad/s on 2 workers, whose last chunk in plain
-    order cost 0.32-0.34 s, ended with its workers 0.2 s apart; so, 0.06-0.12 s apart).
+    a cost that rises (or falls) along the run leaves no costly chunk for the end (the
+    workers of a rig sweep over 40-1000 rad/s end closer together: ``docs/benchmarks.md``).
     Default size: about 8 chunks per worker, at most `max_chunk` tasks.
     """
     if todo.size == 0:

@@ -179,8 +179,8 @@ def gc_frozen() -> Iterator[None]:
     """Leave the objects alive now out of garbage collection while loading and forking.
 
     A collection of the oldest generation visits every tracked object: while a fresh
-    process loads the compiled integrators (numba allocates much) that was ~15 % of the
-    load (0.36 -> 0.31 s measured), and a forked child that collects writes to every
+    process loads the compiled integrators (numba allocates much) that is a sizeable
+    share of the load (``docs/benchmarks.md``), and a forked child that collects writes to every
     inherited object's page, which copy-on-write then copies. Python's documented
     remedy is :func:`gc.freeze` before fork (the children keep those objects frozen);
     this process unfreezes them afterwards and collects as before.

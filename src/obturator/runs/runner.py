@@ -31,9 +31,8 @@ from .store import ResumeStore, full_disk_error
 __all__ = ["POOL_MIN_SERIAL_S", "Results", "RunInfo", "Runner"]
 
 #: A pool is started only when the tasks left after the probe would take at least this
-#: long in this process [s]. Two forked workers cost ~0.04 s on the 2-core reference
-#: machine (``python -m benchmarks``: 200 rig points took 0.32 s in a loop and 0.196 s
-#: on a 2-process pool), so below ~0.1 s of work the pool cannot win.
+#: long in this process [s]: below it, starting the workers costs more than they save
+#: (the sweep table of ``python -m benchmarks``; ``docs/benchmarks.md``, history).
 POOL_MIN_SERIAL_S = 0.1
 
 
@@ -220,9 +219,8 @@ class Runner:
                 # splitting a chunk could change results (and where that costs <3 %)
                 keep = pool or job.separable
                 # before a pool of a job whose chunks run consecutive tasks, one task: the
-                # probe is serial work (the workers start after it), and a 10,000-point rig
-                # sweep's 32 lowest spins took 0.18 s of it (four interleaved rounds on 2
-                # workers: 2.67-2.79 s with one task, 2.83-2.96 s with 32)
+                # probe is serial work (the workers start after it), and a longer probe of
+                # a rig sweep's lowest spins delayed the whole sweep (docs/benchmarks.md)
                 n_probe = 1 if pool and not job.separable else PROBE_TASKS
                 if pool or (self.reporter.enabled and (keep or todo.size > 32 * PROBE_TASKS)):
                     cost = probe(job, chunks, sink, keep, n_probe)

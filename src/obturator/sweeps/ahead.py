@@ -1,11 +1,11 @@
 """Points packed by a helper process while this process loads the integrators.
 
 Before a process pool's workers are forked warm, this process loads the compiled
-integrators once (:func:`obturator.sweeps.points.warm`): ~0.3 s in a fresh process,
-mostly numba's first-use set-up, while the other cores idle. Packing points (building
-and validating each point's case and the integrators' inputs,
-:func:`obturator.sweeps.points.pack_rows`: ~30 us per point of Python, 15 % of a rig
-sweep's work) needs no compiled code, so a helper forked first packs the study's first
+integrators once (:func:`obturator.sweeps.points.warm`), mostly numba's first-use
+set-up, while the other cores idle. Packing points (building and validating each
+point's case and the integrators' inputs, :func:`obturator.sweeps.points.pack_rows`:
+Python, a noticeable share of a rig sweep's work; ``docs/benchmarks.md``) needs no
+compiled code, so a helper forked first packs the study's first
 points, chunk order, into shared memory meanwhile; once the integrators are loaded the
 helper is stopped and the chunks it has packed go to the workers packed, so that they
 only integrate them. The same Python builds the same arrays, so results are the same

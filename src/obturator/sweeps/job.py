@@ -28,10 +28,8 @@ __all__ = ["LANE_CHUNK", "PointResults", "sweep_job"]
 
 #: Largest default chunk of points integrated in lanes (:func:`obturator.solve.opening_times`):
 #: a chunk's stiff points go through Radau IIA lanes together, which pay off from a few
-#: dozen per chunk and keep improving with more (measured, 10,000 rig points over
-#: 100-700 rad/s in one process, AMD EPYC Zen 5: 1.84-1.96 s in 256-point chunks,
-#: 1.71-1.78 s in 500-625, 1.70-1.71 s in 1,250-5,000; on the Intel machine of the
-#: previous release 7.0 s with 64-point chunks, 5.1 s with 256).
+#: dozen per chunk and keep improving with more, flat from about a thousand points
+#: (``python -m benchmarks.lanes``; ``docs/benchmarks.md``, history).
 LANE_CHUNK = 1024
 
 _NOT_DONE = -128
@@ -133,15 +131,14 @@ def _pack_while_loading(
 
 
 def prefetch_output() -> None:
-    """Import xarray and its NetCDF writer while pool workers compute (~0.7-1 s).
+    """Import xarray and its NetCDF writer while pool workers compute (up to a second).
 
     A first write to a file imports the engine, the encoders and the scheduler
     probes behind xarray's write locks (with dask installed: dask.distributed).
     Only where a core is left over for it: with as many workers as cores it took
-    that time from them (a 10,000-point rig sweep on 2 workers and 2 cores: the
-    chunks running beside it took up to twice as long).
+    that time from them (the chunks running beside it took up to twice as long).
     Not done in a thread for in-process studies: that work holds the GIL and
-    made a 20-point sweep slower (measured 1.6-1.7 s without, 1.8-2.1 s with).
+    made a short sweep slower (``docs/benchmarks.md``, history).
     """
     import tempfile
 

@@ -42,11 +42,10 @@ if TYPE_CHECKING:  # pragma: no cover
 #: Largest Monte Carlo sample. At 10^5 the order-statistic interval of a 5 %
 #: quantile is +-0.14 percentage points wide (1.96 sqrt(p (1 - p) / n)), finer than
 #: the model's own accuracy. Drawing the inputs (one seeded generator per sample, so
-#: results do not depend on chunking) takes ~3 s for 10^5 samples and the run ~10 s
-#: at the ~10^4 points/s measured on 2 workers, with a progress bar and an estimate;
-#: 10^6 samples would spend 30-60 s drawing inputs before the first point shows
-#: (measured, AMD EPYC Zen 4, loaded), 10^8 about an hour. Rare-event probabilities:
-#: ``obturator probability`` (importance sampling).
+#: results do not depend on chunking) is Python work per sample: at this bound the
+#: drawing and the run take seconds, with a progress bar and an estimate; ten times
+#: more would hold the first point back by most of a minute (``docs/benchmarks.md``,
+#: history). Rare-event probabilities: ``obturator probability`` (importance sampling).
 MAX_SAMPLES = 100_000
 
 __all__ = ["monte_carlo", "monte_carlo_summary", "MAX_SAMPLES"]

@@ -24,14 +24,11 @@ __all__ = ["DEFAULT_T_MAX", "VALIDATION_OPTIONS", "ModelEvaluator"]
 
 #: Integration horizon [s]: 30 times the slowest measured opening (0.658 s).
 DEFAULT_T_MAX = 20.0
-#: Solver settings of the study: rtol 1e-9 (package default 1e-8), width 1e-7.
-#: Measured at the fitted parameters of every candidate at all 54 runs: with
-#: the package defaults :func:`obturator.solve.convergence_check` moves t_cr by
-#: up to 7e-3 relative at 78 rad/s (release-rate), 4e-3 (theta0) and 1e-3
-#: ("mu"), 7 and 2 runs failing its 1e-3 threshold: there DOP853 reports
-#: stiffness and the Radau rerun works at 0.1 rtol^(2/3) = 4.6e-7. With
-#: rtol 1e-9 the largest change is 4e-4 (stribeck), below 1.5e-4 for the
-#: others, every run passes, and the cost is about the same.
+#: Solver settings of the study: rtol 1e-9 (package default 1e-8), width 1e-7. At the
+#: fitted parameters of the candidates, the package defaults fail the 1e-3 threshold of
+#: :func:`obturator.solve.convergence_check` on some runs (DOP853 reports stiffness and
+#: the Radau rerun works at 0.1 rtol^(2/3)); at rtol 1e-9 every run passes, for about
+#: the same cost (the figures per candidate: ``docs/benchmarks.md``, history).
 VALIDATION_OPTIONS = SolverOptions(rtol=1e-9, atol=1e-11)
 
 

@@ -89,23 +89,18 @@ _FTOL = 1e-8
 _SETTINGS = LeastSquaresSettings("2-point", 1e-3, 1.0, _XTOL, _FTOL, 1e-3)
 #: The first pass (from the start values, far from the optimum) scales the variables
 #: by the Jacobian's column norms: with unit scaling its trust region ignores that the
-#: variables differ in leverage by orders of magnitude (under one pooled sigma the
-#: first pass of 'release-rate+strengthening' crawled along its valley to 400 steps
-#: unscaled and converged in 24 scaled). The later passes, which start next to the
-#: optimum, keep unit scaling: scaled there too, 'coulomb-patch' stopped at a worse
-#: optimum (AIC 16.19 against 11.70) and 'strengthening' at a slightly worse one; so
-#: do the fits given a start (subset fits from the all-run fit, profile probes).
+#: variables differ in leverage by orders of magnitude (one candidate's first pass
+#: crawled along its valley unscaled and converged quickly scaled). The later passes,
+#: which start next to the optimum, keep unit scaling: scaled there too, some
+#: candidates stopped at a worse optimum; so do the fits given a start (subset fits
+#: from the all-run fit, profile probes).
 #:
 #: Neither scaling suits every likelihood, so the first pass, scaled or not, has a
 #: budget of :data:`_FIRST_PASS_EVALUATIONS`; one that uses it up is crawling, and a pass
 #: with the other scaling from the same start follows, the lower cost of the two going
-#: on. On the thesis data with band-wise noise the scaled first passes of eleven
-#: candidates converge in 9-26 evaluations, while that of 'release-rate+strengthening'
-#: crawled to scipy's 400 without converging (100 s); unscaled it converges in 125-160,
-#: to a lower cost (9.4926 against 9.5569 at the same weights). Of the fits given a
-#: start (subset fits, profile probes) every unscaled first pass converges in at most 46
-#: evaluations but that of 'strengthening' on the runs below 200 rad/s, which crawled to
-#: scipy's 300 (21 s, cost 12.9503); scaled it converges in 50 (2.8 s, cost 12.9485).
+#: on. On the thesis data a converging first pass needs fewer evaluations than this
+#: budget, and each scaling crawls for some candidate where the other converges (the
+#: cases, from ``obturator validate``: ``docs/benchmarks.md``, history).
 _FIRST_PASS_EVALUATIONS = 50
 _SETTINGS_FIRST = replace(_SETTINGS, x_scale="jac", max_nfev=_FIRST_PASS_EVALUATIONS)
 _SETTINGS_STARTED = replace(_SETTINGS, max_nfev=_FIRST_PASS_EVALUATIONS)

@@ -173,9 +173,8 @@ def phase_task(
 
 def cost_rank(cand: Candidate) -> tuple[bool, bool, int]:
     """Sort key of a candidate's fit cost: the exact Coulomb contact runs on the generic
-    kernel (its all-run fit on the thesis data: 22 s), then the slip-speed laws (long,
-    curved likelihood valleys: 2-14 s, the longest of the rest), then more parameters
-    (the others: 0.2-5 s; 2 workers, Zen 4)."""
+    kernel (the slowest fit), then the slip-speed laws (long, curved likelihood valleys),
+    then more parameters (fit times: ``docs/benchmarks.md``, history)."""
     return (cand.torque_model == "coulomb", cand.speed_law != "constant", cand.n_params)
 
 
