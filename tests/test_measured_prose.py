@@ -105,11 +105,5 @@ def test_measured_prose_outside_solve_and_core_within_a_quarter(hits):
     assert len(outside) <= START_OUTSIDE_SOLVE_CORE // 4, listed
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="solve/ and core/ still quote 249 lines; their prose is rewritten in the lead's "
-    "and the core helper's change of issue 44 (drafts: docs/benchmarks.md history). "
-    "Remove this mark when it passes.",
-)
 def test_measured_prose_in_src_within_a_quarter_of_the_start(hits):
     assert len(hits) <= START_TOTAL // 4
