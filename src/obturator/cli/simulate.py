@@ -126,12 +126,40 @@ def _start_rows(st: StartTimes, check: ConvergenceCheck | None) -> list[tuple[st
             "",
         ),
         ("inlet", f"{c.verdict} (Fanno choking Mach {c.choke_mach:.4g})", ""),
+        *_bracket_rows(st),
     ]
     if check is not None:
         verdict = "converged" if check.converged else "NOT converged"
         change = max(check.tolerance_change, check.width_change, check.family_change)
         rows.append(("t_start convergence", f"{verdict}: relative change {change:.1e}", ""))
     return rows
+
+
+def _bracket_rows(st: StartTimes) -> list[tuple[str, str, str]]:
+    """theta_start and t_start, early (turned flow) to late (friction, lowest C_d)."""
+    c = st.condition
+
+    def deg(x: float) -> str:
+        return f"{math.degrees(x):.5g}" if x == x else "-"
+
+    def sec(x: float) -> str:
+        return f"{x:.5g} s" if x == x else "not reached by t_max"
+
+    lens = f"lens, f_D L/D {c.friction_fld:.3g}, C_d {c.discharge_coefficients[0]:.3g}"
+    if c.late_startable:
+        late_theta = f"{deg(c.theta_start_late)} deg ({lens})"
+        late_t = sec(st.t_start_late)
+    else:
+        late_theta = f"{c.late_verdict} ({lens})"
+        late_t = "never starts"
+    return [
+        (
+            "theta_start bracket, early .. late",
+            f"{deg(c.theta_start_early)} deg (turned flow) .. {late_theta}",
+            "",
+        ),
+        ("t_start bracket, early .. late", f"{sec(st.t_start_early)} .. {late_t}", ""),
+    ]
 
 
 def _print_table(
