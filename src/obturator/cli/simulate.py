@@ -13,7 +13,7 @@ from ..errors import SolverError
 from ..io import check_output_path, load_config
 from ..model.case import Case
 from ..model.cases import case_from_settings
-from ..model.validity import outside_validated_range
+from ..model.validity import outside_validated_data, outside_validated_range
 from ..params import PARAMS
 from ..result import NutationResult
 from ..solve import (
@@ -66,6 +66,12 @@ _QUANTITY_FLAGS = (
     "release_phase",
     "speed_ratio",
     "slip_speed",
+    "ball_radius",
+    "hole_radius",
+    "density",
+    "gap",
+    "weight",
+    "bore_radius",
 )
 
 
@@ -289,8 +295,12 @@ def _run(args: argparse.Namespace) -> int:
 
         check_output_path("--plot", args.plot, figure_suffixes())
     note = outside_validated_range(case)
+    data = outside_validated_data(case)
     if note:
+        note = f"{note}; {data}" if data else note
         print(f"obturator: warning: {note}; {_expected_cost(case, options)}", file=sys.stderr)
+    elif data:  # one line: what lies outside the Appendix B runs, with their range
+        print(f"obturator: warning: outside the validated data: {data}", file=sys.stderr)
     res = simulate(case, options)
     if res.status == Status.STEP_LIMIT:
         raise SolverError(_step_limit_message(res, case, options))
@@ -359,6 +369,16 @@ register = command(
     SPEED_LAW.but(help="slip-speed dependence of mu (rig; default constant, the thesis's)"),
     _quantity("speed_ratio", "R", "mu(v) ratio r in (0, 1] (with --speed-law)"),
     _quantity("slip_speed", "M_S", "mu(v) speed v_s [m/s] (with --speed-law)"),
+    _quantity("ball_radius", "M", "ball radius R_s [m] (Table 1: 7.899e-3)"),
+    _quantity(
+        "hole_radius",
+        "M",
+        "hole radius r_s [m] (Table 1: 4.72e-3; the rig's load then follows the ball, W = rho g V)",
+    ),
+    _quantity("density", "RHO", "ball density rho [kg/m^3] (Table 1: 7669.6)"),
+    _quantity("gap", "M", "ball-socket gap h [m] (Table 1: 5.08e-5)"),
+    _quantity("weight", "N", "rig normal load W [N] (Table 1: 0.07987; default: measured)"),
+    _quantity("bore_radius", "M", "flight bore radius r_p [m] (Table 1: 4.72e-3)"),
     _quantity("t_max", "S", "give up after this time [s]"),
     JSON,
     switch(
