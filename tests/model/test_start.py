@@ -23,6 +23,8 @@ from obturator.model.passage import (
     open_area,
     open_area_ray_count,
     ring_contact_fraction,
+    turned_open_angle,
+    turned_open_area,
 )
 from obturator.model.start import full_bore_start_mach, start_condition
 from obturator.reference import TABLE1
@@ -277,3 +279,63 @@ def test_cli_sensitivity_event_t_start(capsys):
     assert "Sobol indices of t_start" in out and "mean t_start 0.03" in out
     assert main(["sensitivity", "--case", "spin-rig", "--event", "t_start"]) == 2
     assert "--event" in capsys.readouterr().err
+
+
+# -- the theta_start bracket: turned-flow window (early) and friction + C_d (late) --
+
+
+def _window_ray_count(theta: float, bore: float, n: int = 400_000) -> tuple[float, float]:
+    """Independent Monte Carlo of the turned-flow window: points of the bore disc whose
+    ray along -Z first meets the sphere inside the upstream mouth (x sin + h cos >= c)."""
+    import numpy as np
+
+    rng = np.random.default_rng(11)
+    rad = bore * np.sqrt(rng.random(n))
+    phi = 2 * math.pi * rng.random(n)
+    x = rad * np.cos(phi)
+    h = np.sqrt(R_S**2 - rad**2)
+    c = math.sqrt(R_S**2 - R_HOLE**2)
+    p = np.count_nonzero(x * math.sin(theta) + h * math.cos(theta) >= c) / n
+    full = math.pi * bore**2
+    return full * p, full * math.sqrt(max(p * (1 - p), 1 / n) / n)
+
+
+@pytest.mark.parametrize(
+    ("deg", "bore"), [(3.0, R_BORE), (20.0, R_BORE), (50.0, R_BORE), (10.0, 3e-3)]
+)
+def test_turned_window_against_ray_count(deg, bore):
+    t = math.radians(deg)
+    mc, se = _window_ray_count(t, bore)
+    assert turned_open_area(t, R_S, R_HOLE, bore) == pytest.approx(mc, abs=5 * se)
+
+
+def test_turned_window_limits_and_inverse():
+    full = math.pi * R_BORE**2
+    assert turned_open_area(0.0, R_S, R_HOLE, R_BORE) == pytest.approx(full, rel=1e-12)
+    closes = BETA_S + math.asin(R_BORE / R_S)  # the mouth's cap leaves the bore's cap
+    assert turned_open_area(closes + 1e-6, R_S, R_HOLE, R_BORE) == 0.0
+    assert turned_open_area(closes - 1e-3, R_S, R_HOLE, R_BORE) > 0.0
+    for deg in (1.0, 10.0, 30.0):
+        t = math.radians(deg)
+        assert turned_open_area(t, R_S, R_HOLE, R_BORE) > open_area(t, R_S, R_HOLE, R_BORE)
+    for frac in (0.2, 0.9):
+        t = turned_open_angle(frac * full, R_S, R_HOLE, R_BORE)
+        assert turned_open_area(t, R_S, R_HOLE, R_BORE) == pytest.approx(frac * full, rel=1e-9)
+
+
+@pytest.mark.parametrize("mach", [1.5, 2.0, 2.5, 3.0, 4.0])
+def test_bracket_orders_and_late_never_starts_below(mach):
+    cond = start_condition(mach, table1_ball())
+    assert cond.theta_start_early > cond.theta_start  # the turned flow starts sooner
+    ff = cond.theta_start_friction
+    assert math.isnan(ff) or ff < cond.theta_start  # friction alone: later
+    lo, hi = cond.friction_factors
+    assert 0.0 < lo <= hi and cond.friction_fld == pytest.approx(hi * 76.2 / 9.44)
+    if mach <= 2.0:  # C_d 0.84 is below C_d A/A*(M_3) = 1 here: never starts
+        assert not cond.late_startable and "never starts" in cond.late_verdict
+        assert cond.to_dict()["theta_start_late_deg"] is None
+    else:
+        assert cond.late_startable and cond.theta_start_late < ff
+    # with C_d = 1 the late bound is friction alone
+    unit = start_condition(mach, table1_ball(), discharge_coefficients=(1.0, 1.0))
+    assert unit.theta_start_late == pytest.approx(ff, nan_ok=True)
