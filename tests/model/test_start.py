@@ -225,6 +225,12 @@ def test_envelope_maps_t_start_and_delay():
     assert val("theta_start_muzzle") == pytest.approx(7.805, abs=1e-3)
     assert val("unstartable") == 0
     assert envelope_summary(ds)["delay_coupled_min_s"] > 0.0
+    # the late bound (friction, lowest C_d) starts at M 2.5, later than the lens's
+    assert val("never_starts_late") == 0
+    assert val("t_start_late_coupled") > val("t_start_coupled")
+    assert val("t_start_late_constant") > val("t_start_constant")
+    assert val("theta_start_late_muzzle") < val("theta_start_muzzle")
+    assert envelope_summary(ds)["never_starts_late_points"] == 0
 
 
 def test_split_objective():
@@ -339,3 +345,38 @@ def test_bracket_orders_and_late_never_starts_below(mach):
     # with C_d = 1 the late bound is friction alone
     unit = start_condition(mach, table1_ball(), discharge_coefficients=(1.0, 1.0))
     assert unit.theta_start_late == pytest.approx(ff, nan_ok=True)
+
+
+def test_flight_model_event_start_late():
+    from obturator.envelope.model import TIMES, FlightModel
+
+    assert TIMES["t_start_late"] == "start_late"
+    kw = {"load": "constant", "check_convergence": False}
+    both = FlightModel(**kw, with_start=True)({"mach": 3.0})
+    late = FlightModel(**kw, event="start_late")({"mach": 3.0})
+    assert late["t_cr"] == pytest.approx(both["t_start_late"], rel=1e-12)
+    assert late["t_cr"] > both["t_start"] > both["t_cr"]  # friction and C_d start later
+    never = FlightModel(**kw, event="start_late")({"mach": 1.5})  # C_d 0.84 < 0.874
+    assert math.isnan(never["t_cr"]) and never["status"] == 0
+    from obturator.envelope.optimize import split_objective
+
+    assert split_objective("t_start_late:quantile:0.9") == ("t_start_late", "quantile:0.9")
+
+
+def test_cli_optimize_sensitivity_t_start_late(capsys):
+    import json
+
+    from obturator.cli import main
+
+    common = ["--mach", "3", "--altitude-m", "0", "--no-convergence-check", "--workers", "1"]
+    args = ["optimize", *common, "--objective", "t_start_late", "--variables", "mu_s"]
+    args += ["--popsize", "2", "--maxiter", "1", "--no-polish", "--no-progress", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["event"] == "start_late"
+    assert out["baseline_objective_s"] > 0.0332  # the coupled t_start's late bound
+    args = ["sensitivity", "--event", "t_start_late", "--samples", "8", "--resamples", "10"]
+    args += ["--no-convergence-check", "--workers", "1", "--no-progress"]
+    args += ["--vary", "mu_s=uniform:0.3,0.4", "--vary", "density=uniform:7000,8000"]
+    assert main(args) == 0
+    assert "Sobol indices of t_start_late" in capsys.readouterr().out

@@ -288,6 +288,12 @@ def _run_envelope(args: argparse.Namespace) -> int:
         )
         + (f"; wrote {', '.join(wrote)}" if wrote else "")
     )
+    if "never_starts_late_points" in s:
+        print(
+            f"late bound of t_start (wall friction, lowest C_d): never starts at "
+            f"{s['never_starts_late_points']} of {s['points']} points; latest coupled "
+            f"{_fmt(s['t_start_late_coupled_max_s'] or math.nan)} s"
+        )
     return 0
 
 

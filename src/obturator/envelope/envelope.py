@@ -246,9 +246,12 @@ def _flow_variables(spec: EnvelopeSpec, grid: Any) -> dict[str, _Variable]:
     choke = np.array([spec.choke_mach(h) for h in spec.altitude_m])[None, :, None]
     mach = np.asarray(spec.mach)[:, None, None]
     theta_start = np.empty(shape)
+    theta_late = np.empty(shape)
     for i, task in enumerate(spec.tasks()):
         angle = spec.model.design.start_angle(task["altitude_m"])
         theta_start.flat[i] = math.degrees(angle(task["mach"]))
+        late = spec.model.design.start_angle(task["altitude_m"], "late")
+        theta_late.flat[i] = math.degrees(late(task["mach"]))
     started = np.broadcast_to(mach > float(start_mach(spec.area_ratio)), shape)
     return {
         "choke_mach": (
@@ -278,6 +281,20 @@ def _flow_variables(spec: EnvelopeSpec, grid: Any) -> dict[str, _Variable]:
             (~np.isfinite(theta_start)).astype(np.int8),
             {"long_name": "even the aligned ball cannot swallow the shock at the muzzle Mach"},
         ),
+        "theta_start_late_muzzle": (
+            _DIMS,
+            theta_late,
+            {
+                "units": "deg",
+                "long_name": "theta_start at the muzzle Mach, late bound (wall friction, "
+                "lowest discharge coefficient)",
+            },
+        ),
+        "never_starts_late": (
+            _DIMS,
+            (~np.isfinite(theta_late)).astype(np.int8),
+            {"long_name": "the late bound never starts at the muzzle Mach"},
+        ),
     }
 
 
@@ -301,6 +318,15 @@ def _requirement_and_start_variables(spec: EnvelopeSpec, grid: Any) -> dict[str,
             _DIMS,
             t_start - grid("t_cr" + suffix),
             {"units": "s", "long_name": f"t_start - t_cr, {what}"},
+        )
+        data[f"t_start_late_{load}"] = (
+            _DIMS,
+            grid("t_start_late" + suffix),
+            {
+                "units": "s",
+                "long_name": f"t_start, late bound (wall friction, lowest C_d; NaN: never "
+                f"starts or not by t_max), {what}",
+            },
         )
     return data
 
@@ -377,4 +403,9 @@ def envelope_summary(ds: Any) -> dict[str, Any]:
         out["delay_coupled_max_s"] = float(d[fin].max()) if fin.any() else None
         out["unstartable_points"] = int(ds["unstartable"].values.sum())
         out["choked_at_start_points"] = int(ds["choked_at_start"].values.sum())
+    if "never_starts_late" in ds:
+        out["never_starts_late_points"] = int(ds["never_starts_late"].values.sum())
+        late = ds["t_start_late_coupled"].values
+        fin = np.isfinite(late)
+        out["t_start_late_coupled_max_s"] = float(late[fin].max()) if fin.any() else None
     return out
