@@ -174,3 +174,13 @@ def test_simulate_takes_the_ball_dimensions(capsys):
     assert out["inputs"]["density_kg_m3"] == pytest.approx(7800.0)
     assert main(["simulate", "--hole-radius", "6 mm", "--no-check"]) == 2  # > R_s/sqrt(2)
     assert "--hole-radius" in capsys.readouterr().err
+
+
+def test_sweep_warns_once_for_points_outside_the_data(tmp_path, capsys):
+    out = str(tmp_path / "s.nc")
+    argv = ["sweep", "--case", "spin-rig", "--spin-rate", "300:600:2", "--out", out]
+    assert main([*argv, "--workers", "1", "--no-progress", "--t-max", "2"]) == 0
+    err = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(err) == 1, err
+    assert "1 of 2 points lie outside the validated data" in err[0]
+    assert "spin_rate 600 rad/s is outside the runs' 77.8-446.1 rad/s" in err[0]

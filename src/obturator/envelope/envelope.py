@@ -8,7 +8,11 @@ where the internal flow model changes once the bore is open:
 * **not started** (Kantrowitz-Donaldson, thesis Eq. 2): below the self-starting
   Mach number of the capture-to-throat ratio A_c/A_t
   (:func:`obturator.flow.inlet.start_mach`) the bow shock is not swallowed;
-  the constant-area Table 1 bore (A_c/A_t = 1) starts at any supersonic Mach.
+  in this frictionless, perfect-throat limit the constant-area Table 1 bore
+  (A_c/A_t = 1) starts at any supersonic Mach; with the wall friction of the
+  post-shock flow and the lens's discharge coefficient (the late bound,
+  :mod:`obturator.model.start`) it never starts below M 2.05 at sea level
+  (``never_starts_late``; friction alone: below M 1.38).
 * **choked** (Fanno, thesis chapter I.B.4.c): below the choking Mach of the bore
   (L/D = L_p / 2 r_p = 8.07 for Table 1) a normal shock stands in the bore;
   :func:`obturator.flow.fanno.choking_mach_freestream` iterates the friction

@@ -34,8 +34,9 @@ onto the bore, larger than the lens): it starts sooner.
 post-shock flow over the tube (the top of the friction-factor range at the post-shock
 Reynolds number) and the lowest discharge coefficient of the lens orifice
 (:mod:`obturator.flow.start_friction`): it starts later, or never (with f_D L/D
-~0.12 the Table 1 bore cannot start below ~M 1.36 at all, and with C_d = 0.84 not
-below ~M 2.1). theta_start (decreasing in time) is in
+~0.12 the Table 1 bore cannot start below ~M 1.36 at all; at sea level, with the
+friction range's top (f_D L/D 0.123-0.129), not below M 1.38, and with C_d = 0.84
+as well not below M 2.05). theta_start (decreasing in time) is in
 [theta_start_late, theta_start_early].
 """
 

@@ -25,6 +25,7 @@ holding jet about F_jet R_s (:func:`holding_jet_moment`, the bound argued for
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 from ..reference import TABLE1
 from .case import Case
@@ -41,6 +42,7 @@ __all__ = [
     "rig_run_holding_moments",
     "outside_validated_range",
     "outside_validated_data",
+    "outside_validated_data_many",
 ]
 
 #: Lowest and highest spin of the Appendix B rig runs [rad/s] (from their readouts;
@@ -257,3 +259,28 @@ def outside_validated_data(case: Case) -> str | None:
             f"{m_lo:.2g}-{m_hi:.2g} N m ({r_lo:.2g}-{r_hi:.2g} x the seat's)"
         )
     return "; ".join(clauses) or None
+
+
+def outside_validated_data_many(cases: Sequence[object]) -> str | None:
+    """How many of a study's cases lie outside the Appendix B runs, as one clause, or None.
+
+    :func:`outside_validated_data` of each :class:`Case` (anything else, such as an
+    invalid point's error, is skipped).
+
+    Parameters
+    ----------
+    cases : sequence of Case or other
+
+    Returns
+    -------
+    str or None
+        ``"k of n points lie outside the validated data (first: <clause>)"``.
+    """
+    notes = [outside_validated_data(c) for c in cases if isinstance(c, Case)]
+    flagged = [n for n in notes if n]
+    if not flagged:
+        return None
+    return (
+        f"{len(flagged)} of {len(notes)} points lie outside the validated data "
+        f"(first: {flagged[0]})"
+    )
