@@ -196,6 +196,34 @@ def test_cli_trajectory_reports_t_start(capsys):
     # the flight slows down, so theta_start(M) at the start is below the muzzle value
     assert out["theta_start_at_start_deg"] < out["theta_start_muzzle_deg"]
     assert out["inlet_at_muzzle"] == "starts"
+    # the bracket: turned flow earlier, friction and the lowest C_d later (M 2.5 starts)
+    assert out["theta_start_early_deg"] > out["theta_start_muzzle_deg"]
+    assert out["theta_start_late_deg"] < out["theta_start_muzzle_deg"]
+    early, late = out["t_start_constant_early_s"], out["t_start_constant_late_s"]
+    assert out["t_cr_constant_s"] < early < out["t_start_constant_s"] < late
+    assert out["late_at_muzzle"] == "starts" and out["discharge_coefficient_late"] == 0.84
+
+
+def test_cli_simulate_flight_prints_the_bracket(capsys):
+    from obturator.cli import main
+
+    assert main(["simulate", "--case", "flight", "--mach", "1.5", "--no-check"]) == 0
+    lines = {ln.split("  ")[0]: ln for ln in capsys.readouterr().out.splitlines()}
+    theta = lines["theta_start bracket, early .. late"]
+    assert "5.5928 deg (turned flow) .. never starts: C_d A/A*(M_3) = 0.8739" in theta
+    assert lines["t_start bracket, early .. late"].endswith(".. never starts")
+    assert "2.83205" in lines["theta_start (shock swallowed, Eq. 2)"]  # today's, unchanged
+
+
+@pytest.mark.slow
+def test_cli_trajectory_prints_the_bracket(capsys):
+    from obturator.cli import main
+
+    assert main(["trajectory", "--mach", "1.5"]) == 0
+    line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("t_start bracket")]
+    assert len(line) == 1
+    assert "early 0.1095 s (theta_start 5.5928 deg" in line[0]
+    assert "late never starts (C_d A/A*(M_3) = 0.8739 < A_c/A(0) = 1" in line[0]
 
 
 def test_coupled_start_with_constant_mach_stop_equals_the_fixed_stop():
