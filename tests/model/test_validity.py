@@ -184,3 +184,13 @@ def test_sweep_warns_once_for_points_outside_the_data(tmp_path, capsys):
     assert len(err) == 1, err
     assert "1 of 2 points lie outside the validated data" in err[0]
     assert "spin_rate 600 rad/s is outside the runs' 77.8-446.1 rad/s" in err[0]
+
+
+def test_montecarlo_warns_for_samples_outside_the_data(tmp_path, capsys):
+    out = str(tmp_path / "m.nc")
+    argv = ["montecarlo", "--case", "spin-rig", "--spin-rate", "300", "--samples", "4"]
+    argv += ["--vary", "theta0_deg=uniform:80,82", "--out", out, "--seed", "1"]
+    assert main([*argv, "--workers", "1", "--no-progress", "--t-max", "2"]) == 0
+    err = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(err) == 1, err
+    assert "4 of 4 points lie outside the validated data" in err[0] and "86.25-88.25" in err[0]
