@@ -29,6 +29,7 @@ from collections.abc import Sequence
 
 from ..reference import TABLE1
 from .case import Case
+from .torques import CoulombContactFriction
 
 __all__ = [
     "RIG_RUN_SPINS",
@@ -109,10 +110,9 @@ def seat_friction_moment(case: Case) -> float:
     f = case.torque.friction
     if f is None:
         return 0.0
-    scale = getattr(f, "moment_scale", None)
-    if scale is not None:
-        return float(scale)
-    return float(f.mu_s * f.load_per_contact * f.ball_radius * f.n_contacts)
+    if isinstance(f, CoulombContactFriction):
+        return float(f.mu_s * f.load_per_contact * f.ball_radius * f.n_contacts)
+    return float(f.moment_scale)
 
 
 def holding_jet_moment(case: Case) -> float:
