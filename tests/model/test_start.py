@@ -23,6 +23,8 @@ from obturator.model.passage import (
     open_area,
     open_area_ray_count,
     ring_contact_fraction,
+    turned_open_angle,
+    turned_open_area,
 )
 from obturator.model.start import full_bore_start_mach, start_condition
 from obturator.reference import TABLE1
@@ -194,6 +196,34 @@ def test_cli_trajectory_reports_t_start(capsys):
     # the flight slows down, so theta_start(M) at the start is below the muzzle value
     assert out["theta_start_at_start_deg"] < out["theta_start_muzzle_deg"]
     assert out["inlet_at_muzzle"] == "starts"
+    # the bracket: turned flow earlier, friction and the lowest C_d later (M 2.5 starts)
+    assert out["theta_start_early_deg"] > out["theta_start_muzzle_deg"]
+    assert out["theta_start_late_deg"] < out["theta_start_muzzle_deg"]
+    early, late = out["t_start_constant_early_s"], out["t_start_constant_late_s"]
+    assert out["t_cr_constant_s"] < early < out["t_start_constant_s"] < late
+    assert out["late_at_muzzle"] == "starts" and out["discharge_coefficient_late"] == 0.84
+
+
+def test_cli_simulate_flight_prints_the_bracket(capsys):
+    from obturator.cli import main
+
+    assert main(["simulate", "--case", "flight", "--mach", "1.5", "--no-check"]) == 0
+    lines = {ln.split("  ")[0]: ln for ln in capsys.readouterr().out.splitlines()}
+    theta = lines["theta_start bracket, early .. late"]
+    assert "5.5928 deg (turned flow) .. never starts: C_d A/A*(M_3) = 0.8739" in theta
+    assert lines["t_start bracket, early .. late"].endswith(".. never starts")
+    assert "2.83205" in lines["theta_start (shock swallowed, Eq. 2)"]  # today's, unchanged
+
+
+@pytest.mark.slow
+def test_cli_trajectory_prints_the_bracket(capsys):
+    from obturator.cli import main
+
+    assert main(["trajectory", "--mach", "1.5"]) == 0
+    line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("t_start bracket")]
+    assert len(line) == 1
+    assert "early 0.1095 s (theta_start 5.5928 deg" in line[0]
+    assert "late never starts (C_d A/A*(M_3) = 0.8739 < A_c/A(0) = 1" in line[0]
 
 
 def test_coupled_start_with_constant_mach_stop_equals_the_fixed_stop():
@@ -223,6 +253,12 @@ def test_envelope_maps_t_start_and_delay():
     assert val("theta_start_muzzle") == pytest.approx(7.805, abs=1e-3)
     assert val("unstartable") == 0
     assert envelope_summary(ds)["delay_coupled_min_s"] > 0.0
+    # the late bound (friction, lowest C_d) starts at M 2.5, later than the lens's
+    assert val("never_starts_late") == 0
+    assert val("t_start_late_coupled") > val("t_start_coupled")
+    assert val("t_start_late_constant") > val("t_start_constant")
+    assert val("theta_start_late_muzzle") < val("theta_start_muzzle")
+    assert envelope_summary(ds)["never_starts_late_points"] == 0
 
 
 def test_split_objective():
@@ -277,3 +313,98 @@ def test_cli_sensitivity_event_t_start(capsys):
     assert "Sobol indices of t_start" in out and "mean t_start 0.03" in out
     assert main(["sensitivity", "--case", "spin-rig", "--event", "t_start"]) == 2
     assert "--event" in capsys.readouterr().err
+
+
+# -- the theta_start bracket: turned-flow window (early) and friction + C_d (late) --
+
+
+def _window_ray_count(theta: float, bore: float, n: int = 400_000) -> tuple[float, float]:
+    """Independent Monte Carlo of the turned-flow window: points of the bore disc whose
+    ray along -Z first meets the sphere inside the upstream mouth (x sin + h cos >= c)."""
+    import numpy as np
+
+    rng = np.random.default_rng(11)
+    rad = bore * np.sqrt(rng.random(n))
+    phi = 2 * math.pi * rng.random(n)
+    x = rad * np.cos(phi)
+    h = np.sqrt(R_S**2 - rad**2)
+    c = math.sqrt(R_S**2 - R_HOLE**2)
+    p = np.count_nonzero(x * math.sin(theta) + h * math.cos(theta) >= c) / n
+    full = math.pi * bore**2
+    return full * p, full * math.sqrt(max(p * (1 - p), 1 / n) / n)
+
+
+@pytest.mark.parametrize(
+    ("deg", "bore"), [(3.0, R_BORE), (20.0, R_BORE), (50.0, R_BORE), (10.0, 3e-3)]
+)
+def test_turned_window_against_ray_count(deg, bore):
+    t = math.radians(deg)
+    mc, se = _window_ray_count(t, bore)
+    assert turned_open_area(t, R_S, R_HOLE, bore) == pytest.approx(mc, abs=5 * se)
+
+
+def test_turned_window_limits_and_inverse():
+    full = math.pi * R_BORE**2
+    assert turned_open_area(0.0, R_S, R_HOLE, R_BORE) == pytest.approx(full, rel=1e-12)
+    closes = BETA_S + math.asin(R_BORE / R_S)  # the mouth's cap leaves the bore's cap
+    assert turned_open_area(closes + 1e-6, R_S, R_HOLE, R_BORE) == 0.0
+    assert turned_open_area(closes - 1e-3, R_S, R_HOLE, R_BORE) > 0.0
+    for deg in (1.0, 10.0, 30.0):
+        t = math.radians(deg)
+        assert turned_open_area(t, R_S, R_HOLE, R_BORE) > open_area(t, R_S, R_HOLE, R_BORE)
+    for frac in (0.2, 0.9):
+        t = turned_open_angle(frac * full, R_S, R_HOLE, R_BORE)
+        assert turned_open_area(t, R_S, R_HOLE, R_BORE) == pytest.approx(frac * full, rel=1e-9)
+
+
+@pytest.mark.parametrize("mach", [1.5, 2.0, 2.5, 3.0, 4.0])
+def test_bracket_orders_and_late_never_starts_below(mach):
+    cond = start_condition(mach, table1_ball())
+    assert cond.theta_start_early > cond.theta_start  # the turned flow starts sooner
+    ff = cond.theta_start_friction
+    assert math.isnan(ff) or ff < cond.theta_start  # friction alone: later
+    lo, hi = cond.friction_factors
+    assert 0.0 < lo <= hi and cond.friction_fld == pytest.approx(hi * 76.2 / 9.44)
+    if mach <= 2.0:  # C_d 0.84 is below C_d A/A*(M_3) = 1 here: never starts
+        assert not cond.late_startable and "never starts" in cond.late_verdict
+        assert cond.to_dict()["theta_start_late_deg"] is None
+    else:
+        assert cond.late_startable and cond.theta_start_late < ff
+    # with C_d = 1 the late bound is friction alone
+    unit = start_condition(mach, table1_ball(), discharge_coefficients=(1.0, 1.0))
+    assert unit.theta_start_late == pytest.approx(ff, nan_ok=True)
+
+
+def test_flight_model_event_start_late():
+    from obturator.envelope.model import TIMES, FlightModel
+
+    assert TIMES["t_start_late"] == "start_late"
+    kw = {"load": "constant", "check_convergence": False}
+    both = FlightModel(**kw, with_start=True)({"mach": 3.0})
+    late = FlightModel(**kw, event="start_late")({"mach": 3.0})
+    assert late["t_cr"] == pytest.approx(both["t_start_late"], rel=1e-12)
+    assert late["t_cr"] > both["t_start"] > both["t_cr"]  # friction and C_d start later
+    never = FlightModel(**kw, event="start_late")({"mach": 1.5})  # C_d 0.84 < 0.874
+    assert math.isnan(never["t_cr"]) and never["status"] == 0
+    from obturator.envelope.optimize import split_objective
+
+    assert split_objective("t_start_late:quantile:0.9") == ("t_start_late", "quantile:0.9")
+
+
+def test_cli_optimize_sensitivity_t_start_late(capsys):
+    import json
+
+    from obturator.cli import main
+
+    common = ["--mach", "3", "--altitude-m", "0", "--no-convergence-check", "--workers", "1"]
+    args = ["optimize", *common, "--objective", "t_start_late", "--variables", "mu_s"]
+    args += ["--popsize", "2", "--maxiter", "1", "--no-polish", "--no-progress", "--json"]
+    assert main(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["event"] == "start_late"
+    assert out["baseline_objective_s"] > 0.0332  # the coupled t_start's late bound
+    args = ["sensitivity", "--event", "t_start_late", "--samples", "8", "--resamples", "10"]
+    args += ["--no-convergence-check", "--workers", "1", "--no-progress"]
+    args += ["--vary", "mu_s=uniform:0.3,0.4", "--vary", "density=uniform:7000,8000"]
+    assert main(args) == 0
+    assert "Sobol indices of t_start_late" in capsys.readouterr().out

@@ -4,6 +4,7 @@ and a step limit that names its cause and the fix (issue: ``--spin-rate "150 deg
 
 from __future__ import annotations
 
+import json
 import math
 
 import pytest
@@ -12,8 +13,16 @@ from obturator import SolverOptions
 from obturator.calibration import load_thesis_data
 from obturator.cli import main
 from obturator.cli import simulate as simulate_cli
-from obturator.model.cases import flight_case, rig_case
-from obturator.model.validity import RIG_RUN_SPINS, outside_validated_range
+from obturator.model.cases import case_from_settings, flight_case, rig_case
+from obturator.model.validity import (
+    RIG_RUN_SPINS,
+    holding_jet_moment,
+    holding_moment,
+    outside_validated_data,
+    outside_validated_range,
+    rig_run_holding_moments,
+    seat_friction_moment,
+)
 
 
 def test_rig_run_spins_are_appendix_b():
@@ -82,3 +91,106 @@ def test_config_error_names_the_key_the_user_wrote(tmp_path, capsys, toml, field
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"obturator: error: {field}: ") and "weight:" not in err
     assert "outside the allowed [0, 10] N" in err
+
+
+# -- release angle, holding moment and ball against the Appendix B runs (issue 47) --
+
+
+def _table1_inertias(hole: float) -> tuple[float, float]:
+    """C and A of the bored ball from the thesis's closed forms (Eqs. 10b, 11), written
+    here: napkin ring of half-height sqrt(R^2 - r^2) and mass properties by shells."""
+    from scipy.integrate import quad
+
+    R, rho = 7.899e-3, 7669.6
+    u = R * R - hole * hole
+    c = 4 * math.pi * rho * (hole**2 / 5 + 2 * R * R / 15) * u**1.5
+
+    def a_shell(r: float) -> float:  # shell of radius r, half-height h: I about a diameter
+        h = math.sqrt(R * R - r * r)
+        return 2 * math.pi * r * rho * (2 * h * r * r / 2 + 2 * h**3 / 3)
+
+    a = quad(a_shell, hole, R, epsabs=0.0, epsrel=1e-12)[0]
+    return c, a
+
+
+def test_holding_moment_closed_form_and_the_audits_numbers():
+    case = case_from_settings(
+        {"spin_rate": 200.0, "theta0_deg": 70.0, "hole_radius": 5.58e-3, "mu_s": 0.5473}
+    )
+    c, a = _table1_inertias(5.58e-3)
+    t = math.radians(70.0)
+    expect = 200.0**2 * (c - a) * math.sin(t) * math.cos(t)
+    assert holding_moment(case) == pytest.approx(expect, rel=1e-9)
+    # the audit: 1.1e-3 N m, 4.7 x the seat's mu_s W R_s, ~3.5 x the holding jet's bound
+    assert holding_moment(case) == pytest.approx(1.1e-3, rel=0.03)
+    w = case.ball.weight  # the load follows the new ball: W = rho g V
+    assert seat_friction_moment(case) == pytest.approx(0.5473 * w * 7.899e-3, rel=1e-12)
+    assert holding_moment(case) / seat_friction_moment(case) == pytest.approx(4.7, abs=0.05)
+    assert holding_jet_moment(case) == pytest.approx(0.04 * 7.899e-3, rel=1e-12)
+    assert holding_moment(case) / holding_jet_moment(case) == pytest.approx(3.5, abs=0.1)
+    # the 54 runs needed 0.08-2.5 x the seat's moment at the calibrated mu_s
+    lo, hi = rig_run_holding_moments(0.5473)
+    assert (lo, hi) == pytest.approx((0.076, 2.51), abs=0.005)
+
+
+@pytest.mark.parametrize(
+    ("settings", "fragments"),
+    [
+        ({"spin_rate": 300.0}, None),
+        ({"spin_rate": 300.0, "theta0_deg": 87.0}, None),
+        ({"spin_rate": 600.0}, ["spin_rate 600 rad/s is outside the runs' 77.8-446.1"]),
+        ({"spin_rate": 200.0, "theta0_deg": 80.0}, ["theta_0 80 deg", "86.25-88.25"]),
+        ({"spin_rate": 200.0, "hole_radius": 3.75e-3}, ["r_s 3.75 mm (runs 4.72)"]),
+        ({"spin_rate": 200.0, "theta0_deg": 70.0}, ["holding moment", "the runs needed"]),
+    ],
+)
+def test_outside_validated_data(settings, fragments):
+    note = outside_validated_data(case_from_settings(settings))
+    if fragments is None:
+        assert note is None
+        return
+    assert note is not None
+    for f in fragments:
+        assert f in note
+    assert outside_validated_data(flight_case()) is None  # flight: not the rig's release
+
+
+def test_simulate_warns_one_line_for_an_unholdable_release(capsys):
+    argv = ["simulate", "--case", "spin-rig", "--spin-rate", "200", "--theta0-deg", "70"]
+    assert main([*argv, "--no-check", "--t-max", "1"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    line = err[0]
+    assert line.startswith("obturator: warning: outside the validated data: ")
+    assert "holding moment" in line and "N m" in line
+    assert "the runs needed 2.6e-05-0.00087 N m" in line
+
+
+def test_simulate_takes_the_ball_dimensions(capsys):
+    argv = ["simulate", "--spin-rate", "300", "--theta0-deg", "87.25", "--no-check", "--json"]
+    assert main([*argv, "--hole-radius", "5.58mm", "--density", "7.8 g/cm^3"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["inputs"]["hole_radius_m"] == pytest.approx(5.58e-3)
+    assert out["inputs"]["density_kg_m3"] == pytest.approx(7800.0)
+    assert main(["simulate", "--hole-radius", "6 mm", "--no-check"]) == 2  # > R_s/sqrt(2)
+    assert "--hole-radius" in capsys.readouterr().err
+
+
+def test_sweep_warns_once_for_points_outside_the_data(tmp_path, capsys):
+    out = str(tmp_path / "s.nc")
+    argv = ["sweep", "--case", "spin-rig", "--spin-rate", "300:600:2", "--out", out]
+    assert main([*argv, "--workers", "1", "--no-progress", "--t-max", "2"]) == 0
+    err = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(err) == 1, err
+    assert "1 of 2 points lie outside the validated data" in err[0]
+    assert "spin_rate 600 rad/s is outside the runs' 77.8-446.1 rad/s" in err[0]
+
+
+def test_montecarlo_warns_for_samples_outside_the_data(tmp_path, capsys):
+    out = str(tmp_path / "m.nc")
+    argv = ["montecarlo", "--case", "spin-rig", "--spin-rate", "300", "--samples", "4"]
+    argv += ["--vary", "theta0_deg=uniform:80,82", "--out", out, "--seed", "1"]
+    assert main([*argv, "--workers", "1", "--no-progress", "--t-max", "2"]) == 0
+    err = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(err) == 1, err
+    assert "4 of 4 points lie outside the validated data" in err[0] and "86.25-88.25" in err[0]

@@ -89,7 +89,13 @@ def add_robust_commands(
         add_flags(command, OUT_NETCDF)
 
 
-_EVENT = option("--event", choices=("t_cr", "t_start"), default="t_cr", help="t_cr or t_start")
+_EVENT = option(
+    "--event",
+    choices=("t_cr", "t_start", "t_start_late"),
+    default="t_cr",
+    help="t_cr, t_start or t_start_late (theta_start's late bound: wall friction, lowest "
+    "discharge coefficient; never starting counts as not in time)",
+)
 
 
 def _add_probability(
@@ -184,10 +190,10 @@ def _add_optimize(
         option(
             "--objective",
             default="max",
-            metavar="[t_cr:|t_start:]max|quantile:Q",
+            metavar="[t_cr:|t_start:|t_start_late:]max|quantile:Q",
             type=Text(example="max"),
-            help="aggregate over the conditions of t_cr (default) or of t_start, e.g. "
-            "t_start, t_start:quantile:0.9",
+            help="aggregate over the conditions of t_cr (default), of t_start or of its "
+            "late bound t_start_late, e.g. t_start, t_start:quantile:0.9, t_start_late",
         ),
         option(
             "--variables",

@@ -188,6 +188,31 @@ def _print_start(start: dict[str, Any]) -> None:
         f"inlet at the muzzle: {start['inlet_at_muzzle']} "
         f"(Fanno choking Mach {start['choke_mach']:.4g})"
     )
+    print(f"t_start bracket    : {start_bracket_text(start)}")
+
+
+def start_bracket_text(start: dict[str, Any]) -> str:
+    """The early and late bounds of theta_start and t_start (constant load), one line."""
+
+    def f(x: float | None) -> str:
+        return "-" if x is None else f"{x:.5g}"
+
+    lens = (
+        f"lens with f_D L/D {start['friction_fld_late']:.3g}, "
+        f"C_d {start['discharge_coefficient_late']:.3g}"
+    )
+    if start["theta_start_late_deg"] is None:
+        why = start["late_at_muzzle"].removeprefix("never starts: ")
+        late = f"late never starts ({why}; {lens})"
+    else:
+        late = (
+            f"late {f(start['t_start_constant_late_s'])} s (theta_start "
+            f"{f(start['theta_start_late_deg'])} deg, {lens})"
+        )
+    return (
+        f"early {f(start['t_start_constant_early_s'])} s (theta_start "
+        f"{f(start['theta_start_early_deg'])} deg, flow turned through the hole) .. {late}"
+    )
 
 
 # --------------------------------------------------------------------------- envelope
@@ -263,6 +288,12 @@ def _run_envelope(args: argparse.Namespace) -> int:
         )
         + (f"; wrote {', '.join(wrote)}" if wrote else "")
     )
+    if "never_starts_late_points" in s:
+        print(
+            f"late bound of t_start (wall friction, lowest C_d): never starts at "
+            f"{s['never_starts_late_points']} of {s['points']} points; latest coupled "
+            f"{_fmt(s['t_start_late_coupled_max_s'] or math.nan)} s"
+        )
     return 0
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import time
 
 import numpy as np
@@ -122,6 +123,8 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
         check_convergence=not args.no_check_convergence,
     )
     wall = time.perf_counter() - t0
+    if ds.attrs.get("outside_validated_data"):
+        print(f"obturator: warning: {ds.attrs['outside_validated_data']}", file=sys.stderr)
     summ = monte_carlo_summary(ds)
     if args.json:
         d = summ.to_dict()

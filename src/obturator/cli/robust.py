@@ -218,8 +218,10 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
 
     _check_out(args)
     rig = args.case == "spin-rig"
-    if rig and args.event == "t_start":
-        raise InputError("--event", "t_start applies to --case flight only (the rig has no inlet)")
+    if rig and args.event in ("t_start", "t_start_late"):
+        raise InputError(
+            "--event", f"{args.event} applies to --case flight only (the rig has no inlet)"
+        )
     if rig:
         dists = _dists(args.vary, DEFAULT_RIG_RANGES, RIG_INPUTS)
         flight = model_from_args(args)
@@ -410,13 +412,20 @@ def _run_optimize(args: argparse.Namespace) -> int:
     return 0
 
 
+def _time_name(event: str) -> str:
+    """The command line's name of a model event (t_cr, t_start, t_start_late)."""
+    from ..envelope.model import TIMES
+
+    return next(name for name, ev in TIMES.items() if ev == event)
+
+
 def _print_optimum(problem: Any, res: Any, s: dict[str, Any], elapsed: float, runner: Any) -> None:
     from ..envelope.optimize import DESIGN_VARIABLES
 
     base = problem.values(problem.baseline())
     print(
         f"objective: {problem.objective} of "
-        f"{'t_start' if problem.model.event == 'start' else 't_cr'} over "
+        f"{_time_name(problem.model.event)} over "
         f"{len(problem.conditions)} conditions "
         f"({problem.model.load} load)"
     )
@@ -435,7 +444,7 @@ def _print_optimum(problem: Any, res: Any, s: dict[str, Any], elapsed: float, ru
         f"(budget {1e3 * float(problem.mass_budget):.3f} g); active constraints: "
         + ("; ".join(active) or "none")
     )
-    t = "t_start" if problem.model.event == "start" else "t_cr"
+    t = _time_name(problem.model.event)
     print(f"condition         {t:>7} Table 1 [s] {t:>7} optimum [s]")
     for c, tb, to, sb, so in zip(
         problem.conditions,

@@ -13,7 +13,7 @@ from ..errors import SolverError
 from ..io import check_output_path, load_config
 from ..model.case import Case
 from ..model.cases import case_from_settings
-from ..model.validity import outside_validated_range
+from ..model.validity import outside_validated_data, outside_validated_range
 from ..params import PARAMS
 from ..result import NutationResult
 from ..solve import (
@@ -67,6 +67,12 @@ _QUANTITY_FLAGS = (
     "release_phase",
     "speed_ratio",
     "slip_speed",
+    "ball_radius",
+    "hole_radius",
+    "density",
+    "gap",
+    "weight",
+    "bore_radius",
 )
 
 
@@ -127,12 +133,40 @@ def _start_rows(st: StartTimes, check: ConvergenceCheck | None) -> list[tuple[st
             "",
         ),
         ("inlet", f"{c.verdict} (Fanno choking Mach {c.choke_mach:.4g})", ""),
+        *_bracket_rows(st),
     ]
     if check is not None:
         verdict = "converged" if check.converged else "NOT converged"
         change = check.largest_change
         rows.append(("t_start convergence", f"{verdict}: relative change {change:.1e}", ""))
     return rows
+
+
+def _bracket_rows(st: StartTimes) -> list[tuple[str, str, str]]:
+    """theta_start and t_start, early (turned flow) to late (friction, lowest C_d)."""
+    c = st.condition
+
+    def deg(x: float) -> str:
+        return f"{math.degrees(x):.5g}" if x == x else "-"
+
+    def sec(x: float) -> str:
+        return f"{x:.5g} s" if x == x else "not reached by t_max"
+
+    lens = f"lens, f_D L/D {c.friction_fld:.3g}, C_d {c.discharge_coefficients[0]:.3g}"
+    if c.late_startable:
+        late_theta = f"{deg(c.theta_start_late)} deg ({lens})"
+        late_t = sec(st.t_start_late)
+    else:
+        late_theta = f"{c.late_verdict} ({lens})"
+        late_t = "never starts"
+    return [
+        (
+            "theta_start bracket, early .. late",
+            f"{deg(c.theta_start_early)} deg (turned flow) .. {late_theta}",
+            "",
+        ),
+        ("t_start bracket, early .. late", f"{sec(st.t_start_early)} .. {late_t}", ""),
+    ]
 
 
 def _print_table(
@@ -277,8 +311,12 @@ def _run(args: argparse.Namespace) -> int:
 
         check_output_path("--plot", args.plot, figure_suffixes())
     note = outside_validated_range(case)
+    data = outside_validated_data(case)
     if note:
+        note = f"{note}; {data}" if data else note
         print(f"obturator: warning: {note}; {_expected_cost(case, options)}", file=sys.stderr)
+    elif data:  # one line: what lies outside the Appendix B runs, with their range
+        print(f"obturator: warning: outside the validated data: {data}", file=sys.stderr)
     res = simulate(case, options)
     if res.status == Status.STEP_LIMIT:
         raise SolverError(_step_limit_message(res, case, options))
@@ -348,6 +386,16 @@ register = command(
     SPEED_LAW.but(help="slip-speed dependence of mu (rig; default constant, the thesis's)"),
     _quantity("speed_ratio", "R", "mu(v) ratio r in (0, 1] (with --speed-law)"),
     _quantity("slip_speed", "M_S", "mu(v) speed v_s [m/s] (with --speed-law)"),
+    _quantity("ball_radius", "M", "ball radius R_s [m] (Table 1: 7.899e-3)"),
+    _quantity(
+        "hole_radius",
+        "M",
+        "hole radius r_s [m] (Table 1: 4.72e-3; the rig's load then follows the ball, W = rho g V)",
+    ),
+    _quantity("density", "RHO", "ball density rho [kg/m^3] (Table 1: 7669.6)"),
+    _quantity("gap", "M", "ball-socket gap h [m] (Table 1: 5.08e-5)"),
+    _quantity("weight", "N", "rig normal load W [N] (Table 1: 0.07987; default: measured)"),
+    _quantity("bore_radius", "M", "flight bore radius r_p [m] (Table 1: 4.72e-3)"),
     _quantity("t_max", "S", "give up after this time [s]"),
     JSON,
     switch(

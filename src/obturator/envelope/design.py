@@ -15,7 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import Any
 
-from ..errors import check_range, replace_fields
+from ..errors import InputError, check_range, replace_fields
 from ..flow import pressure_force
 from ..model.case import Case
 from ..model.cases import TABLE1, flight_case
@@ -123,20 +123,28 @@ class ObturatorDesign:
         )
         return case if theta_cr is None else case.with_(theta_cr=theta_cr)
 
-    def start_angle(self, altitude_m: float = 0.0) -> Callable[[float], float]:
+    def start_angle(
+        self, altitude_m: float = 0.0, bound: str = "nominal"
+    ) -> Callable[[float], float]:
         """theta_start(M) [rad] of this design (NaN where the tube cannot start).
 
         :func:`obturator.model.start.start_condition` with the bore as capture
-        area; memoised per Mach number (a flight repeats few values).
+        area; memoised per Mach number (a flight repeats few values). `bound`
+        ``"nominal"`` is Eq. 2 on the frictionless lens, ``"late"`` the late bound
+        (wall friction and the lowest discharge coefficient; NaN where it never
+        starts), ``"early"`` the flow turned through the hole.
         """
         ball = self.ball()
+        key = {"nominal": "theta_start", "late": "theta_start_late", "early": "theta_start_early"}
+        if bound not in key:
+            raise InputError("bound", f"{bound!r}; allowed: {', '.join(key)}")
 
         @functools.lru_cache(maxsize=1024)
         def angle(mach: float) -> float:
             cond = start_condition(
                 mach, ball, self.bore_radius, gamma=self.gamma, altitude_m=altitude_m
             )
-            return cond.theta_start
+            return float(getattr(cond, key[bound]))
 
         return angle
 
@@ -174,11 +182,13 @@ def constant_opening(
     t_max: float = 1.0,
     check: bool = True,
     start: bool = False,
+    bound: str = "nominal",
 ) -> tuple[float, dict[str, Any] | None]:
     """Constant-load t_cr [s] at the muzzle conditions and its convergence check.
 
     With ``start=True`` the time is t_start, to theta_start(M_0) of
-    :meth:`ObturatorDesign.start_angle` (NaN where the tube cannot start).
+    :meth:`ObturatorDesign.start_angle` (NaN where the tube cannot start), of its
+    `bound` (``"nominal"``, ``"late"``, ``"early"``).
 
     Returns
     -------
@@ -188,7 +198,7 @@ def constant_opening(
     """
     case = constant_case(design, launch, t_max)
     if start:  # run on to theta_start at the muzzle Mach, the closed-bore load kept
-        theta = design.start_angle(launch.altitude_m)(launch.mach)
+        theta = design.start_angle(launch.altitude_m, bound)(launch.mach)
         if not math.isfinite(theta):
             return math.nan, None
         case = case.with_(theta_cr=theta)

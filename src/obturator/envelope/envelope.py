@@ -8,7 +8,11 @@ where the internal flow model changes once the bore is open:
 * **not started** (Kantrowitz-Donaldson, thesis Eq. 2): below the self-starting
   Mach number of the capture-to-throat ratio A_c/A_t
   (:func:`obturator.flow.inlet.start_mach`) the bow shock is not swallowed;
-  the constant-area Table 1 bore (A_c/A_t = 1) starts at any supersonic Mach.
+  in this frictionless, perfect-throat limit the constant-area Table 1 bore
+  (A_c/A_t = 1) starts at any supersonic Mach; with the wall friction of the
+  post-shock flow and the lens's discharge coefficient (the late bound,
+  :mod:`obturator.model.start`) it never starts below M 2.05 at sea level
+  (``never_starts_late``; friction alone: below M 1.38).
 * **choked** (Fanno, thesis chapter I.B.4.c): below the choking Mach of the bore
   (L/D = L_p / 2 r_p = 8.07 for Table 1) a normal shock stands in the bore;
   :func:`obturator.flow.fanno.choking_mach_freestream` iterates the friction
@@ -246,9 +250,12 @@ def _flow_variables(spec: EnvelopeSpec, grid: Any) -> dict[str, _Variable]:
     choke = np.array([spec.choke_mach(h) for h in spec.altitude_m])[None, :, None]
     mach = np.asarray(spec.mach)[:, None, None]
     theta_start = np.empty(shape)
+    theta_late = np.empty(shape)
     for i, task in enumerate(spec.tasks()):
         angle = spec.model.design.start_angle(task["altitude_m"])
         theta_start.flat[i] = math.degrees(angle(task["mach"]))
+        late = spec.model.design.start_angle(task["altitude_m"], "late")
+        theta_late.flat[i] = math.degrees(late(task["mach"]))
     started = np.broadcast_to(mach > float(start_mach(spec.area_ratio)), shape)
     return {
         "choke_mach": (
@@ -278,6 +285,20 @@ def _flow_variables(spec: EnvelopeSpec, grid: Any) -> dict[str, _Variable]:
             (~np.isfinite(theta_start)).astype(np.int8),
             {"long_name": "even the aligned ball cannot swallow the shock at the muzzle Mach"},
         ),
+        "theta_start_late_muzzle": (
+            _DIMS,
+            theta_late,
+            {
+                "units": "deg",
+                "long_name": "theta_start at the muzzle Mach, late bound (wall friction, "
+                "lowest discharge coefficient)",
+            },
+        ),
+        "never_starts_late": (
+            _DIMS,
+            (~np.isfinite(theta_late)).astype(np.int8),
+            {"long_name": "the late bound never starts at the muzzle Mach"},
+        ),
     }
 
 
@@ -301,6 +322,15 @@ def _requirement_and_start_variables(spec: EnvelopeSpec, grid: Any) -> dict[str,
             _DIMS,
             t_start - grid("t_cr" + suffix),
             {"units": "s", "long_name": f"t_start - t_cr, {what}"},
+        )
+        data[f"t_start_late_{load}"] = (
+            _DIMS,
+            grid("t_start_late" + suffix),
+            {
+                "units": "s",
+                "long_name": f"t_start, late bound (wall friction, lowest C_d; NaN: never "
+                f"starts or not by t_max), {what}",
+            },
         )
     return data
 
@@ -377,4 +407,9 @@ def envelope_summary(ds: Any) -> dict[str, Any]:
         out["delay_coupled_max_s"] = float(d[fin].max()) if fin.any() else None
         out["unstartable_points"] = int(ds["unstartable"].values.sum())
         out["choked_at_start_points"] = int(ds["choked_at_start"].values.sum())
+    if "never_starts_late" in ds:
+        out["never_starts_late_points"] = int(ds["never_starts_late"].values.sum())
+        late = ds["t_start_late_coupled"].values
+        fin = np.isfinite(late)
+        out["t_start_late_coupled_max_s"] = float(late[fin].max()) if fin.any() else None
     return out

@@ -69,9 +69,14 @@ INPUTS: dict[str, _Input] = {
 #: Load models: the thesis's constant muzzle load, the trajectory-coupled one, or both.
 LOADS = ("coupled", "constant", "both")
 #: Which event ends the run: first light (t_cr) or the started tube (t_start).
-EVENTS = ("first_light", "start")
-#: The time each event gives, as the command line names it -> :attr:`FlightModel.event`.
-TIMES = {"t_cr": "first_light", "t_start": "start"}
+EVENTS = ("first_light", "start", "start_late")
+#: The time each event gives, as the command line names it -> :attr:`FlightModel.event`:
+#: t_start to the frictionless lens's theta_start, t_start_late to the late bound's
+#: (wall friction, lowest discharge coefficient; :mod:`obturator.model.start`).
+TIMES = {"t_cr": "first_light", "t_start": "start", "t_start_late": "start_late"}
+#: The bound of theta_start each start event runs to
+#: (:meth:`~.design.ObturatorDesign.start_angle`).
+_START_BOUNDS = {"start": "nominal", "start_late": "late"}
 
 
 def warm_integrators() -> None:
@@ -172,14 +177,17 @@ class FlightModel:
         Convergence threshold [-].
     tie_bore : bool
         The bore radius r_p follows the hole radius r_s (design studies).
-    event : {"first_light", "start"}
+    event : {"first_light", "start", "start_late"}
         The time reported as ``t_cr``: first light (theta = beta_s, the
-        thesis's t_cr) or the start of the internal flow (theta =
-        theta_start(M), :mod:`obturator.model.start`; t_start).
+        thesis's t_cr), the start of the internal flow (theta =
+        theta_start(M), :mod:`obturator.model.start`; t_start) or its late bound
+        (theta_start with wall friction and the lowest discharge coefficient; NaN,
+        status not opened, where it never starts).
     with_start : bool
-        With ``event="first_light"``, also report ``t_start`` (and
-        ``t_start_constant`` with ``load="both"``) and ``status_start``, from a
-        second run to theta_start without the convergence reruns.
+        With ``event="first_light"``, also report ``t_start`` and ``t_start_late``
+        (and ``t_start_constant``, ``t_start_late_constant`` with ``load="both"``),
+        ``status_start`` and ``status_start_late``, from further runs to theta_start
+        without the convergence reruns.
     """
 
     design: ObturatorDesign = field(default_factory=ObturatorDesign)
@@ -247,8 +255,9 @@ class FlightModel:
         for design, launch in points:
             try:
                 case: Case | None = constant_case(design, launch, self.t_max)
-                if self.event == "start":  # on to theta_start(M_0), the closed-bore load kept
-                    theta = design.start_angle(launch.altitude_m)(launch.mach)
+                if self.event in _START_BOUNDS:  # on to theta_start(M_0), closed-bore load
+                    bound = _START_BOUNDS[self.event]
+                    theta = design.start_angle(launch.altitude_m, bound)(launch.mach)
                     # None: the tube cannot start at the muzzle Mach, never reaches theta_start
                     case = case.with_(theta_cr=theta) if math.isfinite(theta) else None
                 cases.append(case)
@@ -266,7 +275,12 @@ class FlightModel:
             [d for d, _ in points],
             flights,
             [launch.muzzle_spin for _, launch in points],
-            [d.start_angle(lc.altitude_m) if self.event == "start" else None for d, lc in points],
+            [
+                d.start_angle(lc.altitude_m, _START_BOUNDS[self.event])
+                if self.event in _START_BOUNDS
+                else None
+                for d, lc in points
+            ],
         )
         res = coupled_openings(pts, self.options, segment=self.segment, t_max=self.t_max)
         out: list[dict[str, Any]] = []
@@ -321,16 +335,17 @@ class FlightModel:
             for i, row in zip(where, main, strict=True):
                 results[i] = row
         if self.with_start and self.event == "first_light" and where:
-            onward = self.with_(event="start", with_start=False, check_convergence=False)
-            started = onward.evaluate_many([values[i] for i in where])
-            for i, st in zip(where, started, strict=True):
-                if results[i]["status"] == STATUS_INVALID:
-                    continue
-                results[i]["t_start"] = st["t_cr"]
-                results[i]["status_start"] = st["status"]
-                results[i]["mach_at_start"] = st.get("mach_end", math.nan)
-                if "t_cr_constant" in st:
-                    results[i]["t_start_constant"] = st["t_cr_constant"]
+            for event, name in (("start", "t_start"), ("start_late", "t_start_late")):
+                onward = self.with_(event=event, with_start=False, check_convergence=False)
+                started = onward.evaluate_many([values[i] for i in where])
+                for i, st in zip(where, started, strict=True):
+                    if results[i]["status"] == STATUS_INVALID:
+                        continue
+                    results[i][name] = st["t_cr"]
+                    results[i]["status" + name.removeprefix("t")] = st["status"]
+                    results[i]["mach_at" + name.removeprefix("t")] = st.get("mach_end", math.nan)
+                    if "t_cr_constant" in st:
+                        results[i][f"{name}_constant"] = st["t_cr_constant"]
         return results
 
     def __call__(self, values: Mapping[str, float]) -> dict[str, Any]:
@@ -348,8 +363,10 @@ class FlightModel:
             With ``load="both"`` the constant-load results are added with the
             suffix ``_constant``. With ``with_start``: ``t_start`` [s] and
             ``status_start``, ``mach_at_start`` (and ``t_start_constant``), the times to
-            theta_start(M). With ``event="start"`` the time reported as
-            ``t_cr`` is t_start.
+            theta_start(M), and the same with ``_late`` (``t_start_late``,
+            ``status_start_late``, ``mach_at_start_late``, ``t_start_late_constant``) to
+            its late bound. With ``event="start"`` (``"start_late"``) the time reported
+            as ``t_cr`` is t_start (its late bound).
         """
         return self.evaluate_many([values])[0]
 

@@ -104,12 +104,13 @@ def _objective_value(t: np.ndarray, kind: str, t_max: float) -> float:
 def split_objective(text: str) -> tuple[str, str]:
     """``"t_start"``, ``"t_start:quantile:0.9"``, ``"max"`` -> (time, aggregate).
 
-    The time (``t_cr`` or ``t_start``, :data:`obturator.envelope.model.TIMES`)
-    selects the model's event; the aggregate over the conditions is checked
-    by :class:`DesignProblem`. Without a prefix the time is t_cr.
+    The time (``t_cr``, ``t_start`` or ``t_start_late``,
+    :data:`obturator.envelope.model.TIMES`) selects the model's event; the aggregate
+    over the conditions is checked by :class:`DesignProblem`. Without a prefix the
+    time is t_cr.
     """
     head, _, rest = text.partition(":")
-    if head in ("t_cr", "t_start"):
+    if head in ("t_cr", "t_start", "t_start_late"):
         return head, rest or "max"
     return "t_cr", text
 

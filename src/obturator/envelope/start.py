@@ -40,7 +40,13 @@ def trajectory_start(model: FlightModel, flight: Trajectory, spin0: float) -> di
         ``theta_start_at_start_deg`` and ``mach_at_start`` (coupled),
         ``t_start_constant_s``, ``theta_start_muzzle_deg``,
         ``t_start_constant_high_load_s``, ``t_start_constant_low_load_s``,
-        ``inlet_at_muzzle`` (``starts``, ``unstartable``, ``choked``), ``choke_mach``.
+        ``inlet_at_muzzle`` (``starts``, ``unstartable``, ``choked``), ``choke_mach``;
+        the bracket at the muzzle Mach with the constant load:
+        ``theta_start_early_deg``, ``t_start_constant_early_s`` (the flow turned through
+        the hole), ``theta_start_late_deg``, ``t_start_constant_late_s`` (wall friction
+        and the lowest discharge coefficient; None where it never starts),
+        ``late_at_muzzle`` (``starts`` or why not), ``friction_fld_late`` and
+        ``discharge_coefficient_late``.
     """
 
     design, launch = model.design, model.launch
@@ -72,4 +78,11 @@ def trajectory_start(model: FlightModel, flight: Trajectory, spin0: float) -> di
         "t_start_constant_low_load_s": finite_or_none(const.t_start_low_load),
         "inlet_at_muzzle": cond.verdict,
         "choke_mach": cond.choke_mach,
+        "theta_start_early_deg": finite_or_none(math.degrees(cond.theta_start_early)),
+        "t_start_constant_early_s": finite_or_none(const.t_start_early),
+        "theta_start_late_deg": finite_or_none(math.degrees(cond.theta_start_late)),
+        "t_start_constant_late_s": finite_or_none(const.t_start_late),
+        "late_at_muzzle": cond.late_verdict,
+        "friction_fld_late": cond.friction_fld,
+        "discharge_coefficient_late": cond.discharge_coefficients[0],
     }

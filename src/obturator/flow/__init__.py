@@ -8,9 +8,12 @@ Perfect gas with constant specific heats, one-dimensional flow:
   limits of a capture-to-throat contraction A_c/A_t (Eqs. 2 and 4);
 * Fanno flow (adiabatic, constant area, wall friction) for the choking of the
   open bore, with Darcy friction factors from Colebrook or Haaland;
+* the start of the tube with the wall friction of the post-shock flow and a
+  discharge coefficient of the throat (the late bound of theta_start);
 * the U.S. Standard Atmosphere 1976 (free-stream pressure, viscosity).
 
-Modules: :mod:`.shock`, :mod:`.inlet`, :mod:`.fanno`, :mod:`.atmosphere`;
+Modules: :mod:`.shock`, :mod:`.inlet`, :mod:`.fanno`, :mod:`.start_friction`,
+:mod:`.atmosphere`;
 input checks of array arguments in :mod:`._arrays`.
 
 The closed forms are written out by hand from the textbook relations (NACA

@@ -159,7 +159,10 @@ def start_mach(ratio: ArrayLike, gamma: ArrayLike = 1.4) -> Any:
 
     M_2 is the subsonic root of A/A*(M_2) = A_c/A_t; M_1 then follows from
     Eq. 3 read backwards (the normal-shock relation is its own inverse).
-    A_c/A_t = 1, the constant-area bore, starts at any supersonic Mach (M_1 = 1).
+    A_c/A_t = 1, the constant-area bore, gives M_1 = 1: in this frictionless,
+    perfect-throat limit it starts at any supersonic Mach. With wall friction between
+    lip and throat and a discharge coefficient it does not
+    (:mod:`obturator.flow.start_friction`).
 
     Parameters
     ----------

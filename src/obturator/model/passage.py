@@ -45,12 +45,16 @@ lens itself, bounded by the upstream mouth on one side and the downstream
 mouth on the other (the hole's wall between them lies outside the lens, by
 the convexity above). First light passes at the bore axis (x = y = 0) at
 theta = beta_s, and the lens grows about it. A flow that turns through the
-tilted hole could use the larger windows where each mouth overlaps the bore
-(open from theta = beta_s + asin(r_p/R_s) on), but a started supersonic stream
-turned by theta (tens of degrees) exceeds the largest deflection of an attached
-oblique shock and detaches it again; the start criterion
-(:mod:`obturator.model.start`) therefore takes the lens as the throat A_t, the
-conservative (later-starting) choice.
+tilted hole can use the larger windows where each mouth overlaps the bore
+(:func:`turned_open_area`, open from theta = beta_s + asin(r_p/R_s) on): the
+projection along Z of the mouth, the ellipse of semi-axes r_s cos(theta) and r_s
+centred at x = c sin(theta), cut by the bore circle. The start criterion
+(:mod:`obturator.model.start`) takes the lens as the nominal throat A_t (a started
+supersonic stream turned by theta exceeds the largest deflection of an attached
+oblique shock and detaches it again) and the window as the early bound: the
+turned flow starts the tube sooner. Neither is a conservative choice on its own:
+wall friction between lip and ball and the lens's discharge coefficient delay the
+start (:mod:`obturator.flow.start_friction`, the late bound).
 """
 
 from __future__ import annotations
@@ -67,6 +71,8 @@ __all__ = [
     "open_angle",
     "open_area_ray_count",
     "ring_contact_fraction",
+    "turned_open_area",
+    "turned_open_angle",
 ]
 
 
@@ -305,3 +311,92 @@ def ring_contact_fraction(
     if q <= -1.0:
         return 0.0
     return 1.0 - math.acos(q) / math.pi
+
+
+def turned_open_area(
+    theta: float, ball_radius: float, hole_radius: float, bore_radius: float
+) -> float:
+    """Window of one mouth onto the bore, the throat of the flow turned through the hole [m^2].
+
+    The area, projected along Z, of the bore circle (radius r_p) that opens into the
+    upstream mouth: the overlap of that circle with the ellipse
+    ((x - c sin theta) / cos theta)^2 + y^2 <= r_s^2 (the mouth circle seen along Z,
+    c = sqrt(R_s^2 - r_s^2)); the downstream window is its mirror image. Both
+    intervals in y are centred on y = 0, so the overlap's half-width is the smaller of
+    the two half-widths (scipy ``quad`` with the crossings as break points, to 1e-12
+    relative).
+
+    Parameters
+    ----------
+    theta : float
+        Nutation angle [rad], in [0, pi/2).
+    ball_radius, hole_radius, bore_radius : float
+        R_s, r_s, r_p [m] as in :func:`open_area`.
+
+    Returns
+    -------
+    float
+        Window [m^2]: pi min(r_s, r_p)^2 at theta = 0, at least :func:`open_area`, 0 from
+        theta = beta_s + asin(r_p/R_s) on.
+    """
+    from scipy.integrate import quad
+
+    big, r_s, r_p, c = _geometry(ball_radius, hole_radius, bore_radius)
+    t = _theta(theta)
+    cos_t, sin_t = math.cos(t), math.sin(t)
+    d = c * sin_t
+    lo, hi = max(-r_p, d - r_s * cos_t), min(r_p, d + r_s * cos_t)
+    if hi <= lo:
+        return 0.0
+
+    def half_width(x: float) -> float:
+        mouth = r_s * r_s - ((x - d) / cos_t) ** 2
+        return math.sqrt(max(0.0, min(mouth, r_p * r_p - x * x)))
+
+    # crossings of the two boundaries: x^2 sin^2 - 2 d x + d^2 - (r_s^2 - r_p^2) cos^2 = 0
+    qa, qb, qc = sin_t * sin_t, -2.0 * d, d * d - (r_s * r_s - r_p * r_p) * cos_t * cos_t
+    points: list[float] = []
+    if qa > 0.0:
+        disc = qb * qb - 4.0 * qa * qc
+        if disc >= 0.0:
+            root = math.sqrt(disc)
+            points = sorted(x for x in ((-qb - root) / (2 * qa), (-qb + root) / (2 * qa)))
+            points = [x for x in points if lo < x < hi]
+    value, _ = quad(half_width, lo, hi, points=points or None, epsabs=0.0, epsrel=1e-12, limit=200)
+    return min(2.0 * value, math.pi * min(r_s, r_p) ** 2)
+
+
+def turned_open_angle(
+    area: float, ball_radius: float, hole_radius: float, bore_radius: float
+) -> float:
+    """The angle theta [rad] at which :func:`turned_open_area` reaches ``area`` (its inverse).
+
+    Parameters
+    ----------
+    area : float
+        Window [m^2], in [0, pi min(r_s, r_p)^2].
+    ball_radius, hole_radius, bore_radius : float
+        R_s, r_s, r_p [m].
+
+    Returns
+    -------
+    float
+        theta in [0, beta_s + asin(r_p/R_s)] [rad].
+    """
+    from scipy.optimize import brentq
+
+    big, r_s, r_p, _ = _geometry(ball_radius, hole_radius, bore_radius)
+    full = math.pi * min(r_s, r_p) ** 2
+    a = check_range("area", area, 0.0, full * (1.0 + 1e-12), unit="m^2")
+    end = min(math.asin(r_s / big) + math.asin(r_p / big), math.radians(89.999))
+    if a <= 0.0:
+        return end
+    if a >= full:
+        return 0.0
+    return brentq(
+        lambda t: turned_open_area(t, big, r_s, r_p) - a,
+        0.0,
+        end,
+        xtol=1e-15,
+        rtol=4 * np.finfo(float).eps,
+    )

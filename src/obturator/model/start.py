@@ -19,11 +19,25 @@ beta_s, so theta_start < beta_s: the start comes after first light. Two flags:
 * **unstartable**: A_c / A(0) >= (A_c/A_t)_start(M); even the aligned ball
   leaves too small a throat (the Mach number is below
   ``start_mach(A_c / A(0))``, Eq. 2 inverted). Never for the Table 1
-  constant-area bore (A_c = A(0)), which starts at any supersonic Mach.
+  constant-area bore (A_c = A(0)) in this frictionless, perfect-throat limit.
 * **choked**: the started tube of length L_p and diameter 2 r_p chokes by wall
   friction (Fanno, chapter I.B.4.c) at or below the choking Mach, a normal
   shock stands in the bore and the flow unstarts again (the drag rise of
   the thesis's Refs. 7-8).
+
+**Bracket.** Eq. 2 on the lens is an idealisation: no friction between lip and ball,
+and a throat that passes sonic flow over its whole area. Neither end of it is a
+conservative choice. :attr:`StartCondition.theta_start_early` takes the flow turned
+through the tilted hole (:func:`.passage.turned_open_area`, the window of a mouth
+onto the bore, larger than the lens): it starts sooner.
+:attr:`StartCondition.theta_start_late` takes the lens with the Fanno friction of the
+post-shock flow over the tube (the top of the friction-factor range at the post-shock
+Reynolds number) and the lowest discharge coefficient of the lens orifice
+(:mod:`obturator.flow.start_friction`): it starts later, or never (with f_D L/D
+~0.12 the Table 1 bore cannot start below ~M 1.36 at all; at sea level, with the
+friction range's top (f_D L/D 0.123-0.129), not below M 1.38, and with C_d = 0.84
+as well not below M 2.05). theta_start (decreasing in time) is in
+[theta_start_late, theta_start_early].
 """
 
 from __future__ import annotations
@@ -41,9 +55,15 @@ from ..flow import (
     start_mach,
     swallow_area_ratio,
 )
+from ..flow.start_friction import (
+    DISCHARGE_COEFFICIENT_RANGE,
+    post_shock_reynolds,
+    start_area_ratio,
+    start_friction_range,
+)
 from ..reference import TABLE1
 from .geometry import BoredBall
-from .passage import open_angle, open_area
+from .passage import open_angle, open_area, turned_open_angle
 
 __all__ = ["StartCondition", "start_condition", "full_bore_start_mach"]
 
@@ -77,6 +97,24 @@ class StartCondition:
     bore_radius: float
     #: Ratio of specific heats [-].
     gamma: float
+    #: Early bound: Eq. 2 on the window of the flow turned through the hole [rad]; NaN
+    #: when unstartable.
+    theta_start_early: float = math.nan
+    #: Late bound: the lens with wall friction and the lowest discharge coefficient [rad];
+    #: NaN where the late bound never starts.
+    theta_start_late: float = math.nan
+    #: The lens with wall friction alone (C_d = 1) [rad]; NaN where it never starts.
+    theta_start_friction: float = math.nan
+    #: (A_c/A_t)_start of the late bound, C_d A/A*(M_3) (0: choked before the ball) [-].
+    late_swallow_ratio: float = math.nan
+    #: Reynolds number of the post-shock flow in the bore [-].
+    reynolds_post_shock: float = math.nan
+    #: Darcy friction factors of the post-shock flow, low and high [-].
+    friction_factors: tuple[float, float] = (math.nan, math.nan)
+    #: f_D L/D of the late bound (the high friction factor) [-].
+    friction_fld: float = math.nan
+    #: Discharge coefficients of the lens, low (late bound) and high [-].
+    discharge_coefficients: tuple[float, float] = DISCHARGE_COEFFICIENT_RANGE
 
     @property
     def verdict(self) -> str:
@@ -84,6 +122,23 @@ class StartCondition:
         if not self.startable:
             return "unstartable"
         return "choked" if self.choked else "starts"
+
+    @property
+    def late_startable(self) -> bool:
+        """Whether the late bound starts at all."""
+        return math.isfinite(self.theta_start_late)
+
+    @property
+    def late_verdict(self) -> str:
+        """``"starts"`` or why the late bound never starts."""
+        if self.late_startable:
+            return "starts"
+        if self.late_swallow_ratio <= 0.0:
+            return f"never starts: f_D L/D {self.friction_fld:.3g} chokes the tube before the ball"
+        return (
+            f"never starts: C_d A/A*(M_3) = {self.late_swallow_ratio:.4g} < "
+            f"A_c/A(0) = {self.capture_area / self.full_area:.4g}"
+        )
 
     def spill_load_factors(self) -> tuple[float, float]:
         """Bounds on the ball's load between first light and start, over the thesis's F_p [-].
@@ -124,8 +179,18 @@ class StartCondition:
         out: dict[str, Any] = {}
         for k, v in asdict(self).items():
             out[k] = None if isinstance(v, float) and not math.isfinite(v) else v
-        deg = math.degrees(self.theta_start)
-        out["theta_start_deg"] = deg if math.isfinite(deg) else None
+        for key in (
+            "theta_start",
+            "theta_start_early",
+            "theta_start_late",
+            "theta_start_friction",
+        ):
+            deg = math.degrees(getattr(self, key))
+            out[f"{key}_deg"] = deg if math.isfinite(deg) else None
+        out["friction_factors"] = list(self.friction_factors)
+        out["discharge_coefficients"] = list(self.discharge_coefficients)
+        out["late_startable"] = self.late_startable
+        out["late_verdict"] = self.late_verdict
         out["beta_s_deg"] = math.degrees(self.beta_s)
         out["verdict"] = self.verdict
         return out
@@ -163,6 +228,8 @@ def start_condition(
     gamma: float = TABLE1["gamma"],
     tube_length: float = TABLE1["projectile_length"],
     altitude_m: float = 0.0,
+    discharge_coefficients: tuple[float, float] = DISCHARGE_COEFFICIENT_RANGE,
+    relative_roughness: float = 0.0,
 ) -> StartCondition:
     """theta_start(M) and the unstartable / choked flags at flight Mach `mach`.
 
@@ -182,7 +249,13 @@ def start_condition(
         Bore length L_p [m] for the Fanno choking Mach (Table 1: 76.2 mm).
     altitude_m : float
         Altitude [m] of the free-stream Reynolds number of the friction factor
-        (:func:`obturator.flow.choking_mach_freestream`).
+        (:func:`obturator.flow.choking_mach_freestream`) and of the post-shock one
+        (:func:`obturator.flow.start_friction.post_shock_reynolds`).
+    discharge_coefficients : (float, float)
+        Range of C_d of the lens orifice, each in (0, 1] [-]; the low end makes the late
+        bound (default :data:`~obturator.flow.start_friction.DISCHARGE_COEFFICIENT_RANGE`).
+    relative_roughness : float
+        eps/D of the bore wall for the high friction factor, in [0, 0.05].
 
     Returns
     -------
@@ -195,13 +268,30 @@ def start_condition(
     needed = a_c / ratio
     startable = needed <= full * (1.0 + 1e-12)
     theta = open_angle(min(needed, full), ball.radius, ball.hole_radius, bore_radius)
-    choke = choking_mach_freestream(
-        check_range("tube_length", tube_length, 0.0, 10.0, lo_open=True, unit="m")
-        / (2.0 * bore_radius),
-        2.0 * bore_radius,
-        altitude_m=altitude_m,
-        gamma=gamma,
+    l_over_d = check_range("tube_length", tube_length, 0.0, 10.0, lo_open=True, unit="m") / (
+        2.0 * bore_radius
     )
+    choke = choking_mach_freestream(l_over_d, 2.0 * bore_radius, altitude_m=altitude_m, gamma=gamma)
+    cd_lo, cd_hi = (
+        check_range("discharge_coefficient", c, 0.0, 1.0, lo_open=True)
+        for c in discharge_coefficients
+    )
+    if cd_lo > cd_hi:
+        cd_lo, cd_hi = cd_hi, cd_lo
+    early = math.nan
+    if startable:
+        early = turned_open_angle(min(needed, full), ball.radius, ball.hole_radius, bore_radius)
+    re2 = post_shock_reynolds(m, 2.0 * bore_radius, altitude_m, gamma)
+    f_lo, f_hi = start_friction_range(re2, l_over_d, relative_roughness)
+    late_ratio = start_area_ratio(m, f_hi * l_over_d, cd_lo, gamma)
+
+    def lens_angle(ratio: float) -> float:
+        if ratio <= 0.0 or a_c / ratio > full * (1.0 + 1e-12):
+            return math.nan
+        return open_angle(min(a_c / ratio, full), ball.radius, ball.hole_radius, bore_radius)
+
+    late = lens_angle(late_ratio)
+    friction_only = lens_angle(start_area_ratio(m, f_hi * l_over_d, 1.0, gamma))
     return StartCondition(
         mach=m,
         theta_start=theta if startable else math.nan,
@@ -215,4 +305,12 @@ def start_condition(
         choked=m <= choke,
         bore_radius=bore_radius,
         gamma=gamma,
+        theta_start_early=early,
+        theta_start_late=late,
+        theta_start_friction=friction_only,
+        late_swallow_ratio=late_ratio,
+        reynolds_post_shock=re2,
+        friction_factors=(f_lo, f_hi),
+        friction_fld=f_hi * l_over_d,
+        discharge_coefficients=(cd_lo, cd_hi),
     )

@@ -50,6 +50,13 @@ class StartTimes:
     t_start_high_load: float
     #: theta_start and the flags.
     condition: StartCondition
+    #: t_start of the early bound, theta_start_early (turned flow), thesis load [s]; NaN
+    #: if not reached or the tube cannot start.
+    t_start_early: float = math.nan
+    #: t_start of the late bound, theta_start_late (friction, lowest C_d), thesis load [s];
+    #: NaN if not reached by t_max or the late bound never starts
+    #: (:attr:`StartCondition.late_startable`).
+    t_start_late: float = math.nan
 
     @property
     def delay(self) -> float:
@@ -66,6 +73,8 @@ class StartTimes:
             "delay_s": finite_or_none(self.delay),
             "t_start_low_load_s": finite_or_none(self.t_start_low_load),
             "t_start_high_load_s": finite_or_none(self.t_start_high_load),
+            "t_start_early_s": finite_or_none(self.t_start_early),
+            "t_start_late_s": finite_or_none(self.t_start_late),
             "spill_load_factors": [low, high],
             **self.condition.to_dict(),
         }
@@ -86,7 +95,8 @@ def scaled_load(case: Case, factor: float) -> Case:
 def start_times(
     case: Case, condition: StartCondition, options: SolverOptions | None = None
 ) -> StartTimes:
-    """t_cr, then t_start from the state at first light (and the spill bracket).
+    """t_cr, then t_start from the state at first light (the spill bracket, and the
+    early and late bounds of theta_start with the thesis load).
 
     Parameters
     ----------
@@ -109,9 +119,19 @@ def start_times(
     y_cr = first.state[-1]
     rest = case.t_max - t_cr
     low, high = condition.spill_load_factors()
+    runs = [(1.0, condition.theta_start), (low, condition.theta_start)]
+    runs += [(high, condition.theta_start), (1.0, condition.theta_start_early)]
+    runs.append((1.0, condition.theta_start_late))
     out = []
-    for factor in (1.0, low, high):
-        onward = scaled_load(case, factor).with_(theta_cr=condition.theta_start, t_max=rest)
+    for factor, theta in runs:
+        if not math.isfinite(theta):
+            out.append(nan)
+            continue
+        if theta >= case.opening_angle:  # a turned flow that starts before first light
+            res = simulate(case.with_(theta_cr=theta), options, t_eval=None)
+            out.append(res.opening_time if res.opened else nan)
+            continue
+        onward = scaled_load(case, factor).with_(theta_cr=theta, t_max=rest)
         res = simulate(onward, options, y0=y_cr, t_eval=None)
         out.append(t_cr + res.opening_time if res.opened else nan)
-    return StartTimes(t_cr, out[0], out[1], out[2], condition)
+    return StartTimes(t_cr, out[0], out[1], out[2], condition, out[3], out[4])
