@@ -157,12 +157,25 @@ _PHYSICAL: tuple[Param, ...] = (
         True,
         True,
     ),
-    Param("ball_radius", "m", "ball radius R_s", "ball.radius"),
-    Param("viscosity", "Pa s", "gap-fluid viscosity mu_f", "gap.viscosity"),
+    Param("ball_radius", "m", "ball radius R_s", "ball.radius", _POSITIVE),
+    Param("viscosity", "Pa s", "gap-fluid viscosity mu_f", "gap.viscosity", _POSITIVE),
     Param("weight", "N", "normal load on the rig W", "rig.weight"),
     Param("patch_radius", "m", "contact patch radius a", "contact.patch_radius"),
     Param("p1", "Pa", "free-stream pressure P_1", "flight.p1"),
-    Param("bore_radius", "m", "bore radius r_p", "flight.bore_radius"),
+    Param("bore_radius", "m", "bore radius r_p", "flight.bore_radius", _POSITIVE),
+    # launch inputs of the envelope studies (obturator.envelope: trajectory.Launch);
+    # spin_factor scales the nominal muzzle spin (the rifling's twist): 0-10 covers any
+    # dispersion of muzzle velocity; the temperature offset spans the cold and hot
+    # standard days of MIL-STD-210 around the US 1976 atmosphere
+    Param("spin_factor", "1", "muzzle spin / nominal muzzle spin", None, Range(0.0, 10.0, True)),
+    Param(
+        "temperature_offset_k",
+        "K",
+        "off-standard temperature Delta T",
+        None,
+        Range(-80.0, 60.0),
+    ),
+    Param("elevation_deg", "deg", "elevation angle", None, Range(-90.0, 90.0)),
     Param("pressure_force", "N", "pressure force on the ball F_p"),
     Param("t_max", "s", "integration horizon t_max", "t_max"),
     Param("rtol", "1", "relative tolerance", "solver.rtol"),

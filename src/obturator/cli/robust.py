@@ -70,6 +70,14 @@ def _dists(texts: list[str] | None, defaults: tuple[str, ...], allowed: tuple[st
     return out
 
 
+def _check_support(model: Any, dists: dict) -> None:
+    """Every distribution's support is made of points the model accepts (one line if not)."""
+    from ..envelope.model import INPUTS
+    from ..envelope.uncertain import check_point_support
+
+    check_point_support(model, dists, {k: v.unit for k, v in INPUTS.items()})
+
+
 def _check_out(args: argparse.Namespace) -> None:
     if getattr(args, "out", None) and not Path(args.out).resolve().parent.is_dir():
         raise InputError("--out", f"directory of {args.out!r} does not exist")
@@ -89,8 +97,9 @@ def _run_probability(args: argparse.Namespace) -> int:
     _check_out(args)
     model = model_from_args(args).with_(event=TIMES[args.event])
     dists = _dists(args.vary, DEFAULT_UNCERTAINTY, tuple(INPUTS))
-    machs = parse_axis(args.grid_mach, "--mach")
-    alts = parse_axis(args.grid_altitude, "--altitude-m")
+    _check_support(model, dists)
+    machs = parse_axis(args.grid_mach, "--mach", "")
+    alts = parse_axis(args.grid_altitude, "--altitude-m", "m")
     req = quantity("--requirement", args.requirement, "s")
     conf = quantity("--confidence", args.confidence, "")
     seed = _int("--seed", args.seed, 0)
@@ -226,6 +235,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         model: Any = RigModel(
             tuple(dists), options=flight.options, check_convergence=flight.check_convergence
         )
+        _check_support(model, dists)
     else:
         dists = _dists(args.vary, DEFAULT_RANGES, tuple(INPUTS))
         model = model_from_args(args).with_(event=TIMES[args.event])
@@ -237,6 +247,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
                     quantity("--altitude-m", args.altitude_point or model.launch.altitude_m, "m"),
                 )
             )
+        _check_support(model, dists)
     n = _int("--samples", args.samples, 8)
     seed = _int("--seed", args.seed, 0)
     identity = {
@@ -310,6 +321,8 @@ def _run_optimize(args: argparse.Namespace) -> int:
     from ..sweeps.distributions import split_assignment
 
     _check_out(args)
+    if args.figure and not args.pareto:
+        raise InputError("--figure", "draws the Pareto front: give --pareto N with it")
     event, aggregate = split_objective(args.objective)
     model = model_from_args(args).with_(event=TIMES[event])
     names = [v.strip() for v in args.variables.split(",") if v.strip()]
@@ -325,8 +338,8 @@ def _run_optimize(args: argparse.Namespace) -> int:
             raise InputError("--bound", f"{name!r} is not among --variables")
         unit = DESIGN_VARIABLES[name].replace("1", "")
         bounds[name] = (quantity(name, lo, unit), quantity(name, hi, unit))
-    machs = parse_axis(args.grid_mach, "--mach")
-    alts = parse_axis(args.grid_altitude, "--altitude-m")
+    machs = parse_axis(args.grid_mach, "--mach", "")
+    alts = parse_axis(args.grid_altitude, "--altitude-m", "m")
     conditions = tuple({"mach": float(m), "altitude_m": float(h)} for m in machs for h in alts)
     problem = DesignProblem(
         model,
