@@ -53,7 +53,7 @@ from ..fitting import (
 from ..reference import TABLE1
 from ..solve import SolverOptions
 from .bootstrap import BootstrapResult, OpeningTimeTable, TableSettings, bootstrap_mu_s
-from .data import SpinRigData, load_spin_rig_csv, load_thesis_data
+from .data import CASE_COLUMNS, SpinRigData, load_spin_rig_csv, load_thesis_data
 from .result import ExactFit
 from .rig_model import model_opening_times, rig_model_case
 from .thesis_fit import thesis_least_squares
@@ -348,7 +348,8 @@ def calibrate_csv(
     ----------
     path : str or Path
         CSV with ``t_cr_s`` and ``readout_hz`` or ``spin_rate_rad_s``, optional
-        ``starred``.
+        ``starred`` and the runs' own settings of :data:`~.data.CASE_COLUMNS` (the fit
+        does not use times to intermediate angles: a file with them is refused).
     theta0_deg : float
         theta_0 of the runs [deg].
     min_spin : float, optional
@@ -358,4 +359,5 @@ def calibrate_csv(
         Passed to :func:`fit_exact`.
     """
     check_range("theta0_deg", theta0_deg, 0.0, 90.0, lo_open=True, unit="deg")
-    return fit_exact(load_spin_rig_csv(path), theta0_deg=theta0_deg, min_spin=min_spin, **kwargs)
+    data = load_spin_rig_csv(path, columns=CASE_COLUMNS)
+    return fit_exact(data, theta0_deg=theta0_deg, min_spin=min_spin, **kwargs)
