@@ -23,6 +23,7 @@ from .reference import TABLE1
 
 __all__ = [
     "Range",
+    "MIN_HOLE_FRACTION",
     "FitSpec",
     "Transform",
     "Param",
@@ -114,6 +115,19 @@ class Param:
 _R_S = TABLE1["ball_radius"]
 _POSITIVE = Range(0.0, math.inf, True, True)
 
+#: Smallest hole radius over ball radius, r_s / R_s, of a case that is run. The bore is
+#: what makes the ball's inertia unequal: lambda = C/A - 1 = 1.25 (r_s/R_s)^2 to first
+#: order (Eqs. 10b, 11 expanded in r_s^2; Table 1: 0.41), and the gyroscopic moment
+#: that turns the hole towards the spin axis vanishes with lambda (a solid sphere has
+#: no preferred axis, Eq. 5). The large-spin opening time's low-spin term grows as
+#: (lambda + 1)/lambda (T1 of Eq. 93): at r_s = R_s/10 it is 81, 24 times Table 1's
+#: 3.4; below it the ball sticks to its seat for ever longer, the set-valued solver
+#: steps through ever more stick-slip cycles (a 0.1 mm or 4 um hole ran for minutes
+#: past 1 GB), and the bore passes under 1 % of the ball's cross-section, no longer an
+#: obturator's bore. Geometry (:class:`obturator.model.geometry.BoredBall`) still takes
+#: any hole from 0 (the solid sphere); a case refuses one below this.
+MIN_HOLE_FRACTION = 0.1
+
 _PHYSICAL: tuple[Param, ...] = (
     # 1 rad/s to the case factories' 1e6 rad/s: below ~1 rad/s the integrators' step
     # control, scaled by the spin period, degenerates (measured: 0.5 rad/s runs on for
@@ -135,7 +149,7 @@ _PHYSICAL: tuple[Param, ...] = (
         "m",
         "ball hole radius r_s",
         "ball.hole_radius",
-        Range(0.0, _R_S / math.sqrt(2.0), False, True),
+        Range(MIN_HOLE_FRACTION * _R_S, _R_S / math.sqrt(2.0), False, True),
         True,
     ),
     Param("gap", "m", "ball-socket gap h", "gap.width", Range(0.0, _R_S, True, True), True),
