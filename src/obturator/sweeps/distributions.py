@@ -229,12 +229,13 @@ def parse_distribution_args(
             f"got {len(parts)} in {args.strip()!r}",
         )
     pure = {1} if kind == "lognormal" else set()
-    if unit and kind == "lognormal":
+    # a pure-number parameter takes the rule too: "0.5,0.03 percent" is 0.005, 0.0003
+    if kind == "lognormal":
         m = _TRAILING_UNIT.match(parts[1])
         if _is_number(parts[0]) and m is not None and not _is_number(parts[1]):
             parts = [f"{parts[0]} {m.group(2)}", m.group(1)]
-    elif unit:
-        parts = _unit_after_list(name, args.strip(), unit)
+    else:
+        parts = _unit_after_list(name, ",".join(parts), unit)
     numbers = [
         parse_value(name, p, f"{kind} {arg}", "" if i in pure else unit)
         for i, (p, arg) in enumerate(zip(parts, arg_names, strict=True))
