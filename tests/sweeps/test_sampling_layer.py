@@ -174,3 +174,31 @@ def test_launch_axes_read_units(capsys, monkeypatch) -> None:
     assert main(["envelope", "--altitude-m", "2 km", "--mach", "3"]) == 2
     assert seen["envelope"] == [2000.0]
     capsys.readouterr()
+
+
+@pytest.mark.parametrize(
+    ("bound", "message"),
+    [
+        # 40 m would have been read for LO before (its unit was HI's alone)
+        ("gap=40 um,60", "obturator: error: gap: list '40 um,60' mixes values with and without"),
+        ("mu_s=-1,0.4", "obturator: error: mu_s: bound -1 is outside the allowed range [0, 2]"),
+        ("mu_s=0.4,0.3", "obturator: error: mu_s: bounds 0.4, 0.3 are empty (LO < HI)"),
+    ],
+)
+def test_optimize_bounds_read_units_as_axes(capsys, bound: str, message: str) -> None:
+    line = _one_line_exit_2(capsys, ["optimize", "--variables", "gap,mu_s", "--bound", bound])
+    assert line.startswith(message)
+
+
+def test_optimize_bound_with_a_trailing_unit(monkeypatch) -> None:
+    import obturator.envelope.optimize as optimize_mod
+
+    seen = {}
+
+    def problem(model, conditions, bounds, **k):
+        seen.update(bounds)
+        raise InputError("probe", "stop")
+
+    monkeypatch.setattr(optimize_mod, "DesignProblem", problem)
+    assert main(["optimize", "--variables", "gap", "--bound", "gap=40,60 um"]) == 2
+    assert seen["gap"] == pytest.approx((40e-6, 60e-6), rel=1e-12)

@@ -336,8 +336,7 @@ def _run_optimize(args: argparse.Namespace) -> int:
         name = name.strip().replace("-", "_")
         if name not in bounds:
             raise InputError("--bound", f"{name!r} is not among --variables")
-        unit = DESIGN_VARIABLES[name].replace("1", "")
-        bounds[name] = (quantity(name, lo, unit), quantity(name, hi, unit))
+        bounds[name] = _bound(name, lo, hi, DESIGN_VARIABLES[name])
     machs = parse_axis(args.grid_mach, "--mach", "")
     alts = parse_axis(args.grid_altitude, "--altitude-m", "m")
     conditions = tuple({"mach": float(m), "altitude_m": float(h)} for m in machs for h in alts)
@@ -421,6 +420,31 @@ def _run_optimize(args: argparse.Namespace) -> int:
         return 0
     _print_optimum(problem, res, summary, elapsed, runner)
     return 0
+
+
+def _bound(name: str, lo: str, hi: str, unit: str) -> tuple[float, float]:
+    """LO, HI of ``--bound``, read as a sweep axis reads a list: a unit after HI applies to
+    both (``gap=40,60 um``), a unit on LO alone is refused; inside the registry's range
+    where it does not depend on the ball (mu_s, density, ball radius)."""
+    from ..params import PARAMS
+    from ..sweeps.distributions import parse_distribution_args
+
+    pint_unit = "" if unit == "1" else unit.replace(" ", "*")
+    try:
+        d = parse_distribution_args(name, "uniform", f"{lo},{hi}", pint_unit)
+    except InputError as exc:
+        if "LO < HI" not in str(exc):
+            raise
+        raise InputError(name, f"bounds {lo.strip()}, {hi.strip()} are empty (LO < HI)") from None
+    par = PARAMS.get(name)
+    if par is not None and par.range is not None and name in ("mu_s", "density", "ball_radius"):
+        for x in d.params:
+            if not par.range.contains(x):
+                u = "" if unit == "1" else f" {unit}"
+                raise InputError(
+                    name, f"bound {x:g}{u} is outside the allowed range {par.range}{u}"
+                )
+    return d.params[0], d.params[1]
 
 
 def _print_optimum(problem: Any, res: Any, s: dict[str, Any], elapsed: float, runner: Any) -> None:
