@@ -123,6 +123,10 @@ def test_support_against_the_registry(name: str, dist: Distribution, ok: bool) -
             "(mach: 30 is outside the allowed range (1, 10])",
         ),
         (
+            ["sensitivity", "--case", "spin-rig", "--mach", "2"],
+            "obturator: error: --mach: applies to --case flight only",
+        ),
+        (
             ["optimize", "--figure", "front.png"],
             "obturator: error: --figure: draws the Pareto front: give --pareto N with it",
         ),

@@ -229,6 +229,9 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
     rig = args.case == "spin-rig"
     if rig and args.event == "t_start":
         raise InputError("--event", "t_start applies to --case flight only (the rig has no inlet)")
+    for flag, value in (("--mach", args.mach_point), ("--altitude-m", args.altitude_point)):
+        if rig and value is not None:
+            raise InputError(flag, "applies to --case flight only (the rig has no flight)")
     if rig:
         dists = _dists(args.vary, DEFAULT_RIG_RANGES, RIG_INPUTS)
         flight = model_from_args(args)
