@@ -2,8 +2,9 @@
 exact model (thesis friction law, mu_s = 0.55) plus 4 ms Gaussian noise (seed 7).
 
 Run from the repository root: ``python examples/make_rig_runs_settings.py``. The runs
-use the optional per-run columns that ``obturator calibrate`` and ``obturator validate``
-read; ``calibrate`` on the file should recover mu_s = 0.55 within its interval.
+use the optional per-run columns that ``obturator validate`` reads; ``calibrate`` on the
+file without its two intermediate-angle columns should recover mu_s = 0.55 within its
+interval.
 """
 
 from __future__ import annotations
@@ -29,7 +30,8 @@ RUNS = [
 ]  # fmt: skip
 HEADER = """\
 # Synthetic spin-rig campaign showing the optional per-run columns that
-# `obturator calibrate` and `obturator validate` read (units in the header).
+# `obturator validate` reads (units in the header; calibrate, which fits t_cr
+# only, refuses the two intermediate-angle columns).
 # Written by examples/make_rig_runs_settings.py with the package's exact model
 # (thesis friction law, mu_s = 0.55) plus 4 ms Gaussian noise (seed 7): two hole
 # radii (thesis Fig. 17: 4.72 and 3.75 mm), two ball densities (Fig. 16: 7669.6

@@ -23,6 +23,7 @@ from .reference import TABLE1
 
 __all__ = [
     "Range",
+    "MIN_HOLE_FRACTION",
     "FitSpec",
     "Transform",
     "Param",
@@ -114,6 +115,19 @@ class Param:
 _R_S = TABLE1["ball_radius"]
 _POSITIVE = Range(0.0, math.inf, True, True)
 
+#: Smallest hole radius over ball radius, r_s / R_s, of a case that is run. The bore is
+#: what makes the ball's inertia unequal: lambda = C/A - 1 = 1.25 (r_s/R_s)^2 to first
+#: order (Eqs. 10b, 11 expanded in r_s^2; Table 1: 0.41), and the gyroscopic moment
+#: that turns the hole towards the spin axis vanishes with lambda (a solid sphere has
+#: no preferred axis, Eq. 5). The large-spin opening time's low-spin term grows as
+#: (lambda + 1)/lambda (T1 of Eq. 93): at r_s = R_s/10 it is 81, 24 times Table 1's
+#: 3.4; below it the ball sticks to its seat for ever longer, the set-valued solver
+#: steps through ever more stick-slip cycles (a 0.1 mm or 4 um hole ran for minutes
+#: past 1 GB), and the bore passes under 1 % of the ball's cross-section, no longer an
+#: obturator's bore. Geometry (:class:`obturator.model.geometry.BoredBall`) still takes
+#: any hole from 0 (the solid sphere); a case refuses one below this.
+MIN_HOLE_FRACTION = 0.1
+
 _PHYSICAL: tuple[Param, ...] = (
     # 1 rad/s to the case factories' 1e6 rad/s: below ~1 rad/s the integrators' step
     # control, scaled by the spin period, degenerates (a run stalls; far below, Radau
@@ -134,7 +148,7 @@ _PHYSICAL: tuple[Param, ...] = (
         "m",
         "ball hole radius r_s",
         "ball.hole_radius",
-        Range(0.0, _R_S / math.sqrt(2.0), False, True),
+        Range(MIN_HOLE_FRACTION * _R_S, _R_S / math.sqrt(2.0), False, True),
         True,
     ),
     Param("gap", "m", "ball-socket gap h", "gap.width", Range(0.0, _R_S, True, True), True),
@@ -156,12 +170,25 @@ _PHYSICAL: tuple[Param, ...] = (
         True,
         True,
     ),
-    Param("ball_radius", "m", "ball radius R_s", "ball.radius"),
-    Param("viscosity", "Pa s", "gap-fluid viscosity mu_f", "gap.viscosity"),
+    Param("ball_radius", "m", "ball radius R_s", "ball.radius", _POSITIVE),
+    Param("viscosity", "Pa s", "gap-fluid viscosity mu_f", "gap.viscosity", _POSITIVE),
     Param("weight", "N", "normal load on the rig W", "rig.weight"),
     Param("patch_radius", "m", "contact patch radius a", "contact.patch_radius"),
     Param("p1", "Pa", "free-stream pressure P_1", "flight.p1"),
-    Param("bore_radius", "m", "bore radius r_p", "flight.bore_radius"),
+    Param("bore_radius", "m", "bore radius r_p", "flight.bore_radius", _POSITIVE),
+    # launch inputs of the envelope studies (obturator.envelope: trajectory.Launch);
+    # spin_factor scales the nominal muzzle spin (the rifling's twist): 0-10 covers any
+    # dispersion of muzzle velocity; the temperature offset spans the cold and hot
+    # standard days of MIL-STD-210 around the US 1976 atmosphere
+    Param("spin_factor", "1", "muzzle spin / nominal muzzle spin", None, Range(0.0, 10.0, True)),
+    Param(
+        "temperature_offset_k",
+        "K",
+        "off-standard temperature Delta T",
+        None,
+        Range(-80.0, 60.0),
+    ),
+    Param("elevation_deg", "deg", "elevation angle", None, Range(-90.0, 90.0)),
     Param("pressure_force", "N", "pressure force on the ball F_p"),
     Param("t_max", "s", "integration horizon t_max", "t_max"),
     Param("rtol", "1", "relative tolerance", "solver.rtol"),

@@ -198,10 +198,16 @@ def test_runs_not_opened_within_horizon_are_censored_and_reported():
     # mu_s held in [0.5, 0.6]: at ~78 rad/s the model opens after ~1.7 s (corrected friction
     # law), beyond t_max = 0.5 s: each run is right-censored, its residual taken at t_max,
     # listed in the report and the JSON; nothing is NaN and nothing is dropped.
+    # The fastest runs (> 400 rad/s, t_cr ~0.28 s) open and identify mu_s; with only the
+    # slow runs every run is censored and the fit is refused (issue 46), not reported.
     data = load_thesis_data()
-    low = data.select(data.spin_rate < 80.0)
-    fit = cal.fit_exact(low, bootstrap=0, t_max=0.5, bounds={"mu_s": (0.5, 0.6)})
-    assert fit.censored_runs == [int(r) for r in low.run]
-    np.testing.assert_allclose(fit.residuals, 0.5 - low.opening_time)
+    low = data.spin_rate < 80.0
+    runs = data.select(low | (data.spin_rate > 400.0))
+    fit = cal.fit_exact(runs, min_spin=1.0, bootstrap=0, t_max=0.5, bounds={"mu_s": (0.5, 0.6)})
+    assert fit.censored_runs == [int(r) for r in data.run[low]]
+    censored = np.isin(runs.run, data.run[low])
+    np.testing.assert_allclose(fit.residuals[censored], 0.5 - runs.opening_time[censored])
     assert "censored runs" in fit.report()
     assert fit.to_dict()["censored_runs"] == fit.censored_runs
+    with pytest.raises(InputError, match="^data: the model opens none of the"):
+        cal.fit_exact(data.select(low), bootstrap=0, t_max=0.5, bounds={"mu_s": (0.5, 0.6)})

@@ -88,7 +88,8 @@ def test_ppf_matches_scipy():
         ("truncnormal:1,2,0,3", stats.truncnorm(-0.5, 1.0, loc=1, scale=2)),
     ]
     for text, ref in cases:
-        _, dist = parse_input_distribution(f"mu_s={text}")
+        # an input whose range ([-90, 90] deg) holds every support here (issue 46)
+        _, dist = parse_input_distribution(f"elevation_deg={text}")
         np.testing.assert_allclose(ppf(dist, z), ref.ppf(u), rtol=1e-10)
     pts = points_from_normal({"mu_s": dist}, z[:, None])
     assert len(pts) == 4 and set(pts[0]) == {"mu_s"}

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import csv
 import math
-import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -27,6 +26,23 @@ from numpy.typing import ArrayLike, NDArray
 from .._docs import field_docs
 from ..errors import InputError, check_range
 from ..reference import APPENDIX_B_CSV, RIG_TEETH, data_text
+from .schema import (
+    _KNOWN,
+    _PRINTED,
+    _READOUT,
+    _SPIN,
+    _STARRED,
+    _STRICT_NUMBER,
+    _TIME,
+    CASE_COLUMNS,
+    RUN_COLUMNS,
+    SETTING_NAMES,
+    _fail,
+    check_header,
+    check_runs,
+    column_help,
+    column_unit,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
@@ -38,6 +54,9 @@ __all__ = [
     "readout_to_spin_rate",
     "MAX_RUNS",
     "MAX_LINE_CHARS",
+    "CASE_COLUMNS",
+    "RUN_COLUMNS",
+    "column_help",
 ]
 
 #: Most runs in one data file. Every least-squares iteration integrates every run, so a
@@ -52,34 +71,6 @@ MAX_LINE_CHARS = 1_000
 _LIMITS = {"s": (0.0, 1e6), "Hz": (0.0, 1e7), "rad/s": (0.0, 1e6)}
 _MIN_TIME = 1e-6
 
-_TIME = "t_cr_s"
-_READOUT = "readout_hz"
-_SPIN = "spin_rate_rad_s"
-_PRINTED = "omega_p_printed_rad_s"
-_STARRED = "starred"
-_KNOWN = (_READOUT, _SPIN, _TIME, _PRINTED, _STARRED)
-#: Optional per-run settings: name -> (SI unit, unit of a header without one, parameter
-#: of obturator.params.PARAMS whose range applies). A header names the unit as
-#: ``name_unit`` (``hole_radius_mm``; ``_`` between units reads as ``/``, a trailing
-#: digit as a power: ``density_kg_m3``) or ``name [unit]`` (``density [g/cm^3]``);
-#: a bare ``name`` is in the documented unit.
-RUN_COLUMNS: dict[str, tuple[str, str, str]] = {
-    "theta0": ("deg", "deg", "theta0_deg"),
-    "hole_radius": ("m", "mm", "hole_radius"),
-    "density": ("kg/m^3", "kg/m^3", "density"),
-    "ball_mass": ("kg", "g", "ball_mass"),
-    "theta_measured": ("deg", "deg", "theta0_deg"),
-    "t_measured": ("s", "s", "t_max"),
-}
-#: Per-run setting names (SpinRigData.settings keys) of each optional column.
-SETTING_NAMES = {
-    "theta0": "theta0_deg",
-    "hole_radius": "hole_radius",
-    "density": "density",
-    "ball_mass": "ball_mass",
-    "theta_measured": "theta_measured_deg",
-    "t_measured": "t_measured",
-}
 _TRUE = {"1", "true", "yes", "y", "*"}
 _FALSE = {"0", "false", "no", "n", ""}
 
@@ -245,25 +236,22 @@ class SpinRigData:
         return pd.DataFrame(cols, index=pd.Index(self.run, name="run"))
 
 
-def _fail(column: str, source: str, line: int, what: str) -> InputError:
-    return InputError(column, f"{source}, line {line}: {what}")
-
-
 def _positive(cell: str, column: str, unit: str, source: str, line: int) -> float:
     lo, hi = _LIMITS[unit]
     if unit == "s":
         lo = _MIN_TIME
     allowed = f"allowed range ({lo:g}, {hi:g}] {unit}"
-    try:
-        x = float(cell)
-    except ValueError:
-        raise _fail(column, source, line, f"{cell!r} is not a number ({allowed})") from None
+    if not _STRICT_NUMBER.match(cell):
+        raise _fail(column, source, line, f"{cell!r} is not a number ({allowed})")
+    x = float(cell)
     if not (math.isfinite(x) and lo < x <= hi):
         raise _fail(column, source, line, f"{x:g} {unit} is outside the {allowed}")
     return x
 
 
-def _parse(text: str, source: str, teeth: int) -> SpinRigData:
+def _parse(
+    text: str, source: str, teeth: int, columns: tuple[str, ...] = tuple(RUN_COLUMNS)
+) -> SpinRigData:
     """Parse CSV text; errors name `source`, the 1-based line and the column."""
     n_teeth = check_range("teeth", teeth, 1.0, math.inf, hi_open=True)
     if n_teeth != int(n_teeth):
@@ -312,6 +300,7 @@ def _parse(text: str, source: str, teeth: int) -> SpinRigData:
             "file",
             f"{source}: empty file (expected a header with {_TIME} and {_READOUT} or {_SPIN})",
         )
+    check_header(header, source, header_line, columns)
     if _TIME not in header:
         raise _fail(_TIME, source, header_line, f"missing column {_TIME!r} (header: {header})")
     has_f, has_w = _READOUT in header, _SPIN in header
@@ -333,9 +322,12 @@ def _parse(text: str, source: str, teeth: int) -> SpinRigData:
         j = col[name]
         return np.array([_positive(c[j], name, unit, source, ln) for ln, c in rows])
 
-    settings = _run_settings(header, rows, source, header_line)
     readout = numbers(_READOUT, "Hz")
     spin = readout_to_spin_rate(readout, teeth) if readout is not None else numbers(_SPIN, "rad/s")
+    times = numbers(_TIME, "s")
+    assert times is not None  # the header holds _TIME (checked above)
+    settings = _run_settings(header, rows, source, header_line)
+    check_runs(settings, times, rows, source)
     starred = np.zeros(len(rows), dtype=bool)
     if _STARRED in col:
         j = col[_STARRED]
@@ -348,30 +340,13 @@ def _parse(text: str, source: str, teeth: int) -> SpinRigData:
             starred[k] = v in _TRUE
     return SpinRigData(
         spin_rate=spin,
-        opening_time=numbers(_TIME, "s"),
+        opening_time=times,
         starred=starred,
         readout_hz=readout,
         spin_rate_printed=numbers(_PRINTED, "rad/s"),
         source=source,
         settings=settings,
     )
-
-
-def _column_unit(cell: str) -> tuple[str, str] | None:
-    """(optional column, unit text) of a header cell, None if it is none of them."""
-    for name in sorted(RUN_COLUMNS, key=len, reverse=True):
-        if cell == name:
-            return name, RUN_COLUMNS[name][1]
-        rest = cell[len(name) :]
-        if not cell.startswith(name) or not rest:
-            continue
-        if rest[0] == "_":
-            # hole_radius_mm -> mm, density_kg_m3 -> kg/m^3
-            return name, re.sub(r"([A-Za-z])(\d)", r"\1^\2", rest[1:].replace("_", "/"))
-        bracket = rest.strip()
-        if bracket.startswith("[") and bracket.endswith("]"):
-            return name, bracket[1:-1].strip()
-    return None
 
 
 def _run_settings(
@@ -383,7 +358,7 @@ def _run_settings(
 
     out: dict[str, NDArray[np.float64]] = {}
     for j, cell in enumerate(header):
-        found = _column_unit(cell)
+        found = column_unit(cell)
         if found is None:
             continue
         name, unit = found
@@ -415,50 +390,21 @@ def _run_settings(
                 )
             values[k] = x
         out[key] = values
-    _check_measured_angles(out, rows, source)
     return out
 
 
 def _number(text: str, column: str, source: str, line: int) -> float:
-    try:
-        x = float(text)
-    except ValueError:
-        raise _fail(column, source, line, f"{text!r} is not a number") from None
+    if not _STRICT_NUMBER.match(text):
+        raise _fail(column, source, line, f"{text!r} is not a number")
+    x = float(text)
     if not math.isfinite(x):
         raise _fail(column, source, line, f"{text!r} is not finite")
     return x
 
 
-def _check_measured_angles(
-    settings: dict[str, NDArray[np.float64]], rows: list[tuple[int, list[str]]], source: str
-) -> None:
-    """An intermediate angle comes with its time, and lies below the run's theta_0."""
-    from ..reference import TABLE1
-
-    angle = settings.get("theta_measured_deg")
-    time = settings.get("t_measured")
-    if angle is None and time is None:
-        return
-    n = len(rows)
-    angle = np.full(n, np.nan) if angle is None else angle
-    time = np.full(n, np.nan) if time is None else time
-    theta0 = settings.get("theta0_deg", np.full(n, np.nan))
-    for k, (ln, _) in enumerate(rows):
-        if np.isfinite(angle[k]) != np.isfinite(time[k]):
-            col = "t_measured" if np.isfinite(angle[k]) else "theta_measured"
-            raise _fail(col, source, ln, "theta_measured and t_measured come together")
-        t0 = theta0[k] if np.isfinite(theta0[k]) else TABLE1["theta0_deg"]
-        if np.isfinite(angle[k]) and not angle[k] < t0:
-            raise _fail(
-                "theta_measured",
-                source,
-                ln,
-                f"{angle[k]:g} deg is not below the run's theta_0 = {t0:g} deg "
-                "(the ball nutates down from theta_0)",
-            )
-
-
-def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigData:
+def load_spin_rig_csv(
+    path: str | Path, *, teeth: int = RIG_TEETH, columns: Iterable[str] | None = None
+) -> SpinRigData:
     """Read a user's spin-rig CSV file.
 
     Parameters
@@ -472,16 +418,23 @@ def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigDat
         (:data:`RUN_COLUMNS`; an empty cell keeps Table 1's value): ``theta0``
         [deg], ``hole_radius`` [mm], ``density`` [kg/m^3], ``ball_mass`` [g], and
         ``theta_measured`` [deg] with ``t_measured`` [s], each with its unit in the
-        header (``hole_radius_m``, ``density [g/cm^3]``) or else in the unit in
-        brackets here. Other columns are ignored.
+        header (``hole_radius_m``, ``density [g/cm^3]``, ``theta0 (deg)``) or else in
+        the unit in brackets here; ``comment``, free text read by nothing. Any
+        other column is refused, naming the closest known name.
     teeth : int
         Teeth on the bucket wheel (18 on Bloomer's rig).
+    columns : iterable of str, optional
+        The per-run setting columns (:data:`RUN_COLUMNS`) the caller uses; a
+        known column outside them is refused (``calibrate`` and ``design-experiment``
+        use :data:`CASE_COLUMNS`, ``validate`` every one). Default: all.
 
     Raises
     ------
     InputError
         For a missing or empty file, a missing or duplicated column, a repeated
-        header line, a wrong number of fields, a non-numeric cell, or a time,
+        header line, an unknown or unused column, a cell that is not a plain
+        decimal number (``3_00``, ``inf``), runs whose columns disagree or that cannot
+        open (:func:`~.schema.check_runs`), or a time,
         readout or spin rate outside (0, inf), a setting's unit that does not convert
         or a value outside its range (:data:`obturator.params.PARAMS`); the message
         names the file, line number, column and allowed range.
@@ -489,7 +442,11 @@ def load_spin_rig_csv(path: str | Path, *, teeth: int = RIG_TEETH) -> SpinRigDat
     from ..files import read_text_file
 
     p = Path(path)
-    return _parse(read_text_file(p, "path"), str(p), teeth)
+    used = tuple(RUN_COLUMNS) if columns is None else tuple(columns)
+    for c in used:
+        if c not in RUN_COLUMNS:
+            raise InputError("columns", f"{c!r}; allowed: {', '.join(RUN_COLUMNS)}")
+    return _parse(read_text_file(p, "path"), str(p), teeth, used)
 
 
 def load_thesis_data() -> SpinRigData:

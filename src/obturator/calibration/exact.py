@@ -53,7 +53,7 @@ from ..fitting import (
 from ..reference import TABLE1
 from ..solve import SolverOptions
 from .bootstrap import BootstrapResult, OpeningTimeTable, TableSettings, bootstrap_mu_s
-from .data import SpinRigData, load_spin_rig_csv, load_thesis_data
+from .data import CASE_COLUMNS, SpinRigData, load_spin_rig_csv, load_thesis_data
 from .result import ExactFit
 from .rig_model import model_opening_times, rig_model_case
 from .thesis_fit import thesis_least_squares
@@ -224,6 +224,47 @@ def _bootstrap(
     return bootstrap_mu_s(objective.measured, t, n_resamples=n_resamples, seed=seed)
 
 
+def _check_identified(
+    objective: _RigObjective,
+    x: NDArray[np.float64],
+    t_model: NDArray[np.float64],
+    jac: NDArray[np.float64],
+    runs: SpinRigData,
+) -> None:
+    """Refuse a fit the runs cannot identify, naming why.
+
+    * Every run censored: the model opens none of them by ``t_max``, so every
+      residual is ``t_max - t_measured`` whatever the parameters, and the optimiser
+      stops at its start (reported before as success, with a NaN error).
+    * A fitted parameter whose Jacobian column is zero: no run's t_cr moves with it
+      at the optimum (every run censored, or the mechanism absent at these runs), so
+      its covariance is undefined.
+    """
+    n = t_model.size
+    values = objective.values(x)
+    if not np.any(np.isfinite(t_model)):
+        th = values.get("theta0_deg", math.nan)
+        raise InputError(
+            "data",
+            f"the model opens none of the {n} fitted runs by t_max = {objective.t_max:g} s "
+            f"(every run censored at theta0 = {th:g} deg, mu_s = {values['mu_s']:.4g}), so "
+            f"the runs cannot identify {', '.join(p.name for p in objective.params)}; check "
+            "theta0 (90 deg is the equilibrium with the hole square to the spin), each "
+            "run's hole radius, and t_max",
+        )
+    for j, par in enumerate(objective.params):
+        column = jac[:, j]
+        if np.all(np.isfinite(column)) and np.any(column != 0.0):
+            continue
+        censored = int(np.sum(~np.isfinite(t_model)))
+        raise InputError(
+            "fit",
+            f"{par.name}: the {n} fitted runs carry no information on it (no run's t_cr "
+            f"changes with it at {values[par.name]:.6g}; {censored} of {n} runs censored at "
+            f"t_max = {objective.t_max:g} s); hold it fixed or add runs where it acts",
+        )
+
+
 def fit_exact(
     data: SpinRigData | None = None,
     *,
@@ -298,6 +339,7 @@ def fit_exact(
     r = objective.residuals_of(t_best)
     if not np.all(np.isfinite(r)):
         raise SolverError("exact-model fit: residuals are not all finite at the optimum")
+    _check_identified(objective, x, t_best, jac, runs)
     n, p = r.size, len(names)
     dof = max(n - p, 1)
     chisqr = float(r @ r)
@@ -348,7 +390,8 @@ def calibrate_csv(
     ----------
     path : str or Path
         CSV with ``t_cr_s`` and ``readout_hz`` or ``spin_rate_rad_s``, optional
-        ``starred``.
+        ``starred`` and the runs' own settings of :data:`~.data.CASE_COLUMNS` (the fit
+        does not use times to intermediate angles: a file with them is refused).
     theta0_deg : float
         theta_0 of the runs [deg].
     min_spin : float, optional
@@ -358,4 +401,5 @@ def calibrate_csv(
         Passed to :func:`fit_exact`.
     """
     check_range("theta0_deg", theta0_deg, 0.0, 90.0, lo_open=True, unit="deg")
-    return fit_exact(load_spin_rig_csv(path), theta0_deg=theta0_deg, min_spin=min_spin, **kwargs)
+    data = load_spin_rig_csv(path, columns=CASE_COLUMNS)
+    return fit_exact(data, theta0_deg=theta0_deg, min_spin=min_spin, **kwargs)

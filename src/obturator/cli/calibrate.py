@@ -54,10 +54,11 @@ register = command(
     _calibrate,
     "Least-squares fit of mu_s of the exact rig model (integrated equations of motion) "
     "to measured opening times. DATA.csv has a header with t_cr_s and readout_hz "
-    "(18-tooth wheel) or spin_rate_rad_s, optionally starred (1/0) and each run's own "
-    "theta0, hole_radius, density, ball_mass, theta_measured with t_measured (unit in the "
-    "header: theta0_deg, hole_radius_mm, density [kg/m^3], ...). Runs fitted: spin "
-    ">= --min-spin if given, else the starred runs, else all runs.",
+    "(18-tooth wheel) or spin_rate_rad_s, optionally starred (1/0), omega_p_printed_rad_s, "
+    "comment, and each run's own theta0, hole_radius, density, ball_mass (unit in the "
+    "header: theta0_deg, hole_radius_mm, density [kg/m^3], ball_mass (g)); any other "
+    "column is refused. Runs fitted: spin >= --min-spin if given, else the starred runs, "
+    "else all runs.",
     option(
         "data",
         metavar="DATA.csv",

@@ -81,7 +81,7 @@ def _range(args: argparse.Namespace, name: str, default: tuple[float, float]) ->
 
 
 def _run(args: argparse.Namespace) -> int:
-    from ..calibration.data import load_spin_rig_csv, load_thesis_data
+    from ..calibration.data import CASE_COLUMNS, load_spin_rig_csv, load_thesis_data
     from ..design import DEFAULT_DESIGN_MODELS, SettingRanges, design_experiment
     from ..validation.candidates import get_candidates
 
@@ -98,7 +98,7 @@ def _run(args: argparse.Namespace) -> int:
         n_hole=args.hole_radius_points,
         n_density=args.density_points,
     )
-    data = load_spin_rig_csv(args.data) if args.data else load_thesis_data()
+    data = load_spin_rig_csv(args.data, columns=CASE_COLUMNS) if args.data else load_thesis_data()
     identity = {
         "study": "design-experiment",
         "models": names,

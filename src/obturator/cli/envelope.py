@@ -224,13 +224,13 @@ def _run_envelope(args: argparse.Namespace) -> int:
 
     model = model_from_args(args, load="both")
     temps = (
-        parse_axis(args.grid_temperature, "--temperature-offset-k")
+        parse_axis(args.grid_temperature, "--temperature-offset-k", "K")
         if args.grid_temperature
         else [0.0]
     )
     spec = EnvelopeSpec(
-        parse_axis(args.grid_mach, "--mach"),
-        parse_axis(args.grid_altitude, "--altitude-m"),
+        parse_axis(args.grid_mach, "--mach", ""),
+        parse_axis(args.grid_altitude, "--altitude-m", "m"),
         temps,
         model=model,
         requirement=quantity("--requirement", args.requirement, "s"),

@@ -70,6 +70,14 @@ def _dists(texts: list[str] | None, defaults: tuple[str, ...], allowed: tuple[st
     return out
 
 
+def _check_support(model: Any, dists: dict) -> None:
+    """Every distribution's support is made of points the model accepts (one line if not)."""
+    from ..envelope.model import INPUTS
+    from ..envelope.uncertain import check_point_support
+
+    check_point_support(model, dists, {k: v.unit for k, v in INPUTS.items()})
+
+
 def _check_out(args: argparse.Namespace) -> None:
     if getattr(args, "out", None) and not Path(args.out).resolve().parent.is_dir():
         raise InputError("--out", f"directory of {args.out!r} does not exist")
@@ -89,8 +97,9 @@ def _run_probability(args: argparse.Namespace) -> int:
     _check_out(args)
     model = model_from_args(args).with_(event=TIMES[args.event])
     dists = _dists(args.vary, DEFAULT_UNCERTAINTY, tuple(INPUTS))
-    machs = parse_axis(args.grid_mach, "--mach")
-    alts = parse_axis(args.grid_altitude, "--altitude-m")
+    _check_support(model, dists)
+    machs = parse_axis(args.grid_mach, "--mach", "")
+    alts = parse_axis(args.grid_altitude, "--altitude-m", "m")
     req = quantity("--requirement", args.requirement, "s")
     conf = quantity("--confidence", args.confidence, "")
     seed = _int("--seed", args.seed, 0)
@@ -222,12 +231,16 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         raise InputError(
             "--event", f"{args.event} applies to --case flight only (the rig has no inlet)"
         )
+    for flag, value in (("--mach", args.mach_point), ("--altitude-m", args.altitude_point)):
+        if rig and value is not None:
+            raise InputError(flag, "applies to --case flight only (the rig has no flight)")
     if rig:
         dists = _dists(args.vary, DEFAULT_RIG_RANGES, RIG_INPUTS)
         flight = model_from_args(args)
         model: Any = RigModel(
             tuple(dists), options=flight.options, check_convergence=flight.check_convergence
         )
+        _check_support(model, dists)
     else:
         dists = _dists(args.vary, DEFAULT_RANGES, tuple(INPUTS))
         model = model_from_args(args).with_(event=TIMES[args.event])
@@ -239,6 +252,7 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
                     quantity("--altitude-m", args.altitude_point or model.launch.altitude_m, "m"),
                 )
             )
+        _check_support(model, dists)
     n = _int("--samples", args.samples, 8)
     seed = _int("--seed", args.seed, 0)
     identity = {
@@ -312,6 +326,8 @@ def _run_optimize(args: argparse.Namespace) -> int:
     from ..sweeps.distributions import split_assignment
 
     _check_out(args)
+    if args.figure and not args.pareto:
+        raise InputError("--figure", "draws the Pareto front: give --pareto N with it")
     event, aggregate = split_objective(args.objective)
     model = model_from_args(args).with_(event=TIMES[event])
     names = [v.strip() for v in args.variables.split(",") if v.strip()]
@@ -325,10 +341,9 @@ def _run_optimize(args: argparse.Namespace) -> int:
         name = name.strip().replace("-", "_")
         if name not in bounds:
             raise InputError("--bound", f"{name!r} is not among --variables")
-        unit = DESIGN_VARIABLES[name].replace("1", "")
-        bounds[name] = (quantity(name, lo, unit), quantity(name, hi, unit))
-    machs = parse_axis(args.grid_mach, "--mach")
-    alts = parse_axis(args.grid_altitude, "--altitude-m")
+        bounds[name] = _bound(name, lo, hi, DESIGN_VARIABLES[name])
+    machs = parse_axis(args.grid_mach, "--mach", "")
+    alts = parse_axis(args.grid_altitude, "--altitude-m", "m")
     conditions = tuple({"mach": float(m), "altitude_m": float(h)} for m in machs for h in alts)
     problem = DesignProblem(
         model,
@@ -417,6 +432,31 @@ def _time_name(event: str) -> str:
     from ..envelope.model import TIMES
 
     return next(name for name, ev in TIMES.items() if ev == event)
+
+
+def _bound(name: str, lo: str, hi: str, unit: str) -> tuple[float, float]:
+    """LO, HI of ``--bound``, read as a sweep axis reads a list: a unit after HI applies to
+    both (``gap=40,60 um``), a unit on LO alone is refused; inside the registry's range
+    where it does not depend on the ball (mu_s, density, ball radius)."""
+    from ..params import PARAMS
+    from ..sweeps.distributions import parse_distribution_args
+
+    pint_unit = "" if unit == "1" else unit.replace(" ", "*")
+    try:
+        d = parse_distribution_args(name, "uniform", f"{lo},{hi}", pint_unit)
+    except InputError as exc:
+        if "LO < HI" not in str(exc):
+            raise
+        raise InputError(name, f"bounds {lo.strip()}, {hi.strip()} are empty (LO < HI)") from None
+    par = PARAMS.get(name)
+    if par is not None and par.range is not None and name in ("mu_s", "density", "ball_radius"):
+        for x in d.params:
+            if not par.range.contains(x):
+                u = "" if unit == "1" else f" {unit}"
+                raise InputError(
+                    name, f"bound {x:g}{u} is outside the allowed range {par.range}{u}"
+                )
+    return d.params[0], d.params[1]
 
 
 def _print_optimum(problem: Any, res: Any, s: dict[str, Any], elapsed: float, runner: Any) -> None:

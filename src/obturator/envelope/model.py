@@ -20,6 +20,7 @@ import numpy as np
 
 from ..errors import InputError, check_range, replace_fields
 from ..model.case import Case
+from ..params import PARAMS
 from ..solve import SolverOptions, convergence_checks, opening_times
 from ..status import Status
 from .coupled import (
@@ -245,7 +246,8 @@ class FlightModel:
         factor = lv.pop("spin_factor", None)
         launch = replace(self.launch, **lv) if lv else self.launch
         if factor is not None:
-            check_range("spin_factor", factor, 0.0, 10.0, lo_open=True)
+            rng = PARAMS["spin_factor"].range
+            check_range("spin_factor", factor, rng.lo, rng.hi, lo_open=rng.lo_open)
             launch = replace(launch, spin_rate=launch.muzzle_spin * factor)
         return design, launch
 

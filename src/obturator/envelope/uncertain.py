@@ -26,13 +26,14 @@ from ..errors import InputError
 from ..runs import Runner
 from ..solve import SolverOptions
 from ..sweeps import Distribution, SweepSpec
-from ..sweeps.distributions import split_assignment
+from ..sweeps.distributions import parse_distribution_args, split_assignment, support
 from .model import INPUTS, opening_rows, warm_integrators
 
 __all__ = [
     "RIG_INPUTS",
     "RigModel",
     "parse_input_distribution",
+    "check_point_support",
     "ppf",
     "points_from_normal",
     "points_from_uniform",
@@ -49,7 +50,13 @@ _HELP = "normal:MEAN,SD | uniform:LO,HI | lognormal:MEDIAN,SIGMA_LN | truncnorma
 def parse_input_distribution(
     text: str, allowed: Sequence[str] = tuple(INPUTS)
 ) -> tuple[str, Distribution]:
-    """Parse ``NAME=KIND:ARGS`` (e.g. ``mu_s=normal:0.35,0.03``); SI units.
+    """Parse ``NAME=KIND:ARGS`` (e.g. ``mu_s=normal:0.35,0.03``, ``gap=normal:50.8,2.5 um``).
+
+    The numbers are read as a sweep axis reads them (SI unless a unit is written:
+    one after the last number applies to all;
+    :func:`obturator.sweeps.distributions.parse_distribution_args`), and the
+    distribution is checked against the input's range in
+    :data:`obturator.params.PARAMS` (:func:`~obturator.sweeps.distributions.check_support`).
 
     Parameters
     ----------
@@ -57,18 +64,53 @@ def parse_input_distribution(
     allowed : sequence of str
         Input names accepted (hyphens in NAME are read as underscores).
     """
+    from ..params import PARAMS
+
     name, kind, args = split_assignment(text, "vary", f"NAME=KIND:ARGS ({_HELP})", ":")
     name = name.strip().replace("-", "_")
     if name not in allowed:
         raise InputError("vary", f"unknown input {name!r}; allowed: {', '.join(allowed)}")
-    try:
-        numbers = tuple(float(a) for a in args.split(","))
-    except ValueError:
-        raise InputError(name, f"malformed numbers in {args!r} ({_HELP})") from None
-    try:
-        return name, Distribution(kind.strip().lower(), numbers)  # type: ignore[arg-type]
-    except InputError as exc:
-        raise InputError(name, str(exc).split(": ", 1)[-1]) from None
+    par = PARAMS.get(name)
+    unit = par.pint_unit if par is not None else INPUTS[name].unit.replace("1", "")
+    rng = par.range if par is not None else None
+    return name, parse_distribution_args(name, kind, args, unit, rng)
+
+
+def check_point_support(
+    model: Callable[..., Any], dists: Mapping[str, Distribution], unit_of: Mapping[str, str]
+) -> None:
+    """Refuse a distribution whose support's ends the model refuses as inputs.
+
+    Each end of :func:`~obturator.sweeps.distributions.support` is built alone (the
+    other inputs at their nominal values) by the model's own checks
+    (:meth:`FlightModel.build`, or the spin-rig case of :class:`RigModel`), which hold
+    limits the registry's ranges do not (the trajectory's Mach and altitude, the
+    hole inside the ball), so a study never samples points that are all invalid.
+
+    Raises
+    ------
+    InputError
+        Naming the input, the distribution, the end and the model's reason.
+    """
+    build = getattr(model, "build", None)
+    if build is None and isinstance(model, RigModel):
+        spec = model._spec()
+        build = spec.build_case
+    if build is None:
+        return
+    for name, dist in dists.items():
+        for end in support(dist):
+            try:
+                build({name: end})
+            except InputError as exc:
+                u = unit_of.get(name, "")
+                u = "" if u in ("", "1") else f" {u}"
+                form = "uniform:LO,HI" if dist.kind == "uniform" else "truncnormal:MEAN,SD,LO,HI"
+                raise InputError(
+                    name,
+                    f"{dist} draws {end:.6g}{u}, which the model refuses ({exc}); "
+                    f"use {form} with LO, HI inside the allowed range",
+                ) from None
 
 
 def ppf(dist: Distribution, z: np.ndarray) -> np.ndarray:

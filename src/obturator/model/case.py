@@ -16,6 +16,7 @@ import numpy as np
 
 from ..core.layout import N_STATE
 from ..errors import InputError, check_range
+from ..params import MIN_HOLE_FRACTION, PARAMS
 from ..reference import TABLE1
 from ..vocab import SPIN_MODES, Formulation, SpinMode, check_choice
 from .geometry import BoredBall
@@ -76,8 +77,20 @@ class Case:
     release_phase: float = 0.0
 
     def __post_init__(self) -> None:
-        # 1e6 rad/s: 80 times a 20 mm round's ~1.2e4 rad/s; a steel ball bursts far below
-        check_range("spin_rate", self.spin_rate, 0.0, MAX_SPIN_RATE, lo_open=True, unit="rad/s")
+        # 1e6 rad/s: 80 times a 20 mm round's ~1.2e4 rad/s; a steel ball bursts far below;
+        # from 1 rad/s (the registry's range, argued there: the integrators' step
+        # control, scaled by the spin period, degenerates below it)
+        spin = PARAMS["spin_rate"].range
+        check_range("spin_rate", self.spin_rate, spin.lo, MAX_SPIN_RATE, unit="rad/s")
+        r_min = MIN_HOLE_FRACTION * self.ball.radius
+        if not self.ball.hole_radius >= r_min:
+            raise InputError(
+                "hole_radius",
+                f"{self.ball.hole_radius:g} m is outside the allowed range [{r_min:g}, "
+                f"{self.ball.radius / math.sqrt(2.0):g}) m of a case (from R_s/10: a smaller "
+                "bore leaves the ball nearly a sphere, which never turns its hole to the "
+                "spin; obturator.params.MIN_HOLE_FRACTION)",
+            )
         check_range("theta0", math.degrees(self.theta0), 0.0, 90.0, lo_open=True, unit="deg")
         check_choice("spin_mode", self.spin_mode, SPIN_MODES)
         # from the smallest normal double on: free spin divides by it

@@ -12,6 +12,7 @@ chunking or total sample count.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -19,15 +20,19 @@ from typing import Any
 import numpy as np
 
 from ..errors import InputError
-from ..params import SWEEP_PARAMS
+from ..params import SWEEP_PARAMS, Range
 from ..vocab import DIST_KINDS, DistKind
-from .grid import canonical_name, parse_value
+from .grid import _is_number, _unit_after_list, canonical_name, parse_value
 from .spec import SweepSpec
 
 __all__ = [
     "Distribution",
     "MAX_SIGMA_LN",
     "parse_distribution",
+    "parse_distribution_args",
+    "support",
+    "check_support",
+    "SUPPORT_Z",
     "distributions",
     "sample_inputs",
     "check_samples",
@@ -42,10 +47,28 @@ MAX_SIGMA_LN = 5.0
 #: 10 sd has probability ~1e-23: no study reaches it).
 _TAIL_Z = 10.0
 
+#: Standard deviations (of a normal, or of ln X for a log-normal) out to which a
+#: distribution must stay inside its parameter's physical range. A standard normal
+#: draw lies beyond 8 sd with probability 1.2e-15, so a study of MAX_SAMPLES = 1e5
+#: draws per input leaves the range with probability below 2e-10; the Sobol sampler
+#: reaches 7.0 sd at most (u clipped to 1e-12, :mod:`obturator.envelope.uncertain`).
+#: A normal whose 8-sd reach leaves the range has a physically impossible tail: the
+#: user is told to truncate it (truncnormal) or, for a positive quantity, to use the
+#: log-normal.
+SUPPORT_Z = 8.0
+
 _DIST_ARGS = dict(zip(DIST_KINDS, (2, 2, 2, 4), strict=True))
 _DIST_HELP = (
     "normal:MEAN,SD | uniform:LO,HI | lognormal:MEDIAN,SIGMA_LN | truncnormal:MEAN,SD,LO,HI"
 )
+#: The names of each form's numbers, as the help writes them.
+_ARG_NAMES = {
+    "normal": ("MEAN", "SD"),
+    "uniform": ("LO", "HI"),
+    "lognormal": ("MEDIAN", "SIGMA_LN"),
+    "truncnormal": ("MEAN", "SD", "LO", "HI"),
+}
+_TRAILING_UNIT = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S.*)$")
 
 
 @dataclass(frozen=True)
@@ -157,6 +180,123 @@ def split_assignment(text: object, field: str, form: str, sep: str) -> tuple[str
     return name, left, right
 
 
+def parse_distribution_args(
+    name: str, kind: str, args: str, unit: str, allowed: Range | None = None
+) -> Distribution:
+    """One distribution from its form and numbers, read as every flag reads quantities.
+
+    Parameters
+    ----------
+    name : str
+        The parameter (named by errors).
+    kind : str
+        ``normal``, ``uniform``, ``lognormal`` or ``truncnormal``.
+    args : str
+        The numbers, comma separated, in the parameter's unit unless written with
+        one: each number may carry its own (``3000 rpm,50 rpm``), or one unit after
+        the last number applies to every number (``3000,50 rpm``), as in a sweep
+        axis (:func:`~.grid.parse_axis`); a list that mixes bare numbers and units
+        any other way is refused. SIGMA_LN of the log-normal is a pure number (the
+        spread of ln X does not depend on X's unit): a unit written after it
+        applies to MEDIAN alone (``lognormal:3000,0.1 rpm``).
+    unit : str
+        The parameter's unit, pint syntax (``""`` for a pure number).
+    allowed : Range, optional
+        The parameter's physical range; when given, :func:`check_support` refuses
+        a distribution that leaves it.
+
+    Returns
+    -------
+    Distribution
+        Numbers in `unit`.
+
+    Raises
+    ------
+    InputError
+        Naming `name`: an unknown form, a wrong count of numbers, a malformed,
+        mixed or unconvertible number, invalid parameters, or a support outside
+        `allowed`.
+    """
+    kind = kind.strip().lower()
+    if kind not in _DIST_ARGS:
+        raise InputError(name, f"unknown distribution {kind!r}; allowed: {_DIST_HELP}")
+    arg_names = _ARG_NAMES[kind]
+    parts = [p.strip() for p in args.split(",")]
+    if len(parts) != len(arg_names):
+        raise InputError(
+            name,
+            f"{kind} takes {len(arg_names)} numbers ({kind}:{','.join(arg_names)}), "
+            f"got {len(parts)} in {args.strip()!r}",
+        )
+    pure = {1} if kind == "lognormal" else set()
+    # a pure-number parameter takes the rule too: "0.5,0.03 percent" is 0.005, 0.0003
+    if kind == "lognormal":
+        m = _TRAILING_UNIT.match(parts[1])
+        if _is_number(parts[0]) and m is not None and not _is_number(parts[1]):
+            parts = [f"{parts[0]} {m.group(2)}", m.group(1)]
+    else:
+        parts = _unit_after_list(name, ",".join(parts), unit)
+    numbers = [
+        parse_value(name, p, f"{kind} {arg}", "" if i in pure else unit)
+        for i, (p, arg) in enumerate(zip(parts, arg_names, strict=True))
+    ]
+    try:
+        dist = Distribution(kind, tuple(numbers))  # type: ignore[arg-type]
+    except InputError as exc:
+        raise InputError(name, str(exc).split(": ", 1)[1]) from None
+    if allowed is not None:
+        check_support(name, dist, allowed, unit)
+    return dist
+
+
+def support(dist: Distribution) -> tuple[float, float]:
+    """The values a study can draw from `dist`, [lo, hi], in its unit.
+
+    ``uniform`` and ``truncnormal``: their window; ``normal``: MEAN +- :data:`SUPPORT_Z` SD;
+    ``lognormal``: MEDIAN exp(+-SUPPORT_Z SIGMA_LN).
+    """
+    p = dist.params
+    if dist.kind in ("uniform", "truncnormal"):
+        return p[-2], p[-1]
+    if dist.kind == "normal":
+        return p[0] - SUPPORT_Z * p[1], p[0] + SUPPORT_Z * p[1]
+    return p[0] * math.exp(-SUPPORT_Z * p[1]), p[0] * math.exp(SUPPORT_Z * p[1])
+
+
+def check_support(name: str, dist: Distribution, allowed: Range, unit: str = "") -> None:
+    """Refuse a distribution that draws values outside the parameter's physical range.
+
+    The support is :func:`support` (out to :data:`SUPPORT_Z` standard deviations for
+    the unbounded forms). The message names the range and a form that stays
+    inside it: truncnormal with LO, HI in the range, or for a positive quantity
+    the log-normal.
+
+    Raises
+    ------
+    InputError
+        Naming `name`, the distribution, the values it reaches and the range.
+    """
+    lo, hi = support(dist)
+    if allowed.contains(lo) and allowed.contains(hi):
+        return
+    u = f" {unit}" if unit and unit != "1" else ""
+    reach = (
+        f"within {SUPPORT_Z:g} SD"
+        if dist.kind == "normal"
+        else (f"within {SUPPORT_Z:g} SIGMA_LN" if dist.kind == "lognormal" else "")
+    )
+    hints = ["truncnormal:MEAN,SD,LO,HI with LO, HI inside it"]
+    if allowed.lo >= 0.0 and dist.kind == "normal":
+        hints.append("lognormal:MEDIAN,SIGMA_LN (positive values)")
+    if dist.kind == "uniform":
+        hints = ["uniform:LO,HI with LO, HI inside it"]
+    draws = f"draws values in [{lo:.6g}, {hi:.6g}]{u}" + (f" {reach}" if reach else "")
+    raise InputError(
+        name,
+        f"{dist} {draws}, outside the allowed range {allowed}{u}; use " + " or ".join(hints),
+    )
+
+
 def parse_distribution(text: str) -> tuple[str, Distribution]:
     """Parse ``name=kind:args``, e.g. ``mu_s=normal:0.5473,0.03``.
 
@@ -165,26 +305,18 @@ def parse_distribution(text: str) -> tuple[str, Distribution]:
     text : str
         ``NAME=normal:MEAN,SD``, ``NAME=uniform:LO,HI``,
         ``NAME=lognormal:MEDIAN,SIGMA_LN`` or ``NAME=truncnormal:MEAN,SD,LO,HI``;
-        NAME one of :data:`~obturator.params.SWEEP_PARAMS` (hyphens allowed), numbers in its unit.
+        NAME one of :data:`~obturator.params.SWEEP_PARAMS` (hyphens allowed), numbers in
+        its unit or with units (:func:`parse_distribution_args`).
 
     Returns
     -------
     (str, Distribution)
+        Checked against the parameter's range (:func:`check_support`).
     """
     name_text, kind, args = split_assignment(text, "vary", f"NAME=KIND:ARGS ({_DIST_HELP})", ":")
     name = canonical_name(name_text)
-    kind = kind.strip().lower()
-    if kind not in _DIST_ARGS:
-        raise InputError(name, f"unknown distribution {kind!r}; allowed: {_DIST_HELP}")
-    unit = SWEEP_PARAMS[name].pint_unit
-    items = args.split(",")
-    # lognormal's SIGMA_LN is a pure number; every other parameter is in the unit
-    units = [unit if not (kind == "lognormal" and i == 1) else "" for i in range(len(items))]
-    numbers = [parse_value(name, a, "parameter", u) for a, u in zip(items, units, strict=True)]
-    try:
-        return name, Distribution(kind, tuple(numbers))  # type: ignore[arg-type]
-    except InputError as exc:
-        raise InputError(name, str(exc).split(": ", 1)[1]) from None
+    par = SWEEP_PARAMS[name]
+    return name, parse_distribution_args(name, kind, args, par.pint_unit, par.range)
 
 
 def sample_inputs(
@@ -265,6 +397,9 @@ def distributions(vary: Any) -> dict[str, Distribution]:
                 _, d = parse_distribution(f"{name}={d}")
             if not isinstance(d, Distribution):
                 raise InputError(name, f"expected a Distribution or text, got {d!r}")
+            par = SWEEP_PARAMS[name]
+            if par.range is not None:
+                check_support(name, d, par.range, par.unit)
             items.append((name, d))
     elif isinstance(vary, str):
         items.append(parse_distribution(vary))

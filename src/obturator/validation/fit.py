@@ -414,6 +414,18 @@ def fit_candidate(
         dof = max(w.size - (p + len(opt.sigma_by_group)), 1)
         est = wald(obj.params, opt.x, covariance_internal(jac), dof)
         cov, stderr, ci95 = est.covariance, est.stderr, est.ci95
+        flat = [par.name for j, par in enumerate(obj.params) if not np.any(jac[:, j] != 0.0)]
+        if flat:  # no run's t_cr moves with it: not identified, never a success
+            opt = opt._replace(
+                success=False,
+                message=f"not identified: no run's t_cr changes with {', '.join(flat)}",
+            )
+    if not np.any(np.isfinite(m)):
+        opt = opt._replace(
+            success=False,
+            message=f"not identified: the model opens none of the {w.size} runs by "
+            f"t_max = {t_max:g} s (every run censored)",
+        )
     return CandidateFit(
         name=candidate.name,
         selection=selection,
