@@ -184,6 +184,9 @@ def locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol):
 # the counters of Dop853State.cnt (as the rows of the lanes' cnt)
 NFEV, N_STEPS, N_REJ, N_STIFF, N_CALM = 0, 1, 2, 3, 4
 
+# The phases below are inlined at numba's IR level into the driver, as those of .radau
+# (a cached caller would otherwise run its own copy of each: benchmarks/cache_binding.py).
+
 
 class Dop853State(NamedTuple):
     """What a DOP853 run carries from step to step, updated by the phases below (the
@@ -216,7 +219,7 @@ def new_state(t, y, p, h) -> Dop853State:
     return st
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
 def attempt(st: Dop853State, t, y, p, rtol, atol, scale) -> float:
     """One step of length ``st.h`` from (t, y): the stages, the 8th-order end
     ``st.ynew`` and DOP853's error estimate (1e10 for NaN). Rejected (> 1): ``st.h`` the
@@ -234,7 +237,7 @@ def attempt(st: Dop853State, t, y, p, rtol, atol, scale) -> float:
     return err
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
 def stiff_at_end(st: Dop853State, t, p) -> bool:
     """f at the accepted step's end (``st.f1``) and Hairer's stiffness test (dop853.f):
     h |f(ynew) - f(y12)| / |ynew - y12| estimates h*lambda, y12 = ``st.work`` the last
@@ -256,7 +259,7 @@ def stiff_at_end(st: Dop853State, t, p) -> bool:
     return stiff
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
 def accepted_outputs(st: Dop853State, t, y, p, g_old, t_event, y_event, terminal, event_tol, out):
     """The opening inside the accepted step (:func:`locate_event`, the first downward
     crossing) and the output on t_eval up to its end or a terminal event (re-stepping
@@ -287,7 +290,7 @@ def accepted_outputs(st: Dop853State, t, y, p, g_old, t_event, y_event, terminal
     return t_event, opened, g_new, i_eval, n_out
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
 def advance(st: Dop853State, t, y) -> float:
     """Move to the accepted step's end (`y` in place, k[0] = f there: first same as
     last). Returns the new time [s]."""
@@ -299,7 +302,7 @@ def advance(st: Dop853State, t, y) -> float:
     return t + st.h[0]
 
 
-@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
 def plan_next(st: Dop853State, err, h_max) -> None:
     """The next step after an accepted one: h min(10, max(0.2, 0.9 err^(-1/8))), no growth
     right after a rejection, at most `h_max`."""
