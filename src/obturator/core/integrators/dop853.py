@@ -40,6 +40,7 @@ Radau IIA from there.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -180,6 +181,138 @@ def locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol):
     return t + s_hi * h, nfev
 
 
+# the counters of Dop853State.cnt (as the rows of the lanes' cnt)
+NFEV, N_STEPS, N_REJ, N_STIFF, N_CALM = 0, 1, 2, 3, 4
+
+# The phases below are inlined at numba's IR level into the driver, as those of .radau
+# (a cached caller would otherwise run its own copy of each: benchmarks/cache_binding.py).
+
+
+class Dop853State(NamedTuple):
+    """What a DOP853 run carries from step to step, updated by the phases below (the
+    one-trajectory counterpart of the lanes' state, :mod:`.lanes.dop853`)."""
+
+    h: np.ndarray  #: (1,) the step to try [s]
+    rejected: np.ndarray  #: bool (1,): the last step was rejected (no growth after it)
+    #: bool (1,): the run just started (or jumped): k[0] was evaluated, not carried over
+    #: from the last step's end (first same as last); cleared by the next accepted step
+    made_jump: np.ndarray
+    cnt: np.ndarray  #: int64 (5,): NFEV, N_STEPS, N_REJ, N_STIFF, N_CALM
+    k: np.ndarray  #: (12, N_STATE) stages; k[0] = f(t, y)
+    f1: np.ndarray  #: f(t + h, ynew): the next step's k[0]
+    ynew: np.ndarray  #: the step's end
+    ytry: np.ndarray  #: a trial state (event location, output)
+    work: np.ndarray  #: stage argument; after a step y12, the stiffness test's
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
+def new_state(t, y, p, h) -> Dop853State:
+    """The state at a run's start (t, y), first step `h` [s]; k[0] = f(t, y)."""
+    n = N_STATE
+    st = Dop853State(
+        np.full(1, h), np.zeros(1, dtype=np.bool_), np.ones(1, dtype=np.bool_),
+        np.zeros(5, dtype=np.int64), np.empty((12, n)), np.empty(n), np.empty(n),
+        np.empty(n), np.empty(n),
+    )  # fmt: skip
+    rhs(t, y, p, st.k[0])
+    st.cnt[NFEV] += 1
+    return st
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
+def attempt(st: Dop853State, t, y, p, rtol, atol, scale) -> float:
+    """One step of length ``st.h`` from (t, y): the stages, the 8th-order end
+    ``st.ynew`` and DOP853's error estimate (1e10 for NaN). Rejected (> 1): ``st.h`` the
+    shorter step to retry; the driver checks it for underflow. Returns the error."""
+    h = st.h[0]
+    _stages(t, y, h, p, st.k, st.ynew, st.work)
+    st.cnt[NFEV] += 11
+    err = _error_norm(st.k, h, y, st.ynew, rtol, atol, scale)
+    if not (err == err):
+        err = 1e10
+    if err > 1.0:
+        st.cnt[N_REJ] += 1
+        st.rejected[0] = True
+        st.h[0] = h * max(0.2, step_factor(err))
+    return err
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
+def stiff_at_end(st: Dop853State, t, p) -> bool:
+    """f at the accepted step's end (``st.f1``) and Hairer's stiffness test (dop853.f):
+    h |f(ynew) - f(y12)| / |ynew - y12| estimates h*lambda, y12 = ``st.work`` the last
+    stage's argument; :func:`.switching.stiffness_count` decides (the step size held by
+    stability, not accuracy)."""
+    h = st.h[0]
+    f1, k, ynew, work = st.f1, st.k, st.ynew, st.work
+    rhs(t + h, ynew, p, f1)
+    st.cnt[NFEV] += 1
+    num = 0.0
+    den = 0.0
+    for i in range(N_STATE):
+        num += (f1[i] - k[11, i]) ** 2
+        den += (ynew[i] - work[i]) ** 2
+    hl = stiffness_product(h, num, den)
+    n_stiff, n_calm, stiff = stiffness_count(hl, st.cnt[N_STIFF], st.cnt[N_CALM])
+    st.cnt[N_STIFF] = n_stiff
+    st.cnt[N_CALM] = n_calm
+    return stiff
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
+def accepted_outputs(st: Dop853State, t, y, p, g_old, t_event, y_event, terminal, event_tol, out):
+    """The opening inside the accepted step (:func:`locate_event`, the first downward
+    crossing) and the output on t_eval up to its end or a terminal event (re-stepping
+    from (t, y): as accurate as a step). `out` is (t_eval, i_eval, ts, ys, n_out).
+    Returns (t_event, opened (terminal event found), g_new, i_eval, n_out)."""
+    t_eval, i_eval, ts, ys, n_out = out
+    h = st.h[0]
+    k, ynew, ytry, work = st.k, st.ynew, st.ytry, st.work
+    t_stop = t + h
+    opened = False
+    g_new = nutation_angle_of_state(ynew, p) - p[P_THETA_CR]
+    if crossed(g_old, g_new, t_event):
+        for i in range(N_STATE):
+            y_event[i] = ynew[i]
+        t_event, nf = locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol)
+        st.cnt[NFEV] += nf
+        if terminal:
+            opened = True
+            t_stop = t_event
+    while i_eval < t_eval.shape[0] and t_eval[i_eval] <= t_stop:
+        _stages(t, y, t_eval[i_eval] - t, p, k, ytry, work)
+        st.cnt[NFEV] += 11
+        ts[n_out] = t_eval[i_eval]
+        for i in range(N_STATE):
+            ys[n_out, i] = ytry[i]
+        n_out += 1
+        i_eval += 1
+    return t_event, opened, g_new, i_eval, n_out
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
+def advance(st: Dop853State, t, y) -> float:
+    """Move to the accepted step's end (`y` in place, k[0] = f there: first same as
+    last). Returns the new time [s]."""
+    for i in range(N_STATE):
+        y[i] = st.ynew[i]
+        st.k[0, i] = st.f1[i]
+    st.cnt[N_STEPS] += 1
+    st.made_jump[0] = False
+    return t + st.h[0]
+
+
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT, inline="always")
+def plan_next(st: Dop853State, err, h_max) -> None:
+    """The next step after an accepted one: h min(10, max(0.2, 0.9 err^(-1/8))), no growth
+    right after a rejection, at most `h_max`."""
+    fac = min(10.0, max(0.2, step_factor(err)))  # err = 0: inf -> 10
+    if st.rejected[0]:
+        fac = min(fac, 1.0)
+    st.rejected[0] = False
+    st.h[0] = min(st.h[0] * fac, h_max)
+
+
 # nogil: the CLI watcher thread can stop a long run
 @njit(cache=True, nogil=True, fastmath=False, error_model="python", **REFCOUNT)
 def integrate(problem, controls):
@@ -189,25 +322,14 @@ def integrate(problem, controls):
     """
     p, scale = problem.p, problem.scale
     t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
-    n = N_STATE
-    theta_cr = p[P_THETA_CR]
     t, y, ts, ys, n_out, y_event = start(problem, controls)
-    k = np.empty((12, n))
-    f1 = np.empty(n)  # f(t + h, ynew), the first stage of the next step
-    ynew = np.empty(n)
-    ytry = np.empty(n)
-    work = np.empty(n)
-    n_eval = t_eval.shape[0]
-    use_eval = n_eval > 0
+    use_eval = t_eval.shape[0] > 0
     i_eval = 0
-    nfev = 0
-    n_steps = 0
-    n_rej = 0
     status = Status.T_MAX
     t_event = math.nan
     # spin period of the release state: the largest component scale is omega_p0
     w0 = 0.0
-    for i in range(n):
+    for i in range(N_STATE):
         w0 = max(w0, scale[i])
     # Tolerance transformation: the local error per step is controlled to
     # TOL_FACTOR * (rtol, atol). At the requested tolerances the accumulated
@@ -219,92 +341,45 @@ def integrate(problem, controls):
     atol = tol_f * atol
     steps_per_time = STEPS_PER_PERIOD * w0 / (2.0 * math.pi)
     t0 = t
-    n_stiff = 0  # consecutive accepted steps with h * lambda beyond the stability boundary
-    n_calm = 0
-    rhs(t, y, p, k[0])
-    nfev += 1
-    h = min(h0, h_max, t_max - t)
-    g_old = nutation_angle_of_state(y, p) - theta_cr
-    rejected = False
+    st = new_state(t, y, p, min(h0, h_max, t_max - t))
+    c = st.cnt
+    g_old = nutation_angle_of_state(y, p) - p[P_THETA_CR]
     while t < t_max:
-        if n_steps >= max_steps:
+        if c[N_STEPS] >= max_steps:
             status = Status.STEP_LIMIT
             break
-        if over_step_budget(n_steps + n_rej, steps_per_time, t, t0):
+        if over_step_budget(c[N_STEPS] + c[N_REJ], steps_per_time, t, t0):
             status = Status.STIFF
             break
-        if t + 1.01 * h >= t_max:
-            h = t_max - t
-        _stages(t, y, h, p, k, ynew, work)
-        nfev += 11
-        err = _error_norm(k, h, y, ynew, rtol, atol, scale)
-        if not (err == err):
-            err = 1e10
+        if t + 1.01 * st.h[0] >= t_max:
+            st.h[0] = t_max - t
+        err = attempt(st, t, y, p, rtol, atol, scale)
         if err > 1.0:
-            n_rej += 1
-            rejected = True
-            h *= max(0.2, step_factor(err))
-            if underflow(h, t):
+            if underflow(st.h[0], t):
                 status = Status.STIFF
                 break
             continue
-        # ---- accepted ----
-        t_new = t + h
-        t_stop = t_new
-        rhs(t_new, ynew, p, f1)
-        nfev += 1
-        # Hairer's stiffness test (dop853.f): h |f(ynew) - f(y12)| / |ynew - y12|,
-        # y12 = work, the last stage's argument (c = 1), estimates h*lambda; beyond the
-        # stability boundary STIFF_HLAMBDA for STIFF_STEPS accepted steps in a row
-        # the step size is held by stability, not accuracy.
-        num = 0.0
-        den = 0.0
-        for i in range(n):
-            num += (f1[i] - k[11, i]) ** 2
-            den += (ynew[i] - work[i]) ** 2
-        n_stiff, n_calm, stiff = stiffness_count(stiffness_product(h, num, den), n_stiff, n_calm)
-        if stiff:
+        if stiff_at_end(st, t, p):
             status = Status.STIFF
             break
-        g_new = nutation_angle_of_state(ynew, p) - theta_cr
-        if crossed(g_old, g_new, t_event):
-            for i in range(n):
-                y_event[i] = ynew[i]
-            t_event, nf = locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol)
-            nfev += nf
-            if terminal:
-                status = Status.OPENED
-                t_stop = t_event
-        # output on t_eval inside (t, t_stop]: re-step from (t, y), as accurate as a step
-        if use_eval:
-            while i_eval < n_eval and t_eval[i_eval] <= t_stop:
-                _stages(t, y, t_eval[i_eval] - t, p, k, ytry, work)
-                nfev += 11
-                ts[n_out] = t_eval[i_eval]
-                ys[n_out, :] = ytry
-                n_out += 1
-                i_eval += 1
-        if status == Status.OPENED:
+        t_event, opened, g_new, i_eval, n_out = accepted_outputs(
+            st, t, y, p, g_old, t_event, y_event, terminal, event_tol,
+            (t_eval, i_eval, ts, ys, n_out),
+        )  # fmt: skip
+        if opened:
+            status = Status.OPENED
             ts, ys, n_out = record_row(ts, ys, n_out, t_event, y_event, record, use_eval)
             y[:] = y_event
             t = t_event
             break
         g_old = g_new
-        t = t_new
-        for i in range(n):
-            y[i] = ynew[i]
-            k[0, i] = f1[i]
-        n_steps += 1
+        t = advance(st, t, y)
         if record and not use_eval:  # a call per step costs reference counts
             ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         if not (y[0] == y[0]):
             status = Status.STIFF
             break
-        fac = min(10.0, max(0.2, step_factor(err)))  # err = 0: inf -> 10
-        if rejected:
-            fac = min(fac, 1.0)
-        rejected = False
-        h = min(h * fac, h_max)
+        plan_next(st, err, h_max)
     return RawSolution(
-        status, t_event, y_event, ts[:n_out], ys[:n_out], nfev, 0, n_steps, n_rej, t, y
+        status, t_event, y_event, ts[:n_out], ys[:n_out], c[NFEV], 0, c[N_STEPS], c[N_REJ], t, y
     )

@@ -102,6 +102,11 @@ __all__ = [
 # the counters of RadauState.cnt
 NFEV, NJEV, N_STEPS, N_REJ = 0, 1, 2, 3
 
+# The phases below are inlined at numba's IR level into each driver (this module's and
+# .stick_slip's): a callee that is not is linked into its caller as a copy, which a
+# process loading the caller from the cache runs while a compiling process binds the
+# callee's own code, and the two may round differently (benchmarks/cache_binding.py).
+
 
 class RadauState(NamedTuple):
     """What a Radau IIA run carries from step to step, updated by the phases below (the
@@ -140,7 +145,7 @@ def new_state(h: float) -> RadauState:
     return st
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
 def jump(st: RadauState, h: float, h_max: float, t_left: float) -> None:
     """After a discontinuity (the start, a mode change, a stretch of another method): the
     next step min(h, h_max, t_left) [s] with a new Jacobian and LU, no polynomial to
@@ -154,7 +159,7 @@ def jump(st: RadauState, h: float, h_max: float, t_left: float) -> None:
     st.made_jump[0] = True
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
 def took_jacobian(st: RadauState) -> None:
     """After the driver evaluated the Jacobian (N_STATE right-hand sides): fresh, LU stale."""
     st.cnt[NFEV] += N_STATE
@@ -164,7 +169,7 @@ def took_jacobian(st: RadauState) -> None:
     st.h_lu[0] = math.nan
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
 def factored(st: RadauState, t: float, t_max: float, ws: RadauWork) -> bool:
     """The step cut to end at `t_max` where it nearly does, and the LU of its Newton
     matrices (kept while h is); False where the LU failed: then the step is cut
@@ -183,14 +188,14 @@ def factored(st: RadauState, t: float, t_max: float, ws: RadauWork) -> bool:
     return True
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
 def predict(st: RadauState, ws: RadauWork) -> None:
     """Newton's start in ``ws.stage[0]``: the last step's polynomial extrapolated, or zero
     after a jump (a driver with a better guess writes its own)."""
     guess_stages(ws.stage[0], ws.event.zacc, st.h[0], st.h_acc[0], st.have_poly[0])
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
 def attempt(st: RadauState, ws: RadauWork, t, y, p, scale, rtol, atol, fnewt) -> bool:
     """One step of length ``st.h`` from (t, y): Newton from the guess in ``ws.stage[0]``,
     the error estimate and the step-size quotient (RADAU5's rules, tolerances already
@@ -231,7 +236,7 @@ def attempt(st: RadauState, ws: RadauWork, t, y, p, scale, rtol, atol, fnewt) ->
     return True
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
 def accepted_outputs(st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt, out):
     """The opening inside the accepted step (looked for while `g_old` > 0 and none found
     yet; located as :func:`locate_opening_at` does) and its dense output up to the step's
@@ -258,7 +263,7 @@ def accepted_outputs(st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt
     return t_event, opened, g_new, i_eval, n_out
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
 def advance(st: RadauState, ws: RadauWork, t: float, y) -> float:
     """Move to the accepted step's end (`y` in place); its polynomial is kept for the next
     guess. Returns the new time [s]."""
@@ -276,7 +281,7 @@ def advance(st: RadauState, ws: RadauWork, t: float, y) -> float:
     return t + h
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
 def plan_next(st: RadauState, h_max: float) -> None:
     """The next step after an accepted one (:func:`.radau_control.next_step`)."""
     h, h_lim, slow = next_step(

@@ -1,5 +1,12 @@
 """Event-driven stick-slip integration of the friction laws, with no width.
 
+The nonsmooth pieces have one home each (the split of Siconos and of Acary and
+Brogliato): the admissible set of friction moments in
+:mod:`obturator.core.friction_sets`, the modes (slip speed, admissibility, breakaway)
+in :mod:`.stick_slip_modes`, this event-driven strategy, which composes them with the
+step phases of :mod:`.radau` and stretches of :mod:`.dop853`, and the time-stepping
+(Moreau-Jean) strategy in :mod:`.moreau_jean`.
+
 Formulation: the *switch model* of Leine and Nijmeijer (*Dynamics and Bifurcations
 of Non-Smooth Mechanical Systems*, Springer 2004, ch. 2 and 9), with the exact set of
 admissible moments in place of Leine's stick band (Glocker, *Set-Valued Force Laws*,
@@ -242,7 +249,11 @@ def run_cycles(stick_slip: float = STICK_SLIP, kick: float = KICK):
     return run
 
 
-_PHASE = dict(cache=True, fastmath={"contract"}, error_model="python")
+# the loop's phases are inlined at numba's IR level, as are those of .radau: a callee
+# that is not is linked into its caller as a copy that a process loading the caller from
+# the cache runs, optimised again there, while a compiling process binds the callee's
+# own code (the two may round differently: benchmarks/cache_binding.py)
+_PHASE = dict(cache=True, fastmath={"contract"}, error_model="python", inline="always")
 
 
 @njit(**_PHASE, **NO_REFCOUNT)
