@@ -46,6 +46,18 @@ def test_every_compiled_function_states_the_inherited_flags():
     assert not missing, "flags left to the first caller:\n" + "\n".join(missing)
 
 
+def test_no_compiled_function_allows_fast_math():
+    """No fast-math flag anywhere in core/ (FMA contraction included): with one, a
+    function's rounding depends on where LLVM inlines or vectorises it, and freshly
+    compiled, cached and batched code stop agreeing bit for bit."""
+    allowing = [
+        name
+        for name, dispatcher in _core_dispatchers()
+        if dispatcher.targetoptions.get("fastmath", False) not in (False, set(), frozenset())
+    ]
+    assert not allowing, allowing
+
+
 # Two opposite compile orders, each in a fresh process with an empty cache: (a) the
 # Python-side helpers and the Rosenbrock method first (they used to compile the torque
 # law without FMA contraction), then the scalar path, then the lanes; (b) the lanes

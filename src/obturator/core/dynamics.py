@@ -79,7 +79,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def slip_saturation(x: float, family: float) -> float:
     """Regularised magnitude factor s(x) of a Coulomb term, x = |slip| / width [-].
 
@@ -106,7 +106,7 @@ def slip_saturation(x: float, family: float) -> float:
     return x / math.sqrt(algebraic_spread_sq(x * x, 1.0))
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def friction_speed_factor(v: float, code: float, ratio: float, speed: float) -> float:
     """mu(v) / mu_s for a slip speed v [m/s]: the law of
     :func:`obturator.core.thesis_law.slip_speed_factor`, as a function of its own (the
@@ -114,7 +114,7 @@ def friction_speed_factor(v: float, code: float, ratio: float, speed: float) -> 
     return slip_speed_factor(v, code, ratio, speed)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[float, float, float]:
     """Total torque on the ball in inertial axes [N m] (thesis Eqs. 62-64).
 
@@ -244,7 +244,7 @@ def applied_torque(wx: float, wy: float, wz: float, p: np.ndarray) -> tuple[floa
     return tx, ty, tz
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def _rotation_from_quaternion(y: np.ndarray) -> tuple:
     n = math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
     q0 = y[0] / n
@@ -263,7 +263,7 @@ def _rotation_from_quaternion(y: np.ndarray) -> tuple:
     return r00, r01, r02, r10, r11, r12, r20, r21, r22
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def _rotation_from_euler(psi: float, theta: float, phi: float) -> tuple:
     # z-x-z: R = Rz(psi) Rx(theta) Rz(phi), body -> inertial (thesis Fig. 7, Appendix A)
     cps, sps = math.cos(psi), math.sin(psi)
@@ -281,7 +281,7 @@ def _rotation_from_euler(psi: float, theta: float, phi: float) -> tuple:
     return r00, r01, r02, r10, r11, r12, r20, r21, r22
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def _attitude_and_rates(y: np.ndarray, p: np.ndarray) -> tuple:
     """Rotation matrix entries and body rates (w1, w2, w3) of a state."""
     if p[P_FORM] == FORM_QUATERNION:
@@ -297,7 +297,7 @@ def _attitude_and_rates(y: np.ndarray, p: np.ndarray) -> tuple:
     return r, w1, w2, w3
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def _spin(y: np.ndarray, p: np.ndarray, w1: float, w2: float, w3: float) -> float:
     if p[P_SPIN_MODE] == SPIN_THESIS_ENERGY:
         # Appendix A: SPIN = SQRT((2 KE - A(w1^2 + w2^2) - C w3^2) / I_p)
@@ -306,7 +306,7 @@ def _spin(y: np.ndarray, p: np.ndarray, w1: float, w2: float, w3: float) -> floa
     return y[6] if p[P_FORM] == FORM_EULER else y[7]
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def _torque_body(r: tuple, w1: float, w2: float, w3: float, wp: float, p: np.ndarray) -> tuple:
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
     wx = r00 * w1 + r01 * w2 + r02 * w3
@@ -319,7 +319,7 @@ def _torque_body(r: tuple, w1: float, w2: float, w3: float, wp: float, p: np.nda
     return g1, g2, g3, tz, wx, wy, wz
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def rhs(t: float, y: np.ndarray, p: np.ndarray, dy: np.ndarray) -> None:
     """Time derivative of the state, written into `dy` (both formulations).
 
@@ -385,7 +385,7 @@ def rhs(t: float, y: np.ndarray, p: np.ndarray, dy: np.ndarray) -> None:
     dy[7] = 0.0
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def slip_and_spin(y: np.ndarray, p: np.ndarray) -> tuple[float, float]:
     """Slip speed |omega_r| of the ball on its socket and the spin omega_p [rad/s].
 
@@ -401,7 +401,7 @@ def slip_and_spin(y: np.ndarray, p: np.ndarray) -> tuple[float, float]:
     return math.sqrt(wx * wx + wy * wy + wz * wz), wp
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def nutation_angle_of_state(y: np.ndarray, p: np.ndarray) -> float:
     """Nutation angle theta [rad] between the hole axis z and the spin axis Z."""
     if p[P_FORM] == FORM_EULER:

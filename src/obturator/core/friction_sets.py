@@ -79,7 +79,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def arm_coefficients(p: np.ndarray) -> tuple[float, float]:
     """(b_X, b_Z) of ARM(u)^2 = b_X u_X^2 + u_Y^2 + b_Z u_Z^2 (rig Eq. 61; Appendix A)."""
     if p[P_FRIC] == FRIC_THESIS_FLIGHT:
@@ -91,7 +91,7 @@ def arm_coefficients(p: np.ndarray) -> tuple[float, float]:
     return 1.0, 1.0  # no friction: the set is {0}; never used with stick
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def moment_scale(p: np.ndarray) -> float:
     """Largest friction moment scale [N m]: M of the thesis law, n mu N_k R_s of contacts."""
     if p[P_FRIC] == FRIC_COULOMB:
@@ -99,7 +99,7 @@ def moment_scale(p: np.ndarray) -> float:
     return p[P_FRIC + 1]
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _contact_normal(k: int, p: np.ndarray) -> tuple[float, float, float]:
     """Unit normal n_k of contact k, placed as :func:`~.dynamics.applied_torque` does."""
     gam = 2.0 * math.pi * k / p[P_FRIC + 4]
@@ -110,7 +110,7 @@ def _contact_normal(k: int, p: np.ndarray) -> tuple[float, float, float]:
     return sb * math.cos(gam), sb * math.sin(gam), math.cos(beta)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _solve3(h00, h01, h02, h11, h12, h22, bx, by, bz) -> tuple[float, float, float]:
     """H^-1 b for a symmetric 3 x 3 H (cofactors); nan where H is singular."""
     c00 = h11 * h22 - h12 * h12
@@ -129,7 +129,7 @@ def _solve3(h00, h01, h02, h11, h12, h22, bx, by, bz) -> tuple[float, float, flo
     )
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _support_derivatives(dx: float, dy: float, dz: float, p: np.ndarray) -> tuple:
     """D(d) = sum_k mu N_k s_k, s_k = |d|_{Q_k} = sqrt(d^T Q_k d) (Q_k = R_s^2 (1 - n_k
     n_k^T) + eps^2 n_k n_k^T), its gradient sum_k mu N_k Q_k d / s_k, and the entries
@@ -188,7 +188,7 @@ def _support_derivatives(dx: float, dy: float, dz: float, p: np.ndarray) -> tupl
     )
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _form(h: tuple, ax: float, ay: float, az: float, bx: float, by: float, bz: float) -> float:
     """a^T H b for the symmetric 3 x 3 H given by its entries (00, 01, 02, 11, 12, 22)."""
     h00, h01, h02, h11, h12, h22 = h
@@ -207,7 +207,7 @@ GAUGE_RESIDUAL = 1e-13
 GAUGE_STEPS = 200
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _gauge_residual(gx: float, gy: float, gz: float, g: float, der: tuple) -> float:
     """|G - gamma grad D(d)| / |G| at d on the plane G . d = 1 (gamma = 1 / D(d))."""
     rx = gx - der[1] / der[0]
@@ -216,14 +216,14 @@ def _gauge_residual(gx: float, gy: float, gz: float, g: float, der: tuple) -> fl
     return math.sqrt(rx * rx + ry * ry + rz * rz) / g
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _lowers(d_norm: float, res: float, new_norm: float, new_res: float) -> bool:
     """A step is progress: D falls, or (near the minimum, where D's change is below its
     rounding while the residual's is not) D holds to 1e-14 and the residual falls."""
     return new_norm < d_norm or (new_norm <= d_norm * (1.0 + 1e-14) and new_res < res)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def coulomb_gauge(gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
     """Gauge gamma(G) = max_d G . d / D(d) of the Coulomb patch set F, and its maximiser.
 
@@ -320,7 +320,7 @@ def coulomb_gauge(gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
     return scale * (gx * dx + gy * dy + gz * dz) / der[0], dx / d, dy / d, dz / d
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def exit_slip_direction(y: np.ndarray, gx: float, gy: float, gz: float, p: np.ndarray) -> tuple:
     """Unit direction u in which a slip leaves zero slip at state `y` where the reaction
     G [N m] that stick needs is outside F (or on its boundary).
@@ -377,7 +377,7 @@ def exit_slip_direction(y: np.ndarray, gx: float, gy: float, gz: float, p: np.nd
     return wx / scale, wy / scale, wz / scale
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _departure_residual(wx, wy, wz, gx, gy, gz, zx, zy, zz, p) -> tuple:
     """Gradient I w + grad D(w) + G of the departure's convex function, its Hessian
     I + sum_k mu N_k (Q_k / s_k - Q_k w w^T Q_k / s_k^3) (Q_k = R^2 (1 - n n^T) +
@@ -398,7 +398,7 @@ def _departure_residual(wx, wy, wz, gx, gy, gz, zx, zy, zz, p) -> tuple:
     return rx, ry, rz, h00, h01, h02, h11, h12, h22, math.sqrt(rx * rx + ry * ry + rz * rz)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _hole_axis(y: np.ndarray) -> tuple[float, float, float]:
     """Hole axis z in inertial axes: third column of R(q / |q|)."""
     q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
@@ -406,7 +406,7 @@ def _hole_axis(y: np.ndarray) -> tuple[float, float, float]:
     return s * (q1 * q3 + q0 * q2), s * (q2 * q3 - q0 * q1), 1.0 - s * (q1 * q1 + q2 * q2)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def required_reaction(y: np.ndarray, p: np.ndarray, wp: float) -> tuple[float, float, float]:
     """Friction moment [N m] (inertial axes) that keeps omega_r = 0 at state `y`.
 
@@ -418,7 +418,7 @@ def required_reaction(y: np.ndarray, p: np.ndarray, wp: float) -> tuple[float, f
     return -g * zy, g * zx, 0.0
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def stick_margin(gx: float, gy: float, gz: float, p: np.ndarray) -> float:
     """Radius of F along the moment G minus |G| [N m]: > 0 inside F.
 
@@ -443,7 +443,7 @@ def stick_margin(gx: float, gy: float, gz: float, p: np.ndarray) -> float:
 EXIT_SCAN = 512
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _exit_level(k_req: float, p: np.ndarray) -> float:
     """c^2 such that G_req (magnitude `k_req` [N m]) is in F while cos^2 psi >= c^2;
     nan where F has no such closed form (Coulomb contacts other than the rig's one).
@@ -468,13 +468,13 @@ def _exit_level(k_req: float, p: np.ndarray) -> float:
     return (kappa * kappa - b_x) / (1.0 - b_x)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _outside(k_req: float, psi: float, p: np.ndarray) -> bool:
     """G_req = k_req (-sin psi, cos psi, 0) outside F (Coulomb set, by its gauge)."""
     return k_req * coulomb_gauge(-math.sin(psi), math.cos(psi), 0.0, p)[0] > 1.0
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _scanned_exit(k_req: float, psi: float, p: np.ndarray) -> float:
     """:func:`breakaway_angle` by sampling the gauge along the turn (period pi: F = -F)
     and bisecting the first change to the last bit."""
@@ -497,7 +497,7 @@ def _scanned_exit(k_req: float, psi: float, p: np.ndarray) -> float:
     return 0.0 if out0 else math.inf
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def breakaway_angle(y: np.ndarray, p: np.ndarray, wp: float) -> float:
     """Rotation angle [rad] of rigid stick from `y` after which G_req leaves F.
 
@@ -533,7 +533,7 @@ def breakaway_angle(y: np.ndarray, p: np.ndarray, wp: float) -> float:
     return -(math.pi - psi1 - psi)  # inside the window: minus the angle to its end
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def relative_rate(y: np.ndarray, wp: float) -> tuple[float, float, float]:
     """omega_r = R w - omega_p Z in inertial axes [rad/s] (Eqs. 35-36, 69)."""
     q0, q1, q2, q3 = y[0], y[1], y[2], y[3]
@@ -548,7 +548,7 @@ def relative_rate(y: np.ndarray, wp: float) -> tuple[float, float, float]:
     return wx, wy, wz
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def hold_stick(y: np.ndarray, wp: float) -> None:
     """Set omega_r = 0 in place: body rates w = omega_p R^T Z, |q| = 1."""
     n = math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3])
@@ -562,7 +562,7 @@ def hold_stick(y: np.ndarray, wp: float) -> None:
     y[6] = wp * zz
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def turn_by(y: np.ndarray, vx: float, vy: float, vz: float) -> None:
     """Turn the attitude of `y` in place by the inertial rotation vector v [rad]."""
     a = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -578,7 +578,7 @@ def turn_by(y: np.ndarray, vx: float, vy: float, vz: float) -> None:
     y[3] = c * q3 + q0 * az + ax * q2 - ay * q1
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def turn_rigidly(y: np.ndarray, angle: float, out: np.ndarray) -> None:
     """`out` = `y` turned by `angle` [rad] about Z (q <- q_Z(angle) q; body rates kept)."""
     c = math.cos(0.5 * angle)

@@ -1,15 +1,23 @@
 """numba flags shared by the compiled core, stated on every compiled function.
 
+**No fast-math flag at all** (``fastmath=False`` everywhere, FMA contraction
+included). With any of them LLVM may round differently by context: fuse a multiply
+into an add once a function is inlined into its caller, or in a vectorised loop but
+not in its scalar remainder. A function's bits then depended on where it was compiled:
+a caller loaded from numba's cache runs its own linked copy of a callee, a compiling
+process binds the callee's library, and a lane's bits on how many lanes were live.
+Without them every operation is rounded as written, so freshly compiled, cached and
+batched code give the same t_cr bit for bit (``tests/core/test_fresh_compile.py``,
+``tests/solve/test_plan.py``).
+
 **Every flag that numba lets a callee inherit is stated explicitly.** numba
 compiles a jitted function once per signature, the first time any caller needs
 it, and ``fastmath``, ``error_model`` and reference counting (``_nrt``) that the
 function does not state itself are taken from *that first caller*
 (``numba.core.cpu.CPUTargetOptions.finalize``, ``Flags.inherit_if_not_set``).
 A helper shared by the integrators (the right-hand side, the torque law, the
-event search) was therefore compiled with FMA contraction or without it
-depending on which integrator, or which test, happened to compile first, and
-the generic kernel's lanes and scalar path differed by 3.6e-9 relative in one
-build order and agreed bit for bit in another. With every decorator in
+event search) was therefore compiled with one error model or another
+depending on which integrator, or which test, happened to compile first. With every decorator in
 ``core/`` stating all three flags (``tests/core/test_jit_flags.py`` checks it,
 and that two opposite compile orders give the same bits), no order can matter.
 Functions inlined at numba's IR level (``inline="always"``) take their caller's

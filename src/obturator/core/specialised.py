@@ -40,7 +40,7 @@ pays nothing for them:
   (Stribeck) model 131 ms against 188 ms (its exp does not vectorise, and most of its
   runs are stiff; ``python -m benchmarks.speed_law_kernel`` compares the two on the
   same points in one run);
-* FMA contraction allowed (``fastmath={"contract"}``) and the NumPy error
+* FMA contraction allowed (``fastmath=False``) and the NumPy error
   model (a division never raises), so that loops over lanes vectorise.
 
 The law itself (viscous coefficient, arm weights, regularisation, slip-speed factor)
@@ -170,7 +170,7 @@ _KERNEL_OF_SPEED_LAW = {
 _SLIP_SQ_MIN = 1e-250
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always", **NO_REFCOUNT)
 def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent, speed):
     """Time derivative of one quaternion-form state under the thesis torques.
 
@@ -243,7 +243,7 @@ def thesis_rates(q0, q1, q2, q3, w1, w2, w3, wp, coef, turbulent, speed):
     )
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
 def rhs_thesis(y, p, dy) -> None:
     """:func:`thesis_rates` of one state `y` into `dy` (the scalar path's kernel), in the
     variant of ``p[P_KERNEL]``."""
@@ -256,7 +256,7 @@ def rhs_thesis(y, p, dy) -> None:
         _rates_into(y, p, dy, SPEED_WEAKENING)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always", **NO_REFCOUNT)
 def _rates_into(y, p, dy, speed) -> None:
     d = P_DERIVED
     c = (

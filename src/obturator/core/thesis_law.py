@@ -23,8 +23,8 @@ DOP853 and Radau IIA, both lanes and the generic right-hand side all move).
   thesis's constant mu_s (Stribeck-type weakening, polymer strengthening; not in the
   thesis, :class:`obturator.model.torques.SlipSpeedLaw`).
 
-The functions are inlined into their callers (numba IR), so each caller's compile
-flags (FMA contraction in the kernel, none in the generic code) apply as before.
+The functions are inlined into their callers (numba IR); no caller allows fast-math
+(:mod:`obturator.core.jit_flags`), so they round alike everywhere.
 """
 
 from __future__ import annotations

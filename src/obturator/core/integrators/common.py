@@ -14,9 +14,7 @@ control; what they have in common lives here:
   and their RMS error norm (:func:`rms_norm`);
 * :func:`underflow`, the step-size collapse test.
 
-Fastmath: only helpers whose result cannot depend on FMA contraction are
-compiled without it; :func:`rms_norm` allows contraction like the Radau code
-it came from.
+Fastmath: none (:mod:`obturator.core.jit_flags`).
 """
 
 from __future__ import annotations
@@ -46,7 +44,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="python", **REFCOUNT)
 def output_buffers(t_eval, record, y0, t0):
     """Output arrays sized for t_eval (or growing per step), holding (t0, y0) first when
     recording."""
@@ -62,7 +60,7 @@ def output_buffers(t_eval, record, y0, t0):
     return ts, ys, n_out
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="python", **REFCOUNT)
 def start(problem, controls):
     """A run at t = t0: t0, a copy of the initial state, the output buffers (holding it
     when every step is recorded) and the event state, NaN until an event is found."""
@@ -71,7 +69,7 @@ def start(problem, controls):
     return problem.t0, y, ts, ys, n_out, np.full(y.shape[0], math.nan)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="python", **REFCOUNT)
 def append_row(ts, ys, n_out, t, y):
     """Store (t, y) as row `n_out`, doubling the buffers when full; return them and n_out + 1."""
     if n_out >= ts.shape[0]:
@@ -87,7 +85,7 @@ def append_row(ts, ys, n_out, t, y):
     return ts, ys, n_out + 1
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="python", **REFCOUNT)
 def record_row(ts, ys, n_out, t, y, record, use_eval):
     """Append (t, y) when every accepted step is recorded (record and no t_eval)."""
     if record and not use_eval:
@@ -95,13 +93,13 @@ def record_row(ts, ys, n_out, t, y, record, use_eval):
     return ts, ys, n_out
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def crossed(g_old, g_new, t_event):
     """True at the first downward crossing of g = theta - theta_cr (no event found yet)."""
     return g_old > 0.0 and g_new <= 0.0 and t_event != t_event
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def illinois_trial(s_lo, g_lo, s_hi, g_hi):
     """Next trial point of Illinois false position on the bracket [s_lo, s_hi]."""
     s = (s_lo * g_hi - s_hi * g_lo) / (g_hi - g_lo)
@@ -110,7 +108,7 @@ def illinois_trial(s_lo, g_lo, s_hi, g_hi):
     return s
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side):
     """Shrink the bracket with the trial (s, g); halve the stale end's g (Illinois).
 
@@ -130,19 +128,19 @@ def illinois_update(s, g, s_lo, g_lo, s_hi, g_hi, side):
     return s_lo, g_lo, s_hi, g_hi, side
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def bracket_closed(s_lo, s_hi, h, event_tol):
     """True when the bracket [s_lo, s_hi] of a step h is at most event_tol long [s]."""
     return (s_hi - s_lo) * h <= event_tol
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def underflow(h, t):
     """True when the step h has collapsed relative to the time t reached."""
     return h < 1e-14 * max(t, 1e-6)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def increment_cap(scale_j, delta, w_ref, quaternion) -> float:
     """Largest forward-difference increment of component j (see :func:`jacobian`).
 
@@ -158,7 +156,7 @@ def increment_cap(scale_j, delta, w_ref, quaternion) -> float:
     return math.inf
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def jacobian(t, y, f0, p, scale, jac, work, fwork) -> None:
     """Forward-difference Jacobian of the right-hand side at (t, y), f0 = f(t, y).
 
@@ -185,7 +183,7 @@ def jacobian(t, y, f0, p, scale, jac, work, fwork) -> None:
             jac[i, j] = (fwork[i] - f0[i]) / dj
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="python")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="python")
 def rms_norm(e, y, ynew, rtol, atol, scale) -> float:
     """sqrt(mean((e_i / (atol scale_i + rtol max(|y_i|, |ynew_i|)))^2))."""
     s = 0.0

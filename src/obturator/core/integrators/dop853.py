@@ -86,7 +86,7 @@ __all__ = [
 TOL_FACTOR = 0.01
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def _stages(t, y, h, p, k, ynew, work) -> None:
     """Stages k[1..11] (k[0] = f(t, y) given) and the 8th-order solution ynew."""
     n = N_STATE
@@ -104,7 +104,7 @@ def _stages(t, y, h, p, k, ynew, work) -> None:
         ynew[i] = y[i] + h * acc
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath=False)
 def step_factor(err) -> float:
     """0.9 err^(-1/8), DOP853's step-size factor before its bounds (inf at err = 0).
 
@@ -116,21 +116,20 @@ def step_factor(err) -> float:
     return 0.9 / math.sqrt(math.sqrt(math.sqrt(err)))
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath=False)
 def stiffness_product(h, num, den) -> float:
     """Hairer's h |lambda| estimate h sqrt(num / den), or -1 when den = 0."""
     return h * math.sqrt(num / den) if den > 0.0 else -1.0
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath=False)
 def error_weight(atol, scale, rtol, y, ynew) -> float:
-    """atol * scale + rtol * max(|y|, |ynew|), compiled without FMA contraction: with it,
-    a * b + c * d may fuse either product, and the scalar and the vectorised lane code
-    (:mod:`.lanes`) chose differently, which cost the bit-for-bit agreement."""
+    """atol * scale + rtol * max(|y|, |ynew|), the same operations as the lane code's
+    (:mod:`.lanes`), so both round alike."""
     return atol * scale + rtol * max(abs(y), abs(ynew))
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="python")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="python")
 def _error_norm(k, h, y, ynew, rtol, atol, scale) -> float:
     """DOP853's combined estimate h |e5|^2 / sqrt((|e5|^2 + 0.01 |e3|^2) n)."""
     n = N_STATE
@@ -152,7 +151,7 @@ def _error_norm(k, h, y, ynew, rtol, atol, scale) -> float:
     return abs(h) * s5 / math.sqrt((s5 + 0.01 * s3) * n)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def locate_event(t, y, h, p, k, work, ytry, y_event, g_old, g_new, event_tol):
     """Opening time inside the accepted step (t, t + h] (g_old > 0 >= g_new).
 

@@ -9,8 +9,7 @@ The routines are specialised to the fixed size N_STATE (loops with
 compile-time trip counts, which LLVM unrolls): about half the time per
 factorisation of a generic LU. The diagonal of U is stored as its reciprocal,
 so the solves multiply (a division per row would lengthen the solve's
-dependency chain). FMA contraction is allowed (fastmath "contract" only: no
-reassociation, NaN checks intact).
+dependency chain). No fast-math (:mod:`obturator.core.jit_flags`).
 """
 
 from __future__ import annotations
@@ -23,7 +22,7 @@ from ..layout import N_STATE
 __all__ = ["lu_factor", "lu_solve", "lu_factor_complex", "lu_solve_pair"]
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def lu_factor(m, piv) -> bool:
     """In-place LU with partial pivoting of the real N_STATE x N_STATE matrix m.
 
@@ -55,7 +54,7 @@ def lu_factor(m, piv) -> bool:
     return True
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="python")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="python")
 def lu_solve(lu, piv, b) -> None:
     """Solve lu x = b in place with the factors of lu_factor."""
     for k in range(N_STATE):
@@ -76,7 +75,7 @@ def lu_solve(lu, piv, b) -> None:
         b[i] = s * lu[i, i]  # reciprocal pivot
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def lu_factor_complex(ar, ai, piv) -> bool:
     """In-place LU with partial pivoting of the complex matrix ar + i ai.
 
@@ -118,7 +117,7 @@ def lu_factor_complex(ar, ai, piv) -> bool:
     return True
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def lu_solve_pair(lu, piv, b, ar, ai, pivc, br, bi) -> None:
     """Solve lu x = b (real, factors of lu_factor) and (ar + i ai) x = br + i bi
     (complex, factors of lu_factor_complex) in place, in one pass.

@@ -79,7 +79,7 @@ def integrate(problem: Problem, controls: Controls) -> RawSolution:
     )
 
 
-@njit(cache=True, **REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **REFCOUNT, fastmath=False, error_model="python")
 def _rotation(y: np.ndarray) -> np.ndarray:
     """R(q / |q|), body -> inertial."""
     n = math.sqrt(y[0] ** 2 + y[1] ** 2 + y[2] ** 2 + y[3] ** 2)
@@ -97,14 +97,14 @@ def _rotation(y: np.ndarray) -> np.ndarray:
     return r
 
 
-@njit(cache=True, **REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **REFCOUNT, fastmath=False, error_model="python")
 def _nutation(y: np.ndarray) -> float:
     """theta [rad]: the angle of the hole axis z from Z, z_Z = 1 - 2 (q1^2 + q2^2) / |q|^2."""
     zz = 1.0 - 2.0 * (y[1] ** 2 + y[2] ** 2) / (y[0] ** 2 + y[1] ** 2 + y[2] ** 2 + y[3] ** 2)
     return math.acos(min(1.0, max(-1.0, zz)))
 
 
-@njit(cache=True, **REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **REFCOUNT, fastmath=False, error_model="python")
 def _residual(v, w_free, h, inv_i, p):
     """v - omega_r,free - h I^{-1} G(v): zero at the slip of the step's end."""
     g = applied_torque(v[0], v[1], v[2], p)
@@ -116,7 +116,7 @@ def _residual(v, w_free, h, inv_i, p):
     return out
 
 
-@njit(cache=True, **REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **REFCOUNT, fastmath=False, error_model="python")
 def _slip_of_step(v, w_free, h, inv_i, p):
     """Newton's method (finite-difference Jacobian, halving steps) for the slip at the
     step's end from the guess `v`; returns it and the residual evaluations."""
@@ -150,7 +150,7 @@ def _slip_of_step(v, w_free, h, inv_i, p):
     return v, nfev
 
 
-@njit(cache=True, **REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **REFCOUNT, fastmath=False, error_model="python")
 def _steps(y, p, t, t_max, h, max_steps):
     """The stepping loop; returns (status, t, t_event, y, steps, residual evaluations)."""
     a, c = p[P_A], p[P_C]

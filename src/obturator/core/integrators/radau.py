@@ -23,8 +23,7 @@ rules, and the collocation polynomial as dense output. Implementation notes:
   eigenvectors of A^-1), so each simplified-Newton iteration solves one real
   and one complex 8x8 system instead of the 24x24 one; the real and the
   complex substitutions of a Newton iteration run interleaved in one loop.
-  All compiled functions allow FMA contraction (fastmath "contract" only:
-  no reassociation, NaN checks intact), a rounding-level difference.
+  No compiled function allows fast-math (:mod:`obturator.core.jit_flags`).
 * Tolerances are transformed as in RADAU5 (rtol' = 0.1 rtol^(2/3)): the error
   estimate is that of an embedded order-3 solution while the solution kept is
   of order 5, so the raw estimate would over-resolve. With this the t_cr error
@@ -132,7 +131,7 @@ class RadauState(NamedTuple):
     cnt: np.ndarray  #: int64 (4,): NFEV, NJEV, N_STEPS, N_REJ
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def new_state(h: float) -> RadauState:
     """The state at a run's start, first step `h` [s] (a jump: see :func:`jump`)."""
     b = np.zeros(1, dtype=np.bool_)
@@ -145,7 +144,7 @@ def new_state(h: float) -> RadauState:
     return st
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy", inline="always")
 def jump(st: RadauState, h: float, h_max: float, t_left: float) -> None:
     """After a discontinuity (the start, a mode change, a stretch of another method): the
     next step min(h, h_max, t_left) [s] with a new Jacobian and LU, no polynomial to
@@ -159,7 +158,7 @@ def jump(st: RadauState, h: float, h_max: float, t_left: float) -> None:
     st.made_jump[0] = True
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy", inline="always")
 def took_jacobian(st: RadauState) -> None:
     """After the driver evaluated the Jacobian (N_STATE right-hand sides): fresh, LU stale."""
     st.cnt[NFEV] += N_STATE
@@ -169,7 +168,7 @@ def took_jacobian(st: RadauState) -> None:
     st.h_lu[0] = math.nan
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy", inline="always")
 def factored(st: RadauState, t: float, t_max: float, ws: RadauWork) -> bool:
     """The step cut to end at `t_max` where it nearly does, and the LU of its Newton
     matrices (kept while h is); False where the LU failed: then the step is cut
@@ -188,14 +187,14 @@ def factored(st: RadauState, t: float, t_max: float, ws: RadauWork) -> bool:
     return True
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy", inline="always")
 def predict(st: RadauState, ws: RadauWork) -> None:
     """Newton's start in ``ws.stage[0]``: the last step's polynomial extrapolated, or zero
     after a jump (a driver with a better guess writes its own)."""
     guess_stages(ws.stage[0], ws.event.zacc, st.h[0], st.h_acc[0], st.have_poly[0])
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy", inline="always")
 def attempt(st: RadauState, ws: RadauWork, t, y, p, scale, rtol, atol, fnewt) -> bool:
     """One step of length ``st.h`` from (t, y): Newton from the guess in ``ws.stage[0]``,
     the error estimate and the step-size quotient (RADAU5's rules, tolerances already
@@ -236,7 +235,7 @@ def attempt(st: RadauState, ws: RadauWork, t, y, p, scale, rtol, atol, fnewt) ->
     return True
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy", inline="always")
 def accepted_outputs(st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt, out):
     """The opening inside the accepted step (looked for while `g_old` > 0 and none found
     yet; located as :func:`locate_opening_at` does) and its dense output up to the step's
@@ -263,7 +262,7 @@ def accepted_outputs(st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt
     return t_event, opened, g_new, i_eval, n_out
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy", inline="always")
 def advance(st: RadauState, ws: RadauWork, t: float, y) -> float:
     """Move to the accepted step's end (`y` in place); its polynomial is kept for the next
     guess. Returns the new time [s]."""
@@ -281,7 +280,7 @@ def advance(st: RadauState, ws: RadauWork, t: float, y) -> float:
     return t + h
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy", inline="always")
 def plan_next(st: RadauState, h_max: float) -> None:
     """The next step after an accepted one (:func:`.radau_control.next_step`)."""
     h, h_lim, slow = next_step(
@@ -295,7 +294,7 @@ def plan_next(st: RadauState, h_max: float) -> None:
     st.jac_fresh[0] = False
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def work_with(y_event) -> RadauWork:
     """:func:`new_work` whose event state is the run's `y_event` (from :func:`.common.start`)."""
     ws = new_work()
@@ -306,7 +305,7 @@ def work_with(y_event) -> RadauWork:
     )
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
+@njit(cache=True, nogil=True, fastmath=False, error_model="python", **REFCOUNT)
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
     p, scale = problem.p, problem.scale

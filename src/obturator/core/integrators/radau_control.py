@@ -100,7 +100,7 @@ _LIM_SHRINK = RADAU5.lim_shrink
 _LIM_GROW = RADAU5.lim_grow
 
 
-@njit(cache=True, fastmath={"contract"}, inline="always")
+@njit(cache=True, fastmath=False, inline="always")
 def newton_contraction(newt, dyno, dynold, thqold, theta, faccon, fnewt):
     """RADAU5's convergence test after Newton iteration `newt` with correction norm dyno.
 
@@ -131,7 +131,7 @@ def newton_contraction(newt, dyno, dynold, thqold, theta, faccon, fnewt):
     return False, theta, thqold, faccon, 1.0
 
 
-@njit(cache=True, fastmath={"contract"}, inline="always")
+@njit(cache=True, fastmath=False, inline="always")
 def step_quotient(err, newt, h, first, h_gus, err_gus):
     """h / h_new after a step with scaled error err (H&W IV.8): the standard factor with
     RADAU5's Newton-dependent safety, and after the first step Gustafsson's predictive
@@ -147,7 +147,7 @@ def step_quotient(err, newt, h, first, h_gus, err_gus):
     return max(quot, facgus), quot
 
 
-@njit(cache=True, fastmath={"contract"}, inline="always")
+@njit(cache=True, fastmath=False, inline="always")
 def next_step(h, h_new, h_lim, h_max, rejected, theta):
     """After an accepted step of length h: (h_next, h_lim, need_jac).
 
@@ -167,7 +167,7 @@ def next_step(h, h_new, h_lim, h_max, rejected, theta):
     return h_new, h_lim, theta > _THET
 
 
-@njit(cache=True, fastmath={"contract"}, inline="always")
+@njit(cache=True, fastmath=False, inline="always")
 def radau5_tolerances(rtol: float, atol: float) -> tuple[float, float, float]:
     """RADAU5's tolerance transformation and its Newton stopping tolerance FNEWT.
 

@@ -68,7 +68,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def _colloc_weights(s: float) -> tuple[float, float, float]:
     """Weights of Z1, Z2, Z3 in the collocation polynomial at t0 + s h (s may exceed 1)."""
     l1 = s * (s - C2) * (s - 1.0) * RD1
@@ -77,7 +77,7 @@ def _colloc_weights(s: float) -> tuple[float, float, float]:
     return l1, l2, l3
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def _factor(h, jac, lu) -> bool:
     """LU of gamma/h I - J (real) and (alpha + i beta)/h I - J (complex, split storage).
 
@@ -101,7 +101,7 @@ def _factor(h, jac, lu) -> bool:
     return lu_factor_complex(lu_cr, lu_ci, piv_c)
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def _newton(t, y, h, p, scal, stage, lu, scratch, faccon0, fnewt):
     """Simplified Newton iterations for the stage increments Z (initial guess in z).
 
@@ -182,7 +182,7 @@ def _newton(t, y, h, p, scal, stage, lu, scratch, faccon0, fnewt):
             return True, newt, theta, faccon, 1.0
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def _dense(y, z, s, out) -> None:
     """Collocation polynomial of the step (y, z) at t0 + s h, written into out."""
     l1, l2, l3 = _colloc_weights(s)
@@ -216,7 +216,7 @@ class RadauWork(NamedTuple):
     event: EventWork  #: its zacc: the last accepted step's z; its stage keeps z and w
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def _cos_nutation(y, p) -> float:
     """cos(theta) of a state, without the atan2 of nutation_angle_of_state."""
     if p[P_FORM] == FORM_EULER:
@@ -225,7 +225,7 @@ def _cos_nutation(y, p) -> float:
     return 1.0 - 2.0 * (y[1] * y[1] + y[2] * y[2]) / q2
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def _restep(t, y, h, s, p, scal, jac, fnewt, ev) -> int:
     """Re-solve the step from (t, y) with length s h (event location); result in ev.ytry.
 
@@ -255,7 +255,7 @@ def _restep(t, y, h, s, p, scal, jac, fnewt, ev) -> int:
     return nfev
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev):
     """Look for the opening inside an accepted step and locate it.
 
@@ -318,7 +318,7 @@ def locate_opening_at(step, p, scal, jac, fnewt, event_tol, ev):
     return True, t + s_hi * h, nfev
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def new_work() -> RadauWork:
     """The arrays of one run (allocated once per run)."""
     n = N_STATE
@@ -338,7 +338,7 @@ def new_work() -> RadauWork:
     )  # fmt: skip
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def guess_stages(z, zacc, h, h_acc, have_poly) -> None:
     """The Newton start: the last step's collocation polynomial extrapolated to this
     step's nodes, or zero before the first accepted step."""
@@ -354,7 +354,7 @@ def guess_stages(z, zacc, h, h_acc, have_poly) -> None:
                 z[k, i] = 0.0
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def error_estimate(t, y, h, p, scale, rtol, atol, once_more, ws) -> tuple[float, int]:
     """The embedded error estimate of a converged step (H&W IV.8).
 
@@ -390,7 +390,7 @@ def error_estimate(t, y, h, p, scale, rtol, atol, once_more, ws) -> tuple[float,
     return err, nfev
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="numpy")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="numpy")
 def dense_rows(t, y, h, z, t_stop, t_eval, i_eval, ts, ys, n_out, ytry) -> tuple[int, int]:
     """Dense output (the step's collocation polynomial) at the output times inside
     (t, t_stop]; returns the next output time's index and the row count."""

@@ -253,7 +253,7 @@ def run_cycles(stick_slip: float = STICK_SLIP, kick: float = KICK):
 # that is not is linked into its caller as a copy that a process loading the caller from
 # the cache runs, optimised again there, while a compiling process binds the callee's
 # own code (the two may round differently: benchmarks/cache_binding.py)
-_PHASE = dict(cache=True, fastmath={"contract"}, error_model="python", inline="always")
+_PHASE = dict(cache=True, fastmath=False, error_model="python", inline="always")
 
 
 @njit(**_PHASE, **NO_REFCOUNT)
@@ -425,7 +425,7 @@ def _fast_slip(st: RadauState, y, p, scale, f0, t, r, speeds, controls, out, end
     return t, ran, False, status, t_event, i_eval, ts, ys, n_out
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="python", **REFCOUNT)
+@njit(cache=True, nogil=True, fastmath=False, error_model="python", **REFCOUNT)
 def _integrate(problem, controls, stick_slip, kick, cycle_end):
     """The mode loop: closed-form stick phases, Radau IIA slip phases (see module).
 

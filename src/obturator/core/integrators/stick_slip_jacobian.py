@@ -34,7 +34,7 @@ SLIP_INCREMENT = 1e-3
 _SQRT_EPS = math.sqrt(2.220446049250313e-16)
 
 
-@njit(cache=True, fastmath={"contract"}, **NO_REFCOUNT, error_model="python")
+@njit(cache=True, fastmath=False, **NO_REFCOUNT, error_model="python")
 def slip_jacobian(t, y, f0, p, scale, jac, work, fwork, floor) -> None:
     """Forward-difference Jacobian `jac` of the right-hand side at (t, y), f0 = f(t, y).
 

@@ -129,7 +129,7 @@ def applies(problem: Problem, controls: Controls) -> bool:
     )
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _canonical(theta: float, p: np.ndarray, wp: float, back: float, out: np.ndarray) -> float:
     """`out` = stick state at nutation `theta`, turned `back` [rad] before its breakaway,
     phi = 0 (z at azimuth 0 first, where stick holds longest); returns the breakaway
@@ -147,7 +147,7 @@ def _canonical(theta: float, p: np.ndarray, wp: float, back: float, out: np.ndar
     return angle
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _body_turn(y: np.ndarray, phi: float) -> None:
     """q <- q z(phi) in place (turn about the body's hole axis), rates for stick."""
     c, s = math.cos(0.5 * phi), math.sin(0.5 * phi)
@@ -158,7 +158,7 @@ def _body_turn(y: np.ndarray, phi: float) -> None:
     y[3] = q3 * c + q0 * s
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def compose(theta: float, k: int, phi: float, p: np.ndarray, wp: float, out: np.ndarray) -> bool:
     """`out` = the breakaway state Z(k pi) B(theta) z(phi) in stick; False if none."""
     angle = _canonical(theta, p, wp, 0.0, out)
@@ -170,7 +170,7 @@ def compose(theta: float, k: int, phi: float, p: np.ndarray, wp: float, out: np.
     return True
 
 
-@njit(cache=True, **REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **REFCOUNT, fastmath=False, error_model="python")
 def decompose(y: np.ndarray, p: np.ndarray, wp: float) -> tuple[bool, float, int, float]:
     """(ok, theta, k, phi) of a breakaway state y = Z(k pi) B(theta) z(phi) (k in 0, 1)."""
     n = math.sqrt(y[0] ** 2 + y[1] ** 2 + y[2] ** 2 + y[3] ** 2)
@@ -192,7 +192,7 @@ def decompose(y: np.ndarray, p: np.ndarray, wp: float) -> tuple[bool, float, int
     return best < 1e-6, theta, k_best, phi
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def _clenshaw(c: np.ndarray, x: float) -> float:
     """Chebyshev series sum_j c_j T_j(x), x in [-1, 1]."""
     b1 = 0.0
@@ -202,7 +202,7 @@ def _clenshaw(c: np.ndarray, x: float) -> float:
     return x * b1 - b2 + c[0]
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def abscissa(theta: float) -> float:
     """The map's variable log(cot theta) (theta in (0, pi/2)): the exit windows'
     half-width kappa is proportional to sin theta cos theta, and D ~ kappa^3 near
@@ -216,7 +216,7 @@ def nutation_at(x: np.ndarray) -> np.ndarray:
     return np.arctan(np.exp(-x))
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def iterate(theta, t, phi, lo, hi, c_logd, c_time, c_phi, theta_stop, t_stop, last):
     """Iterate the map from the breakaway (theta, t, phi) while more than `last` cycles
     are left to `theta_stop` and the time stays below `t_stop`; [lo, hi] the interval of

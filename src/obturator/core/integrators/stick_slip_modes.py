@@ -100,21 +100,21 @@ def check_set_valued_law(p: np.ndarray, solver: str) -> None:
         )
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def slip(y: np.ndarray) -> tuple[float, float, float, float]:
     """omega_r (inertial) and |omega_r| [rad/s] of a state."""
     wx, wy, wz = relative_rate(y, y[7])
     return wx, wy, wz, math.sqrt(wx * wx + wy * wy + wz * wz)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def stick_admissible(y: np.ndarray, p: np.ndarray) -> bool:
     """G_req of `y` inside F with the relative margin _MARGIN."""
     gx, gy, gz = required_reaction(y, p, y[7])
     return stick_margin(gx, gy, gz, p) > _MARGIN * moment_scale(p)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def stick_ratio(y: np.ndarray, p: np.ndarray) -> float:
     """kappa = |G_req| / M [-] at `y` (inf for a law with no moment scale)."""
     gx, gy, gz = required_reaction(y, p, y[7])
@@ -122,7 +122,7 @@ def stick_ratio(y: np.ndarray, p: np.ndarray) -> float:
     return math.sqrt(gx * gx + gy * gy + gz * gz) / scale if scale > 0.0 else math.inf
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def slip_speed_unit(p: np.ndarray, h_max: float) -> float:
     """(M / A) h_max [rad/s]: the slip speed whose direction relaxes in about one largest
     step `h_max` [s] (relaxation rate ~ M / (A |omega_r|)); the unit of
@@ -130,7 +130,7 @@ def slip_speed_unit(p: np.ndarray, h_max: float) -> float:
     return moment_scale(p) / p[P_A] * h_max
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def slip_rate(y: np.ndarray, f: np.ndarray) -> float:
     """d|omega_r|/dt [rad/s^2] at `y` with derivative `f` (omega_r' = R w' - omega_p' Z)."""
     wx, wy, wz, r = slip(y)
@@ -148,14 +148,14 @@ def slip_rate(y: np.ndarray, f: np.ndarray) -> float:
     return (wx * ax + wy * ay + wz * az) / r
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def excess(y: np.ndarray, p: np.ndarray) -> float:
     """-stick_margin of G_req at `y` [N m]: how far G_req is outside F."""
     gx, gy, gz = required_reaction(y, p, y[7])
     return -stick_margin(gx, gy, gz, p)
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> float:
     """Start a slip from zero slip at `y` (in place); returns the time it takes [s].
 
@@ -201,7 +201,7 @@ def break_away(y: np.ndarray, p: np.ndarray, kick: float, work: np.ndarray) -> f
     return tau
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="python")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")
 def through_window(y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval):
     """Hold the ball rigidly through part of an exit window of F (in place on `y`).
 

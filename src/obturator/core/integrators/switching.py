@@ -116,7 +116,7 @@ def over_step_budget(n_tried, steps_per_time, t, t0) -> bool:
     return n_tried > steps_per_time * (t - t0) + STEP_ALLOWANCE
 
 
-@njit(cache=True, fastmath={"contract"}, inline="always")
+@njit(cache=True, fastmath=False, inline="always")
 def sliding_resumed(t, t_stick, slip, spin, width):
     """After an accepted Radau IIA step at time t: (hand back, t_stick).
 

@@ -99,7 +99,7 @@ class Attempt(NamedTuple):
     scratch: tuple  #: (work, trial state, derivative) of the scalar routines
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def _new_lanes(n_par: int) -> Lanes:
     f = np.zeros(LANES)
     i = np.zeros(LANES, dtype=np.int64)
@@ -125,7 +125,7 @@ def _new_lanes(n_par: int) -> Lanes:
     )
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def _new_attempt(n_par: int) -> Attempt:
     v = np.zeros(_N * LANES)
     f = np.zeros(LANES)
@@ -149,7 +149,7 @@ def _new_attempt(n_par: int) -> Attempt:
     )
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, nogil=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def integrate_lanes(
     y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes
 ):  # fmt: skip
@@ -200,7 +200,7 @@ def integrate_lanes(
     return out.status, out.t_event, out.t_end, out.y_end, cnt[0], cnt[1], cnt[2]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
 def _run(
     pts: Points, ln: Lanes, at: Attempt, out: Outcome, nl, quaternion, rtol, atol, event_tol
 ) -> None:
@@ -398,7 +398,7 @@ def _stages_thesis_lanes(y, h, p, k, ynew, work) -> None:
     stage_sum(12, y, h, k, ynew)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
 def _stages_generic_lanes(y, h, p, k, ynew, work, nl, one) -> None:
     """:func:`_stages_thesis_lanes` with the generic right-hand side in lanes 0..nl-1."""
     for s in range(1, 12):
@@ -452,7 +452,7 @@ _GO_ON = -100
 _T_MAX, _STEP_LIMIT, _STIFF = int(Status.T_MAX), int(Status.STEP_LIMIT), int(Status.STIFF)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
 def _top_of_step(t, t0, h, t_max, steps_per_s, n_steps, n_rejected, max_steps):
     """The checks at the top of dop853.integrate's loop for one lane (started at t0).
 

@@ -21,7 +21,7 @@ _KS = N_STATE * LANES
 __all__ = ["stage_sum", "error_sums"]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum1(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -32,7 +32,7 @@ def _sum1(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum2(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -44,7 +44,7 @@ def _sum2(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum3(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -56,7 +56,7 @@ def _sum3(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum4(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -69,7 +69,7 @@ def _sum4(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum5(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -82,7 +82,7 @@ def _sum5(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum6(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -96,7 +96,7 @@ def _sum6(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum7(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -111,7 +111,7 @@ def _sum7(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum8(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -127,7 +127,7 @@ def _sum8(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum9(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -144,7 +144,7 @@ def _sum9(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum10(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -162,7 +162,7 @@ def _sum10(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum11(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -181,7 +181,7 @@ def _sum11(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def _sum12(y, h, k, out):  # pragma: no cover - compiled
     for i in range(N_STATE):
         r = i * LANES
@@ -199,7 +199,7 @@ def _sum12(y, h, k, out):  # pragma: no cover - compiled
             out[u] = y[u] + h[j] * acc
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def stage_sum(s, y, h, k, out):  # pragma: no cover - compiled
     """out = y + h * sum_m A[s, m] k_m (s = 1..11), or the B-weighted sum (s = 12)."""
     if s == 1:
@@ -228,7 +228,7 @@ def stage_sum(s, y, h, k, out):  # pragma: no cover - compiled
         _sum12(y, h, k, out)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")
+@njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 def error_sums(k, y, ynew, rtol, atol, scale, s5, s3):  # pragma: no cover
     """s5, s3 = sum_i (e5_i / sc_i)^2, sum_i (e3_i / sc_i)^2 per lane, e5 and e3 the
     E5- and E3-weighted stage sums (as dop853._error_norm, in its order)."""

@@ -5,8 +5,8 @@ per lane (:mod:`.pivot`); the solves are generated with their offsets written ou
 (:mod:`.solves`). Per lane the operations are those of
 :func:`obturator.core.integrators.linalg.lu_factor` and
 :func:`obturator.core.integrators.linalg.lu_factor_complex` in the same order (the
-reciprocal pivot on the diagonal, |re| + |im| as the complex pivot measure), FMA
-contraction allowed as there. ``vw`` is the lane count, passed at run time (always
+reciprocal pivot on the diagonal, |re| + |im| as the complex pivot measure), no
+fast-math (:mod:`obturator.core.jit_flags`). ``vw`` is the lane count, passed at run time (always
 ``LANES``): with the constant LLVM unrolled the 16-lane loops into scalar code.
 
 Written as loops over rows and columns on purpose: a generated form with every offset a

@@ -52,7 +52,7 @@ class Outcome(NamedTuple):
     counts: np.ndarray  #: (3, n) int64: right-hand sides, accepted and rejected steps
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def new_outcome(n: int) -> Outcome:
     """An :class:`Outcome` for `n` points (status 0, t_event NaN, the rest zeros)."""
     return Outcome(
@@ -64,7 +64,7 @@ def new_outcome(n: int) -> Outcome:
     )
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def finish(out, j, status, t_event, y, t, idx, cnt) -> bool:
     """Write the outcome of lane j (its state `y`, time `t`, counters rows 0-2 of `cnt`)
     to its point ``idx[j]``; returns False (the lane is free)."""
@@ -101,7 +101,7 @@ def copy_lane(x, a, b) -> None:
         x[i * LANES + b] = x[i * LANES + a]
 
 
-@njit(cache=True, **NO_REFCOUNT, fastmath={"contract"}, error_model="numpy")
+@njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="numpy")
 def lane_vector(x, j, k, out) -> None:
     """Copy lane j of the k-th vector of `x` (offset ``k * N_STATE * LANES``) into out."""
     for i in range(N_STATE):

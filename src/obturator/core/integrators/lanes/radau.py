@@ -112,7 +112,7 @@ _M = N_STATE * N_STATE * LANES  # one matrix of every lane
 _RUNNING, _CONVERGED, _FAILED, _IDLE = 0, 1, 2, 3
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, nogil=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def integrate_radau_lanes(
     y0,
     t0,
@@ -183,7 +183,7 @@ def integrate_radau_lanes(
     return out.status, out.t_event, out.t_end, out.y_end, cnt[0], cnt[1], cnt[2]
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **NO_REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)
 def _run(pts: Points, ln: Lanes, at: Attempt, one: OneLane, out: Outcome, nl, tol) -> None:
     """The loop of :func:`integrate_radau_lanes`: refill and pack the lanes, then one
     attempted step of every lane in the phases of the module docstring, then each lane's

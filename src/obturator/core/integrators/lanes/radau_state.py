@@ -120,7 +120,7 @@ class Settings(NamedTuple):
     generic: bool  #: the generic right-hand side, else the thesis kernel (.rates.rates_lanes)
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def new_lanes(n_par: int) -> Lanes:
     f = np.zeros(LANES)
     one = np.ones(LANES)
@@ -159,7 +159,7 @@ def new_lanes(n_par: int) -> Lanes:
     )
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def new_attempt() -> Attempt:
     nw = np.zeros(NW_SIZE)
     scal = nw[NW_SCAL : NW_SCAL + _V]
@@ -206,7 +206,7 @@ def new_attempt() -> Attempt:
     )
 
 
-@njit(cache=True, fastmath={"contract"}, error_model="numpy", **REFCOUNT)
+@njit(cache=True, fastmath=False, error_model="numpy", **REFCOUNT)
 def new_one_lane(n_par: int) -> OneLane:
     s = np.empty(_N)
     m = np.empty((_N, _N))

@@ -8,8 +8,8 @@ Vectors are flat and component-major (``x[i * LANES + lane]``, :mod:`.simd`).
 
 The vector loops always run over all :data:`~.simd.LANES` lanes, live or not: with a
 trip count below the vector width part of the lanes would run through LLVM's scalar
-remainder loop, whose FMA contraction may differ, and a point's t_cr would depend on
-how many points shared its batch (observed at the last digit).
+remainder loop instead (the same bits without fast-math, :mod:`obturator.core.jit_flags`,
+but one loop shape for every batch keeps that from resting on the flags alone).
 """
 
 from __future__ import annotations
@@ -123,7 +123,7 @@ def _thesis_lanes(y, p, dy, do, turbulent, speed) -> int:
     return n_above
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath=False)
 def rhs_generic_lanes(y, p, dy, do, nl, one) -> None:
     """The generic right-hand side (:func:`~obturator.core.dynamics.rhs`) in lanes
     0..nl-1, through `one` = (state, derivative, parameters) of one lane (scratch)."""
@@ -131,7 +131,7 @@ def rhs_generic_lanes(y, p, dy, do, nl, one) -> None:
         _generic_lane(y, p, dy, do, j, one)
 
 
-@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
+@njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath=False)
 def rhs_generic_masked_lanes(y, p, dy, do, nl, one, mask) -> None:
     """:func:`rhs_generic_lanes` in the lanes 0..nl-1 with `mask` set only: the generic
     right-hand side costs as much per lane as the scalar one, so a lane driver in lock
@@ -141,7 +141,7 @@ def rhs_generic_masked_lanes(y, p, dy, do, nl, one, mask) -> None:
             _generic_lane(y, p, dy, do, j, one)
 
 
-@njit(inline="always", cache=True, error_model="numpy", **NO_REFCOUNT, fastmath={"contract"})
+@njit(inline="always", cache=True, error_model="numpy", **NO_REFCOUNT, fastmath=False)
 def _generic_lane(y, p, dy, do, j, one) -> None:
     """rhs of lane j (gathered into `one`, scattered back into ``dy[do:]``)."""
     ys, ds, ps = one

@@ -14,17 +14,17 @@ __all__ = ["LANES", "LANE_KERNEL", "DRIVER_PHASE", "NO_REFCOUNT", "REFCOUNT"]
 LANES = 16
 
 #: numba's flags for the lane kernels, the functions called once per step (or stage)
-#: for all lanes that allocate nothing: FMA contraction, the NumPy error model (a
+#: for all lanes that allocate nothing: no fast-math, the NumPy error model (a
 #: division never raises, so loops vectorise) and no reference counting
 #: (:data:`obturator.core.jit_flags.NO_REFCOUNT`).
 LANE_KERNEL: dict[str, object] = {
     "cache": True,
-    "fastmath": {"contract"},
+    "fastmath": False,
     "error_model": "numpy",
     **NO_REFCOUNT,
 }
 
 #: numba's flags for the phases of the lane drivers' loops: compiled into the loop
-#: (numba inlines them), as it is compiled (FMA contraction, the NumPy error model, no
+#: (numba inlines them), as it is compiled (no fast-math, the NumPy error model, no
 #: reference counting), so each driver's loop is one function with no reference counts.
 DRIVER_PHASE: dict[str, object] = {**LANE_KERNEL, "inline": "always"}
