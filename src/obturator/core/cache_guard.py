@@ -49,8 +49,8 @@ _DIGEST = 32
 _MAX_BYTES = 1 << 30
 _PACKAGE = Path(__file__).resolve().parent.parent
 _noticed: set[str] = set()
-#: Cache folders this process cannot write: their functions compile in memory.
-_unwritable: set[str] = set()
+#: Cache folders this process cannot write, and why: their functions compile in memory.
+_unwritable: dict[str, str] = {}
 
 
 class _Damaged(Exception):
@@ -101,7 +101,8 @@ def set_aside(cache_path: str, why: str) -> None:
     except OSError:
         fresh = False
     if not fresh:
-        _unwritable.add(cache_path)
+        _unwritable[cache_path] = "damaged"
+        _noticed.add("unwritable")  # this notice says it
     where = f"; set aside as {aside}" if aside else ""
     into = "into a fresh cache" if fresh else "in memory"
     _notice(
@@ -110,15 +111,13 @@ def set_aside(cache_path: str, why: str) -> None:
     )
 
 
-def _cannot_write(cache_path: str, exc: OSError) -> None:
-    """Compile the folder's functions in memory from now on, with one notice."""
-    _unwritable.add(cache_path)
-    why = exc.strerror or type(exc).__name__
+def _cannot_write(cache_path: str) -> None:
+    """Say once that a compiled function is kept in memory only."""
     _notice(
         "unwritable",
-        f"compiled-code cache {cache_path} cannot be written ({why}); compiling in "
-        "memory (nothing is kept for the next run; set NUMBA_CACHE_DIR to a writable "
-        "folder)",
+        f"compiled-code cache {cache_path} cannot be written ({_unwritable[cache_path]}); "
+        "compiling in memory (nothing is kept for the next run; set NUMBA_CACHE_DIR to a "
+        "writable folder)",
     )
 
 
@@ -155,16 +154,20 @@ def _read(path: str) -> bytes | None:
         return None
     except OSError as exc:
         raise _Damaged(f"cannot be read: {exc.strerror or type(exc).__name__}") from None
-    with os.fdopen(fd, "rb") as f:
+    try:
         info = os.fstat(fd)
         if not stat.S_ISREG(info.st_mode):
             raise _Damaged("not a regular file")
         if info.st_size > _MAX_BYTES:
             raise _Damaged(f"{info.st_size} bytes, too large")
-        try:
-            return f.read()
-        except OSError as exc:
-            raise _Damaged(f"cannot be read: {exc.strerror or type(exc).__name__}") from None
+        parts = []
+        while part := os.read(fd, 1 << 20):
+            parts.append(part)
+        return b"".join(parts)
+    except OSError as exc:
+        raise _Damaged(f"cannot be read: {exc.strerror or type(exc).__name__}") from None
+    finally:
+        os.close(fd)
 
 
 def _in_package(py_file: str) -> bool:
@@ -200,8 +203,8 @@ def _locator_class() -> type:
                 if os.path.lexists(path) and not os.path.isdir(path):
                     set_aside(path, "not a folder")
                 super().ensure_cache_path()
-            except OSError as exc:
-                _cannot_write(path, exc)
+            except OSError as exc:  # said when a function compiles (a warm cache loads)
+                _unwritable[path] = exc.strerror or type(exc).__name__
 
     return OwnCacheLocator
 
@@ -269,13 +272,14 @@ def install() -> None:
         _write(self, self._data_path(name), _seal(name, self._dump(data), self._source_stamp))
 
     def _write(self, path: str, blob: bytes) -> None:  # type: ignore[no-untyped-def]
-        if self._cache_path in _unwritable:
-            return
-        try:
-            with self._open_for_write(path) as f:
-                f.write(blob)
-        except OSError as exc:  # read-only, full disk, a folder in the file's place
-            _cannot_write(self._cache_path, exc)
+        if self._cache_path not in _unwritable:
+            try:
+                with self._open_for_write(path) as f:
+                    f.write(blob)
+                return
+            except OSError as exc:  # read-only, full disk, a folder in the file's place
+                _unwritable[self._cache_path] = exc.strerror or type(exc).__name__
+        _cannot_write(self._cache_path)
 
     cls._load_index, cls._save_index = load_index, save_index
     cls._load_data, cls._save_data = load_data, save_data

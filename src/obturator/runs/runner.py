@@ -23,6 +23,7 @@ import numpy as np
 
 from ..errors import InputError
 from .chunks import PROBE_TASKS, TASK_CHUNK, Job, make_chunks, probe
+from .cluster import needs_cluster_extra
 from .pools import InProcess, ProcessPool, choose_executor, default_workers
 from .progress import Progress
 from .results import MapResults, run_tasks
@@ -101,6 +102,8 @@ class Runner:
             raise InputError("chunk_size", f"{self.chunk_size} is outside the allowed range >= 1")
         if isinstance(self.progress, bool):
             self.progress = Progress.auto(self.progress)
+        if isinstance(self.scheduler, str):
+            needs_cluster_extra()
 
     @property
     def reporter(self) -> Progress:
