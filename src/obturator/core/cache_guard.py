@@ -150,7 +150,7 @@ def _read(path: str) -> bytes | None:
     flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0)
     try:
         fd = os.open(path, flags)
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):  # no such file (its folder cannot exist)
         return None
     except OSError as exc:
         raise _Damaged(f"cannot be read: {exc.strerror or type(exc).__name__}") from None
