@@ -8,12 +8,10 @@ For the rig (mu_s = 0.5473) at each spin: t_cr of each method (``regularised``: 
 then Radau IIA where stiff; ``radau``: Radau IIA alone) for every friction family x
 width (``friction_width``, relative to omega_p) x rtol (atol = rtol/100), and its
 relative error against the exact limit (:data:`benchmarks.exact_limit.LIMIT_REFERENCE`,
-the set-valued solver at rtol 1e-12). The regularised t_cr approaches the limit as the
-width shrinks (the width's own error is below 1e-8 from 1e-9 down); an error that
-grows again as the width shrinks is the path failing to carry the width, which
-:mod:`obturator.solve.limits` refuses. Printed: one row per setting, the error at each
-spin and the worst. Results: ``docs/benchmarks.md``-style notes in the report of the
-change that added this script.
+the set-valued solver at rtol 1e-12). The width's own error shrinks with the width; an
+error that jumps above that trend as the width shrinks is the path failing to carry
+the width (its Radau IIA stick phases), which :mod:`obturator.solve.limits` refuses.
+Printed: one row per setting with the error at each spin; ``--json`` keeps the rows.
 """
 
 from __future__ import annotations

@@ -5,10 +5,10 @@ The regularised friction law turns stick into slip within a slip speed of
 The paths that integrate those phases with Radau IIA (``"regularised"``: DOP853, then
 Radau IIA where stiff; ``"radau"``; ``"auto"`` for the cases it runs regularised) do
 not carry every width of the allowed range: below :data:`MIN_FRICTION_WIDTH` their
-t_cr leaves the width-free limit by orders of magnitude more than the width itself
-moves it (measured by ``python -m benchmarks.regularised_limits`` against the
-set-valued solver at rtol 1e-12, for every friction family and tolerance). There the
-width-free limit itself is the answer: ``method="set-valued"``.
+t_cr jumps away from the width-free limit, far above the trend of the width's own
+error (measured by ``python -m benchmarks.regularised_limits`` against the set-valued
+solver at rtol 1e-12). There the width-free limit itself is the answer:
+``method="set-valued"``.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from ..errors import InputError
 __all__ = ["MIN_FRICTION_WIDTH", "check_regularised_limits"]
 
 #: Smallest ``friction_width`` [1/omega_p] each method carries (methods not named: any
-#: width of the allowed range). Every family, every tolerance of the allowed range.
+#: width of the allowed range), for every family and tolerance.
 MIN_FRICTION_WIDTH: dict[str, float] = {
     "auto": 1e-10,
     "regularised": 1e-10,
