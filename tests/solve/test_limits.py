@@ -25,7 +25,7 @@ def test_width_below_the_limit_is_refused_naming_field_and_range(method: str) ->
     assert f"[{lo:g}, 1]" in err.value.message and repr(method) in err.value.message
 
 
-@pytest.mark.parametrize("method", ["set-valued", "moreau-jean", "rosenbrock"])
+@pytest.mark.parametrize("method", ["auto", "set-valued", "moreau-jean", "rosenbrock"])
 def test_other_methods_keep_the_whole_range(method: str) -> None:
     SolverOptions(method=method, friction_width=1e-12)
 

@@ -199,7 +199,11 @@ def _why_lost(pool: ProcessPoolExecutor) -> str:
     """How the pool's lost worker ended, from the exit codes of its processes."""
     import signal
 
-    codes = [p.exitcode for p in getattr(pool, "_obturator_workers", [])]
+    workers = getattr(pool, "_obturator_workers", [])
+    for proc in workers:  # the dead one is reaped at once; the others as the pool ends them
+        with suppress(Exception):
+            proc.join(timeout=1.0)
+    codes = [p.exitcode for p in workers]
     # the pool ends the other workers itself, with SIGTERM
     ended = [c for c in codes if c not in (None, 0, -signal.SIGTERM)]
     if not ended:
