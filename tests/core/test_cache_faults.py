@@ -233,3 +233,26 @@ def test_cache_folder_that_cannot_exist_is_one_notice(
     notices = _notices(done)
     assert len(notices) == 1 and want in notices[0], done.stderr
     _nothing_beside_source(built[0])
+
+
+def test_package_functions_are_never_cached_beside_their_source(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # numba's own locators fall back to ``__pycache__`` beside the source when the cache
+    # folder cannot be written: for the package's functions the guard's locator answers
+    # first, with the configured folder, written or not
+    from numba.core import caching, config
+
+    from obturator.core import cache_guard, jit_cache
+
+    cache_guard.install()
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    _read_only(ro)
+    monkeypatch.setattr(config, "CACHE_DIR", str(ro / "obturator-cache"))
+    try:
+        impl = caching.CompileResultCacheImpl(jit_cache.core_digest)  # a package function
+    finally:
+        _writable(ro)
+    path = impl.locator.get_cache_path()
+    assert path.startswith(str(ro)) and "__pycache__" not in path
