@@ -154,3 +154,31 @@ def test_campaigns_of_separated_models_are_decisive_as_predicted():
     expected = float(norm.cdf(-z))  # P(log BF_a > ln 10) under a
     assert rates["a"].p_decisive == pytest.approx(expected, abs=0.02)
     assert rates["b"].p_decisive == pytest.approx(expected, abs=0.02)
+
+
+def test_greedy_exchange_reports_every_step():
+    # the progress display is told n_runs * (1 + passes) steps whatever pass the search
+    # stops at (a separable value: the exchange passes end after the first)
+    from obturator.design.criterion import EXCHANGE_PASSES
+
+    steps: list[int] = []
+    score = {0: 1.0, 1: 3.0, 2: 2.0}
+    plan, _ = greedy_exchange(
+        4, list(score), lambda p: sum(score[i] for i in p), advance=steps.append
+    )
+    assert plan == [1, 1, 1, 1]  # the best candidate, 4 times: by hand
+    assert sum(steps) == 4 * (1 + EXCHANGE_PASSES)
+
+
+def test_plan_search_shows_progress_lines(capsys):
+    # the plan search of design-experiment reports through the runner's one display
+    from obturator.design.study import _best_plans
+    from obturator.runs import Progress, Runner
+
+    score = {0: 1.0, 1: 3.0, 2: 2.0}
+    settings = [Setting(100.0), Setting(200.0), Setting(300.0)]
+    runner = Runner(workers=1, progress=Progress("lines", interval_s=0.0))
+    plans = _best_plans([2, 3], list(score), lambda p: sum(score[i] for i in p), settings, runner)
+    assert sorted(plans) == [2, 3]
+    lines = [ln for ln in capsys.readouterr().err.splitlines() if "plan search" in ln]
+    assert lines and all(ln.startswith("obturator: design: plan search: ") for ln in lines)

@@ -1,14 +1,19 @@
 """Environment variables, checked at start-up before numba is imported.
 
 Our own switches and the numba variables that would otherwise end the run in
-a traceback at import (``NUMBA_NUM_THREADS=0``) or a raw warning
-(``NUMBA_OPT=abc``) are checked here: a bad value is one line
+a traceback at import (``NUMBA_NUM_THREADS=0``) or a raw warning with numba's
+traceback text (``NUMBA_OPT=MAX``, an empty value) are checked here, as numba parses
+them (words exactly, whole numbers by ``int``); ``NUMBA_DISABLE_JIT`` other than 0 is
+refused (the package runs its integrators compiled only). A bad value is one line
 ``obturator: error: <VARIABLE>: ...`` and exit code 2.
 """
 
 from __future__ import annotations
 
 import os
+import re
+import sys
+import warnings
 from collections.abc import Mapping
 
 from ..errors import InputError
@@ -65,11 +70,11 @@ def check_environment(env: Mapping[str, str] | None = None) -> None:
             raise InputError(name, f"{value[:40]!r}; allowed: 0 or 1 ({what})")
     for name, words in NUMBA_WORDS.items():
         value = env.get(name)
-        if value is not None and value.strip() and value.strip().lower() not in words:
+        if value is not None and value not in words:  # numba compares exactly
             raise InputError(name, f"{value[:40]!r}; allowed: {', '.join(words)}")
     for name, lo in NUMBA_INTEGERS.items():
         value = env.get(name)
-        if value is None or not value.strip():
+        if value is None:
             continue
         try:
             n = int(value)
@@ -77,6 +82,40 @@ def check_environment(env: Mapping[str, str] | None = None) -> None:
             raise InputError(name, f"{value[:40]!r} is not a whole number") from None
         if n < lo:
             raise InputError(name, f"{n} is outside the allowed range >= {lo}")
+        if name == "NUMBA_DISABLE_JIT" and n != 0:
+            raise InputError(
+                name,
+                f"{n} is not supported: obturator runs its integrators compiled only; "
+                "allowed: 0 (or unset)",
+            )
+    if env is os.environ:
+        _numba_parses()
     cache = env.get("NUMBA_CACHE_DIR")
     if cache and os.path.exists(cache) and not os.path.isdir(cache):
         raise InputError("NUMBA_CACHE_DIR", f"{cache!r} exists and is not a folder")
+
+
+def _numba_parses() -> None:
+    """Any other ``NUMBA_*`` variable that numba cannot parse: one line, not its traceback.
+
+    numba reads its variables when it is imported and warns with the traceback of a
+    failed parse; that import is done here only when such a variable is set.
+    """
+    known = {*NUMBA_WORDS, *NUMBA_INTEGERS, "NUMBA_CACHE_DIR"}
+    if "numba" in sys.modules or not any(
+        k.startswith("NUMBA_") and k not in known for k in os.environ
+    ):
+        return
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        import numba.core.config  # noqa: F401
+    for w in caught:
+        found = re.match(r"Environment variable '(NUMBA_\w+)' is defined but", str(w.message))
+        if found:
+            name = found.group(1)
+            value = os.environ.get(name, "")
+            raise InputError(
+                name,
+                f"{value[:40]!r} is not a value numba can read (its environment variables: "
+                "numba.readthedocs.io/en/stable/reference/envvars.html)",
+            )

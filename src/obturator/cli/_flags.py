@@ -20,7 +20,7 @@ from typing import Any
 from ..params import SWEEP_PARAMS, Range
 from ..vocab import CASE_NAMES, FRICTION_FAMILIES, METHODS, SPEED_LAWS, SPIN_MODES, TORQUE_MODELS
 from ._args import MAX_WORKERS, SEED, axis_of, flag, quantity_of
-from ._kinds import Count, InputFile, OutputFile, Quantity, Text
+from ._kinds import Count, InputFile, OutputFile, Quantity, SchedulerAddress, Text
 
 __all__ = [
     "Flag",
@@ -200,7 +200,7 @@ def execution_flags() -> tuple[Flag, ...]:
         option(
             "--scheduler",
             metavar="ADDRESS",
-            type=Text(example="tcp://127.0.0.1:1"),
+            type=SchedulerAddress(example="tcp://127.0.0.1:1"),
             help="dask.distributed scheduler, e.g. tcp://host:8786",
         ),
         count("--chunk-size", 1, MAX_POINTS, "points per task (default: automatic)"),

@@ -28,6 +28,7 @@ __all__ = [
     "OutputDir",
     "InputFile",
     "Text",
+    "SchedulerAddress",
     "NameOrFile",
     "kind_of",
     "MAX_TEXT",
@@ -206,6 +207,19 @@ class Text(Kind):
             raise InputError("value", "empty value")
         if any(ord(c) < 32 for c in text):
             raise InputError("value", "contains control characters")
+        return text
+
+
+@dataclass(eq=False)
+class SchedulerAddress(Text):
+    """A dask.distributed scheduler address: refused while parsing, before any work, when
+    the ``cluster`` extra that connects to it is not installed."""
+
+    def convert(self, text: str) -> str:
+        from ..runs.cluster import needs_cluster_extra
+
+        text = super().convert(text)
+        needs_cluster_extra()
         return text
 
 

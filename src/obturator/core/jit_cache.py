@@ -26,9 +26,15 @@ __all__ = ["CORE_MODULES", "core_digest", "configure_cache"]
 _PACKAGE = Path(__file__).resolve().parent.parent
 
 
+#: The modules of ``core/`` that hold no compiled code (this cache machinery): an edit
+#: of them leaves every cached function valid. A change of the cache files' format
+#: changes ``cache_guard.SEAL``, which the digest covers instead.
+_NOT_COMPILED = ("core/cache_guard.py", "core/jit_cache.py")
+
+
 def _core_modules() -> tuple[str, ...]:
     core = sorted(p.relative_to(_PACKAGE).as_posix() for p in (_PACKAGE / "core").rglob("*.py"))
-    return ("status.py", *core)
+    return ("status.py", *(name for name in core if name not in _NOT_COMPILED))
 
 
 #: The modules (relative to the package) whose source the compiled core depends on.
@@ -45,8 +51,10 @@ def core_digest(root: Path | None = None, names: Sequence[str] = CORE_MODULES) -
     names : sequence of str
         File names, in a fixed order.
     """
+    from .cache_guard import SEAL
+
     root = _PACKAGE if root is None else root
-    h = hashlib.sha256()
+    h = hashlib.sha256(SEAL)
     for name in names:
         h.update(name.encode())
         h.update((root / name).read_bytes())

@@ -30,7 +30,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["box_hill", "gaussian_kl", "greedy_exchange", "jeffreys", "plan_value"]
+__all__ = [
+    "EXCHANGE_PASSES",
+    "box_hill",
+    "gaussian_kl",
+    "greedy_exchange",
+    "jeffreys",
+    "plan_value",
+]
 
 
 def gaussian_kl(
@@ -87,25 +94,36 @@ def plan_value(
     return box_hill(means, covs)
 
 
+#: Most exchange passes of :func:`greedy_exchange` after its greedy start.
+EXCHANGE_PASSES = 6
+
+
 def greedy_exchange(
     n_runs: int,
     candidates: Sequence[int],
     value: Callable[[list[int]], float],
-    max_passes: int = 6,
+    max_passes: int = EXCHANGE_PASSES,
+    advance: Callable[[int], None] | None = None,
 ) -> tuple[list[int], float]:
     """Maximise `value(plan)` over plans of `n_runs` candidates (repeats allowed).
 
     Greedy start, then exchange passes until a pass improves D by less than 1e-9
     relative or `max_passes` have run. Returns the plan (sorted) and its value.
+    `advance(k)`, if given, is told of each of the ``n_runs * (1 + max_passes)`` steps
+    (a run placed, a position exchanged; the passes not needed at the end, at once).
     """
+    step = advance or (lambda k: None)
     cands = list(candidates)
     plan: list[int] = []
     for _ in range(n_runs):
         scores = [value([*plan, c]) for c in cands]
         plan.append(cands[int(np.argmax(scores))])
+        step(1)
     best = value(plan)
+    passes = 0
     for _ in range(max_passes):
         start = best
+        passes += 1
         for pos in range(n_runs):
             trial = list(plan)
             for c in cands:
@@ -116,6 +134,8 @@ def greedy_exchange(
                 if v > best * (1.0 + 1e-12):
                     best, plan[pos] = v, c
                     trial = list(plan)
+            step(1)
         if not best > start * (1.0 + 1e-9) or not math.isfinite(best):
             break
+    step(n_runs * (max_passes - passes))
     return sorted(plan), best

@@ -33,7 +33,7 @@ from ..validation.evaluate import DEFAULT_T_MAX
 from ..validation.results import CandidateFit
 from ..validation.tasks import warm_up
 from .campaigns import campaign_draws, decision_rates, surrogate_error
-from .criterion import greedy_exchange, plan_value
+from .criterion import EXCHANGE_PASSES, greedy_exchange, plan_value
 from .noise import RELEASE_STEP_DEG, ReplicateNoise
 from .posterior import Posterior, fit_task
 from .results import DesignResult, PlanResult
@@ -193,10 +193,12 @@ def _best_plans(
         return value(plan) * (1.0 - SIMPLICITY * float(np.mean(changes[plan])) / 3.0)
 
     plans = {}
-    for n in sizes:
-        runner.reporter.note(f"design: searching the best {n}-run plan")
-        plan, _ = greedy_exchange(n, candidates, preferred)
-        plans[n] = (plan, value(plan))
+    steps = sum(sizes) * (1 + EXCHANGE_PASSES)
+    with runner.reporter.track("design: plan search", steps, unit="steps") as advance:
+        for n in sizes:
+            advance.describe(f"the best {n}-run plan")
+            plan, _ = greedy_exchange(n, candidates, preferred, EXCHANGE_PASSES, advance)
+            plans[n] = (plan, value(plan))
     return plans
 
 
@@ -314,14 +316,17 @@ def design_experiment(
         full[:, columns] = np.where(np.isfinite(tab), tab, t_max)  # not opened: at the horizon
         exact[n] = full
 
-    designed = {
-        n: decision_rates(exact, p, surrogates, noise, np.random.default_rng([seed, 2, 0, n]))
-        for n, (p, _) in plans.items()
-    }
-    naive_rates = {
-        n: decision_rates(exact, p, surrogates, noise, np.random.default_rng([seed, 2, 1, n]))
-        for n, p in naive.items()
-    }
+    designed, naive_rates = {}, {}
+    total = len(plans) + len(naive)
+    with runner.reporter.track("design: decision rates", total, unit="plans") as advance:
+        for n, (p, _) in plans.items():
+            rng = np.random.default_rng([seed, 2, 0, n])
+            designed[n] = decision_rates(exact, p, surrogates, noise, rng)
+            advance(1)
+        for n, p in naive.items():
+            rng = np.random.default_rng([seed, 2, 1, n])
+            naive_rates[n] = decision_rates(exact, p, surrogates, noise, rng)
+            advance(1)
     plan_results = [
         PlanResult(
             n, plans[n][0], plans[n][1], value(naive[n]), designed[n], naive_rates[n], naive[n]

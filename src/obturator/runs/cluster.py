@@ -19,7 +19,19 @@ from ..errors import ClusterError, InputError
 from .chunks import Job
 from .pools import Sink, Track
 
-__all__ = ["CONNECT_TIMEOUT_S", "LOST_SCHEDULER_S", "DaskCluster"]
+__all__ = ["CONNECT_TIMEOUT_S", "LOST_SCHEDULER_S", "DaskCluster", "needs_cluster_extra"]
+
+
+def needs_cluster_extra() -> None:
+    """Raise InputError naming the fix when dask.distributed (the ``cluster`` extra) is
+    missing: a scheduler address is refused before any work, not at the first chunk."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        raise InputError(
+            "scheduler",
+            'needs dask.distributed, which is not installed: pip install "obturator[cluster]"',
+        ) from None
 
 
 @dataclass
@@ -99,12 +111,9 @@ def _client(scheduler: Any) -> tuple[Any, bool]:
     """
     if not isinstance(scheduler, str):
         return scheduler, False
-    try:
-        from distributed import Client
-    except ImportError:
-        raise InputError(
-            "scheduler", "needs dask.distributed: pip install 'obturator[cluster]'"
-        ) from None
+    needs_cluster_extra()
+    from distributed import Client
+
     box: dict[str, Any] = {}
 
     def connect() -> None:

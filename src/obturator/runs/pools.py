@@ -14,6 +14,13 @@ chunk of ``job`` and hands each result to ``sink`` as it arrives.
   otherwise they are spawned. Workers die with the main process
   (``PR_SET_PDEATHSIG``, :func:`die_with_parent`);
 * :class:`~obturator.runs.cluster.DaskCluster` for a scheduler address or client.
+
+A worker the system kills (the out-of-memory killer, ``kill -9``) breaks a process
+pool: the pool's unfinished chunks run again on a fresh pool, at most
+:data:`LOST_WORKER_RETRIES` times a run, each time with one notice; then the run stops
+with :class:`LostWorker` (the runner turns it into one line saying that a rerun
+resumes). Chunks are the unit of work and of results, so a retried chunk gives the
+bits it would have given the first time.
 """
 
 from __future__ import annotations
@@ -25,6 +32,7 @@ import sys
 import threading
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
 from contextlib import AbstractContextManager, contextmanager, suppress
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -38,6 +46,8 @@ __all__ = [
     "Advance",
     "Executor",
     "InProcess",
+    "LOST_WORKER_RETRIES",
+    "LostWorker",
     "ProcessPool",
     "Sink",
     "Track",
@@ -55,6 +65,14 @@ Sink = Callable[[np.ndarray, Any], None]
 Advance = Callable[[int], None]
 #: ``track()`` opens the progress display and yields ``advance``.
 Track = Callable[[], AbstractContextManager[Advance]]
+
+
+#: Times a run's unfinished chunks run again on a fresh pool after a worker was lost.
+LOST_WORKER_RETRIES = 2
+
+
+class LostWorker(RuntimeError):
+    """A worker process was lost more often than :data:`LOST_WORKER_RETRIES` allows."""
 
 
 def default_workers() -> int:
@@ -109,11 +127,56 @@ class ProcessPool:
     backend: str = "local"
 
     def run(self, job: Job, chunks: list[np.ndarray], sink: Sink, track: Track) -> None:
-        """See :class:`Executor`."""
+        """See :class:`Executor`; a lost worker's chunks are retried (module notes)."""
         ctx = mp_context()
         if ctx.get_start_method() == "fork" and job.warm is not None:
             with gc_frozen():
                 job.warm()  # workers inherit the loaded integrator
+        pool, pending = self._start(ctx, job, chunks)
+        retries = 0
+        try:
+            if job.meanwhile is not None and default_workers() > self.workers:
+                job.meanwhile()  # a core is idle: use it
+            # as_completed registers one waiter per future once; wait(FIRST_COMPLETED) in
+            # a loop re-registered on every pending future per call, O(chunks^2): 15 % of
+            # a core in this process during a 3,907-chunk sweep, taken from the workers
+            with track() as advance:
+                while True:
+                    lost = []
+                    for fut in as_completed(pending):
+                        idx = pending[fut]
+                        try:
+                            result = fut.result()
+                        except BrokenProcessPool:
+                            lost.append(idx)
+                            continue
+                        sink(idx, result)
+                        advance(idx.size)
+                    if not lost:
+                        break
+                    why = _why_lost(pool)
+                    _stop(pool)
+                    if retries == LOST_WORKER_RETRIES:
+                        raise LostWorker(f"{why}, {retries + 1} times in this run")
+                    retries += 1
+                    print(
+                        f"obturator: notice: {why}; its pool's {len(lost)} unfinished "
+                        f"chunk{'s' if len(lost) != 1 else ''} run again on fresh workers "
+                        f"(retry {retries} of {LOST_WORKER_RETRIES})",
+                        file=sys.stderr,
+                    )
+                    # forked only while no other thread runs (a progress bar's may)
+                    pool, pending = self._start(mp_context(), job, lost)
+        except BaseException:
+            _stop(pool)
+            raise
+        pool.shutdown(wait=True)
+
+    def _start(
+        self, ctx: multiprocessing.context.BaseContext, job: Job, chunks: list[np.ndarray]
+    ) -> tuple[ProcessPoolExecutor, dict[Any, np.ndarray]]:
+        """A pool with every chunk submitted (and, with fork, every worker started, frozen)
+        before the progress display starts its refresh thread."""
         pool = ProcessPoolExecutor(
             max_workers=self.workers,
             mp_context=ctx,
@@ -121,24 +184,40 @@ class ProcessPool:
             initargs=(os.getpid(),),
         )
         try:
-            # every task is submitted (and, with fork, every worker started, frozen)
-            # before the progress display starts its refresh thread
             with gc_frozen():
                 pending = {pool.submit(job.fn, *job.args_of(idx)): idx for idx in chunks}
-            if job.meanwhile is not None and default_workers() > self.workers:
-                job.meanwhile()  # a core is idle: use it
-            # as_completed registers one waiter per future once; wait(FIRST_COMPLETED) in
-            # a loop re-registered on every pending future per call, O(chunks^2): 15 % of
-            # a core in this process during a 3,907-chunk sweep, taken from the workers
-            with track() as advance:
-                for fut in as_completed(pending):
-                    idx = pending[fut]
-                    sink(idx, fut.result())
-                    advance(idx.size)
         except BaseException:
             _stop(pool)
             raise
-        pool.shutdown(wait=True)
+        pool._obturator_workers = list(  # type: ignore[attr-defined]
+            (getattr(pool, "_processes", None) or {}).values()
+        )
+        return pool, pending
+
+
+def _why_lost(pool: ProcessPoolExecutor) -> str:
+    """How the pool's lost worker ended, from the exit codes of its processes."""
+    import signal
+
+    workers = getattr(pool, "_obturator_workers", [])
+    for proc in workers:  # the dead one is reaped at once; the others as the pool ends them
+        with suppress(Exception):
+            proc.join(timeout=1.0)
+    codes = [p.exitcode for p in workers]
+    # the pool ends the other workers itself, with SIGTERM
+    ended = [c for c in codes if c not in (None, 0, -signal.SIGTERM)]
+    if not ended:
+        return "a worker process ended abruptly"
+    code = ended[0]
+    if code > 0:
+        return f"a worker process exited with code {code}"
+    try:
+        name = signal.Signals(-code).name
+    except ValueError:
+        name = f"signal {-code}"
+    if -code == signal.SIGKILL:
+        name += " (the out-of-memory killer, or kill -9)"
+    return f"a worker process was killed by {name}"
 
 
 def _stop(pool: ProcessPoolExecutor) -> None:

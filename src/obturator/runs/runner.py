@@ -23,7 +23,8 @@ import numpy as np
 
 from ..errors import InputError
 from .chunks import PROBE_TASKS, TASK_CHUNK, Job, make_chunks, probe
-from .pools import InProcess, ProcessPool, choose_executor, default_workers
+from .cluster import needs_cluster_extra
+from .pools import InProcess, LostWorker, ProcessPool, choose_executor, default_workers
 from .progress import Progress
 from .results import MapResults, run_tasks
 from .store import ResumeStore, full_disk_error
@@ -100,6 +101,8 @@ class Runner:
             raise InputError("chunk_size", f"{self.chunk_size} is outside the allowed range >= 1")
         if isinstance(self.progress, bool):
             self.progress = Progress.auto(self.progress)
+        if isinstance(self.scheduler, str):
+            needs_cluster_extra()
 
     @property
     def reporter(self) -> Progress:
@@ -244,6 +247,17 @@ class Runner:
                 left = sum(c.size for c in chunks)  # the probe's tasks are done
                 track = partial(self.reporter.track, label, n_tasks, n_tasks - left, unit)
                 executor.run(job, chunks, sink, track)
+        except LostWorker as exc:
+            self.n_computed += computed[0]
+            self.close()
+            if self.sidecar is not None:
+                kept = (
+                    f"the {computed[0] + n_resumed} finished {unit} are kept: run the same "
+                    "command again to resume"
+                )
+            else:
+                kept = "nothing is kept without a resume store (--out): run it again"
+            raise InputError("workers", f"{exc}; {kept} (fewer workers need less memory)") from None
         except BaseException:
             self.n_computed += computed[0]  # kept in the store: a rerun resumes them
             self.close()

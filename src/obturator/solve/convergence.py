@@ -9,6 +9,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .._docs import field_docs
+from ..errors import InputError
 from ..json_values import finite_or_none
 from ..model.case import Case
 from ..status import Status
@@ -268,7 +269,13 @@ def refined_options(
     (:func:`convergence_check` and :func:`convergence_checks` choose per case)."""
     family = alternative_family(options.friction_family) if family is None else family
     check_choice("family", family, FRICTION_FAMILIES)
-    narrow = replace(options.tighter(factor), friction_width=options.friction_width / factor)
+    try:
+        narrow = replace(options.tighter(factor), friction_width=options.friction_width / factor)
+    except InputError as exc:  # the rerun's width, not the one given: say so
+        raise InputError(
+            "friction_width",
+            f"{options.friction_width:g} is checked at width / {factor:g}, and {exc.message}",
+        ) from None
     other = replace(options, friction_family=family)
     if options.method == "auto":  # the width and the family are the regularised law's
         narrow = replace(narrow, method="regularised")

@@ -25,6 +25,7 @@ from ..vocab import (
     Method,
     check_choice,
 )
+from .limits import check_regularised_limits
 
 __all__ = [
     "MAX_STEP_PERIODS",
@@ -172,6 +173,7 @@ class SolverOptions:
             if self.method != "moreau-jean":
                 raise InputError("fixed_step", "applies to method 'moreau-jean' only")
             check_range("fixed_step", self.fixed_step, 0.0, 1.0, lo_open=True, unit="s")
+        check_regularised_limits(self)
 
     @classmethod
     def for_opening_time_accuracy(cls, tcr_rtol: float, **kw: Any) -> SolverOptions:
