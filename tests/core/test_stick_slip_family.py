@@ -23,8 +23,9 @@ from obturator.solve import SolverOptions, opening_time, opening_times
 from obturator.solve.setup import integration_setup
 
 SET_VALUED = SolverOptions(method="set-valued")
-#: 14 spins in one band (ratio 1.14 < BAND_RATIO), ~160-230 cycles each.
-SPINS = np.linspace(50.0, 57.0, 14)
+#: 14 spins in one fixed band, [1.15^28, 1.15^29) = [50.07, 57.58) rad/s, ~160-230 cycles
+#: each.
+SPINS = np.linspace(50.2, 57.4, 14)
 
 
 def _setups(spins, mu_s=THESIS_MU_S):
@@ -40,9 +41,9 @@ def band():
 
 
 def test_one_band_gets_one_map_per_spin(band):
-    """Every spin of a band of >= MIN_SPINS gets its series; the nodes were integrated."""
+    """Every spin of the band gets its series; the nodes were integrated once."""
     _, _, maps, counts = band
-    assert len(SPINS) >= stick_slip_family.MIN_SPINS
+    assert {stick_slip_family.band_edges(float(w)) for w in SPINS} == {(1.15**28, 1.15**29)}
     assert all(m is not None for m in maps)
     assert counts[0] > 0 and counts[2] > 0  # right-hand sides and steps of the nodes
     assert len({m.lo for m in maps}) == 1 and len({m.k_step for m in maps}) == 1
@@ -52,22 +53,24 @@ def test_series_interpolates_the_node_cycles_at_the_lowest_spin(band):
     """At the band's lowest spin (a Chebyshev-Lobatto node in log spin) and the middle
     theta node (one of every level's), the series of log(-D) and T reproduce the cycle
     integrated there on its own: interpolation is exact at its nodes."""
-    problems, controls, maps, _ = band
-    problem = problems[0]._replace(p=stick_slip.zero_width(problems[0].p.copy()))
-    nodes = stick_slip_map._Nodes(problem, controls[0], stick_slip.run_cycles())
-    m = maps[0]
+    w_lo = stick_slip_family.band_edges(float(SPINS[0]))[0]
+    (problem,), (control,) = _setups([w_lo])
+    m = stick_slip_family.band_map(problem, control)
+    problem = problem._replace(p=stick_slip.zero_width(problem.p.copy()))
+    nodes = stick_slip_map._Nodes(problem, control, stick_slip.run_cycles())
     x = stick_slip_map._lobatto(9)[4]  # cos(pi / 2): the middle node of every level
     theta = float(stick_slip_map.nutation_at(np.array(m.lo + 0.5 * (m.hi - m.lo) * (1.0 + x))))
     log_d, t_half, _, k = nodes.cycle(theta)
     assert k == m.k_step
     assert np.polynomial.chebyshev.chebval(x, m.c_logd) == pytest.approx(log_d, abs=1e-8)
     t_series = np.polynomial.chebyshev.chebval(x, m.c_time)
-    assert t_series == pytest.approx(t_half * math.pi / SPINS[0], rel=1e-9)
+    assert t_series == pytest.approx(t_half * math.pi / w_lo, rel=1e-9)
 
 
 def test_shared_maps_give_the_one_spin_opening_times(band):
     """Each spin's t_cr through its shared map within 1e-6 of the one-spin run (its own
-    map or its cycles); the front door gives the same as the core with the maps."""
+    map or its cycles); the front door with ``shared_maps`` gives the same as the core
+    with the maps, alone or in a batch."""
     problems, controls, maps, _ = band
     by_family = np.array(
         [
@@ -78,9 +81,11 @@ def test_shared_maps_give_the_one_spin_opening_times(band):
     cases = [rig_case(float(w), THESIS_MU_S) for w in SPINS]
     one_by_one = np.array([opening_time(c, SET_VALUED) for c in cases])
     assert np.max(np.abs(by_family / one_by_one - 1.0)) < 1e-6
-    t_cr, status, stats = opening_times(cases, SET_VALUED)
+    shared = SolverOptions(method="set-valued", shared_maps=True)
+    t_cr, status, stats = opening_times(cases, shared)
     assert stats["n_set_valued"] == len(SPINS)
     np.testing.assert_array_equal(t_cr, by_family)
+    np.testing.assert_array_equal(opening_time(cases[3], shared), by_family[3])
 
 
 @pytest.mark.slow
@@ -107,32 +112,28 @@ def test_shared_map_agrees_with_the_regularised_limit(band):
         assert abs(t / ref - 1.0) < 1e-6 + abs(fam[0] - fam[1]) / ref
 
 
-def test_only_cases_equal_but_the_spin_share_a_map():
-    """Two friction coefficients are two groups; a group of fewer than MIN_SPINS spins,
-    a Coulomb patch case (no map) and an Euler-angle case (outside the solver) get none,
-    and none of them raises here."""
-    few = SPINS[: stick_slip_family.MIN_SPINS - 1]
-    problems, controls = _setups(few, 0.6)
-    more, more_c = _setups(SPINS[:2])  # mu_s 0.5473: a group of two
+def test_only_cases_the_map_applies_to_get_one():
+    """A Coulomb patch case (no map) and an Euler-angle case (outside the solver) get
+    none, with no node integrated, and neither raises here."""
+    coulomb, coulomb_c = integration_setup(
+        rig_case(55.0, THESIS_MU_S, torque_model="coulomb"), SET_VALUED
+    )
     euler, euler_c = integration_setup(
         rig_case(55.0, THESIS_MU_S), SolverOptions(method="set-valued", formulation="euler")
     )
-    maps, counts = stick_slip_family.shared_maps(
-        problems + more + [euler], controls + more_c + [euler_c]
-    )
-    assert maps == [None] * (len(few) + 3)
-    assert counts[0] == 0  # no node was integrated
+    maps, counts = stick_slip_family.shared_maps([coulomb, euler], [coulomb_c, euler_c])
+    assert maps == [None, None]
+    assert counts[0] == 0
 
 
-def test_bands_split_at_the_ratio_and_drop_short_runs():
-    n = stick_slip_family.MIN_SPINS
-    spins = list(np.linspace(40.0, 45.5, n)) + list(np.linspace(48.0, 49.0, n - 1))
-    bands = stick_slip_family._bands(spins)
-    assert bands == [list(range(n))]  # 40-45.5 (ratio 1.14); the second run is too short
-    wide = list(np.linspace(40.0, 80.0, 4 * n))
-    for b in stick_slip_family._bands(wide):
-        assert wide[b[-1]] <= stick_slip_family.BAND_RATIO * wide[b[0]]
-        assert len(b) >= n
+def test_band_edges_are_a_fixed_lattice():
+    """Each spin falls in [1.15^k, 1.15^(k+1)), its edges included as the lattice says."""
+    for w in (40.0, 50.0, 1.15**28, 57.0, 99.99, 218.0):
+        lo, hi = stick_slip_family.band_edges(w)
+        assert lo <= w < hi and hi / lo == pytest.approx(stick_slip_family.BAND_RATIO)
+        assert math.log(lo) / math.log(1.15) == pytest.approx(
+            round(math.log(lo) / math.log(1.15)), abs=1e-9
+        )
 
 
 @pytest.mark.parametrize("spin", [60.0, 90.0, 140.0])
@@ -141,7 +142,8 @@ def test_interval_ends_where_kappa_reaches_its_limit(spin):
     THETA_LOW and theta_cr (kappa from docs/stick_slip.md section 3, not the module)."""
     problems, controls = _setups([spin])
     problem = problems[0]._replace(p=stick_slip.zero_width(problems[0].p.copy()))
-    grid = stick_slip_family._Grid(problem, controls[0], stick_slip.run_cycles())
+    group = stick_slip_family._group(problem, controls[0])
+    grid = stick_slip_family._Grid(group, stick_slip.run_cycles())
     lo, hi, theta_lo = grid.interval(spin)
     p = problem.p
     kappa = spin**2 * abs(p[P_C] - p[P_A]) * math.sin(2.0 * theta_lo) / (2.0 * p[P_FRIC + 1])
@@ -157,20 +159,25 @@ def test_no_grid_where_few_cycles_are_left_to_skip():
     """160-175 rad/s: kappa reaches KAPPA_END within a cycle or two of release (the
     estimate from the first node's drop, D ~ (sin theta cos theta)^3), so no grid is built
     (one node cycle integrated at most) and the cases run as on their own."""
-    spins = np.linspace(160.0, 175.0, stick_slip_family.MIN_SPINS)
+    spins = np.linspace(161.0, 174.0, 12)  # in [1.15^36, 1.15^37) = [153.2, 176.2)
     problems, controls = _setups(spins)
     maps, counts = stick_slip_family.shared_maps(problems, controls)
     assert maps == [None] * len(spins)
     assert counts[2] < 400  # the steps of at most one cycle
 
 
-def test_maps_do_not_depend_on_the_order_of_the_cases(band):
-    """The same cases shuffled get the same maps (each group is sorted by spin)."""
+def test_maps_do_not_depend_on_the_order_or_the_other_cases(band):
+    """The same cases shuffled, or each alone after the band's grids were dropped, get
+    the same maps: a map is a function of its case."""
     problems, controls, maps, _ = band
     order = np.random.default_rng(3).permutation(len(SPINS))
+    stick_slip_family._MEMO.clear()
     shuffled, _ = stick_slip_family.shared_maps(
         [problems[i] for i in order], [controls[i] for i in order]
     )
+    stick_slip_family._MEMO.clear()
+    alone = stick_slip_family.band_map(problems[5], controls[5])
+    np.testing.assert_array_equal(alone.c_logd, maps[5].c_logd)
     for j, i in enumerate(order):
         np.testing.assert_array_equal(shuffled[j].c_logd, maps[i].c_logd)
         np.testing.assert_array_equal(shuffled[j].c_time, maps[i].c_time)
@@ -185,5 +192,6 @@ def test_a_failing_node_leaves_the_cases_to_run_alone(band, monkeypatch):
         raise ZeroDivisionError("node")
 
     monkeypatch.setattr(stick_slip_map._Nodes, "cycle", broken)
+    monkeypatch.setattr(stick_slip_family, "_MEMO", type(stick_slip_family._MEMO)())
     maps, _ = stick_slip_family.shared_maps(problems, controls)
     assert maps == [None] * len(SPINS)
