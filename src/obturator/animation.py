@@ -82,19 +82,23 @@ def _turned(points: np.ndarray, rot: np.ndarray) -> np.ndarray:
     return np.round(np.einsum("ij,j...->i...", rot, points), 3)
 
 
-def _frame_angles(res: NutationResult) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _frame_angles(
+    res: NutationResult, n_frames: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Frame times [s] and psi - Omega, theta, phi [rad] there (linear interpolation)."""
     t = np.asarray(res.t, dtype=float)
     spin = np.asarray(res.spin_rate, dtype=float)
     # Omega(t): the projectile's turn about Z (trapezoid rule over the run's own samples)
     omega = np.concatenate(([0.0], np.cumsum(0.5 * (spin[1:] + spin[:-1]) * np.diff(t))))
     end = res.opening_time if res.opening_time == res.opening_time else t[-1]
-    times = np.linspace(t[0], end, N_FRAMES)
+    times = np.linspace(t[0], end, n_frames)
     psi = np.interp(times, t, np.asarray(res.psi) - omega)
     return times, psi, np.interp(times, t, res.theta), np.interp(times, t, res.phi)
 
 
-def animation_figure(res: NutationResult, title: str | None = None) -> go.Figure:
+def animation_figure(
+    res: NutationResult, title: str | None = None, n_frames: int = N_FRAMES
+) -> go.Figure:
     """A Plotly figure animating one run: the ball in its bore and theta(t).
 
     Parameters
@@ -103,6 +107,8 @@ def animation_figure(res: NutationResult, title: str | None = None) -> go.Figure
         The run (its time series and its case's ball).
     title : str, optional
         Figure title; default names the case, spin, theta_0 and t_cr.
+    n_frames : int
+        Frames, evenly spaced in time from release to the opening (or the run's end).
 
     Returns
     -------
@@ -117,7 +123,7 @@ def animation_figure(res: NutationResult, title: str | None = None) -> go.Figure
     big, hole = ball.radius * _MM, ball.hole_radius * _MM
     outer, wall, stripes = _ball_mesh(big, hole)
     axis = np.array([[0.0, 0.0], [0.0, 0.0], [-1.5 * big, 1.5 * big]])
-    times, psi, theta, phi = _frame_angles(res)
+    times, psi, theta, phi = _frame_angles(res, n_frames)
     theta_cr = res.case.opening_angle
 
     def ball_traces(k: int) -> list[dict[str, Any]]:
@@ -321,8 +327,14 @@ def _title(res: NutationResult) -> str:
     )
 
 
-def animation_html(res: NutationResult, div_id: str = "opening-animation", **kw: Any) -> str:
-    """HTML fragment of :func:`animation_figure` with plotly.js inline (works offline).
+def animation_html(
+    res: NutationResult,
+    div_id: str = "opening-animation",
+    include_plotlyjs: bool = True,
+    **kw: Any,
+) -> str:
+    """HTML fragment of :func:`animation_figure` (plotly.js inline unless the page
+    already carries it: the file then works offline).
 
     Parameters
     ----------
@@ -330,8 +342,10 @@ def animation_html(res: NutationResult, div_id: str = "opening-animation", **kw:
         The run.
     div_id : str
         The id of the figure's ``div``.
+    include_plotlyjs : bool
+        Inline plotly.js (False where the page has it already, as the report does).
     **kw
-        Passed to :func:`animation_figure` (``title``).
+        Passed to :func:`animation_figure` (``title``, ``n_frames``).
 
     Returns
     -------
@@ -339,7 +353,9 @@ def animation_html(res: NutationResult, div_id: str = "opening-animation", **kw:
         One ``div`` and the scripts that draw it.
     """
     fig = animation_figure(res, **kw)
-    return fig.to_html(full_html=False, include_plotlyjs=True, div_id=div_id, auto_play=False)
+    return fig.to_html(
+        full_html=False, include_plotlyjs=include_plotlyjs, div_id=div_id, auto_play=False
+    )
 
 
 def write_animation(res: NutationResult, path: str) -> None:
