@@ -167,7 +167,7 @@ def plot_sobol(ds: Any, path: str | Path) -> str:
         title += "\nNOT RELIABLE (hatched; shaded: impossible, outside [0, 1]):\n" + "\n".join(
             warnings
         )
-    ax.set_title(title, fontsize=9 if warnings else None, color="firebrick" if warnings else None)
+    ax.set_title(title, **({"fontsize": 9, "color": "firebrick"} if warnings else {}))
     return _save(fig, path)
 
 
