@@ -141,8 +141,14 @@ def plot_sobol(ds: Any, path: str | Path) -> str:
 
     names = [str(x) for x in ds["input"].values]
     x = np.arange(len(names))
-    warnings = sobol_warnings(ds)
-    fig, ax = _figure(1, width=1.0 + 1.1 * len(names), height=4.5 + 0.25 * len(warnings))
+    import textwrap
+
+    width = max(1.0 + 1.1 * len(names), 6.0)
+    warnings = [
+        textwrap.fill(line, int(11 * width), subsequent_indent="  ") for line in sobol_warnings(ds)
+    ]
+    n_lines = sum(line.count("\n") + 1 for line in warnings)
+    fig, ax = _figure(1, width=width, height=4.5 + 0.2 * n_lines)
     w = 0.38
     for off, key, label in ((-w / 2, "S1", "first order S1"), (w / 2, "ST", "total ST")):
         v, c = np.asarray(ds[key], dtype=float), np.asarray(ds[f"{key}_conf"], dtype=float)
