@@ -208,8 +208,8 @@ def pareto_collapse(ds: Any) -> str | None:
     if m.size and (m.max() - m_light) <= _COLLAPSED * m.max():
         return (
             f"the front collapsed to one design: the fastest design ({1e3 * m.max():.4g} g, "
-            f"{f[int(np.argmax(m))]:.4g} s) is within {100 * (m.max() - m_light) / m.max():.2g} % of the "
-            f"lightest feasible one ({1e3 * m_light:.4g} g), so t_cr and mass do not "
+            f"{f[int(np.argmax(m))]:.4g} s) is within "
+            f"{100 * (m.max() - m_light) / m.max():.2g} % of the lightest feasible one ({1e3 * m_light:.4g} g), so t_cr and mass do not "
             "compete over these bounds (every mass budget gives about the same design)"
         )
     return None
