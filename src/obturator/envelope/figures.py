@@ -210,7 +210,8 @@ def pareto_collapse(ds: Any) -> str | None:
             f"the front collapsed to one design: the fastest design ({1e3 * m.max():.4g} g, "
             f"{f[int(np.argmax(m))]:.4g} s) is within "
             f"{100 * (m.max() - m_light) / m.max():.2g} % of the lightest feasible one "
-            f"({1e3 * m_light:.4g} g), so t_cr and mass do not compete over these bounds (every mass budget gives about the same design)"
+            f"({1e3 * m_light:.4g} g), so t_cr and mass do not compete over these bounds "
+            "(every mass budget gives about the same design)"
         )
     return None
 
