@@ -32,29 +32,19 @@ _AXES = (
 MAX_ROWS = 4
 
 
-def _held(name: str, setting: Any) -> str:
-    """The three settings held on a panel along `name`, as text."""
-    parts = {
-        "spin_rate": f"{setting.spin_rate:.0f} rad/s",
-        "theta0_set_deg": f"theta0 {setting.theta0_deg:.1f} deg",
-        "hole_radius": f"r_s {1e3 * setting.hole_radius:.2f} mm",
-        "density": f"rho {setting.density:.0f}",
-    }
-    return ", ".join(v for k, v in parts.items() if k != name)
-
-
 def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
     """One row per planned setting, one panel per setting the rig can change.
 
     Row k holds the k-th planned setting (most important first: by the loss of the
-    Box-Hill criterion without it). Each panel varies one setting along the candidate
-    grid and holds the other three at that run's values (the panel title names them),
-    so every planned run is drawn in its own setting. Curves: each model's mean t_cr
-    and 95 % predictive band (parameter uncertainty and replicate noise). At the planned
-    value (dotted line) each model's mean carries an error bar of one replicate SD,
-    the noise of one run, and the panel states the separation the design claims there:
-    |difference of the means| / replicate SD (the bands, which add the parameters'
-    spread and are 4 SDs wide, overlap even where the means are well apart).
+    Box-Hill criterion without it); its title names the setting, its replicates and the
+    separation the design claims there, |difference of the models' mean t_cr| / the
+    replicate SD. Each panel varies one setting along the candidate grid and holds the
+    other three at that run's values, so every planned run is drawn in its own setting.
+    Curves: each model's mean t_cr and 95 % predictive band (parameter uncertainty and
+    replicate noise). At the planned value (dotted line) each model's mean carries an
+    error bar of one replicate SD, the noise of one run: the separation is read there
+    (the bands, which add the parameters' spread and span four SDs, overlap even where
+    the means are well apart).
 
     Parameters
     ----------
@@ -66,10 +56,11 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
     ranked = result.ranked_plan(plan.n_runs)
     rows = ranked[:MAX_ROWS]
     cols = setting_arrays(result.settings)
-    fig = Figure(figsize=(14.0, 1.2 + 3.1 * len(rows)), layout="constrained")
+    fig = Figure(figsize=(14.0, 1.0 + 3.3 * len(rows)), layout="constrained")
     FigureCanvasAgg(fig)
-    axes = np.atleast_2d(fig.subplots(len(rows), len(_AXES), squeeze=False))
+    subfigs = np.atleast_1d(fig.subfigures(len(rows), 1))
     colours = ("C0", "C3", "C2", "C4", "C1")
+    first_axes = None
     for r, row in enumerate(rows):
         setting, i = row["setting"], row["index"]
         values = {
@@ -80,8 +71,22 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
         }
         at = result.predictive([i])
         sd = float(result.noise_sd[i])
+        means = [float(at[m]["mean"][0]) for m in result.models]
+        sub = subfigs[r]
+        sub.suptitle(
+            f"planned run {r + 1} (x{row['replicates']}): {setting.spin_rate:.0f} rad/s, "
+            f"release {setting.theta0_deg:.2f} deg, r_s {1e3 * setting.hole_radius:.2f} mm, "
+            f"rho {setting.density:.0f} kg/m$^3$; separation "
+            f"{row['separation_in_replicate_sd']:.1f} replicate SDs "
+            f"(means {1e3 * abs(means[0] - means[1]):.0f} ms apart, SD {1e3 * sd:.0f} ms)",
+            fontsize=9,
+            fontweight="bold",
+        )
+        axes = sub.subplots(1, len(_AXES))
+        if first_axes is None:
+            first_axes = axes[0]
         for c, (name, label, scale) in enumerate(_AXES):
-            ax = axes[r, c]
+            ax = axes[c]
             on_line = result.candidate_mask.copy()
             for other, v in values.items():
                 if other != name:
@@ -91,14 +96,15 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
             x = cols[name][idx] * scale
             pred = result.predictive(idx)
             xi = values[name] * scale
+            span = float(x.max() - x.min()) if x.size > 1 else 1.0
             for k, m in enumerate(result.models):
                 col = colours[k % len(colours)]
                 ax.fill_between(x, pred[m]["lo"], pred[m]["hi"], color=col, alpha=0.15, lw=0)
                 ax.plot(x, pred[m]["mean"], color=col, lw=1.4, marker=".", label=m)
                 # the planned run: the model's mean +- one replicate SD (one run's noise)
                 ax.errorbar(
-                    xi + (k - 0.5) * 0.012 * (x.max() - x.min() if x.size > 1 else 1.0),
-                    at[m]["mean"][0],
+                    xi + (k - 0.5) * 0.015 * span,
+                    means[k],
                     yerr=sd,
                     fmt="o",
                     color=col,
@@ -109,38 +115,26 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
                     lw=1.8,
                 )
             ax.axvline(xi, color="0.35", ls=":", lw=1.0)
-            means = [at[m]["mean"][0] for m in result.models]
-            ax.text(
-                0.02,
-                0.97,
-                f"separation {row['separation_in_replicate_sd']:.1f} SD\n"
-                f"(|{1e3 * (means[0] - means[1]):+.0f}| ms / SD {1e3 * sd:.0f} ms)",
-                transform=ax.transAxes,
-                va="top",
-                fontsize=7.5,
-                bbox={"facecolor": "white", "edgecolor": "0.7", "alpha": 0.85},
-            )
             # the Gaussian band of the < 120 rad/s replicates (SD 0.104 s) reaches below
             # t = 0 where a setting opens sooner than the runs that set it; t_cr cannot
             ax.set_ylim(bottom=0.0)
             ax.set_xlabel(label, fontsize=8)
             ax.set_title(
-                f"run {r + 1} (x{row['replicates']}) along {name.split('_')[0]};\n"
-                f"held: {_held(name, setting)}",
-                fontsize=8,
+                f"varying {label.split(' [')[0].split(' $')[0]}; the others held", fontsize=8
             )
             ax.tick_params(labelsize=7)
             ax.grid(alpha=0.3)
             if c == 0:
                 ax.set_ylabel(r"$t_{cr}$ [s]")
-    axes[0, 0].legend(fontsize=7, loc="lower right")
+    if first_axes is not None:
+        first_axes.legend(fontsize=7, loc="lower right")
     more = len(ranked) - len(rows)
     fig.suptitle(
-        f"The {plan.n_runs}-run plan (P(decisive) {plan.p_decisive:.2f}): each row is one "
-        "planned setting (xN: replicates), each panel varies one setting and holds the "
-        "others at that run's values\n"
-        "curves: each model's mean t_cr, band 95 % predictive (parameters and noise); "
-        "at the planned value (dotted): the means +- one replicate SD and their separation"
+        f"The {plan.n_runs}-run plan (P(decisive) {plan.p_decisive:.2f}), one row per planned "
+        "setting (xN: replicates); each panel varies one setting through that run and holds "
+        "the other three at its values\n"
+        "curves: each model's mean t_cr and 95 % predictive band (parameters and noise); at "
+        "the planned value (dotted): each model's mean +- one replicate SD (one run's noise)"
         + (f"; {more} more planned settings not drawn" if more > 0 else ""),
         fontsize=9,
     )
