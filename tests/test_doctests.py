@@ -1,4 +1,5 @@
-"""Every docstring example in the package runs, and the README's Python session."""
+"""Every docstring example in the package runs, and the Python sessions of the README and
+the docs pages."""
 
 from __future__ import annotations
 
@@ -25,10 +26,16 @@ def test_doctests(name: str) -> None:
     assert result.failed == 0, f"{result.failed} of {result.attempted} examples failed"
 
 
-def test_readme_session() -> None:
-    readme = Path(__file__).resolve().parents[1] / "README.md"
+ROOT = Path(__file__).resolve().parents[1]
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+
+
+@pytest.mark.parametrize(
+    "page", [p for p in PAGES if "_build" not in p.parts], ids=lambda p: p.name
+)
+def test_page_sessions(page: Path) -> None:
     result = doctest.testfile(
-        str(readme),
+        str(page),
         module_relative=False,
         optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE,
     )

@@ -14,7 +14,18 @@ from pathlib import Path
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "src" / "obturator"
-EDGE = ("cli", "io", "files", "sweeps", "thesis", "plotting", "validation", "envelope", "runs")
+EDGE = (
+    "cli",
+    "io",
+    "files",
+    "sweeps",
+    "thesis",
+    "plotting",
+    "animation",
+    "validation",
+    "envelope",
+    "runs",
+)
 #: The studies: each may import ``runs`` (the runner of its tasks); ``runs`` imports none.
 STUDIES = ("sweeps", "thesis", "validation", "envelope", "calibration", "design")
 
@@ -58,6 +69,8 @@ FORBIDDEN: dict[str, tuple[str, ...]] = {
     # the experiment design builds on the validation's candidates, fits and floor
     "design": ("cli", "thesis", "envelope", "sweeps", "core"),
     "plotting": ("cli", "sweeps"),
+    # the opening animation draws one result (the report's selected runs use it too)
+    "animation": ("cli", "sweeps", *STUDIES, "core", "runs"),
     "warmup": (*EDGE, "calibration"),
     "io": ("cli", "core", "sweeps", "thesis", "plotting"),
     # files at the edge (readers, output checks, writers): below every user of files

@@ -1,4 +1,4 @@
-"""Every console block of README.md against what the code prints now.
+"""Every console block of README.md and the docs pages against what the code prints now.
 
 ``tools/readme_blocks.py`` produces each block (``python tools/readme_blocks.py --write``
 rewrites them all); here each block is rerun and compared line by line, with the
@@ -40,24 +40,47 @@ def _marks(name: str) -> list:
 
 @pytest.mark.parametrize("name", [pytest.param(n, marks=_marks(n)) for n in rb.BLOCKS])
 def test_readme_block_is_what_the_code_prints(name, request):
-    text = rb.README.read_text(encoding="utf-8")
+    page = rb.page_of(name)
+    text = page.read_text(encoding="utf-8")
     if name == "validate":  # the run the whole-study checks of the validation tests share
         fresh = request.getfixturevalue("readme_validate_run")[0]
     else:
         fresh = rb.fresh_output(name)
     diff = rb.differences(rb.block_text(text, name), fresh, rb.BLOCKS[name])
     assert not diff, (
-        f"README block {name!r} drifted from the code; regenerate it with "
+        f"block {name!r} of {page.name} drifted from the code; regenerate it with "
         f"'python tools/readme_blocks.py --write --only {name}':\n" + "\n".join(diff)
     )
 
 
 def test_every_console_block_has_a_generator():
-    text = rb.README.read_text(encoding="utf-8")
-    lines = text.splitlines()
-    consoles = [i for i, line in enumerate(lines) if line.startswith("```console")]
-    assert consoles and all(rb.MARKER.match(lines[i - 1]) for i in consoles)
-    assert set(rb.readme_blocks(text)) == set(rb.BLOCKS)
+    """Every console block of the README and the docs pages has a marker and a generator,
+    each block once (a block moved to a docs page keeps its check)."""
+    for page in rb.pages():
+        lines = page.read_text(encoding="utf-8").splitlines()
+        consoles = [i for i, line in enumerate(lines) if line.startswith("```console")]
+        assert all(rb.MARKER.match(lines[i - 1]) for i in consoles), page
+    assert set(rb.page_blocks()) == set(rb.BLOCKS)
+    assert rb.page_of("simulate") == rb.README  # the worked example stays in the README
+
+
+def test_readme_is_short_and_the_root_holds_no_scratch_files():
+    """The README is what it is, the quick start, one worked example and links (at most
+    250 lines; the rest lives in docs/), and no stray figures sit at the root."""
+    assert len(rb.README.read_text(encoding="utf-8").splitlines()) <= 250
+    assert not sorted(p.name for p in rb.ROOT.glob("*.png"))
+
+
+def test_a_block_on_two_pages_is_refused(tmp_path, monkeypatch):
+    a, b = tmp_path / "README.md", tmp_path / "docs" / "x.md"
+    b.parent.mkdir()
+    block = "<!-- readme-block: sweep -->\n```console\n$ obturator x\n```\n"
+    a.write_text(block, encoding="utf-8")
+    b.write_text(block, encoding="utf-8")
+    monkeypatch.setattr(rb, "README", a)
+    monkeypatch.setattr(rb, "DOCS", b.parent)
+    with pytest.raises(ValueError, match="two pages"):
+        rb.page_blocks()
 
 
 def test_comparison_masks_times_and_honours_the_tolerance():

@@ -1,12 +1,14 @@
-"""Every console block of README.md, produced by the code: run, check, rewrite.
+"""Every console block of README.md and the docs pages, produced by the code: run, check,
+rewrite.
 
-Each ``console`` block in the README follows a marker line
-``<!-- readme-block: NAME -->``; :data:`BLOCKS` says, for each NAME, the commands
+Each ``console`` block in the README or a page under ``docs/`` (:func:`pages`) follows a
+marker line ``<!-- readme-block: NAME -->``; each NAME appears on exactly one page, and
+:data:`BLOCKS` says, for each NAME, the commands
 (as the README shows them), which output lines the README keeps (an excerpt: the
 lines left out are one ``...`` line) and how its output may differ from machine to
 machine (timings masked; near-stick digits compared to a stated relative tolerance).
 
-    python tools/readme_blocks.py --write            # rerun every block, rewrite README.md
+    python tools/readme_blocks.py --write            # rerun every block, rewrite its page
     python tools/readme_blocks.py --write --only sweep
     python tools/readme_blocks.py --check --fast     # compare; exit 1 on a difference
     python tools/readme_blocks.py --list             # names, costs
@@ -33,6 +35,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
+DOCS = ROOT / "docs"
 MARKER = re.compile(r"^<!-- readme-block: ([\w-]+) -->$")
 ELLIPSIS = "..."
 
@@ -235,8 +238,30 @@ def readme_blocks(text: str) -> dict[str, tuple[int, int]]:
     return found
 
 
+def pages() -> list[Path]:
+    """The README and every Markdown page of the docs (not the built site)."""
+    docs = sorted(p for p in DOCS.rglob("*.md") if "_build" not in p.parts)
+    return [README, *docs]
+
+
+def page_blocks() -> dict[str, Path]:
+    """NAME -> the page that holds block NAME (each name on exactly one page)."""
+    found: dict[str, Path] = {}
+    for page in pages():
+        for name in readme_blocks(page.read_text(encoding="utf-8")):
+            if name in found:
+                raise ValueError(f"block {name!r} is on two pages: {found[name]} and {page}")
+            found[name] = page
+    return found
+
+
+def page_of(name: str) -> Path:
+    """The page (README or docs) that holds block NAME."""
+    return page_blocks()[name]
+
+
 def block_text(text: str, name: str) -> str:
-    """The content of block NAME in the README `text`."""
+    """The content of block NAME in a page's `text`."""
     first, end = readme_blocks(text)[name]
     return "\n".join(text.splitlines()[first:end])
 
@@ -286,22 +311,19 @@ def fresh_output(name: str, keep: Path | None = None) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     mode = parser.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--write", action="store_true", help="rerun and rewrite README.md")
+    mode.add_argument("--write", action="store_true", help="rerun and rewrite each page")
     mode.add_argument("--check", action="store_true", help="rerun and compare")
     mode.add_argument("--list", action="store_true", help="list the blocks and their cost")
     parser.add_argument("--only", action="append", metavar="NAME", help="these blocks only")
     parser.add_argument("--fast", action="store_true", help="skip the slow blocks")
-    parser.add_argument("--readme", type=Path, default=README, help="the file (README.md)")
     parser.add_argument(
         "--keep", type=Path, metavar="DIR", help="run each block in DIR/NAME and keep its files"
     )
     args = parser.parse_args(argv)
-    readme: Path = args.readme
     names = args.only or [n for n, b in BLOCKS.items() if not (args.fast and b.slow)]
-    text = readme.read_text(encoding="utf-8")
-    present = readme_blocks(text)
+    present = page_blocks()
     if set(present) != set(BLOCKS):
-        print(f"README blocks {sorted(present)} != BLOCKS {sorted(BLOCKS)}", file=sys.stderr)
+        print(f"blocks on the pages {sorted(present)} != BLOCKS {sorted(BLOCKS)}", file=sys.stderr)
         return 1
     if args.list:
         for n, b in BLOCKS.items():
@@ -312,13 +334,14 @@ def main(argv: list[str] | None = None) -> int:
         t0 = time.perf_counter()
         fresh = fresh_output(name, args.keep)
         took = time.perf_counter() - t0
+        page = present[name]
+        text = page.read_text(encoding="utf-8")
         if args.write:
-            text = readme.read_text(encoding="utf-8")
             first, end = readme_blocks(text)[name]
             lines = text.splitlines()
             lines[first:end] = fresh.splitlines()
-            readme.write_text("\n".join(lines) + "\n", encoding="utf-8")
-            print(f"{name}: rewritten ({took:.1f} s)")
+            page.write_text("\n".join(lines) + "\n", encoding="utf-8")
+            print(f"{name}: rewritten in {page.relative_to(ROOT)} ({took:.1f} s)")
         else:
             diff = differences(block_text(text, name), fresh, BLOCKS[name])
             failed += bool(diff)

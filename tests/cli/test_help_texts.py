@@ -11,7 +11,13 @@ import pytest
 from obturator.cli import _COMMANDS, build_parser, main
 from obturator.warmup import WARMUP_TARGETS
 
-README = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+_ROOT = Path(__file__).resolve().parents[2]
+# the README and the docs pages its reference moved to
+README = "\n".join(
+    p.read_text(encoding="utf-8")
+    for p in [_ROOT / "README.md", *sorted((_ROOT / "docs").rglob("*.md"))]
+    if "_build" not in p.parts
+)
 
 
 def _help(command: str) -> str:

@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -304,6 +305,10 @@ def _run_sensitivity(args: argparse.Namespace) -> int:
         f"converged; mean {args.event} {ds.attrs['mean']:.5g} s, "
         f"sd {math.sqrt(ds.attrs['variance']):.3g} s; {elapsed:.1f} s"
     )
+    from ..envelope.sensitivity import sobol_warnings
+
+    for line in sobol_warnings(ds):  # the indices are printed; say when they are noise
+        print(f"obturator: warning: Sobol indices: {line}", file=sys.stderr)
     return 0
 
 
@@ -413,11 +418,14 @@ def _run_optimize(args: argparse.Namespace) -> int:
 
         plot_pareto(front, args.figure)
     if front is not None:
+        from ..envelope.figures import pareto_collapse
+
         summary["pareto"] = {
             "mass_kg": front["mass"].values.tolist(),
             "objective_s": front["objective"].values.tolist(),
             "feasible": front["feasible"].values.tolist(),
             "degenerate": bool(front.attrs["degenerate"]),
+            "collapsed": pareto_collapse(front),
         }
     summary["elapsed_s"] = elapsed
     if args.json:
@@ -507,6 +515,8 @@ def _print_optimum(problem: Any, res: Any, s: dict[str, Any], elapsed: float, ru
             for m, o in zip(p["mass_kg"], p["objective_s"], strict=True)
         )
         print(f"Pareto front (mass: objective){' (degenerate)' if p['degenerate'] else ''}: {pts}")
+        if p.get("collapsed"):
+            print(f"Pareto front: {p['collapsed']}")
     print(f"{res.n_evaluations} designs evaluated in {elapsed:.1f} s ({res.message})")
 
 

@@ -306,6 +306,7 @@ def _run(args: argparse.Namespace) -> int:
     case = case_from_settings(settings)
     options = options_from_settings(settings)
     check_output_path("--csv", args.csv, ("csv",))
+    check_output_path("--animate", args.animate, ("html",))
     if args.plot is not None:
         from ..plotting import figure_suffixes
 
@@ -326,6 +327,10 @@ def _run(args: argparse.Namespace) -> int:
         res.to_csv(args.csv)
     if args.plot:
         _plot(res, args.plot)
+    if args.animate:
+        from ..animation import write_animation
+
+        write_animation(res, args.animate)
     check = (
         None if args.no_check else convergence_check(case, options, opening_time_s=res.opening_time)
     )
@@ -405,4 +410,11 @@ register = command(
     ),
     PLOT.but(type=OutputFile(figure=True, example="theta.png"), help="write theta(t) as a figure"),
     CSV.but(type=OutputFile(("csv",), example="theta.csv"), help="write the time series as CSV"),
+    option(
+        "--animate",
+        metavar="HTML",
+        type=OutputFile(("html",), example="opening.html"),
+        help="write an animation of the opening (the ball in its bore, theta(t), a time "
+        "slider) as one standalone HTML file (plotly.js inline: opens offline)",
+    ),
 )

@@ -15,7 +15,7 @@ import numpy as np
 from ..files import figure_format
 from ..status import Status
 
-__all__ = ["plot_envelope", "plot_sobol", "plot_pareto", "plot_coupled"]
+__all__ = ["plot_envelope", "plot_sobol", "plot_pareto", "pareto_collapse", "plot_coupled"]
 
 
 def _figure(ncols: int = 1, width: float = 6.0, height: float = 4.5) -> tuple[Any, Any]:
@@ -51,15 +51,17 @@ def plot_envelope(ds: Any, path: str | Path) -> str:
 
     Left: filled contours of the trajectory-coupled t_cr over muzzle Mach x
     altitude; the requirement contour for the coupled (solid red) and the
-    constant load (dashed black); hatched where the bore is choked at opening
-    (Fanno, ``//``) or the inlet is not started (Kantrowitz, ``\\\\``); crosses
-    where a t_cr is not converged. Right: relative difference in percent.
+    constant load (dashed black), named in the legend (no inline label cuts them);
+    hatched where the bore is choked at opening (Fanno, ``//``) or the inlet is not
+    started (Kantrowitz, ``\\\\``); crosses where a t_cr is not converged.
+    Right: relative difference in percent.
     """
     if "temperature_offset_k" in ds.dims:
         ds = ds.isel(temperature_offset_k=0)
     mach = ds["mach"].values
     alt_km = ds["altitude_m"].values / 1000.0
     req = float(ds.attrs["requirement_s"])
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     fig, (ax, bx) = _figure(2)
@@ -71,11 +73,17 @@ def plot_envelope(ds: Any, path: str | Path) -> str:
         cf = ax.contourf(mach, alt_km, tc, levels=levels, cmap="viridis")
         cb = fig.colorbar(cf, ax=ax, label="t_cr, trajectory-coupled [s]", format="%g")
         cb.set_ticks(_round_log_ticks(finite.min(), finite.max()))
+        # the requirement contours are named in the legend, not by inline labels: an
+        # inline label cuts its line where it sits, and on a short contour hides it
+        lines = []
         if np.nanmin(tc) < req < np.nanmax(tc):
-            cs = ax.contour(mach, alt_km, tc, levels=[req], colors="red", linewidths=2.5)
-            ax.clabel(cs, fmt=f"{req:g} s (coupled)")
+            ax.contour(mach, alt_km, tc, levels=[req], colors="red", linewidths=2.5)
+            lines.append(Line2D([], [], color="red", lw=2.5, label=f"{req:g} s, coupled"))
         if np.nanmin(t0) < req < np.nanmax(t0):
             ax.contour(mach, alt_km, t0, levels=[req], colors="k", linestyles="--", linewidths=1.5)
+            lines.append(
+                Line2D([], [], color="k", ls="--", lw=1.5, label=f"{req:g} s, constant load")
+            )
         hatched = []
         for name, hatch, what in (
             ("choked_at_opening", "//", "bore choked at opening (Fanno)"),
@@ -88,8 +96,10 @@ def plot_envelope(ds: Any, path: str | Path) -> str:
                 ax.contourf(mach, alt_km, mask, levels=[0.5, 1.5], colors="none", hatches=[hatch])
                 ax.contour(mach, alt_km, mask, levels=[0.5], colors="0.3", linewidths=0.8)
                 hatched.append(Patch(facecolor="white", edgecolor="0.3", hatch=hatch, label=what))
-        if hatched:
-            ax.legend(handles=hatched, loc="lower right", fontsize="small", framealpha=0.9)
+        if hatched or lines:
+            ax.legend(
+                handles=[*lines, *hatched], loc="lower right", fontsize="small", framealpha=0.9
+            )
         rd = 100.0 * ds["relative_difference"].values.T
         cf2 = bx.contourf(mach, alt_km, rd, levels=12, cmap="magma")
         fig.colorbar(cf2, ax=bx, label="t_cr coupled / constant - 1 [%]")
@@ -120,26 +130,104 @@ def plot_envelope(ds: Any, path: str | Path) -> str:
 
 
 def plot_sobol(ds: Any, path: str | Path) -> str:
-    """Bar chart of first-order and total Sobol indices with their confidence intervals."""
+    """Bar chart of first-order and total Sobol indices with their confidence intervals.
+
+    Where the estimates are noise (:func:`obturator.envelope.sensitivity.sobol_warnings`:
+    an interval wider than its index, an index outside [0, 1]) the figure says so in red
+    under the title, shades the impossible range outside [0, 1] and hatches the bars
+    concerned.
+    """
+    from ..envelope.sensitivity import sobol_warnings
+
     names = [str(x) for x in ds["input"].values]
     x = np.arange(len(names))
-    fig, ax = _figure(1, width=1.0 + 1.1 * len(names))
+    import textwrap
+
+    width = max(1.0 + 1.1 * len(names), 6.0)
+    warnings = [
+        textwrap.fill(line, int(11 * width), subsequent_indent="  ") for line in sobol_warnings(ds)
+    ]
+    n_lines = sum(line.count("\n") + 1 for line in warnings)
+    fig, ax = _figure(1, width=width, height=4.5 + 0.2 * n_lines)
     w = 0.38
-    ax.bar(x - w / 2, ds["S1"], w, yerr=ds["S1_conf"], capsize=3, label="first order S1")
-    ax.bar(x + w / 2, ds["ST"], w, yerr=ds["ST_conf"], capsize=3, label="total ST")
+    for off, key, label in ((-w / 2, "S1", "first order S1"), (w / 2, "ST", "total ST")):
+        v, c = np.asarray(ds[key], dtype=float), np.asarray(ds[f"{key}_conf"], dtype=float)
+        bars = ax.bar(x + off, v, w, yerr=c, capsize=3, label=label)
+        for bar, vk, ck in zip(bars, v, c, strict=True):
+            if (ck > abs(vk) and ck > 0.01) or not -0.01 <= vk <= 1.01:
+                bar.set_hatch("///")
+                bar.set_edgecolor("0.2")
     ax.set_xticks(x, names, rotation=20)
     ax.set_ylabel("Sobol index of t_cr")
     ax.axhline(0.0, color="k", linewidth=0.6)
+    lo, hi = ax.get_ylim()
+    if hi > 1.0:
+        ax.axhspan(1.0, hi, color="red", alpha=0.08, lw=0)
+        ax.axhline(1.0, color="red", lw=0.8, ls=":")
+    if lo < 0.0:
+        ax.axhspan(lo, 0.0, color="red", alpha=0.08, lw=0)
+    ax.set_ylim(lo, hi)
     ax.legend()
-    ax.set_title(str(ds.attrs.get("title", "Sobol indices")))
+    title = str(ds.attrs.get("title", "Sobol indices"))
+    if warnings:
+        title += "\nNOT RELIABLE (hatched; shaded: impossible, outside [0, 1]):\n" + "\n".join(
+            warnings
+        )
+    ax.set_title(title, **({"fontsize": 9, "color": "firebrick"} if warnings else {}))
     return _save(fig, path)
 
 
+#: A front whose masses span less than this fraction of the optimum's mass has collapsed
+#: to one design: its points overlap at the figure's scale (Table 1's ball beside it).
+_COLLAPSED = 0.05
+
+
+def pareto_collapse(ds: Any) -> str | None:
+    """Why the Pareto front has no trade-off to show, or None where it has one.
+
+    The front lowers the mass budget from the optimum's mass to the lightest feasible
+    design's (:func:`obturator.envelope.pareto.pareto_front`). Where those two masses lie
+    within 5 % of each other the fastest design is already (nearly) the lightest one:
+    t_cr and mass do not compete over the design bounds, and every budget returns
+    about the same design.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The front (``mass`` [kg], ``objective`` [s]; attribute
+        ``lightest_feasible_mass`` [kg]).
+
+    Returns
+    -------
+    str or None
+        One sentence for the figure and the text output.
+    """
+    m = np.asarray(ds["mass"].values, dtype=float)
+    f = np.asarray(ds["objective"].values, dtype=float)
+    m_light = float(ds.attrs.get("lightest_feasible_mass", m.min()))
+    if m.size and (m.max() - m_light) <= _COLLAPSED * m.max():
+        return (
+            f"the front collapsed to one design: the fastest design ({1e3 * m.max():.4g} g, "
+            f"{f[int(np.argmax(m))]:.4g} s) is within "
+            f"{100 * (m.max() - m_light) / m.max():.2g} % of the lightest feasible one "
+            f"({1e3 * m_light:.4g} g), so t_cr and mass do not compete over these bounds "
+            "(every mass budget gives about the same design)"
+        )
+    return None
+
+
 def plot_pareto(ds: Any, path: str | Path) -> str:
-    """Pareto front: robust t_cr objective against ball mass."""
+    """Pareto front: robust t_cr objective against ball mass, or, where it collapsed to
+    one design (:func:`pareto_collapse`), that design with the reason written on it."""
     fig, ax = _figure(1)
     m = 1000.0 * ds["mass"].values
-    ax.plot(m, ds["objective"].values, "o-", label="optimised designs")
+    collapsed = pareto_collapse(ds)
+    ax.plot(
+        m,
+        ds["objective"].values,
+        "o-",
+        label="optimised designs" if collapsed is None else "optimised designs (one point)",
+    )
     if "baseline_mass" in ds.attrs:
         ax.plot(
             1000.0 * ds.attrs["baseline_mass"],
@@ -150,7 +238,22 @@ def plot_pareto(ds: Any, path: str | Path) -> str:
         )
     ax.set_xlabel("ball mass [g]")
     ax.set_ylabel(f"{ds.attrs.get('objective', 'objective')} of t_cr [s]")
-    ax.legend()
+    ax.legend(loc="lower right")
+    if collapsed is not None:
+        import textwrap
+
+        ax.set_title("No trade-off between t_cr and mass", color="firebrick")
+        ax.text(
+            0.03,
+            0.97,
+            textwrap.fill(collapsed[0].upper() + collapsed[1:] + ".", 52),
+            transform=ax.transAxes,
+            va="top",
+            fontsize=8,
+            bbox={"facecolor": "white", "edgecolor": "firebrick", "alpha": 0.9},
+        )
+    else:
+        ax.set_title("Pareto front: robust t_cr against ball mass")
     return _save(fig, path)
 
 

@@ -33,7 +33,7 @@ from ..sweeps import Distribution
 from .coupled import STATUS_OPENED, STATUS_UNCONVERGED
 from .uncertain import points_from_uniform
 
-__all__ = ["sobol_indices"]
+__all__ = ["sobol_indices", "sobol_warnings"]
 
 VectorFunction = Callable[[list[dict[str, float]]], tuple[np.ndarray, np.ndarray]]
 
@@ -135,3 +135,52 @@ def sobol_indices(
         "distributions": "; ".join(f"{k}={dists[k]}" for k in names),
     }
     return xr.Dataset(data, coords={"input": ("input", names)}, attrs=attrs)
+
+
+#: Index and interval scale below which nothing is reported [-]: an input with no
+#: influence estimates 0 +- a few 1e-3, which is a clear answer, not noise to warn of.
+_SLACK = 0.01
+
+
+def sobol_warnings(ds: Any) -> list[str]:
+    """What a reader of the Sobol indices must be told: intervals wider than the indices,
+    indices outside [0, 1].
+
+    A Sobol index is a share of the variance, in [0, 1]; Saltelli's estimators are not
+    bounded, and with too few base samples they leave that range or carry bootstrap
+    intervals wider than the index itself (Saltelli et al. 2010, sec. 4). Either means
+    the estimate is noise: more ``--samples`` (the base sample count N) are needed.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        The result of :func:`sobol_indices` (``S1``, ``S1_conf``, ``ST``, ``ST_conf``
+        over ``input``; attribute ``n_base``).
+
+    Returns
+    -------
+    list of str
+        One line per problem (empty: none).
+    """
+    out: list[str] = []
+    names = [str(x) for x in ds["input"].values]
+    for key in ("S1", "ST"):
+        value, conf = np.asarray(ds[key], dtype=float), np.asarray(ds[f"{key}_conf"], dtype=float)
+        outside = [
+            f"{n} {v:.3g}"
+            for n, v in zip(names, value, strict=True)
+            if not -_SLACK <= v <= 1.0 + _SLACK
+        ]
+        wide = [
+            f"{n} {v:.3g} +- {c:.2g}"
+            for n, v, c in zip(names, value, conf, strict=True)
+            if c > abs(v) and c > _SLACK
+        ]
+        if outside:
+            out.append(f"{key} outside [0, 1] (a variance share cannot be): {', '.join(outside)}")
+        if wide:
+            out.append(f"{key} interval wider than the index: {', '.join(wide)}")
+    if out:
+        n = ds.attrs.get("n_base", "N")
+        out.append(f"the estimates are noise at --samples {n}: raise it (e.g. 4x)")
+    return out

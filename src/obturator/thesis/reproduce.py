@@ -26,7 +26,7 @@ from ..model.cases import rig_case
 from ..reference import TABLE1, THESIS_MU_S
 from ..runs import Progress, Runner, study_digest
 from ..runs.store import atomic_write_text
-from ..solve import SolverOptions, opening_times
+from ..solve import SolverOptions, opening_times, simulate
 from .explorer import explorer_data
 from .histories import (
     couette_study,
@@ -372,7 +372,7 @@ def reproduce(
         ctx["sections"].append(dsec)
         paths.extend(out / name for name, _ in dsec.figures)
     ctx["images"] = {p.name: base64.b64encode(p.read_bytes()).decode("ascii") for p in paths}
-    ctx["explorer"] = explorer_html(res["explorer"])
+    ctx["explorer"] = explorer_html(res["explorer"]) + _animations(options)
     md, hp = out / "report.md", out / "report.html"
     # whole or absent, also on a full disk; then the store goes (kept if a write fails)
     runner.write_outputs(
@@ -382,3 +382,28 @@ def reproduce(
         ]
     )
     return ReproduceResult(out, paths, md, hp, rows, res["fit"], elapsed, res)
+
+
+#: Rig runs animated in the report [rad/s]: near the t_cr minimum, where the ball sticks
+#: and slips after release, and fast spin, where it slips from the start.
+ANIMATED_SPINS = (150.0, 400.0)
+
+
+def _animations(options: SolverOptions | None) -> str:
+    """The opening of selected rig runs (Table 1, the thesis's mu_s) as animations: the
+    ball in its bore, theta(t), a time slider (:mod:`obturator.animation`; the report's
+    plotly.js, inlined once by the explorer, draws them)."""
+    from ..animation import animation_html
+
+    parts = [
+        "<h2>The opening, animated</h2>",
+        "<p>The ball in the projectile's bore, seen in the projectile's frame, from release "
+        "to first light (theta = theta_cr = beta_s), beside theta(t): move the slider or "
+        f"press play. Spin rig, Table 1, mu_s = {THESIS_MU_S}.</p>",
+    ]
+    for w in ANIMATED_SPINS:
+        run = simulate(rig_case(spin_rate=w, mu_s=THESIS_MU_S), options)
+        parts.append(
+            animation_html(run, div_id=f"opening-{w:.0f}", include_plotlyjs=False, n_frames=60)
+        )
+    return "\n".join(parts)
