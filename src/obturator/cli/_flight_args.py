@@ -23,10 +23,14 @@ from ._flags import (
     TORQUE_MODEL,
     Flag,
     add_flags,
+    alias,
+    convergence_flags,
     execution_flags,
     option,
     quantity_option,
-    switch,
+)
+from ._flags import (
+    FIGURE as FIGURE_OPTION,
 )
 from ._kinds import Axis, NameOrFile, OutputFile, Quantity
 
@@ -106,14 +110,24 @@ REQUIREMENT = Quantity("s", _POSITIVE, "0.1 s")
 FIGURE = OutputFile(figure=True, example="figure.png")
 
 #: Grids of launch points (envelope, probability, optimize).
-MACH_GRID = option("--mach", dest="grid_mach", metavar="SPEC", type=MACH_AXIS)
+MACH_GRID = option(
+    "--mach",
+    dest="grid_mach",
+    metavar="SPEC",
+    type=MACH_AXIS,
+    help="muzzle Mach numbers: START:STOP:COUNT or a list a,b,c",
+)
 ALTITUDE_GRID = option(
-    "--altitude-m", dest="grid_altitude", metavar="SPEC", type=axis_of("altitude_m")
+    "--altitude-m",
+    dest="grid_altitude",
+    metavar="SPEC",
+    type=axis_of("altitude_m"),
+    help="launch altitudes [m]: START:STOP:COUNT or a list a,b,c",
 )
 REQUIREMENT_FLAG = option(
     "--requirement", metavar="S", default="0.1", type=REQUIREMENT, help="t_cr requirement [s]"
 )
-FIGURE_FLAG = option("--figure", metavar="FILE.png", type=FIGURE)
+FIGURE_FLAG = FIGURE_OPTION.but(type=FIGURE)
 
 
 def quantity(field: str, value: Any, unit: str) -> float:
@@ -145,6 +159,13 @@ _LAUNCH_POINT = (
         help="off-standard temperature [K] (default 0)",
     ),
 )
+_DRAG = option(
+    "--drag",
+    dest="drag",
+    metavar="NAME|FILE.csv",
+    type=NameOrFile(_DRAG_CURVES, "tubular-open"),
+    help="drag curve: tubular-closed (default), tubular-open, or a CSV with columns mach,cd",
+)
 _LAUNCH = (
     quantity_option(
         "--elevation-deg", "deg", Range(-90.0, 90.0), "0 deg", "elevation angle [deg] (default 0)"
@@ -160,14 +181,8 @@ _LAUNCH = (
     quantity_option(
         "--twist", "m", Range(1e-3, 100.0), "0.5 m", "rifling twist [m per turn] (default 0.5327)"
     ),
-    option(
-        "--drag",
-        "--cd-table",
-        dest="drag",
-        metavar="NAME|FILE.csv",
-        type=NameOrFile(_DRAG_CURVES, "tubular-open"),
-        help="drag curve: tubular-closed (default), tubular-open, or a CSV with columns mach,cd",
-    ),
+    _DRAG,
+    alias(_DRAG, "--cd-table"),
     quantity_option(
         "--roll-damping", "", Range(-10.0, 10.0), "-0.012", "roll-damping coefficient C_lp (-0.012)"
     ),
@@ -195,9 +210,9 @@ _SOLVER = (
         metavar="S",
     ),
     T_MAX.but(help="give up after this time [s] (default 1)"),
-    switch(
-        "--no-convergence-check",
-        "skip the refined reruns (t_cr then carries no convergence status)",
+    *convergence_flags(
+        True,
+        "the refined reruns (without them t_cr carries no convergence status)",
     ),
 )
 
@@ -292,6 +307,6 @@ def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
         projectile,
         load=getattr(args, "load", None) or load,
         options=options,
-        check_convergence=not args.no_convergence_check,
+        check_convergence=args.convergence_check,
         **mkw,
     )

@@ -107,7 +107,13 @@ def _add_probability(
         VARY,
         REQUIREMENT_FLAG,
         _EVENT,
-        option("--method", choices=("is", "mc", "both"), default="is"),
+        option(
+            "--method",
+            choices=("is", "mc", "both"),
+            default="is",
+            help="cross-entropy importance sampling (is, the default), brute-force Monte "
+            "Carlo (mc) or both",
+        ),
         count(
             "--samples",
             1,
@@ -137,7 +143,12 @@ def _add_sensitivity(
         + " ".join(DEFAULT_RANGES)
         + "; spin-rig "
         + " ".join(DEFAULT_RIG_RANGES),
-        option("--case", choices=("flight", "spin-rig"), default="flight"),
+        option(
+            "--case",
+            choices=("flight", "spin-rig"),
+            default="flight",
+            help="Table 1 column (default flight)",
+        ),
         option(
             "--mach",
             dest="mach_point",
@@ -179,8 +190,10 @@ def _add_optimize(
         "to the bore-able hole, the ball blocking the bore at launch, the socket wall and "
         "the mass budget; reports the optimum, its sensitivity and (--pareto N) the "
         "t_cr-mass Pareto front.",
-        MACH_GRID.but(default="1.5,2.75,4"),
-        ALTITUDE_GRID.but(default="0,10000"),
+        MACH_GRID.but(
+            default="1.5,2.75,4", help="muzzle Mach numbers of the envelope (1.5,2.75,4)"
+        ),
+        ALTITUDE_GRID.but(default="0,10000", help="launch altitudes of the envelope [m] (0,10000)"),
         option(
             "--objective",
             default="max",

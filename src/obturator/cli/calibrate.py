@@ -9,8 +9,8 @@ import sys
 from ..params import Range
 from ..reference import TABLE1
 from ._args import quantity_of, solver_options
-from ._flags import CONFIG, JSON, PLOT, SEED_FLAG, command, count, option, quantity_option
-from ._kinds import InputFile, OutputFile, Text
+from ._flags import CONFIG, JSON, SEED_FLAG, command, count, figure_flags, option, quantity_option
+from ._kinds import InputFile, Text
 
 __all__ = ["register"]
 
@@ -41,10 +41,10 @@ def _calibrate(args: argparse.Namespace) -> int:
         options=solver_options(conf.get("solver", {})),
         **kwargs,
     )
-    if args.plot:
+    if args.figure:
         from ..plotting import calibration_residuals, save
 
-        save(calibration_residuals(fit), args.plot)
+        save(calibration_residuals(fit), args.figure)
     sys.stdout.write((fit.to_json() if args.json else fit.report()) + "\n")
     return 0
 
@@ -93,8 +93,5 @@ register = command(
     count("--bootstrap", 0, 100_000, "bootstrap resamples (0: none; at most 100000)", default=200),
     SEED_FLAG.but(metavar="N", default=0, help="bootstrap seed"),
     JSON,
-    PLOT.but(
-        type=OutputFile(figure=True, example="fit.png"),
-        help="write data, model and residuals",
-    ),
+    *figure_flags("fit.png", "write data, model and residuals"),
 )

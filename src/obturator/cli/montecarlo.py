@@ -43,11 +43,11 @@ from ._flags import (
     SEED_FLAG,
     VARY,
     command,
+    convergence_flags,
     count,
     option,
     parameter_flags,
     study_flags,
-    switch,
 )
 from ._kinds import Text
 from ._runner import runner_from_args
@@ -119,7 +119,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
         confidence=confidence,
         runner=runner,
         csv=args.csv,
-        check_convergence=not args.no_check_convergence,
+        check_convergence=args.convergence_check,
     )
     wall = time.perf_counter() - t0
     summ = monte_carlo_summary(ds)
@@ -180,10 +180,11 @@ register = command(
     CONFIDENCE.but(metavar="X", help="interval level (0.95)"),
     *study_flags(),
     OUT_NETCDF.but(help="write samples and summary as NetCDF"),
-    switch(
-        "--no-check-convergence",
-        "skip the per-sample convergence check (4x faster; non-converged openings, "
-        "status 4, are then not detected)",
+    *convergence_flags(
+        True,
+        "the per-sample reruns with tolerances / 10, friction width / 10 and another "
+        "regularisation family (skipping is 4x faster; non-converged openings, status 4, "
+        "are then not detected)",
     ),
     CSV.but(help="write the samples as CSV"),
 )

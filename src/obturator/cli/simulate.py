@@ -38,14 +38,14 @@ from ._flags import (
     CSV,
     FRICTION_FAMILY,
     JSON,
-    PLOT,
     SPEED_LAW,
     SPIN_MODE,
     TORQUE_MODEL,
     Flag,
     command,
+    convergence_flags,
+    figure_flags,
     option,
-    switch,
 )
 from ._kinds import OutputFile
 
@@ -256,10 +256,10 @@ def _run(args: argparse.Namespace) -> int:
     case = case_from_settings(settings)
     options = options_from_settings(settings)
     check_output_path("--csv", args.csv, ("csv",))
-    if args.plot is not None:
+    if args.figure is not None:
         from ..plotting import figure_suffixes
 
-        check_output_path("--plot", args.plot, figure_suffixes())
+        check_output_path("--figure", args.figure, figure_suffixes())
     note = outside_validated_range(case)
     if note:
         print(f"obturator: warning: {note}; {_expected_cost(case, options)}", file=sys.stderr)
@@ -270,14 +270,14 @@ def _run(args: argparse.Namespace) -> int:
         raise SolverError(res.message)
     if args.csv:
         res.to_csv(args.csv)
-    if args.plot:
-        _plot(res, args.plot)
-    check = (
-        None if args.no_check else convergence_check(case, options, opening_time_s=res.opening_time)
-    )
+    if args.figure:
+        _plot(res, args.figure)
+    check = None
+    if args.convergence_check:
+        check = convergence_check(case, options, opening_time_s=res.opening_time)
     start = None
     if case.name == "flight":
-        start = _flight_start(case, settings, options, not args.no_check)
+        start = _flight_start(case, settings, options, args.convergence_check)
     if args.json:
         out = res.summary()
         if check is not None:
@@ -325,7 +325,12 @@ register = command(
         "contact patch radius of --torque-model coulomb [m] "
         "(default: Hertz radius; 0: point contact)",
     ),
-    option("--formulation", choices=FORMULATIONS, default=None),
+    option(
+        "--formulation",
+        choices=FORMULATIONS,
+        default=None,
+        help="state of the equations of motion: quaternion (default) or Euler angles",
+    ),
     _quantity("theta_dot0", "RAD_S", "release transient theta_dot_0 [rad/s] (rig)"),
     _quantity("release_phase", "RAD", "release azimuth psi_0 [rad] (rig)"),
     SPEED_LAW.but(help="slip-speed dependence of mu (rig; default constant, the thesis's)"),
@@ -333,11 +338,11 @@ register = command(
     _quantity("slip_speed", "M_S", "mu(v) speed v_s [m/s] (with --speed-law)"),
     _quantity("t_max", "S", "give up after this time [s]"),
     JSON,
-    switch(
-        "--no-check",
-        "skip the convergence check (reruns with tolerances / 10, friction width / 10 "
-        "and another regularisation family)",
+    *convergence_flags(
+        True,
+        "rerun with tolerances / 10, friction width / 10 and another regularisation family "
+        "and report how much t_cr moves",
     ),
-    PLOT.but(type=OutputFile(figure=True, example="theta.png"), help="write theta(t) as a figure"),
+    *figure_flags("theta.png", "write theta(t) as a figure"),
     CSV.but(type=OutputFile(("csv",), example="theta.csv"), help="write the time series as CSV"),
 )

@@ -41,6 +41,7 @@ from ._flags import (
     OUT_NETCDF,
     SPEED_LAW,
     command,
+    convergence_flags,
     parameter_flags,
     study_flags,
     switch,
@@ -74,7 +75,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         spin_mode=args.spin_mode,
         options=study_options(args),
         t_max=study_t_max(args),
-        check_convergence=args.check_convergence,
+        check_convergence=args.convergence_check,
         speed_law=args.speed_law,
     )
     runner = runner_from_args(args)
@@ -148,8 +149,8 @@ register = command(
         default="constant",
         help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed)",
     ),
-    switch(
-        "--check-convergence",
+    *convergence_flags(
+        False,
         "re-run each opened point with tolerances / 10, friction width / 10 and another "
         "regularisation family and mark points whose t_cr moves by more than 1e-3 "
         "(status 4; 4x the cost)",

@@ -5,9 +5,22 @@ from __future__ import annotations
 import argparse
 
 from . import _json
-from ._flags import JSON, command, count, switch
+from ._flags import JSON, alias, command, count, switch
 
 __all__ = ["register"]
+
+_WORKERS = (
+    count(
+        "--workers",
+        1,
+        64,
+        "processes compiling at once (2; at most 64: one per integrator is all it uses)",
+        example=2,
+        default=2,
+        dest="jobs",
+    ),
+)
+_WORKERS += (alias(_WORKERS[0], "--jobs"),)
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -36,14 +49,7 @@ register = command(
     "side by side in fresh processes and store the machine code in numba's cache, so "
     "that the first simulation or sweep starts warm. Says whether each was compiled or "
     "loaded from the cache, and where the cache is.",
-    count(
-        "--jobs",
-        1,
-        64,
-        "processes compiling at once (2; at most 64: one per integrator is all it uses)",
-        example=2,
-        default=2,
-    ),
+    *_WORKERS,
     switch("--all", "also the Rosenbrock method"),
     JSON,
 )
