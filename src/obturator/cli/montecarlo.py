@@ -113,6 +113,8 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
         fixed=fixed,
         torque_model=args.torque_model,
         spin_mode=args.spin_mode,
+        speed_law=args.speed_law,
+        base=args.base,
         options=study_options(args),
         t_max=study_t_max(args),
         quantiles=quantiles,

@@ -77,6 +77,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         t_max=study_t_max(args),
         check_convergence=args.convergence_check,
         speed_law=args.speed_law,
+        base=args.base,
     )
     runner = runner_from_args(args)
     check_output_path("out", args.out)
@@ -146,8 +147,8 @@ register = command(
     *study_flags(),
     OUT_NETCDF.but(required=True, help="NetCDF output"),
     SPEED_LAW.but(
-        default="constant",
-        help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed)",
+        help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed; "
+        "default constant, or the config's)",
     ),
     *convergence_flags(
         False,
