@@ -58,7 +58,7 @@ the Coulomb contact model a ``[contact]`` section::
 
     [flight]
     mach = 3.0
-    p1 = "0.099 MPa"             # Pa; or altitude = "1 km" (not both)
+    altitude = "1 km"            # m (1976 atmosphere); or p1 = "0.099 MPa" (simulate)
     n_contacts = 2               # torque_model = "coulomb" only
 
     [contact]

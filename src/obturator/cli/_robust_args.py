@@ -102,8 +102,8 @@ def _add_probability(
         "Probability that the bore opens later than the requirement, by cross-entropy "
         "importance sampling (--method is), brute-force Monte Carlo (mc) or both, with "
         "confidence intervals. Default inputs: " + " ".join(DEFAULT_UNCERTAINTY),
-        MACH_GRID.but(default="3", help="muzzle Mach"),
-        ALTITUDE_GRID.but(default="0", help="altitude [m]"),
+        MACH_GRID.but(help="muzzle Mach (default 3, or the config's [flight] mach)"),
+        ALTITUDE_GRID.but(help="altitude [m] (default 0, or the config's [flight] altitude)"),
         VARY,
         REQUIREMENT_FLAG,
         _EVENT,
@@ -191,9 +191,11 @@ def _add_optimize(
         "the mass budget; reports the optimum, its sensitivity and (--pareto N) the "
         "t_cr-mass Pareto front.",
         MACH_GRID.but(
-            default="1.5,2.75,4", help="muzzle Mach numbers of the envelope (1.5,2.75,4)"
+            help="muzzle Mach numbers of the envelope (1.5,2.75,4, or the config's [flight] mach)"
         ),
-        ALTITUDE_GRID.but(default="0,10000", help="launch altitudes of the envelope [m] (0,10000)"),
+        ALTITUDE_GRID.but(
+            help="launch altitudes of the envelope [m] (0,10000, or the config's [flight] altitude)"
+        ),
         option(
             "--objective",
             default="max",

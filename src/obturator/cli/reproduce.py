@@ -18,15 +18,16 @@ def _reproduce(args: argparse.Namespace) -> int:
 
     runner = runner_from_args(args, resume=False)
     runner.store = Path(args.out) / "report"  # its sidecar: report.partial.jsonl
-    res = reproduce(
-        args.out,
-        quick=args.quick,
-        runner=runner,
-        command=command_line(),
-        envelope=args.envelope,
-        validation=not args.no_validation,
-        design=args.design,
-    )
+    with runner.progress.heartbeat("reproduce", "starting"):
+        res = reproduce(
+            args.out,
+            quick=args.quick,
+            runner=runner,
+            command=command_line(),
+            envelope=args.envelope,
+            validation=not args.no_validation,
+            design=args.design,
+        )
     flagged = sum(1 for r in res.rows if r.difference is not None and abs(r.difference) > 2.0)
     print(
         f"wrote {len(res.figures)} figures, {res.report_md} and {res.report_html} "

@@ -99,16 +99,17 @@ def _run(args: argparse.Namespace) -> int:
     runner = runner_from_args(args, workers=jobs, resume=False)
     if out is not None:
         runner.store = out / "validation"  # its sidecar: validation.partial.jsonl
-    result = run_validation(
-        data,
-        models=[c.name for c in names],
-        runner=runner,
-        t_max=t_max,
-        spin_sd=spin_sd,
-        gap=gap,
-        profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
-        noise=args.noise,
-    )
+    with runner.progress.heartbeat("validate", "starting"):
+        result = run_validation(
+            data,
+            models=[c.name for c in names],
+            runner=runner,
+            t_max=t_max,
+            spin_sd=spin_sd,
+            gap=gap,
+            profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
+            noise=args.noise,
+        )
     from ..runs.store import atomic_write_text
     from ..validation.textreport import format_report
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from . import _json
-from ._flags import JSON, alias, command, count, switch
+from ._flags import JSON, NO_PROGRESS, alias, command, count, switch
 
 __all__ = ["register"]
 
@@ -24,9 +24,17 @@ _WORKERS += (alias(_WORKERS[0], "--jobs"),)
 
 
 def _run(args: argparse.Namespace) -> int:
+    from ..runs import Progress
     from ..warmup import warm_up
 
-    res = warm_up(jobs=args.jobs, everything=args.all)  # checked by its kind
+    progress = Progress.auto(not args.no_progress and not args.json)
+
+    def report(target: str, seconds: float, compiled: bool, done: int, total: int) -> None:
+        verb = "compiled" if compiled else "loaded from the cache"
+        progress.note(f"warmup: {target} {verb} in {seconds:.1f} s ({done}/{total})")
+
+    with progress.heartbeat("warmup", "compiling the integrators in fresh processes"):
+        res = warm_up(jobs=args.jobs, everything=args.all, report=report)  # checked by kind
     if args.json:
         keys = {"seconds": "time_s", "directory": "cache_directory"}  # unit-suffixed keys
         print(_json.dumps({keys.get(k, k): v for k, v in res.items()}))
@@ -51,5 +59,6 @@ register = command(
     "loaded from the cache, and where the cache is.",
     *_WORKERS,
     switch("--all", "also the Rosenbrock method"),
+    NO_PROGRESS.but(help="no line as each integrator finishes"),
     JSON,
 )
