@@ -71,7 +71,8 @@ def test_the_rig_file_is_the_base_case_of_a_sweep(rig, tmp_path, capsys):
 
 def test_the_rig_file_is_the_base_case_of_a_monte_carlo(rig, tmp_path, capsys):
     argv = ["montecarlo", "--config", rig, "--samples", "3", "--vary", "mu_s=uniform:0.5,0.6"]
-    out = _json(capsys, [*argv, "--workers", "1", "--no-progress", "--no-convergence-check"])
+    argv += ["--spin-rate", "400", "--t-max", "1", "--workers", "1", "--no-progress"]
+    out = _json(capsys, [*argv, "--no-convergence-check", "--json"])
     assert out["n_opened"] == 3
 
 
@@ -80,13 +81,16 @@ def test_the_rig_file_runs_with_calibrate(rig, tmp_path, capsys):
     Table 1's ball, gap and weight the fit is that of the same data without the file."""
     data = tmp_path / "runs.csv"
     data.write_text("t_cr_s,spin_rate_rad_s\n0.9,200\n0.5,300\n0.35,400\n", encoding="utf-8")
-    argv = ["calibrate", str(data), "--bootstrap", "0", "--json", "--t-max", "10"]
+    argv = ["calibrate", str(data), "--bootstrap", "0", "--json"]
     assert main([*argv, "--config", rig]) == 0
     captured = capsys.readouterr()
     assert "spin_rate and mu_s are replaced" in captured.err
     with_file = json.loads(captured.out)
-    without = _json(capsys, [*argv, "--theta0-deg", "87.25"])
-    assert with_file["mu_s"] == pytest.approx(without["mu_s"], rel=1e-9)
+    horizon = tmp_path / "horizon.toml"
+    horizon.write_text('t_max = "10 s"\n', encoding="utf-8")  # the rig file's
+    without = _json(capsys, [*argv, "--config", str(horizon)])
+    mu = [f["parameters"]["mu_s"]["value"] for f in (with_file, without)]
+    assert mu[0] == pytest.approx(mu[1], rel=1e-9) and 0.1 < mu[0] < 2.0
 
 
 def test_calibrate_refuses_what_the_rig_cannot_be(tmp_path, capsys):
@@ -102,7 +106,7 @@ def test_calibrate_refuses_what_the_rig_cannot_be(tmp_path, capsys):
 def test_the_flight_file_runs_with_trajectory_at_its_launch_point(flight, capsys):
     """Mach 3 at 1 km from the file equals --mach 3 --altitude-m 1000 with the design
     flags that say the same (Coulomb contacts from the file)."""
-    argv = ["trajectory", "--no-convergence-check", *FAST, "--json", "--load", "constant"]
+    argv = ["trajectory", "--no-convergence-check", *FAST, "--json"]
     a = _json(capsys, [*argv, "--config", flight])
     b = _json(
         capsys,
@@ -120,7 +124,8 @@ def test_the_flight_file_runs_with_trajectory_at_its_launch_point(flight, capsys
             _design_only(flight),
         ],
     )
-    assert a["t_cr_s"] == b["t_cr_s"] and math.isfinite(a["t_cr_s"])
+    for key in ("t_cr_coupled_s", "t_cr_constant_s"):
+        assert a[key] == b[key] and math.isfinite(a[key])
 
 
 def _design_only(path: str) -> str:

@@ -159,6 +159,29 @@ def study_config(args: argparse.Namespace, command: str) -> dict[str, Any]:
     return {k: float(v) for k, v in conf.items() if k in SWEEP_PARAMS}
 
 
+def warn_far_from_data(spec: Any, lowest_spin: float | None = None) -> None:
+    """Warn on stderr, as ``simulate`` does, when a study's lowest spin (`lowest_spin`
+    [rad/s], else its spin axis's smallest value or its fixed spin) is far from the
+    validated range (:func:`obturator.model.validity.outside_validated_range`). No cost
+    estimate: near stick a point's cost grows with its simulated time, so a probe of one
+    point says little of the others."""
+    import sys
+
+    from ..model.validity import outside_validated_range
+
+    axis = spec.axes.get("spin_rate")
+    if lowest_spin is None and axis is not None:
+        lowest_spin = float(min(axis))
+    case = spec.build_case({} if lowest_spin is None else {"spin_rate": lowest_spin})
+    note = outside_validated_range(case)
+    if note:
+        print(
+            f"obturator: warning: {note}; points there can take minutes each and end at the "
+            "step limit (status failed)",
+            file=sys.stderr,
+        )
+
+
 def study_options(args: argparse.Namespace) -> SolverOptions:
     """The solver options of the study flags (after :func:`study_config`)."""
     s: dict[str, Any] = {}

@@ -35,7 +35,7 @@ from ..io import check_output_path
 from ..params import SWEEP_PARAMS
 from ..sweeps import SweepSpec, execute_sweep, parse_axis, sweep_summary
 from . import _json
-from ._args import study_config, study_options, study_t_max
+from ._args import study_config, study_options, study_t_max, warn_far_from_data
 from ._flags import (
     CSV,
     OUT_NETCDF,
@@ -79,6 +79,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         speed_law=args.speed_law,
         base=args.base,
     )
+    warn_far_from_data(spec)
     runner = runner_from_args(args)
     check_output_path("out", args.out)
     csv_path = args.csv
