@@ -95,7 +95,7 @@ def test_warmup_reports_each_target_as_it_finishes(piped, monkeypatch):
     import obturator.warmup as warmup
 
     def fake(*, jobs, everything, report):
-        targets = ("dop853", "radau", "set-valued")
+        targets = ("dop853", "radau", "set-valued")  # the CLI names the real ones first
         for i, m in enumerate(targets, 1):
             time.sleep(SLOW_S / 3)
             report(m, 1.0 + i, i != 2, i, len(targets))
@@ -107,11 +107,13 @@ def test_warmup_reports_each_target_as_it_finishes(piped, monkeypatch):
         }
 
     monkeypatch.setattr(warmup, "warm_up", fake)
+    monkeypatch.setattr(warmup, "WARMUP_TARGETS", ("dop853", "radau", "set-valued"))
     piped = piped()
     t0 = time.monotonic()
     assert main(["warmup"]) == 0
     t1 = time.monotonic()
     done = [line for _, line in piped.lines if line.startswith("obturator: warmup: ")]
+    assert done[0].startswith("obturator: warmup: 3 integrators (dop853, radau, set-valued)")
     assert "obturator: warmup: dop853 compiled in 2.0 s (1/3)" in done
     assert "obturator: warmup: radau loaded from the cache in 3.0 s (2/3)" in done
     assert "obturator: warmup: set-valued compiled in 4.0 s (3/3)" in done

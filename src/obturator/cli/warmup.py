@@ -25,15 +25,25 @@ _WORKERS += (alias(_WORKERS[0], "--jobs"),)
 
 def _run(args: argparse.Namespace) -> int:
     from ..runs import Progress
-    from ..warmup import warm_up
+    from ..warmup import WARMUP_TARGETS, warm_up
 
     progress = Progress.auto(not args.no_progress and not args.json)
 
-    def report(target: str, seconds: float, compiled: bool, done: int, total: int) -> None:
-        verb = "compiled" if compiled else "loaded from the cache"
-        progress.note(f"warmup: {target} {verb} in {seconds:.1f} s ({done}/{total})")
+    targets = [m for m in WARMUP_TARGETS if args.all or m != "rosenbrock"]
+    left = list(targets)
+    progress.note(
+        f"warmup: {len(targets)} integrators ({', '.join(targets)}), {args.jobs} at a time "
+        "in fresh processes"
+    )
 
-    with progress.heartbeat("warmup", "compiling the integrators in fresh processes"):
+    with progress.heartbeat("warmup", "compiling or loading " + ", ".join(left)) as running:
+
+        def report(target: str, seconds: float, compiled: bool, done: int, total: int) -> None:
+            verb = "compiled" if compiled else "loaded from the cache"
+            progress.note(f"warmup: {target} {verb} in {seconds:.1f} s ({done}/{total})")
+            left.remove(target)
+            running("compiling or loading " + ", ".join(left))
+
         res = warm_up(jobs=args.jobs, everything=args.all, report=report)  # checked by kind
     if args.json:
         keys = {"seconds": "time_s", "directory": "cache_directory"}  # unit-suffixed keys
