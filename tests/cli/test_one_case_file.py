@@ -145,16 +145,21 @@ def test_the_flight_file_is_the_launch_point_of_a_grid_command(command, flight, 
     if command == "probability":
         argv += ["--method", "mc", "--samples", "4"]
     out = _json(capsys, argv)
-    text = json.dumps(out)
-    assert '"mach": [3.0]' in text or '"mach": 3.0' in text or "3.0" in text
-    assert "1000.0" in text  # the file's altitude, not the command's default
+    if command == "envelope":  # one point: the file's Mach 3 at 1 km
+        assert out["points"] == 1
+        at = out["max_relative_difference_at"]
+    else:
+        (at,) = out["points"] if isinstance(out["points"], list) else (out,)
+    assert (at["mach"], at["altitude_m"]) == (3.0, 1000.0)  # not the default sea level
 
 
 def test_a_grid_flag_wins_over_the_files_launch_point(flight, capsys):
     argv = ["envelope", "--config", flight, "--mach", "2.5", "--altitude-m", "0"]
     argv += ["--no-convergence-check", *FAST, "--workers", "1", "--no-progress", "--json"]
     out = _json(capsys, argv)
-    assert "1000.0" not in json.dumps(out.get("altitude_m", out.get("grid", "")))
+    assert out["points"] == 1
+    at = out["max_relative_difference_at"]
+    assert (at["mach"], at["altitude_m"]) == (2.5, 0.0)
 
 
 def test_the_flight_file_runs_with_simulate(flight, capsys):
