@@ -125,7 +125,9 @@ def convergence_flags(default: bool, text: str) -> tuple[Flag, ...]:
     on = ("--convergence-check", "--check-convergence")
     off = ("--no-convergence-check", "--no-check", "--no-check-convergence")
     if default:
-        shown = option(off[0], action="store_false", dest=dest, help=f"skip the check: {text}")
+        shown = option(
+            off[0], action="store_false", dest=dest, help=f"skip the convergence check ({text})"
+        )
         return (
             shown,
             option(*off[1:], action="store_false", dest=dest, **hidden),

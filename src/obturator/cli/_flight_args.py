@@ -233,7 +233,7 @@ _SOLVER = (
     T_MAX.but(help="give up after this time [s] (default 1)"),
     *convergence_flags(
         True,
-        "the refined reruns (without them t_cr carries no convergence status)",
+        "the refined reruns; without them t_cr carries no convergence status",
     ),
 )
 

@@ -221,8 +221,8 @@ register = command(
     *convergence_flags(
         True,
         "the per-sample reruns with tolerances / 10, friction width / 10 and another "
-        "regularisation family (skipping is 4x faster; non-converged openings, status 4, "
-        "are then not detected)",
+        "regularisation family; skipping them is 4x faster, and non-converged openings "
+        "(status 4) are then not detected",
     ),
     CSV.but(help="write the samples as CSV"),
 )
