@@ -12,13 +12,16 @@ __all__ = ["register"]
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    from .._provenance import command_line
-    from ..thesis.reproduce import reproduce
-    from ._runner import runner_from_args
+    from ._runner import progress_from_args
 
-    runner = runner_from_args(args, resume=False)
-    runner.store = Path(args.out) / "report"  # its sidecar: report.partial.jsonl
-    with runner.progress.heartbeat("reproduce", "starting"):
+    # the heartbeat covers the loading of the studies' code too (seconds on a busy machine)
+    with progress_from_args(args).heartbeat("reproduce", "loading the studies"):
+        from .._provenance import command_line
+        from ..thesis.reproduce import reproduce
+        from ._runner import runner_from_args
+
+        runner = runner_from_args(args, resume=False)
+        runner.store = Path(args.out) / "report"  # its sidecar: report.partial.jsonl
         res = reproduce(
             args.out,
             quick=args.quick,

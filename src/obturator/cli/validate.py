@@ -74,6 +74,14 @@ def _list_models(as_json: bool) -> int:
 def _run(args: argparse.Namespace) -> int:
     if args.list_models:
         return _list_models(args.json)
+    from ._runner import progress_from_args
+
+    # piped, never silent for long: loading the code, the fits, the figure and the files
+    with progress_from_args(args).heartbeat("validate", "loading the candidates"):
+        return _validate(args)
+
+
+def _validate(args: argparse.Namespace) -> int:
     from ..calibration.data import load_spin_rig_csv, load_thesis_data
     from ..validation import get_candidates, run_validation
     from ..validation.floor import DEFAULT_CLUSTER_GAP
@@ -99,17 +107,16 @@ def _run(args: argparse.Namespace) -> int:
     runner = runner_from_args(args, workers=jobs, resume=False)
     if out is not None:
         runner.store = out / "validation"  # its sidecar: validation.partial.jsonl
-    with runner.progress.heartbeat("validate", "starting"):
-        result = run_validation(
-            data,
-            models=[c.name for c in names],
-            runner=runner,
-            t_max=t_max,
-            spin_sd=spin_sd,
-            gap=gap,
-            profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
-            noise=args.noise,
-        )
+    result = run_validation(
+        data,
+        models=[c.name for c in names],
+        runner=runner,
+        t_max=t_max,
+        spin_sd=spin_sd,
+        gap=gap,
+        profile="none" if args.no_profile else "all" if args.profile_all else "recommended",
+        noise=args.noise,
+    )
     from ..runs.store import atomic_write_text
     from ..validation.textreport import format_report
 
