@@ -18,11 +18,12 @@ the work starts (the runner estimates it from a timed probe).
 
 from __future__ import annotations
 
+import math
 import os
 import sys
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Literal
@@ -161,14 +162,24 @@ class Progress:
 
     @contextmanager
     def track(
-        self, label: str, total: int, done: int = 0, unit: str = "points"
+        self,
+        label: str,
+        total: int,
+        done: int = 0,
+        unit: str = "points",
+        weights: Sequence[float] | None = None,
     ) -> Iterator[Tracker]:
-        """Yield a :class:`Tracker` that advances the display of `total` tasks."""
+        """Yield a :class:`Tracker` that advances the display of `total` tasks.
+
+        `weights` (one per task, in the order they finish: their relative costs) make
+        the plain lines' time left that of the whole remaining work rather than of
+        equal tasks (a run of unequal steps, such as ``reproduce``).
+        """
         if self.mode == "bar":
             with _bar(label, total, done) as tracker:
                 yield tracker
         elif self.mode == "lines":
-            yield _lines(label, total, done, unit, self.interval_s)
+            yield _lines(label, total, done, unit, self.interval_s, weights)
         else:
             yield Tracker(lambda n: None, lambda text: None)
 
@@ -202,7 +213,19 @@ def _bar(label: str, total: int, done: int) -> Iterator[Tracker]:
         )
 
 
-def _lines(label: str, total: int, done: int, unit: str, interval_s: float) -> Tracker:
+def _lines(
+    label: str,
+    total: int,
+    done: int,
+    unit: str,
+    interval_s: float,
+    weights: Sequence[float] | None = None,
+) -> Tracker:
+    cost = [0.0]  # cost[k]: the relative cost of the first k tasks
+    for w in weights if weights is not None else [1.0] * total:
+        cost.append(cost[-1] + float(w))
+    if len(cost) != total + 1:
+        raise ValueError(f"{len(cost) - 1} weights for {total} tasks")
     t0 = time.monotonic()
     state = {"done": done, "last": t0, "what": ""}
     _running(f"{label}: {done}/{total} {unit}")
@@ -214,14 +237,14 @@ def _lines(label: str, total: int, done: int, unit: str, interval_s: float) -> T
         if now - state["last"] < interval_s or state["done"] >= total:
             return
         state["last"] = now
-        new = state["done"] - done
         elapsed = now - t0
-        left = elapsed / new * (total - state["done"]) if new else float("nan")
+        spent = cost[state["done"]] - cost[done]
+        left = elapsed / spent * (cost[total] - cost[state["done"]]) if spent > 0 else math.nan
         what = f" ({state['what']})" if state["what"] else ""
         eta = f", about {fmt_duration(left)} left" if left == left else ""
         _say(
             f"obturator: {label}: {state['done']}/{total} {unit} "
-            f"({100 * state['done'] / max(total, 1):.0f} %){what}, "
+            f"({100 * cost[state['done']] / cost[total] if cost[total] else 100:.0f} %){what}, "
             f"{fmt_duration(elapsed)} elapsed{eta}",
             f"{label}: {state['done']}/{total} {unit}{what}",
         )
