@@ -118,3 +118,25 @@ def test_warmup_reports_each_target_as_it_finishes(piped, monkeypatch):
     assert "obturator: warmup: radau loaded from the cache in 3.0 s (2/3)" in done
     assert "obturator: warmup: set-valued compiled in 4.0 s (3/3)" in done
     assert _longest_silence(piped, t0, t1) < 3 * BEAT_S, piped.lines
+
+
+def test_weighted_steps_give_the_time_left_of_the_whole_run(monkeypatch, capsys):
+    """Two steps of weight 1 done in 2 s, a step of weight 10 left: about 10 s left (1 s
+    per unit of weight), not 1 s (the equal-steps estimate, which read "about 5.9 s
+    left" before a 7.5-minute validation in issue 48)."""
+    clock = iter([0.0, 0.0, 1.0, 2.0, 2.0, 2.0])
+    monkeypatch.setattr(progress.time, "monotonic", lambda: next(clock))
+    p = progress.Progress("lines", interval_s=0.0)
+    with p.track("reproduce", 3, unit="steps", weights=[1.0, 1.0, 10.0]) as step:
+        step(1)
+        step(1)
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[-1] == ("obturator: reproduce: 2/3 steps (17 %), 2 s elapsed, about 10 s left"), (
+        lines
+    )
+
+
+def test_weights_must_match_the_tasks():
+    with pytest.raises(ValueError, match="2 weights for 3 tasks"):
+        with progress.Progress("lines").track("x", 3, weights=[1.0, 1.0]):
+            pass
