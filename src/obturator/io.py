@@ -13,9 +13,10 @@ the rig file below runs unchanged with ``simulate``, ``sweep``, ``montecarlo`` a
 file with ``simulate``, ``trajectory``, ``envelope``, ``probability``,
 ``sensitivity`` and ``optimize`` (whose ``--mach`` and ``--altitude-m`` grids
 replace the file's launch point). A key a command cannot honour is refused
-with the key's name and the reason (``trajectory`` refuses ``case =
-"spin-rig"``, ``spin_mode`` and ``[friction]``: the trajectory sets the spin). Every key is
-optional; bare numbers are in the SI unit shown; values outside a parameter's
+with the key's name and the reason: ``trajectory`` refuses ``case = "spin-rig"``,
+``spin_mode`` (the trajectory sets the spin), ``[flight] p1`` (the altitude sets
+the pressure) and the rig's ``[friction]``; ``calibrate`` refuses the flight keys.
+Every key is optional; bare numbers are in the SI unit shown; values outside a parameter's
 range (:data:`obturator.params.PARAMS`) are refused as on the command line.
 The file is read by :func:`obturator.files.read_text_file` (regular UTF-8
 file, at most 1 MiB; too deep nesting refused). A spin-rig run, as it runs
