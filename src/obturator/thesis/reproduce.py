@@ -45,7 +45,7 @@ __all__ = ["Row", "ReproduceResult", "checkable_rows", "reproduce", "to_html", "
 #: Relative cost of reproduce's validation step and of its figures step against one
 #: thesis study (the unit of the progress display's time left), in quick and full
 #: mode alike: the validation fits all 54 runs (its cost is most of the run's).
-VALIDATION_WEIGHT = 200.0
+VALIDATION_WEIGHT = 300.0
 FIGURES_WEIGHT = 5.0
 
 
