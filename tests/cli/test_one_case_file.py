@@ -165,3 +165,18 @@ def test_a_grid_flag_wins_over_the_files_launch_point(flight, capsys):
 def test_the_flight_file_runs_with_simulate(flight, capsys):
     out = _json(capsys, ["simulate", "--config", flight, "--no-convergence-check", "--json"])
     assert out["case"] == "flight" and out["status"] == 1
+
+
+def test_a_studys_base_case_is_in_its_identity_only_when_given():
+    """A study without a base case keeps the identity (and resume digest) it had."""
+    from obturator.errors import InputError
+    from obturator.sweeps import SweepSpec
+
+    plain = SweepSpec("spin-rig", {"spin_rate": [300.0, 400.0]})
+    assert "base" not in plain.identity()
+    based = SweepSpec("spin-rig", {"spin_rate": [300.0, 400.0]}, base={"ball_radius": 8e-3})
+    assert based.identity()["base"] == {"ball_radius": 8e-3}
+    assert based.digest() != plain.digest()
+    assert based.build_case({"spin_rate": 300.0}).ball.radius == 8e-3
+    with pytest.raises(InputError, match="mu_s: is not a base-case setting"):
+        SweepSpec("spin-rig", {}, base={"mu_s": 0.5})  # a parameter: fixed, not base
