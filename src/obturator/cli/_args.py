@@ -127,7 +127,7 @@ def solver_options(settings: Mapping[str, Any]) -> SolverOptions:
 
 
 #: Case settings of a study that are neither swept nor set by a flag: its base case
-#: (:attr:`obturator.sweeps.SweepSpec.base`).
+#: (``base`` of :class:`obturator.sweeps.SweepSpec`).
 _BASE_KEYS = tuple(
     k
     for k in CASE_FIELDS
