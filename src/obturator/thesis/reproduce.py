@@ -46,7 +46,7 @@ __all__ = ["Row", "ReproduceResult", "checkable_rows", "reproduce", "to_html", "
 #: thesis study (the unit of the progress display's time left), in quick and full
 #: mode alike: the validation fits all 54 runs (its cost is most of the run's).
 VALIDATION_WEIGHT = 300.0
-FIGURES_WEIGHT = 5.0
+FIGURES_WEIGHT = 30.0
 
 
 @field_docs
