@@ -98,7 +98,7 @@ BLOCKS: dict[str, Block] = {
         cost="1.4 min, nearly idle (the 54-run validation study inside)",
     ),
     "calibrate": Block(
-        ("obturator calibrate examples/rig_runs.csv --bootstrap 0 --plot residuals.png",),
+        ("obturator calibrate examples/rig_runs.csv --bootstrap 0 --figure residuals.png",),
         keep=(r"^\s+mu_s\s+=",),
         rtol=1e-3,
         cost="8 s",

@@ -1,6 +1,6 @@
 """Validation against all 54 runs
 
-``obturator validate --plot validation.png``: the 54 runs of Appendix B, their replicate
+``obturator validate --figure validation.png``: the 54 runs of Appendix B, their replicate
 scatter and each candidate mechanism's fit.
 """
 
@@ -19,7 +19,7 @@ subprocess.run(
         "validate",
         "--out",
         str(out / "validation"),
-        "--plot",
+        "--figure",
         str(out / FIGURE),
     ],
     check=True,

@@ -6,11 +6,17 @@ and rejected with a message that names the field when the unit is wrong or the
 text is not a quantity.
 
 One schema serves every command that takes ``--config FILE.toml``
-(command-line flags win over the file). Each command names the fields it uses
-(:func:`load_config`); a key it would ignore is refused with the key's name
-(``trajectory`` refuses ``case``, ``spin_mode`` and ``[friction]``; ``envelope``
-refuses ``[flight] mach``, which its ``--mach`` grid sets). Every key is
-optional; bare numbers are in the SI unit shown; values outside a parameter's
+(command-line flags win over the file). The keys that describe a case
+(:data:`CASE_FIELDS`) are the base case of every command that runs that case:
+the rig file below runs unchanged with ``simulate``, ``sweep``, ``montecarlo`` and
+``calibrate`` (which replaces the spin by each run's and fits mu_s), the flight
+file with ``simulate``, ``trajectory``, ``envelope``, ``probability``,
+``sensitivity`` and ``optimize`` (whose ``--mach`` and ``--altitude-m`` grids
+replace the file's launch point). A key a command cannot honour is refused
+with the key's name and the reason: ``trajectory`` refuses ``case = "spin-rig"``,
+``spin_mode`` (the trajectory sets the spin), ``[flight] p1`` (the altitude sets
+the pressure) and the rig's ``[friction]``; ``calibrate`` refuses the flight keys.
+Every key is optional; bare numbers are in the SI unit shown; values outside a parameter's
 range (:data:`obturator.params.PARAMS`) are refused as on the command line.
 The file is read by :func:`obturator.files.read_text_file` (regular UTF-8
 file, at most 1 MiB; too deep nesting refused). A spin-rig run, as it runs
@@ -53,7 +59,7 @@ the Coulomb contact model a ``[contact]`` section::
 
     [flight]
     mach = 3.0
-    p1 = "0.099 MPa"             # Pa; or altitude = "1 km" (not both)
+    altitude = "1 km"            # m (1976 atmosphere); or p1 = "0.099 MPa" (simulate)
     n_contacts = 2               # torque_model = "coulomb" only
 
     [contact]
@@ -91,6 +97,7 @@ __all__ = [
     "study_settings",
     "CONFIG_SCHEMA",
     "SOLVER_KEYS",
+    "CASE_FIELDS",
     "MAX_FILE_BYTES",
 ]
 
@@ -125,6 +132,12 @@ _WORDS: dict[str, tuple[str, ...]] = {
 
 #: Fields of the ``[solver]`` section (options of :class:`obturator.solve.SolverOptions`).
 SOLVER_KEYS: tuple[str, ...] = tuple(field for field, _ in CONFIG_SCHEMA["solver"].values())
+#: Fields that describe a case (the top level and the ball, gap, rig, contact, release,
+#: friction and flight sections): every command that runs a case takes them as its
+#: base case, so that one file serves ``simulate`` and the studies of that case.
+CASE_FIELDS: tuple[str, ...] = tuple(
+    field for s in CONFIG_SECTIONS if s != "solver" for field, _ in CONFIG_SCHEMA[s].values()
+)
 
 
 def study_settings(

@@ -11,7 +11,8 @@ side by side, and leaves the machine code in the cache directory of
 from __future__ import annotations
 
 import time
-from concurrent.futures import ProcessPoolExecutor
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from multiprocessing import get_context
 
 from .errors import InputError
@@ -118,7 +119,12 @@ def load_radau_lanes() -> None:
     )  # fmt: skip
 
 
-def warm_up(*, jobs: int = 2, everything: bool = False) -> dict[str, object]:
+def warm_up(
+    *,
+    jobs: int = 2,
+    everything: bool = False,
+    report: Callable[[str, float, bool, int, int], None] | None = None,
+) -> dict[str, object]:
     """Compile the integrators into numba's cache, `jobs` at a time.
 
     Parameters
@@ -127,6 +133,9 @@ def warm_up(*, jobs: int = 2, everything: bool = False) -> dict[str, object]:
         Processes compiling side by side (>= 1).
     everything : bool
         Also compile the Rosenbrock method (rarely used).
+    report : callable, optional
+        Called as each target finishes: ``report(target, seconds, compiled, done,
+        total)`` (seconds in its process; compiled False: loaded from the cache).
 
     Returns
     -------
@@ -141,7 +150,14 @@ def warm_up(*, jobs: int = 2, everything: bool = False) -> dict[str, object]:
     t0 = time.perf_counter()
     # spawn: every process compiles from scratch (a fork would inherit nothing useful)
     with ProcessPoolExecutor(max_workers=int(jobs), mp_context=get_context("spawn")) as pool:
-        done = list(pool.map(_compile, targets))
+        futures = {pool.submit(_compile, m): m for m in targets}
+        finished = {}
+        for future in as_completed(futures):
+            m, s, directory, compiled = future.result()
+            finished[m] = (m, s, directory, compiled)
+            if report is not None:
+                report(m, s, compiled, len(finished), len(targets))
+    done = [finished[m] for m in targets]  # in the order of WARMUP_TARGETS
     return {
         "seconds": {m: s for m, s, _, _ in done},
         "compiled": {m: c for m, _, _, c in done},

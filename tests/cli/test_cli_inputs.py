@@ -94,9 +94,10 @@ def test_gamma_has_a_range():
 @pytest.mark.parametrize(
     ("body", "fragment"),
     [
-        ('case = "flight"\n', "case: is not used by 'obturator trajectory'"),
-        ('spin_mode = "free"\n', "spin_mode: is not used by 'obturator trajectory'"),
-        ('[friction]\nspeed_law = "strengthening"\n', "friction.speed_law: is not used"),
+        ('case = "spin-rig"\n', "case: obturator trajectory runs the flight case"),
+        ('spin_mode = "free"\n', "spin_mode: the trajectory sets the spin"),
+        ('[friction]\nspeed_law = "strengthening"\n', "speed_law: applies to the spin rig only"),
+        ('[flight]\np1 = "0.099 MPa"\n', "p1: the trajectory takes the pressure from the altitude"),
         ('[flight]\nmach = "bogus"\n', "flight.mach: 'bogus' is not a number"),
         ('[solver]\nmethod = "bogus"\n', "solver.method: 'bogus'; allowed"),
         ("colour = 1\n", "colour: unknown key"),

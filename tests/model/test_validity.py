@@ -13,6 +13,7 @@ from obturator import SolverOptions
 from obturator.calibration import load_thesis_data
 from obturator.cli import main
 from obturator.cli import simulate as simulate_cli
+from obturator.errors import InputError
 from obturator.model.cases import case_from_settings, flight_case, rig_case
 from obturator.model.validity import (
     RIG_RUN_SPINS,
@@ -39,6 +40,7 @@ def test_rig_run_spins_are_appendix_b():
         (rig_case(300.0), False),
         (rig_case(2000.0), False),  # high spin is cheap: not flagged
         (flight_case(), False),
+        (flight_case(150 * math.pi / 180), True),  # issue 48: flight warned of nothing
     ],
 )
 def test_outside_validated_range(case, flagged):
@@ -53,7 +55,44 @@ def test_low_spin_warns_once_with_expected_cost(capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1, err
     assert err[0].startswith("obturator: warning: spin_rate 2.618 rad/s is far below")
-    assert "a timed probe" in err[0] and "expects at least ~" in err[0]
+    assert "a timed probe" in err[0] and "expects ~" in err[0]  # it covered all of t_max
+
+
+def test_a_failed_convergence_check_leaves_the_answer(monkeypatch, capsys):
+    """Issue 48: the check's reruns of a 2.6 rad/s run (regularised, near stick) stop at
+    their step budget; the answer stays "not opened by t_max", the check is marked."""
+    monkeypatch.setattr(simulate_cli, "CHECK_MIN_STEPS", 50)
+    monkeypatch.setattr(simulate_cli, "CHECK_STEP_FACTOR", 1)
+    assert main(["simulate", "--spin-rate", "150 deg/s", "--t-max", "1"]) == 0
+    out, err = capsys.readouterr()
+    assert "not opened by t_max" in out and "check FAILED" in out
+    assert "the convergence check of t_cr could not finish" in err
+    assert main(["simulate", "--spin-rate", "150 deg/s", "--t-max", "1", "--json"]) == 0
+    conv = json.loads(capsys.readouterr().out)["convergence"]
+    assert conv["converged"] is False and "steps" in conv["failed"]
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["sweep", "--spin-rate", "150,3000 deg/s", "--out", "{tmp}/s.nc"],
+        ["montecarlo", "--samples", "2", "--vary", "spin_rate=uniform:2,60"],
+    ],
+)
+def test_studies_warn_like_simulate(argv, tmp_path, monkeypatch, capsys):
+    """Issue 48: the warning comes before any work (the study itself is stubbed)."""
+    import obturator.cli.montecarlo as mc
+    import obturator.cli.sweep as sw
+
+    def stop(*args, **kwargs):
+        raise InputError("stub", "stopped before the work")
+
+    monkeypatch.setattr(sw, "runner_from_args", stop)
+    monkeypatch.setattr(mc, "runner_from_args", stop)
+    assert main([a.replace("{tmp}", str(tmp_path)) for a in argv]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("obturator: warning: spin_rate ") and "far below" in err[0]
+    assert "step limit" in err[0]
 
 
 def test_normal_spin_does_not_warn(capsys):

@@ -286,7 +286,7 @@ def test_cli_validate_json_schema_and_files(tiny_csv, tmp_path, capsys):
     [
         (["--models", "nonsense"], "models"),
         (["--workers", "0"], "workers"),
-        (["--jobs", "1.5"], "workers"),
+        (["--jobs", "1.5"], "jobs"),  # the former spelling, named as the user typed it
         (["--t-max", "-1"], "t_max"),
         (["--spin-sd", "x"], "spin_sd"),
         (["--data", "/nonexistent/runs.csv"], "data"),

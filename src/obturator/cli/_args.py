@@ -13,7 +13,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from ..errors import InputError, check_range
-from ..io import study_settings
+from ..io import CASE_FIELDS, study_settings
 from ..params import PARAMS, SWEEP_PARAMS, Range
 from ..solve import SolverOptions, tolerances_for_opening_time
 from ._kinds import Axis, Count, Quantity
@@ -126,16 +126,28 @@ def solver_options(settings: Mapping[str, Any]) -> SolverOptions:
     return SolverOptions.from_settings(settings)
 
 
-_STUDY_KEYS = (*SWEEP_PARAMS, "case", "torque_model", "spin_mode", "t_max")
+#: Case settings of a study that are neither swept nor set by a flag: its base case
+#: (``base`` of :class:`obturator.sweeps.SweepSpec`).
+_BASE_KEYS = tuple(
+    k
+    for k in CASE_FIELDS
+    if k not in SWEEP_PARAMS and k not in ("case", "torque_model", "spin_mode", "t_max")
+)
 
 
 def study_config(args: argparse.Namespace, command: str) -> dict[str, Any]:
     """Config settings merged under the flags: case, models, t_max and fixed values.
 
-    Fills the unset flags of `args` from ``--config`` and returns the fixed
-    parameter values it gives.
+    Every key that describes a case is taken (:data:`obturator.io.CASE_FIELDS`): the
+    file that ``simulate`` runs is a study's base case. Fills the unset flags of `args`
+    from ``--config`` (``speed_law`` too), puts the case settings that are not
+    parameters (ball radius, viscosity, rig weight, contact and flight settings) in
+    ``args.base`` and returns the fixed parameter values it gives.
     """
-    conf = study_settings(args.config, command, _STUDY_KEYS)
+    conf = study_settings(args.config, command, CASE_FIELDS)
+    args.base = {k: conf[k] for k in _BASE_KEYS if k in conf and k != "speed_law"}
+    if getattr(args, "speed_law", None) is None:
+        args.speed_law = conf.get("speed_law", "constant")
     args.case = args.case or conf.get("case", "spin-rig")
     args.torque_model = args.torque_model or conf.get("torque_model", "thesis")
     args.spin_mode = args.spin_mode or conf.get("spin_mode", "constant")
@@ -145,6 +157,29 @@ def study_config(args: argparse.Namespace, command: str) -> dict[str, Any]:
         if getattr(args, key, None) is None:
             setattr(args, key, value if isinstance(value, str) else repr(value))
     return {k: float(v) for k, v in conf.items() if k in SWEEP_PARAMS}
+
+
+def warn_far_from_data(spec: Any, lowest_spin: float | None = None) -> None:
+    """Warn on stderr, as ``simulate`` does, when a study's lowest spin (`lowest_spin`
+    [rad/s], else its spin axis's smallest value or its fixed spin) is far from the
+    validated range (:func:`obturator.model.validity.outside_validated_range`). No cost
+    estimate: near stick a point's cost grows with its simulated time, so a probe of one
+    point says little of the others."""
+    import sys
+
+    from ..model.validity import outside_validated_range
+
+    axis = spec.axes.get("spin_rate")
+    if lowest_spin is None and axis is not None:
+        lowest_spin = float(min(axis))
+    case = spec.build_case({} if lowest_spin is None else {"spin_rate": lowest_spin})
+    note = outside_validated_range(case)
+    if note:
+        print(
+            f"obturator: warning: {note}; points there can take minutes each and end at the "
+            "step limit (status failed)",
+            file=sys.stderr,
+        )
 
 
 def study_options(args: argparse.Namespace) -> SolverOptions:

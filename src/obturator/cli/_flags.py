@@ -54,6 +54,10 @@ __all__ = [
     "FRICTION_FAMILY",
     "SPEED_LAW",
     "RIG_DATA",
+    "FIGURE",
+    "alias",
+    "convergence_flags",
+    "figure_flags",
 ]
 
 
@@ -101,6 +105,40 @@ def quantity_option(
 def switch(name: str, text: str) -> Flag:
     """An on/off option (``store_true``) with its help `text`."""
     return option(name, action="store_true", help=text)
+
+
+def alias(flag: Flag, *old: str) -> Flag:
+    """`flag` under its former spellings `old`, hidden from ``--help``: an old command
+    line keeps working for a release while the help shows one spelling per concept."""
+    dest = flag.settings.get("dest") or flag.names[0].lstrip("-").replace("-", "_")
+    hidden = {"help": argparse.SUPPRESS, "default": argparse.SUPPRESS, "dest": dest}
+    return Flag(old, MappingProxyType({**flag.settings, **hidden}))
+
+
+def convergence_flags(default: bool, text: str) -> tuple[Flag, ...]:
+    """The convergence check (dest ``convergence_check``), on by default where `default`:
+    ``--no-convergence-check`` turns it off there, ``--convergence-check`` on elsewhere
+    (the other spelling is accepted, hidden, as are the former ``--no-check``,
+    ``--no-check-convergence`` and ``--check-convergence``). `text` says what it does."""
+    hidden = {"help": argparse.SUPPRESS, "default": argparse.SUPPRESS}
+    dest = "convergence_check"
+    on = ("--convergence-check", "--check-convergence")
+    off = ("--no-convergence-check", "--no-check", "--no-check-convergence")
+    if default:
+        shown = option(
+            off[0], action="store_false", dest=dest, help=f"skip the convergence check ({text})"
+        )
+        return (
+            shown,
+            option(*off[1:], action="store_false", dest=dest, **hidden),
+            option(*on, action="store_true", dest=dest, **hidden),
+        )
+    shown = option(on[0], action="store_true", dest=dest, help=text)
+    return (
+        shown,
+        option(*on[1:], action="store_true", dest=dest, **hidden),
+        option(*off, action="store_false", dest=dest, **hidden),
+    )
 
 
 def add_flags(parser: Any, *flags: Flag) -> None:
@@ -155,20 +193,39 @@ T_MAX = option(
 )
 #: Horizon of the commands fitted to spin-rig data: later runs count as censored.
 RIG_HORIZON = T_MAX.but(default="20", type=Quantity("s", Range(0.0, 1e4, True, False), "20 s"))
-TORQUE_MODEL = option("--torque-model", choices=TORQUE_MODELS, default=None)
-CASE = option("--case", choices=CASE_NAMES, default=None)
-SPIN_MODE = option("--spin-mode", choices=SPIN_MODES, default=None)
+TORQUE_MODEL = option(
+    "--torque-model",
+    choices=TORQUE_MODELS,
+    default=None,
+    help="sliding-friction model: thesis (Eqs. 56-61, Appendix A; the default) or exact "
+    "Coulomb contacts",
+)
+CASE = option("--case", choices=CASE_NAMES, default=None, help="Table 1 column")
+SPIN_MODE = option(
+    "--spin-mode",
+    choices=SPIN_MODES,
+    default=None,
+    help="projectile spin: constant (driven rig, the default), free (axial angular momentum "
+    "conserved) or thesis-energy (Appendix A's energy form)",
+)
 FRICTION_FAMILY = option("--friction-family", choices=FRICTION_FAMILIES, default=None)
 SPEED_LAW = option("--speed-law", choices=SPEED_LAWS, default=None)
 #: Measured spin-rig runs (the ``calibrate`` CSV format); thesis Appendix B by default.
 RIG_DATA = option("--data", metavar="FILE.csv", type=InputFile(example="runs.csv"))
-SEED_FLAG = option("--seed", metavar="S", default="0", type=SEED)
+SEED_FLAG = option(
+    "--seed",
+    metavar="S",
+    default="0",
+    type=SEED,
+    help="random seed (default 0; the same seed gives the same bits)",
+)
 #: Level of a confidence interval.
 CONFIDENCE = option(
     "--confidence",
     metavar="C",
     default="0.95",
     type=Quantity("", Range(0.0, 1.0, True, True), "0.9"),
+    help="confidence level of the intervals (default 0.95)",
 )
 #: An uncertain input, repeatable.
 VARY = option(
@@ -184,7 +241,18 @@ OUT_NETCDF = option(
 CSV = option(
     "--csv", metavar="FILE.csv", type=OutputFile(example="out.csv"), help="also write a CSV table"
 )
-PLOT = option("--plot", metavar="FILE.png")
+#: A figure file (one spelling for every command; ``--plot`` is its former name).
+FIGURE = option("--figure", metavar="FILE.png", help="write a figure")
+PLOT = FIGURE
+
+
+def figure_flags(example: str, text: str) -> tuple[Flag, Flag]:
+    """``--figure FILE`` (a format matplotlib writes) saying what it draws, and its
+    former spelling ``--plot`` as a hidden alias."""
+    figure = FIGURE.but(type=OutputFile(figure=True, example=example), help=text)
+    return (figure, alias(figure, "--plot"))
+
+
 RESTART = switch("--restart", "discard partial results of a different study")
 
 

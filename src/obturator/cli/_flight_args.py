@@ -9,7 +9,7 @@ import argparse
 import math
 from typing import Any
 
-from ..errors import check_range
+from ..errors import InputError, check_range
 from ..io import SOLVER_KEYS, load_config
 from ..params import Range
 from ..units import parse_quantity
@@ -23,10 +23,14 @@ from ._flags import (
     TORQUE_MODEL,
     Flag,
     add_flags,
+    alias,
+    convergence_flags,
     execution_flags,
     option,
     quantity_option,
-    switch,
+)
+from ._flags import (
+    FIGURE as FIGURE_OPTION,
 )
 from ._kinds import Axis, NameOrFile, OutputFile, Quantity
 
@@ -72,6 +76,27 @@ _FLIGHT_CONFIG = (
     *SOLVER_KEYS,
 )
 _POINT_CONFIG = ("mach", "altitude_m")
+#: Case keys of a flight config (the file ``simulate`` runs) that the trajectory model
+#: takes: the case's name, the Coulomb contacts and the launch point (a grid command's
+#: grid when its flag is not given).
+_CASE_CONFIG = ("case", "n_contacts", "patch_radius", *_POINT_CONFIG)
+#: Case keys the trajectory model cannot honour, each with the reason it is refused.
+_REFUSED = {
+    "spin_mode": "the trajectory sets the spin (rifling twist, roll damping)",
+    "p1": "the trajectory takes the pressure from the altitude (1976 standard atmosphere): "
+    "give [flight] altitude",
+    **{
+        k: "applies to the spin rig only"
+        for k in ("weight", "theta_dot0", "release_phase", "speed_law", "speed_ratio", "slip_speed")
+    },
+}
+#: Launch-point grids of the grid commands when neither the flag nor the config's
+#: [flight] section gives one: command -> (Mach, altitude [m]); None: required.
+_GRID_DEFAULTS = {
+    "envelope": (None, None),
+    "probability": ("3", "0"),
+    "optimize": ("1.5,2.75,4", "0,10000"),
+}
 #: Built-in drag curves (obturator.envelope.drag.DRAG_MODELS; not imported here:
 #: start-up time).
 _DRAG_CURVES = ("tubular-closed", "tubular-open")
@@ -106,14 +131,24 @@ REQUIREMENT = Quantity("s", _POSITIVE, "0.1 s")
 FIGURE = OutputFile(figure=True, example="figure.png")
 
 #: Grids of launch points (envelope, probability, optimize).
-MACH_GRID = option("--mach", dest="grid_mach", metavar="SPEC", type=MACH_AXIS)
+MACH_GRID = option(
+    "--mach",
+    dest="grid_mach",
+    metavar="SPEC",
+    type=MACH_AXIS,
+    help="muzzle Mach numbers: START:STOP:COUNT or a list a,b,c",
+)
 ALTITUDE_GRID = option(
-    "--altitude-m", dest="grid_altitude", metavar="SPEC", type=axis_of("altitude_m")
+    "--altitude-m",
+    dest="grid_altitude",
+    metavar="SPEC",
+    type=axis_of("altitude_m"),
+    help="launch altitudes [m]: START:STOP:COUNT or a list a,b,c",
 )
 REQUIREMENT_FLAG = option(
     "--requirement", metavar="S", default="0.1", type=REQUIREMENT, help="t_cr requirement [s]"
 )
-FIGURE_FLAG = option("--figure", metavar="FILE.png", type=FIGURE)
+FIGURE_FLAG = FIGURE_OPTION.but(type=FIGURE)
 
 
 def quantity(field: str, value: Any, unit: str) -> float:
@@ -145,6 +180,13 @@ _LAUNCH_POINT = (
         help="off-standard temperature [K] (default 0)",
     ),
 )
+_DRAG = option(
+    "--drag",
+    dest="drag",
+    metavar="NAME|FILE.csv",
+    type=NameOrFile(_DRAG_CURVES, "tubular-open"),
+    help="drag curve: tubular-closed (default), tubular-open, or a CSV with columns mach,cd",
+)
 _LAUNCH = (
     quantity_option(
         "--elevation-deg", "deg", Range(-90.0, 90.0), "0 deg", "elevation angle [deg] (default 0)"
@@ -160,14 +202,8 @@ _LAUNCH = (
     quantity_option(
         "--twist", "m", Range(1e-3, 100.0), "0.5 m", "rifling twist [m per turn] (default 0.5327)"
     ),
-    option(
-        "--drag",
-        "--cd-table",
-        dest="drag",
-        metavar="NAME|FILE.csv",
-        type=NameOrFile(_DRAG_CURVES, "tubular-open"),
-        help="drag curve: tubular-closed (default), tubular-open, or a CSV with columns mach,cd",
-    ),
+    _DRAG,
+    alias(_DRAG, "--cd-table"),
     quantity_option(
         "--roll-damping", "", Range(-10.0, 10.0), "-0.012", "roll-damping coefficient C_lp (-0.012)"
     ),
@@ -195,9 +231,9 @@ _SOLVER = (
         metavar="S",
     ),
     T_MAX.but(help="give up after this time [s] (default 1)"),
-    switch(
-        "--no-convergence-check",
-        "skip the refined reruns (t_cr then carries no convergence status)",
+    *convergence_flags(
+        True,
+        "the refined reruns; without them t_cr carries no convergence status",
     ),
 )
 
@@ -218,13 +254,26 @@ def add_execution_arguments(p: argparse.ArgumentParser) -> None:
 
 def _settings(args: argparse.Namespace) -> dict[str, Any]:
     """Config settings (the fields this command uses) under the flags' values."""
-    has_point = hasattr(args, "altitude_m") or hasattr(args, "mach_point")  # not a grid
-    used = _FLIGHT_CONFIG + (_POINT_CONFIG if has_point else ())
     s: dict[str, Any] = {}
     if getattr(args, "config", None):
-        s = load_config(args.config, args.command, used)
+        s = load_config(args.config, args.command, (*_FLIGHT_CONFIG, *_CASE_CONFIG, *_REFUSED))
+        for key, why in _REFUSED.items():
+            if key in s:
+                raise InputError(key, f"{why} (obturator {args.command})")
+        if s.pop("case", "flight") != "flight":
+            raise InputError("case", f"obturator {args.command} runs the flight case")
         if "launch_spin_rate" in s:
             s["spin_rate"] = s.pop("launch_spin_rate")
+    if hasattr(args, "grid_mach"):  # a grid command: the file's launch point is its grid
+        mach, altitude = _GRID_DEFAULTS.get(args.command, (None, None))
+        point = {k: s.pop(k) for k in _POINT_CONFIG if k in s}
+        if args.grid_mach is None:
+            args.grid_mach = repr(point["mach"]) if "mach" in point else mach
+        if args.grid_altitude is None:
+            args.grid_altitude = repr(point["altitude_m"]) if "altitude_m" in point else altitude
+        for name, value in (("--mach", args.grid_mach), ("--altitude-m", args.grid_altitude)):
+            if value is None:
+                raise InputError(name, "give the grid (or [flight] in --config)")
     flags = (
         *_DESIGN_FLAGS,
         "elevation_deg",
@@ -256,7 +305,9 @@ def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
     from ..envelope.trajectory import Launch, Projectile
 
     s = _settings(args)
-    dkw: dict[str, Any] = {k: s[k] for k in _DESIGN_FLAGS if k in s}
+    dkw: dict[str, Any] = {
+        k: s[k] for k in (*_DESIGN_FLAGS, "n_contacts", "patch_radius") if k in s
+    }
     if "torque_model" in s:
         dkw["torque_model"] = s["torque_model"]
     design = ObturatorDesign(**dkw)
@@ -292,6 +343,6 @@ def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
         projectile,
         load=getattr(args, "load", None) or load,
         options=options,
-        check_convergence=not args.no_convergence_check,
+        check_convergence=args.convergence_check,
         **mkw,
     )

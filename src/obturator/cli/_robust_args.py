@@ -108,12 +108,18 @@ def _add_probability(
         "Probability that the bore opens later than the requirement, by cross-entropy "
         "importance sampling (--method is), brute-force Monte Carlo (mc) or both, with "
         "confidence intervals. Default inputs: " + " ".join(DEFAULT_UNCERTAINTY),
-        MACH_GRID.but(default="3", help="muzzle Mach"),
-        ALTITUDE_GRID.but(default="0", help="altitude [m]"),
+        MACH_GRID.but(help="muzzle Mach (default 3, or the config's [flight] mach)"),
+        ALTITUDE_GRID.but(help="altitude [m] (default 0, or the config's [flight] altitude)"),
         VARY,
         REQUIREMENT_FLAG,
         _EVENT,
-        option("--method", choices=("is", "mc", "both"), default="is"),
+        option(
+            "--method",
+            choices=("is", "mc", "both"),
+            default="is",
+            help="cross-entropy importance sampling (is, the default), brute-force Monte "
+            "Carlo (mc) or both",
+        ),
         count(
             "--samples",
             1,
@@ -143,7 +149,12 @@ def _add_sensitivity(
         + " ".join(DEFAULT_RANGES)
         + "; spin-rig "
         + " ".join(DEFAULT_RIG_RANGES),
-        option("--case", choices=("flight", "spin-rig"), default="flight"),
+        option(
+            "--case",
+            choices=("flight", "spin-rig"),
+            default="flight",
+            help="Table 1 column (default flight)",
+        ),
         option(
             "--mach",
             dest="mach_point",
@@ -185,8 +196,12 @@ def _add_optimize(
         "to the bore-able hole, the ball blocking the bore at launch, the socket wall and "
         "the mass budget; reports the optimum, its sensitivity and (--pareto N) the "
         "t_cr-mass Pareto front.",
-        MACH_GRID.but(default="1.5,2.75,4"),
-        ALTITUDE_GRID.but(default="0,10000"),
+        MACH_GRID.but(
+            help="muzzle Mach numbers of the envelope (1.5,2.75,4, or the config's [flight] mach)"
+        ),
+        ALTITUDE_GRID.but(
+            help="launch altitudes of the envelope [m] (0,10000, or the config's [flight] altitude)"
+        ),
         option(
             "--objective",
             default="max",

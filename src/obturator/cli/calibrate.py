@@ -5,26 +5,84 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from typing import Any
 
+from ..errors import InputError
 from ..params import Range
 from ..reference import TABLE1
 from ._args import quantity_of, solver_options
-from ._flags import CONFIG, JSON, PLOT, SEED_FLAG, command, count, option, quantity_option
-from ._kinds import InputFile, OutputFile, Text
+from ._flags import CONFIG, JSON, SEED_FLAG, command, count, figure_flags, option, quantity_option
+from ._kinds import InputFile, Text
 
 __all__ = ["register"]
 
 
+#: Config keys calibrate passes to the rig model as they are (fit_exact's ``model``).
+_MODEL_KEYS = (
+    "t_max",
+    "torque_model",
+    "weight",
+    "patch_radius",
+    "theta_dot0",
+    "release_phase",
+    "speed_law",
+    "speed_ratio",
+    "slip_speed",
+)
+
+
+def _base_case(conf: dict[str, Any]) -> dict[str, Any]:
+    """The rig model's settings of a config's base case (the file ``simulate`` runs).
+
+    The spin is each run's and mu_s is what the fit finds: the file's values of both
+    are replaced (said on stderr). The ball's radius, hole and density make the ball;
+    the gap and its viscosity set the viscous constant S of Eq. (42) through the
+    viscosity (``rig_model_case``), exactly since S is linear in the viscosity.
+    """
+    from ..model.cases import rig_case, table1_ball
+
+    if conf.get("case", "spin-rig") != "spin-rig":
+        raise InputError("case", "calibrate fits spin-rig runs: give case = 'spin-rig'")
+    if conf.get("spin_mode", "constant") != "constant":
+        raise InputError("spin_mode", "the rig is driven: calibrate models spin_mode 'constant'")
+    flight = sorted(
+        k for k in ("mach", "p1", "altitude_m", "n_contacts", "bore_radius") if k in conf
+    )
+    if flight:
+        raise InputError(flight[0], "applies to the flight case only; calibrate fits rig runs")
+    replaced = [k for k in ("spin_rate", "mu_s") if k in conf]
+    if replaced:
+        print(
+            "obturator: note: the config's "
+            + " and ".join(replaced)
+            + " are replaced: each run has its own spin, and mu_s is fitted",
+            file=sys.stderr,
+        )
+    kw: dict[str, Any] = {k: conf[k] for k in _MODEL_KEYS if k in conf}
+    geometry = {k: conf[k] for k in ("ball_radius", "hole_radius", "density") if k in conf}
+    ball = table1_ball(
+        radius=geometry.get("ball_radius"),
+        hole_radius=geometry.get("hole_radius"),
+        density=geometry.get("density"),
+    )
+    if geometry:
+        kw["ball"] = ball
+    if "gap" in conf or "viscosity" in conf:
+        from ..calibration.rig_model import S_TABLE1
+
+        gap = {k: conf[k] for k in ("gap", "viscosity") if k in conf}
+        given = rig_case(ball=ball, **gap).torque.viscous.coefficient
+        default_gap = rig_case(ball=ball).torque.viscous.coefficient
+        kw["shear_constant"] = S_TABLE1 * given / default_gap
+    return kw
+
+
 def _calibrate(args: argparse.Namespace) -> int:
     from ..calibration import calibrate_csv
-    from ..io import study_settings
+    from ..io import CASE_FIELDS, study_settings
 
-    conf = study_settings(
-        args.config, "calibrate", ("theta0_deg", "t_max", "torque_model", "weight")
-    )
-    kwargs: dict[str, object] = {
-        k: conf[k] for k in ("t_max", "torque_model", "weight") if k in conf
-    }
+    conf = study_settings(args.config, "calibrate", CASE_FIELDS)
+    kwargs: dict[str, object] = _base_case(conf)
     names = tuple(n.strip() for n in args.fit.split(",") if n.strip())
     theta0 = (
         args.theta0_deg
@@ -41,10 +99,10 @@ def _calibrate(args: argparse.Namespace) -> int:
         options=solver_options(conf.get("solver", {})),
         **kwargs,
     )
-    if args.plot:
+    if args.figure:
         from ..plotting import calibration_residuals, save
 
-        save(calibration_residuals(fit), args.plot)
+        save(calibration_residuals(fit), args.figure)
     sys.stdout.write((fit.to_json() if args.json else fit.report()) + "\n")
     return 0
 
@@ -73,7 +131,10 @@ register = command(
         help=f"theta_0 [deg] ({TABLE1['theta0_deg']}; on runs with their own theta0 "
         "column, its offset from that value is added)",
     ),
-    CONFIG.but(help="theta0, t_max, torque_model, [rig] weight and [solver] settings (flags win)"),
+    CONFIG.but(
+        help="the rig case (the file simulate runs: spin and mu_s are replaced by each "
+        "run's spin and the fit) and [solver] settings (flags win)"
+    ),
     quantity_option(
         "--min-spin",
         "rad/s",
@@ -94,8 +155,5 @@ register = command(
     count("--bootstrap", 0, 100_000, "bootstrap resamples (0: none; at most 100000)", default=200),
     SEED_FLAG.but(metavar="N", default=0, help="bootstrap seed"),
     JSON,
-    PLOT.but(
-        type=OutputFile(figure=True, example="fit.png"),
-        help="write data, model and residuals",
-    ),
+    *figure_flags("fit.png", "write data, model and residuals"),
 )

@@ -361,8 +361,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "Opening time over the firing envelope with the constant and the trajectory-coupled "
         "load; marks choked (Fanno) and unstarted (Kantrowitz) points. SPEC is "
         "START:STOP:COUNT or a,b,c.",
-        MACH_GRID.but(required=True, help="muzzle Mach numbers"),
-        ALTITUDE_GRID.but(required=True, help="launch altitudes [m] (units allowed: '0,1 km')"),
+        MACH_GRID.but(help="muzzle Mach numbers (required, or [flight] mach in --config)"),
+        ALTITUDE_GRID.but(
+            help="launch altitudes [m] (units allowed: '0,1 km'; required, or [flight] "
+            "altitude in --config)"
+        ),
         option(
             "--temperature-offset-k",
             dest="grid_temperature",

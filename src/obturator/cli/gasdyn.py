@@ -316,7 +316,12 @@ def register(subparsers: Any) -> None:
     g = p.add_mutually_exclusive_group(required=True)
     g.add_argument("--fld", type=NON_NEGATIVE, help="f_D L/D (Darcy friction factor)")
     g.add_argument("--l-over-d", type=POSITIVE, help="bore length over diameter")
-    p.add_argument("--branch", choices=("supersonic", "subsonic"), default="supersonic")
+    p.add_argument(
+        "--branch",
+        choices=("supersonic", "subsonic"),
+        default="supersonic",
+        help="which choking Mach of f_D L/D: the supersonic (default) or the subsonic branch",
+    )
     p.add_argument("--reynolds", type=POSITIVE, help="bore Reynolds number at --reynolds-mach")
     p.add_argument(
         "--reynolds-mach",
@@ -347,7 +352,12 @@ def register(subparsers: Any) -> None:
         type=Quantity("", Range(0.0, 1.0, False, True), "0.001"),
         help="relative roughness eps/D (0: smooth)",
     )
-    p.add_argument("--correlation", choices=("colebrook", "haaland"), default="colebrook")
+    p.add_argument(
+        "--correlation",
+        choices=("colebrook", "haaland"),
+        default="colebrook",
+        help="friction factor of --reynolds: Colebrook-White (default) or Haaland",
+    )
     common(p)
     p.set_defaults(func=_cmd_choke)
 

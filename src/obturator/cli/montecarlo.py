@@ -36,6 +36,7 @@ from ._args import (
     study_config,
     study_options,
     study_t_max,
+    warn_far_from_data,
 )
 from ._flags import (
     CONFIDENCE,
@@ -44,11 +45,11 @@ from ._flags import (
     SEED_FLAG,
     VARY,
     command,
+    convergence_flags,
     count,
     option,
     parameter_flags,
     study_flags,
-    switch,
 )
 from ._kinds import Text
 from ._runner import runner_from_args
@@ -84,6 +85,40 @@ def _print_mc(s: MonteCarloSummary, header: str) -> None:
         print("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)))
 
 
+def _lowest(text: str) -> float:
+    """A low end of a ``--vary`` distribution's draws (its lower bound, or 3 SD below)."""
+    from ..sweeps.distributions import parse_distribution
+
+    d = parse_distribution(text)[1]
+    p = d.params
+    if d.kind == "uniform":
+        return p[0]
+    if d.kind == "lognormal":
+        return p[0] * math.exp(-3.0 * p[1])
+    low = p[0] - 3.0 * p[1]
+    return max(low, p[2]) if d.kind == "truncnormal" else low
+
+
+def _warn_far_from_data(args: argparse.Namespace, fixed: dict[str, float]) -> None:
+    """The far-from-data warning of ``simulate`` for the study's lowest likely spin."""
+    from ..sweeps import SweepSpec
+
+    low = None
+    for text in args.vary:
+        if text.split("=", 1)[0].strip().lstrip("-").replace("-", "_") == "spin_rate":
+            low = max(_lowest(text), 1e-6)
+    spec = SweepSpec(
+        args.case,
+        {},
+        {k: v for k, v in fixed.items() if low is None or k != "spin_rate"},
+        torque_model=args.torque_model,
+        spin_mode=args.spin_mode,
+        speed_law=args.speed_law,
+        base=args.base,
+    )
+    warn_far_from_data(spec, low)
+
+
 def _run_montecarlo(args: argparse.Namespace) -> int:
     varied = {v.split("=", 1)[0].strip().lstrip("-").replace("-", "_") for v in args.vary}
     from_config = {k: v for k, v in study_config(args, "montecarlo").items() if k not in varied}
@@ -102,6 +137,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
     confidence = parse_number("confidence", args.confidence)
     samples = parse_integer("samples", args.samples, 1)
     seed = parse_integer("seed", args.seed, 0)
+    _warn_far_from_data(args, fixed)
     runner = runner_from_args(args)
     check_output_path("out", args.out)
     check_output_path("csv", args.csv)
@@ -114,13 +150,15 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
         fixed=fixed,
         torque_model=args.torque_model,
         spin_mode=args.spin_mode,
+        speed_law=args.speed_law,
+        base=args.base,
         options=study_options(args),
         t_max=study_t_max(args),
         quantiles=quantiles,
         confidence=confidence,
         runner=runner,
         csv=args.csv,
-        check_convergence=not args.no_check_convergence,
+        check_convergence=args.convergence_check,
     )
     wall = time.perf_counter() - t0
     if ds.attrs.get("outside_validated_data"):
@@ -183,10 +221,11 @@ register = command(
     CONFIDENCE.but(metavar="X", help="interval level (0.95)"),
     *study_flags(),
     OUT_NETCDF.but(help="write samples and summary as NetCDF"),
-    switch(
-        "--no-check-convergence",
-        "skip the per-sample convergence check (4x faster; non-converged openings, "
-        "status 4, are then not detected)",
+    *convergence_flags(
+        True,
+        "the per-sample reruns with tolerances / 10, friction width / 10 and another "
+        "regularisation family; skipping them is 4x faster, and non-converged openings "
+        "(status 4) are then not detected",
     ),
     CSV.but(help="write the samples as CSV"),
 )

@@ -12,21 +12,25 @@ __all__ = ["register"]
 
 
 def _reproduce(args: argparse.Namespace) -> int:
-    from .._provenance import command_line
-    from ..thesis.reproduce import reproduce
-    from ._runner import runner_from_args
+    from ._runner import progress_from_args
 
-    runner = runner_from_args(args, resume=False)
-    runner.store = Path(args.out) / "report"  # its sidecar: report.partial.jsonl
-    res = reproduce(
-        args.out,
-        quick=args.quick,
-        runner=runner,
-        command=command_line(),
-        envelope=args.envelope,
-        validation=not args.no_validation,
-        design=args.design,
-    )
+    # the heartbeat covers the loading of the studies' code too (seconds on a busy machine)
+    with progress_from_args(args).heartbeat("reproduce", "loading the studies"):
+        from .._provenance import command_line
+        from ..thesis.reproduce import reproduce
+        from ._runner import runner_from_args
+
+        runner = runner_from_args(args, resume=False)
+        runner.store = Path(args.out) / "report"  # its sidecar: report.partial.jsonl
+        res = reproduce(
+            args.out,
+            quick=args.quick,
+            runner=runner,
+            command=command_line(),
+            envelope=args.envelope,
+            validation=not args.no_validation,
+            design=args.design,
+        )
     flagged = sum(1 for r in res.rows if r.difference is not None and abs(r.difference) > 2.0)
     print(
         f"wrote {len(res.figures)} figures, {res.report_md} and {res.report_html} "

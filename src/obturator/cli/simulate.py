@@ -39,14 +39,14 @@ from ._flags import (
     CSV,
     FRICTION_FAMILY,
     JSON,
-    PLOT,
     SPEED_LAW,
     SPIN_MODE,
     TORQUE_MODEL,
     Flag,
     command,
+    convergence_flags,
+    figure_flags,
     option,
-    switch,
 )
 from ._kinds import OutputFile
 
@@ -99,9 +99,39 @@ def options_from_settings(s: dict[str, Any]) -> SolverOptions:
     return solver_options(s)
 
 
+#: The convergence check's reruns may take this many times the main run's steps (at
+#: least CHECK_MIN_STEPS): a regularised rerun of a case the set-valued solver ran
+#: (e.g. far below the rig's spins) can need millions of steps; the check then stops
+#: and is reported as failed, and the main answer stands.
+CHECK_STEP_FACTOR = 50
+CHECK_MIN_STEPS = 200_000
+
+
+def _check_budget(options: SolverOptions, main_steps: int) -> SolverOptions:
+    """`options` with the step limit of the convergence check's reruns."""
+    budget = max(CHECK_MIN_STEPS, CHECK_STEP_FACTOR * int(main_steps))
+    return dataclasses.replace(options, max_steps=min(options.max_steps, budget))
+
+
+def _checked(
+    case: Case, options: SolverOptions, t_cr: float, main_steps: int
+) -> ConvergenceCheck | str:
+    """The convergence check of a valid answer, or why it could not finish (a rerun's
+    solver failure or step budget): the check never replaces the main answer."""
+    budget = _check_budget(options, main_steps)
+    try:
+        return convergence_check(case, budget, opening_time_s=t_cr)
+    except SolverError as exc:
+        why = " ".join(str(exc).split())[:160].rstrip(".")
+        return (
+            f"a rerun stopped: {why} (the reruns' limit is {budget.max_steps:,} steps, "
+            f"{CHECK_STEP_FACTOR}x the main run's)"
+        )
+
+
 def _flight_start(
-    case: Any, settings: dict[str, Any], options: SolverOptions, check: bool
-) -> tuple[StartTimes, ConvergenceCheck | None]:
+    case: Any, settings: dict[str, Any], options: SolverOptions, check: bool, main_steps: int
+) -> tuple[StartTimes, ConvergenceCheck | str | None]:
     """theta_start at the case's Mach and t_start past first light (flight only)."""
     from ..model.start import start_condition
     from ..reference import TABLE1
@@ -116,11 +146,11 @@ def _flight_start(
     conv = None
     if check and st.t_start == st.t_start:  # the continuous run to theta_start, refined
         started = case.with_(theta_cr=cond.theta_start)
-        conv = convergence_check(started, options, opening_time_s=st.t_start)
+        conv = _checked(started, options, st.t_start, main_steps)
     return st, conv
 
 
-def _start_rows(st: StartTimes, check: ConvergenceCheck | None) -> list[tuple[str, str, str]]:
+def _start_rows(st: StartTimes, check: ConvergenceCheck | str | None) -> list[tuple[str, str, str]]:
     c = st.condition
     t = st.t_start
     rows = [
@@ -135,7 +165,9 @@ def _start_rows(st: StartTimes, check: ConvergenceCheck | None) -> list[tuple[st
         ("inlet", f"{c.verdict} (Fanno choking Mach {c.choke_mach:.4g})", ""),
         *_bracket_rows(st),
     ]
-    if check is not None:
+    if isinstance(check, str):
+        rows.append(("t_start convergence", f"check FAILED: {check}", ""))
+    elif check is not None:
         verdict = "converged" if check.converged else "NOT converged"
         change = check.largest_change
         rows.append(("t_start convergence", f"{verdict}: relative change {change:.1e}", ""))
@@ -171,7 +203,7 @@ def _bracket_rows(st: StartTimes) -> list[tuple[str, str, str]]:
 
 def _print_table(
     res: NutationResult,
-    check: ConvergenceCheck | None,
+    check: ConvergenceCheck | str | None,
     start: list[tuple[str, str, str]] | None = None,
 ) -> None:
     s = res.summary()
@@ -197,7 +229,9 @@ def _print_table(
         ("status", f"{res.status}: {res.message}", ""),
         ("steps / RHS evaluations", f"{res.n_steps} / {res.nfev}", ""),
     ]
-    if check is not None:
+    if isinstance(check, str):
+        rows.append(("convergence", f"check FAILED, the answer above is unchecked: {check}", ""))
+    elif check is not None:
         verdict = "converged" if check.converged else "NOT converged"
         if check.strategy == "set-valued":
             rows.append(
@@ -236,6 +270,13 @@ def _print_table(
         print(f"{label:<{width}}  {value} {unit}".rstrip())
 
 
+def _check_dict(check: ConvergenceCheck | str) -> dict[str, Any]:
+    """JSON of a convergence check, or of one that failed (``converged`` false)."""
+    if isinstance(check, str):
+        return {"converged": False, "failed": check}
+    return check.to_dict()
+
+
 def _method(summary: dict[str, Any]) -> str:
     """The method as asked, and what ``auto`` chose where it chose."""
     asked, ran = summary["method"], summary["solver"]
@@ -262,7 +303,9 @@ def _duration(seconds: float) -> str:
 
 
 def _expected_cost(case: Case, options: SolverOptions) -> str:
-    """Time a short stretch of the run and extrapolate to t_max or the step limit."""
+    """What a timed probe says of this run's cost: an estimate where the probe covered
+    at least a quarter of the horizon (near stick the steps per simulated second grow as
+    the run goes on, so a longer extrapolation is no estimate), else none."""
     tiny = case.with_(t_max=min(1e-6, case.t_max))
     for method in dict.fromkeys((options.method, "radau")):  # load the compiled code first
         simulate(tiny, dataclasses.replace(options, method=method))
@@ -274,20 +317,27 @@ def _expected_cost(case: Case, options: SolverOptions) -> str:
         if probe.status != Status.T_MAX or horizon >= case.t_max or wall >= 0.2:
             break
         horizon *= 4.0
-    if probe.status != Status.T_MAX:
-        return "a timed probe ended early; no cost estimate"
-    # near stick the steps per simulated second grow as the run goes on: a lower bound
-    t_limit = options.max_steps * horizon / max(steps, 1)
-    cost = wall * min(case.t_max, t_limit) / horizon
-    text = (
-        f"a timed probe ({horizon:.2g} s of motion in {wall:.2g} s) expects at least "
-        f"~{_duration(cost)} for this run"
+    check = (
+        f"; the convergence check's reruns stop at {CHECK_STEP_FACTOR}x the main run's "
+        f"steps (at least {CHECK_MIN_STEPS:,}) and, where they fail, leave the answer "
+        "unchecked (--no-convergence-check skips them)"
     )
+    if probe.status != Status.T_MAX:
+        return "a timed probe ended early; no cost estimate" + check
+    covered = min(horizon, case.t_max)
+    t_limit = options.max_steps * covered / max(steps, 1)
+    if covered * 4.0 < min(case.t_max, t_limit):
+        return (
+            f"a timed probe ({covered:.2g} s of motion in {wall:.2g} s) covers too little of "
+            f"t_max {case.t_max:g} s for an estimate (near stick the steps per simulated "
+            f"second grow as the run goes on); {_FIX}" + check
+        )
+    cost = wall * min(case.t_max, t_limit) / covered
+    text = f"a timed probe ({covered:.2g} s of motion in {wall:.2g} s) expects ~{_duration(cost)}"
+    text += " for the main run"
     if t_limit < case.t_max:
         text += f", then the step limit ({options.max_steps:,} steps) by t = {t_limit:.2g} s"
-    if cost < 10.0 and t_limit >= case.t_max:
-        return text
-    return f"{text} (--no-check skips the check's 3 reruns); {_FIX}"
+    return text + check
 
 
 def _step_limit_message(res: NutationResult, case: Case, options: SolverOptions) -> str:
@@ -307,10 +357,10 @@ def _run(args: argparse.Namespace) -> int:
     options = options_from_settings(settings)
     check_output_path("--csv", args.csv, ("csv",))
     check_output_path("--animate", args.animate, ("html",))
-    if args.plot is not None:
+    if args.figure is not None:
         from ..plotting import figure_suffixes
 
-        check_output_path("--plot", args.plot, figure_suffixes())
+        check_output_path("--figure", args.figure, figure_suffixes())
     note = outside_validated_range(case)
     data = outside_validated_data(case)
     if note:
@@ -325,31 +375,38 @@ def _run(args: argparse.Namespace) -> int:
         raise SolverError(res.message)
     if args.csv:
         res.to_csv(args.csv)
-    if args.plot:
-        _plot(res, args.plot)
+    if args.figure:
+        _plot(res, args.figure)
     if args.animate:
         from ..animation import write_animation
 
         write_animation(res, args.animate)
-    check = (
-        None if args.no_check else convergence_check(case, options, opening_time_s=res.opening_time)
-    )
+    check = None
+    if args.convergence_check:
+        check = _checked(case, options, res.opening_time, res.n_steps)
     start = None
     if case.name == "flight":
-        start = _flight_start(case, settings, options, not args.no_check)
+        start = _flight_start(case, settings, options, args.convergence_check, res.n_steps)
     if args.json:
         out = res.summary()
         out["route"] = route_of(res.solver, options, t_cr_only=False)
         if check is not None:
-            out["convergence"] = check.to_dict()
+            out["convergence"] = _check_dict(check)
         if start is not None:
             out["start"] = start[0].to_dict()
             if start[1] is not None:
-                out["start"]["convergence"] = start[1].to_dict()
+                out["start"]["convergence"] = _check_dict(start[1])
         print(_json.dumps(out))
     else:
         _print_table(res, check, None if start is None else _start_rows(*start))
-    if check is not None and not check.converged:
+    for what, failed in (("t_cr", check), ("t_start", start and start[1])):
+        if isinstance(failed, str):
+            print(
+                f"obturator: warning: the convergence check of {what} could not finish, "
+                f"the answer is reported unchecked: {failed}",
+                file=sys.stderr,
+            )
+    if isinstance(check, ConvergenceCheck) and not check.converged:
         print(
             "obturator: warning: t_cr is not converged (it changes by more than "
             f"{check.threshold:g} when tolerances or the friction width shrink tenfold or "
@@ -385,7 +442,12 @@ register = command(
         "contact patch radius of --torque-model coulomb [m] "
         "(default: Hertz radius; 0: point contact)",
     ),
-    option("--formulation", choices=FORMULATIONS, default=None),
+    option(
+        "--formulation",
+        choices=FORMULATIONS,
+        default=None,
+        help="state of the equations of motion: quaternion (default) or Euler angles",
+    ),
     _quantity("theta_dot0", "RAD_S", "release transient theta_dot_0 [rad/s] (rig)"),
     _quantity("release_phase", "RAD", "release azimuth psi_0 [rad] (rig)"),
     SPEED_LAW.but(help="slip-speed dependence of mu (rig; default constant, the thesis's)"),
@@ -403,12 +465,12 @@ register = command(
     _quantity("bore_radius", "M", "flight bore radius r_p [m] (Table 1: 4.72e-3)"),
     _quantity("t_max", "S", "give up after this time [s]"),
     JSON,
-    switch(
-        "--no-check",
-        "skip the convergence check (reruns with tolerances / 10, friction width / 10 "
-        "and another regularisation family)",
+    *convergence_flags(
+        True,
+        "rerun with tolerances / 10, friction width / 10 and another regularisation family "
+        "and report how much t_cr moves",
     ),
-    PLOT.but(type=OutputFile(figure=True, example="theta.png"), help="write theta(t) as a figure"),
+    *figure_flags("theta.png", "write theta(t) as a figure"),
     CSV.but(type=OutputFile(("csv",), example="theta.csv"), help="write the time series as CSV"),
     option(
         "--animate",

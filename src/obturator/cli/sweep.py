@@ -37,12 +37,13 @@ from ..io import check_output_path
 from ..params import SWEEP_PARAMS
 from ..sweeps import SweepSpec, execute_sweep, parse_axis, sweep_summary
 from . import _json
-from ._args import study_config, study_options, study_t_max
+from ._args import study_config, study_options, study_t_max, warn_far_from_data
 from ._flags import (
     CSV,
     OUT_NETCDF,
     SPEED_LAW,
     command,
+    convergence_flags,
     parameter_flags,
     study_flags,
     switch,
@@ -78,9 +79,11 @@ def _run_sweep(args: argparse.Namespace) -> int:
         # recorded in each point's route and in the study digest)
         options=replace(study_options(args), shared_maps=True),
         t_max=study_t_max(args),
-        check_convergence=args.check_convergence,
+        check_convergence=args.convergence_check,
         speed_law=args.speed_law,
+        base=args.base,
     )
+    warn_far_from_data(spec)
     runner = runner_from_args(args)
     check_output_path("out", args.out)
     csv_path = args.csv
@@ -171,11 +174,11 @@ register = command(
     *study_flags(),
     OUT_NETCDF.but(required=True, help="NetCDF output"),
     SPEED_LAW.but(
-        default="constant",
-        help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed)",
+        help="slip-speed law of the rig friction (sweep --speed-ratio, --slip-speed; "
+        "default constant, or the config's)",
     ),
-    switch(
-        "--check-convergence",
+    *convergence_flags(
+        False,
         "re-run each opened point with tolerances / 10, friction width / 10 and another "
         "regularisation family and mark points whose t_cr moves by more than 1e-3 "
         "(status 4; 4x the cost)",

@@ -20,19 +20,32 @@ from . import _json
 from ._flags import (
     JSON,
     NO_PROGRESS,
-    PLOT,
     RESTART,
     RIG_DATA,
     RIG_HORIZON,
+    alias,
     command,
+    figure_flags,
     option,
     quantity_option,
     switch,
 )
-from ._kinds import Count, OutputDir, OutputFile, Text
+from ._kinds import Count, OutputDir, Text
 from ._runner import runner_from_args
 
 __all__ = ["register"]
+
+_WORKERS = (
+    option(
+        "--workers",
+        dest="jobs",
+        metavar="N",
+        default="2",
+        type=Count(1, 64),
+        help="worker processes (2; at most 64: one per candidate fit and data subset)",
+    ),
+)
+_WORKERS += (alias(_WORKERS[0], "--jobs"),)
 
 
 def _list_models(as_json: bool) -> int:
@@ -61,6 +74,14 @@ def _list_models(as_json: bool) -> int:
 def _run(args: argparse.Namespace) -> int:
     if args.list_models:
         return _list_models(args.json)
+    from ._runner import progress_from_args
+
+    # piped, never silent for long: loading the code, the fits, the figure and the files
+    with progress_from_args(args).heartbeat("validate", "loading the candidates"):
+        return _validate(args)
+
+
+def _validate(args: argparse.Namespace) -> int:
     from ..calibration.data import load_spin_rig_csv, load_thesis_data
     from ..validation import get_candidates, run_validation
     from ..validation.floor import DEFAULT_CLUSTER_GAP
@@ -70,7 +91,7 @@ def _run(args: argparse.Namespace) -> int:
     spin_sd = SPIN_SD if args.spin_sd is None else args.spin_sd
     gap = DEFAULT_CLUSTER_GAP if args.cluster_gap is None else args.cluster_gap
     names = get_candidates(args.models)  # validates the names before any work
-    plot = Path(args.plot) if args.plot else None
+    plot = Path(args.figure) if args.figure else None
     out = Path(args.out) if args.out else None
     if out is not None:
         try:
@@ -139,10 +160,7 @@ register = command(
     ),
     switch("--list-models", "list the candidates and exit"),
     JSON,
-    PLOT.but(
-        type=OutputFile(figure=True, example="validation.png"),
-        help="draw data, model curves and the floor",
-    ),
+    *figure_flags("validation.png", "draw data, model curves and the floor"),
     option(
         "--out",
         metavar="DIR",
@@ -150,15 +168,7 @@ register = command(
         help="write validation.json, validation.txt, validation.png (finished fits are "
         "kept in validation.partial.jsonl there until then: a rerun resumes)",
     ),
-    option(
-        "--workers",
-        "--jobs",
-        dest="jobs",
-        metavar="N",
-        default="2",
-        type=Count(1, 64),
-        help="worker processes (2; at most 64: one per candidate fit and data subset)",
-    ),
+    *_WORKERS,
     RIG_HORIZON.but(help="horizon [s]; later runs are censored (20)"),
     quantity_option(
         "--spin-sd",

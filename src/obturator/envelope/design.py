@@ -54,6 +54,11 @@ class ObturatorDesign:
         Friction model of :func:`obturator.model.cases.flight_case`.
     gamma : float
         Ratio of specific heats of air [-] (1.4).
+    n_contacts : int, optional
+        Coulomb contacts of ``torque_model="coulomb"`` (default that of
+        :func:`obturator.model.cases.flight_case`, 2).
+    patch_radius : float, optional
+        Contact patch radius of ``torque_model="coulomb"`` [m] (default the Hertz radius).
     """
 
     mu_s: float = TABLE1["mu_s"]
@@ -66,8 +71,13 @@ class ObturatorDesign:
     viscosity: float = TABLE1["viscosity"]
     torque_model: str = "thesis"
     gamma: float = TABLE1["gamma"]
+    n_contacts: int | None = None
+    patch_radius: float | None = None
 
     def __post_init__(self) -> None:
+        for name in ("n_contacts", "patch_radius"):
+            if getattr(self, name) is not None and self.torque_model != "coulomb":
+                raise InputError(name, "applies to torque_model 'coulomb' only")
         check_range("mu_s", self.mu_s, 0.0, 2.0)
         check_range("gap", self.gap, 0.0, 1e-3, lo_open=True, unit="m")
         check_range("viscosity", self.viscosity, 0.0, lo_open=True, unit="Pa s")
@@ -120,6 +130,11 @@ class ObturatorDesign:
             gap=self.gap,
             viscosity=self.viscosity,
             t_max=t_max,
+            **{
+                k: v
+                for k, v in (("n_contacts", self.n_contacts), ("patch_radius", self.patch_radius))
+                if v is not None
+            },
         )
         return case if theta_cr is None else case.with_(theta_cr=theta_cr)
 
@@ -154,7 +169,9 @@ class ObturatorDesign:
 
     def to_dict(self) -> dict[str, Any]:
         """Field values (SI) as a JSON-ready dict."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        out = {f.name: getattr(self, f.name) for f in fields(self)}
+        # the Coulomb contacts only where given: a design without them keeps its identity
+        return {k: v for k, v in out.items() if v is not None}
 
 
 def constant_case(design: ObturatorDesign, launch: Launch, t_max: float) -> Case:

@@ -162,8 +162,9 @@ def outside_validated_range(case: Case) -> str | None:
     """What is far outside the validated range in `case`, or None.
 
     "Far" is a spin below half the lowest rig run, below the spins whose convergence
-    is tested, on the spin rig: there the cost explodes. Higher spins are cheap
-    (flight runs at 12,042 rad/s) and are not flagged here (see
+    is tested: there the ball sticks and slips for long and the cost explodes, on the
+    rig and in flight alike. Higher spins are cheap (flight runs at 12,042 rad/s) and
+    are not flagged here (see
     :func:`outside_validated_data`).
 
     Parameters
@@ -175,8 +176,6 @@ def outside_validated_range(case: Case) -> str | None:
     str or None
         One clause naming the input, its value [rad/s] and the validated range.
     """
-    if case.name != "spin-rig":
-        return None
     lo, hi = RIG_RUN_SPINS
     w = case.spin_rate
     if w >= lo / 2.0:

@@ -6,7 +6,10 @@
   elapsed time and time left;
 * ``"lines"``: output piped or redirected: one plain line on stderr at most every
   :data:`LINE_INTERVAL_S` seconds, ``obturator: sweep: 1234/10000 points (12 %),
-  45 s elapsed, about 5.5 min left``; no thread, so process pools still fork;
+  45 s elapsed, about 5.5 min left``; and within :meth:`Progress.heartbeat`, a line
+  saying what still runs whenever nothing was printed for :data:`HEARTBEAT_S`
+  seconds (a daemon thread whose lock a fork takes first, so a forked worker never
+  inherits a half-written line);
 * ``"off"``: nothing (``--no-progress`` and the Python API's default).
 
 :meth:`Progress.plan` prints a long run's planned work and its estimated time before
@@ -15,21 +18,56 @@ the work starts (the runner estimates it from a timed probe).
 
 from __future__ import annotations
 
+import math
+import os
 import sys
+import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Literal
 
-__all__ = ["LINE_INTERVAL_S", "PLAN_MIN_S", "Progress", "Tracker", "fmt_duration"]
+__all__ = [
+    "HEARTBEAT_S",
+    "LINE_INTERVAL_S",
+    "PLAN_MIN_S",
+    "Progress",
+    "Tracker",
+    "fmt_duration",
+]
 
 #: Seconds between two plain progress lines.
 LINE_INTERVAL_S = 15.0
+#: Longest silence of a piped run within :meth:`Progress.heartbeat` [s] before a line
+#: says what still runs (the issue's bound is 30 s; the thread looks every second).
+HEARTBEAT_S = 25.0
 #: A run expected to take at least this long [s] announces its plan and estimate.
 PLAN_MIN_S = 5.0
 
 Mode = Literal["off", "bar", "lines"]
+
+#: The last line printed (monotonic time) and what runs now, shared by every reporter of
+#: this process; _LOCK is held while a line is written.
+_LAST: dict[str, object] = {"t": time.monotonic(), "what": ""}
+_LOCK = threading.Lock()
+os.register_at_fork(
+    before=_LOCK.acquire, after_in_parent=_LOCK.release, after_in_child=_LOCK.release
+)
+
+
+def _say(line: str, what: str | None = None) -> None:
+    """Print `line` on stderr and note it (and what runs now) for the heartbeat."""
+    with _LOCK:
+        print(line, file=sys.stderr, flush=True)
+        _LAST["t"] = time.monotonic()
+        if what is not None:
+            _LAST["what"] = what
+
+
+def _running(what: str) -> None:
+    """Note what runs now (shown by the next heartbeat line)."""
+    _LAST["what"] = what
 
 
 def fmt_duration(seconds: float) -> str:
@@ -81,7 +119,7 @@ class Progress:
     def note(self, text: str) -> None:
         """One line ``obturator: <text>`` on stderr (unless off)."""
         if self.enabled:
-            print(f"obturator: {text}", file=sys.stderr, flush=True)
+            _say(f"obturator: {text}")
 
     def plan(self, label: str, work: str, estimate_s: float | None = None) -> None:
         """Announce a run's work and estimated time (only if it is long, or unknown)."""
@@ -91,15 +129,57 @@ class Progress:
             self.note(f"{label}: {work}; estimated {fmt_duration(estimate_s)} on idle cores")
 
     @contextmanager
+    def heartbeat(self, label: str, what: str = "") -> Iterator[Callable[[str], None]]:
+        """Within this block a piped run (mode "lines") is never silent for more than
+        :data:`HEARTBEAT_S` s: a daemon thread prints ``obturator: <label>: still
+        running (<what>), <elapsed> elapsed`` when nothing else was printed for that
+        long. Yields a function that sets what runs now (progress lines set it too)."""
+        if self.mode != "lines":
+            yield lambda text: None
+            return
+        _running(what)
+        stop = threading.Event()
+        t0 = time.monotonic()
+
+        def beat() -> None:
+            while not stop.wait(min(1.0, HEARTBEAT_S / 4)):
+                now = time.monotonic()
+                if now - float(_LAST["t"]) >= HEARTBEAT_S:  # type: ignore[arg-type]
+                    running = f" ({_LAST['what']})" if _LAST["what"] else ""
+                    _say(
+                        f"obturator: {label}: still running{running}, "
+                        f"{fmt_duration(now - t0)} elapsed"
+                    )
+
+        _LAST["t"] = time.monotonic()
+        thread = threading.Thread(target=beat, name="obturator-heartbeat", daemon=True)
+        thread.start()
+        try:
+            yield _running
+        finally:
+            stop.set()
+            thread.join()
+
+    @contextmanager
     def track(
-        self, label: str, total: int, done: int = 0, unit: str = "points"
+        self,
+        label: str,
+        total: int,
+        done: int = 0,
+        unit: str = "points",
+        weights: Sequence[float] | None = None,
     ) -> Iterator[Tracker]:
-        """Yield a :class:`Tracker` that advances the display of `total` tasks."""
+        """Yield a :class:`Tracker` that advances the display of `total` tasks.
+
+        `weights` (one per task, in the order they finish: their relative costs) make
+        the plain lines' time left that of the whole remaining work rather than of
+        equal tasks (a run of unequal steps, such as ``reproduce``).
+        """
         if self.mode == "bar":
             with _bar(label, total, done) as tracker:
                 yield tracker
         elif self.mode == "lines":
-            yield _lines(label, total, done, unit, self.interval_s)
+            yield _lines(label, total, done, unit, self.interval_s, weights)
         else:
             yield Tracker(lambda n: None, lambda text: None)
 
@@ -133,30 +213,44 @@ def _bar(label: str, total: int, done: int) -> Iterator[Tracker]:
         )
 
 
-def _lines(label: str, total: int, done: int, unit: str, interval_s: float) -> Tracker:
+def _lines(
+    label: str,
+    total: int,
+    done: int,
+    unit: str,
+    interval_s: float,
+    weights: Sequence[float] | None = None,
+) -> Tracker:
+    cost = [0.0]  # cost[k]: the relative cost of the first k tasks
+    for w in weights if weights is not None else [1.0] * total:
+        cost.append(cost[-1] + float(w))
+    if len(cost) != total + 1:
+        raise ValueError(f"{len(cost) - 1} weights for {total} tasks")
     t0 = time.monotonic()
     state = {"done": done, "last": t0, "what": ""}
+    _running(f"{label}: {done}/{total} {unit}")
 
     def advance(n: int) -> None:
         state["done"] += n
+        _running(f"{label}: {state['done']}/{total} {unit}")
         now = time.monotonic()
         if now - state["last"] < interval_s or state["done"] >= total:
             return
         state["last"] = now
-        new = state["done"] - done
         elapsed = now - t0
-        left = elapsed / new * (total - state["done"]) if new else float("nan")
+        spent = cost[state["done"]] - cost[done]
+        left = elapsed / spent * (cost[total] - cost[state["done"]]) if spent > 0 else math.nan
         what = f" ({state['what']})" if state["what"] else ""
         eta = f", about {fmt_duration(left)} left" if left == left else ""
-        print(
+        _say(
             f"obturator: {label}: {state['done']}/{total} {unit} "
-            f"({100 * state['done'] / max(total, 1):.0f} %){what}, "
+            f"({100 * cost[state['done']] / cost[total] if cost[total] else 100:.0f} %){what}, "
             f"{fmt_duration(elapsed)} elapsed{eta}",
-            file=sys.stderr,
-            flush=True,
+            f"{label}: {state['done']}/{total} {unit}{what}",
         )
 
     def describe(text: str) -> None:
         state["what"] = text
+        _running(f"{label}: {text}")
 
     return Tracker(advance, describe)

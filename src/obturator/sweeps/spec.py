@@ -29,6 +29,17 @@ from .grid import MAX_POINTS, as_axis
 
 __all__ = ["SweepSpec"]
 
+#: Case settings a study holds fixed outside its parameters (its base case).
+_BASE_FIELDS = (
+    "ball_radius",
+    "viscosity",
+    "weight",
+    "patch_radius",
+    "p1",
+    "n_contacts",
+    "bore_radius",
+)
+
 
 def _json_float(x: float) -> float | str:
     return x if math.isfinite(x) else repr(x)
@@ -72,6 +83,12 @@ class SweepSpec:
         its ``speed_ratio`` and ``slip_speed``, the release transient ``theta_dot0``
         and the release phase ``release_phase`` are sweep parameters (spin rig only;
         the mechanisms of :mod:`obturator.validation`).
+    base : mapping of str to object
+        The base case's other settings, as a config file gives them to ``simulate``
+        (:func:`obturator.model.cases.case_from_settings`): ``ball_radius`` [m],
+        ``viscosity`` [Pa s], ``weight`` [N] (rig), ``patch_radius`` [m] (Coulomb),
+        ``p1`` [Pa], ``n_contacts``, ``bore_radius`` [m] (flight). Not swept; empty by
+        default (then the identity is that of a study without it).
 
     Notes
     -----
@@ -99,6 +116,7 @@ class SweepSpec:
     t_max: float | None = None
     check_convergence: bool = False
     speed_law: str = "constant"
+    base: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         check_choice("case", self.case, CASE_NAMES)
@@ -119,6 +137,13 @@ class SweepSpec:
             if name in axes:
                 raise InputError(name, "is both swept and fixed")
             fixed[name] = check_range(name, value)
+        base = dict(self.base)
+        for name in base:
+            if name in SWEEP_PARAMS or name not in _BASE_FIELDS:
+                raise InputError(
+                    name, f"is not a base-case setting; allowed: {', '.join(_BASE_FIELDS)}"
+                )
+        object.__setattr__(self, "base", base)
         object.__setattr__(self, "axes", axes)
         object.__setattr__(self, "fixed", fixed)
         if self.t_max is not None:
@@ -174,8 +199,10 @@ class SweepSpec:
     @property
     def weight_from_ball(self) -> bool:
         """True when the rig load is the ball's computed weight (geometry varied)."""
-        varied = set(self.axes) | set(self.fixed)
-        return self.case == "spin-rig" and bool(varied & {"density", "hole_radius"})
+        if "weight" in self.base:
+            return False
+        varied = set(self.axes) | set(self.fixed) | set(self.base)
+        return self.case == "spin-rig" and bool(varied & {"density", "hole_radius", "ball_radius"})
 
     @property
     def weight_model(self) -> str:
@@ -184,6 +211,8 @@ class SweepSpec:
             return "flight: pressure force behind the normal bow shock (Eqs. 1, 3, 43)"
         if self.weight_from_ball:
             return "spin-rig: weight W = rho g V computed from the (modified) ball"
+        if "weight" in self.base:
+            return f"spin-rig: weight W = {self.base['weight']:g} N (given)"
         return f"spin-rig: Table 1 measured weight W = {TABLE1['rig_weight']} N"
 
     def resolved(self) -> dict[str, float | None]:
@@ -217,6 +246,7 @@ class SweepSpec:
             "case": self.case,
             "torque_model": self.torque_model,
             "spin_mode": self.spin_mode,
+            **self.base,
             **self.fixed,
             **{k: float(x) for k, x in values.items()},
         }
@@ -244,7 +274,7 @@ class SweepSpec:
             "check_convergence": self.check_convergence,
             "speed_law": self.speed_law,
             "obturator_version": package_version(),
-        }
+        } | ({"base": dict(sorted(self.base.items()))} if self.base else {})
 
     def digest(self) -> str:
         """SHA-256 (hex) of :meth:`identity`; equal specs give equal digests."""
