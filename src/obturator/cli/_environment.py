@@ -108,7 +108,12 @@ def _numba_parses() -> None:
         return
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        import numba.core.config  # noqa: F401
+        try:
+            import numba.core.config  # noqa: F401
+        except Exception as exc:  # a variable numba refuses at import
+            names = sorted(k for k in os.environ if k.startswith("NUMBA_") and k not in known)
+            text = " ".join(str(exc).split())[:200]
+            raise InputError(", ".join(names), f"numba cannot start with them: {text}") from None
     for w in caught:
         found = re.match(r"Environment variable '(NUMBA_\w+)' is defined but", str(w.message))
         if found:
