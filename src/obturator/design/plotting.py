@@ -80,8 +80,9 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
                         mec=colours[k % len(colours)],
                         mew=1.8,
                     )
+                extrap = result.feasibility and result.feasibility[i].extrapolated
                 ax.annotate(
-                    f"x{count}",
+                    f"x{count}" + (" extrap." if extrap else ""),
                     (xi, p[result.models[0]]["mean"][0]),
                     textcoords="offset points",
                     xytext=(6, 6),
@@ -99,7 +100,9 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
     fig.suptitle(
         "Candidates' $t_{cr}$ with 95 % predictive bands (parameters and replicate noise)\n"
         f"circles: the {plan.n_runs}-run plan (xN: replicates) on each line through its "
-        "leading setting; ticks: planned runs off the line; bands cut at $t_{cr}$ = 0",
+        "leading setting; ticks: planned runs off the line; bands cut at $t_{cr}$ = 0;\n"
+        "extrap.: outside the measured runs (spin, release, ball or stick ratio); settings "
+        "the rig cannot hold (holding moment above its bound) left out",
         fontsize=9,
     )
     return fig

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from .candidates import PARAMETERS
 from .results import ModelResult
 
-__all__ = ["OUT_OF_BAND_SPLIT", "model_aic", "recommend"]
+__all__ = ["OUT_OF_BAND_SPLIT", "best_predictor", "model_aic", "recommend"]
 
 #: Spin [rad/s] that splits the runs for the out-of-band refits (the thesis trusted its
 #: model only above 200 rad/s).
@@ -70,6 +70,7 @@ def recommend(models: Sequence[ModelResult]) -> tuple[str, str]:
                 + ")"
             )
         why += "."
+    why += _predictive_clause(choice, models)
     g = choice.goodness
     if g and not math.isfinite(g["overall"]["p_value"]):
         why += " No band has replicates: no lack-of-fit test against a floor."
@@ -89,6 +90,63 @@ def recommend(models: Sequence[ModelResult]) -> tuple[str, str]:
     if implausible:
         why += " Outside their physical ranges: " + ", ".join(implausible) + "."
     return choice.name, why + caveat
+
+
+_SCHEME_TEXT = (
+    ("leave_one_cluster_out", "left out one replicate cluster at a time"),
+    ("leave_one_band_out", "left out one spin band at a time"),
+)
+
+
+def best_predictor(models: Sequence[ModelResult], scheme: str) -> ModelResult | None:
+    """The model with the smallest cross-validated deviance of `scheme` (None: no scores)."""
+    scored = [
+        m
+        for m in models
+        if m.fit.params and math.isfinite(m.predictive.get(scheme, {}).get("deviance", math.nan))
+    ]
+    return min(scored, key=lambda m: m.predictive[scheme]["deviance"]) if scored else None
+
+
+def _predictive_clause(choice: ModelResult, models: Sequence[ModelResult]) -> str:
+    """What the cross-validated scores say (:mod:`.predictive`), and how the choice stands
+    against them."""
+    text = ""
+    bests = []
+    for scheme, how in _SCHEME_TEXT:
+        best = best_predictor(models, scheme)
+        own = choice.predictive.get(scheme)
+        if best is None or own is None:
+            continue
+        bests.append(best)
+        sb = best.predictive[scheme]
+        text += (
+            f" Refitted with each run's fold {how.split(' ', 2)[2]} left out, "
+            f"'{choice.name}' predicts it with rms {own['rms_s']:.3f} s "
+            f"(-2 log predictive density {own['deviance']:.1f})"
+        )
+        if best is choice:
+            text += ", the best of all candidates."
+        else:
+            text += (
+                f"; best: '{best.name}', rms {sb['rms_s']:.3f} s "
+                f"({sb['deviance']:.1f}, {own['deviance'] - sb['deviance']:.1f} better)."
+            )
+    if not bests:
+        return ""
+    if all(b is choice for b in bests):
+        text += f" '{choice.name}' predicts best by both cross-validations."
+    else:
+        names = sorted({b.name for b in bests})
+        text += (
+            " Predicts best: "
+            + " and ".join(f"'{n}'" for n in names)
+            + ". The recommendation follows the rule above (AIC among physically "
+            "plausible candidates); where the cross-validated scores disagree with it, "
+            "the AIC difference is within what a fold-to-fold refit moves, or the better "
+            "predictor has a parameter outside its physical range."
+        )
+    return text
 
 
 # --------------------------------------------------------------------------- study
