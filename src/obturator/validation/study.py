@@ -148,8 +148,8 @@ def run_validation(
     # is its own record; the memo serves design-experiment after it in this process
     fits = _fits_of(cands, obs, gap, runner, data, memo=False)
     timings["all_run_fits"] = time.perf_counter() - t_start
-    # the ranking needs the all-run fits only: the recommended model is known now, and
-    # its profile intervals run alongside phase 2
+    # the provisional choice by AIC (the all-run fits only): its profile intervals run
+    # alongside phase 2, which computes the predictive scores of the final choice
     prelim = sorted((ModelResult(c.name, fits[c.name]) for c in cands), key=model_aic)
     rec_name, why = recommend(prelim)
     rec_fit = fits[rec_name]
@@ -188,7 +188,19 @@ def run_validation(
         for c in cands
     ]
     results.sort(key=model_aic)
-    rec_name, why = recommend(results)  # same choice, now with out-of-band numbers
+    # the choice by the predictive scores; the provisional one (AIC, for the profiles that
+    # ran alongside phase 2) may differ: then the chosen model's profiles run now
+    final_name, why = recommend(results)
+    if profile and final_name not in prof:
+        more = [
+            (profile_task, fits[final_name], final_name, k, side, spin_sd, options)
+            for k in fits[final_name].params
+            for side in (-1, 1)
+        ]
+        got = run_tasks(more, label="validate: profiles", unit="tasks", pickled=True)
+        for task, res in zip(more, got, strict=True):
+            prof.setdefault(final_name, {}).setdefault(task[3], {})[task[4]] = res[2]
+    rec_name = final_name
     results = _with_profile_intervals(results, fits, prof)
     label = "all" if profile_all else "recommended" if profile else "none"
     settings = _settings_record(data, obs, gap, jobs, label, timings)
