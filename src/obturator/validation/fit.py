@@ -70,6 +70,7 @@ from .results import CandidateFit
 
 __all__ = [
     "CHI2_95",
+    "COVARIANCE_STEP",
     "FitControls",
     "RunModels",
     "fit_candidate",
@@ -108,6 +109,8 @@ _SETTINGS = LeastSquaresSettings("2-point", 1e-3, 1.0, _XTOL, _FTOL, 1e-3)
 #: scipy's 300 (21 s, cost 12.9503); scaled it converges in 50 (2.8 s, cost 12.9485).
 _FIRST_PASS_EVALUATIONS = 50
 _SETTINGS_FIRST = replace(_SETTINGS, x_scale="jac", max_nfev=_FIRST_PASS_EVALUATIONS)
+#: Central-difference step of the covariance's Jacobian (optimiser scale, relative).
+COVARIANCE_STEP = _SETTINGS.covariance_step
 _SETTINGS_STARTED = replace(_SETTINGS, max_nfev=_FIRST_PASS_EVALUATIONS)
 
 
