@@ -369,7 +369,8 @@ def _settings_record(
         )
         + ", + (dt/domega sigma_w)^2 error-in-variables; "
         "runs not opened by t_max censored (survival term)",
-        "ranking": "AIC of the all-run fit",
+        "ranking": "AIC of the all-run fit (table order); recommendation by the "
+        "leave-one-cluster-out deviance among plausible candidates",
         "starred_runs_are_high_half": obs.same_split,
         "timings_s": timings,
     }
