@@ -48,13 +48,15 @@ def opening_time_table(task: Mapping[str, Any]) -> list[list[float | None]]:
     (cand,) = get_candidates([str(task["model"])])
     settings = settings_of(task["settings"])
     t_max = float(task["t_max"])
-    # points that differ only in a new ball's copy of a parameter give one case on the
-    # as-built ball: solved once
+    # points that differ only in the parameter copy a ball does not use (the new ball's
+    # on the as-built ball, the as-built ball's on a new one) give one case: solved once
     keys: dict[tuple[Any, ...], int] = {}
     cases, where = [], []
     for v in task["values"]:
         for s in settings:
-            used = {k: x for k, x in v.items() if NEW_BALL not in k or not s.is_as_built_ball}
+            used = {k: x for k, x in v.items() if NEW_BALL not in k}
+            if not s.is_as_built_ball:
+                used.update({k.removesuffix(NEW_BALL): x for k, x in v.items() if NEW_BALL in k})
             key = (tuple(sorted(used.items())), s)
             if key not in keys:
                 keys[key] = len(cases)
