@@ -208,7 +208,7 @@ def decision_table(result: DesignResult) -> list[str]:
             f"  {sep_d:5.1f}/{sep_n:.1f}"
         )
     curve = ", ".join(
-        f"{n}: {sum(r.p_decisive for r in v.values()) / len(v):.3f}"
+        f"{n}: {np.mean([v[m].p_decisive for m in result.models]):.3f}"
         for n, v in sorted(result.naive_rates.items())
     )
     lines.append(f"  naive plan (spins spread as the measured runs, Table 1 rig) by N: {curve}")
