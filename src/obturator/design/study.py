@@ -274,16 +274,25 @@ def design_experiment(
     runner = runner or Runner(workers=2)
     naive_sizes = sorted({*sizes, *(int(n) for n in naive_runs)})
 
+    validated = ValidatedRange.of(data)
+    grid = ranges.grid()
+    # the rig must hold the ball at the set angle while it spins: a grid it cannot hold
+    # anywhere is refused before any solve
+    if not any(check_setting(s, validated).feasible for s in grid):
+        raise InputError(
+            "ranges",
+            "no candidate setting the rig can hold: every one needs a holding moment above "
+            "the rig's bound (the largest of the seat's friction plus the holding jet and "
+            f"the {validated.holding_moment_max:.3g} N m the measured runs needed)",
+        )
     noise_model = ReplicateNoise.of(data)
     fitted = _fits(names, fits, data, runner, t_max)
     posts = {n: Posterior.from_fit(f) for n, f in fitted.items()}
     misfit = _discrepancies(fitted, data)
 
-    grid = ranges.grid()
     measured_spins = sorted({float(w) for w in data.spin_rate})
     settings: list[Setting] = list(dict.fromkeys([*grid, *(Setting(w) for w in measured_spins)]))
     index = {s: i for i, s in enumerate(settings)}
-    validated = ValidatedRange.of(data)
     feasibility = [check_setting(s, validated) for s in settings]
     feasible = np.array([f.feasible for f in feasibility])
 
@@ -307,14 +316,10 @@ def design_experiment(
     solvable = [i for i in range(len(settings)) if valid[i] and settings[i] in on_grid]
     if not solvable:
         raise InputError("ranges", "no candidate setting where every model opens by t_max")
-    # the rig must hold the ball at the set angle while it spins: never plan more
+    # never plan a setting the rig cannot hold
     candidates = [i for i in solvable if feasible[i]]
     if not candidates:
-        raise InputError(
-            "ranges",
-            "no candidate setting the rig can hold: every one needs a holding moment above "
-            f"{validated.holding_moment_max:.3g} N m (the largest the measured runs needed)",
-        )
+        raise InputError("ranges", "no setting the rig can hold where every model opens by t_max")
 
     def value(plan: list[int]) -> float:
         return plan_value(surrogates.values(), noise, plan)
