@@ -2,7 +2,9 @@
 
 :func:`run_validation` runs, for every candidate,
 
-1. the fit to all runs (ranked by AIC);
+1. the fit to all runs (ranked by AIC; the one fit per model that
+   ``design-experiment`` shares, :func:`all_run_fits`, with a bounded multi-start
+   along its flat directions, :mod:`.valley`);
 2. the fit to the starred runs (the thesis's selection) and its rms on all runs;
 3. out-of-band prediction: a fit to the runs whose cluster-mean spin is
    >= 200 rad/s, predicting the runs below, and the reverse (the split is by
@@ -11,6 +13,8 @@
 4. the t_cr(omega_p) curve of the all-run fit and a convergence check
    (:func:`obturator.solve.convergence_check`: tolerances / 10, width / 10
    and another regularisation family) of its prediction at every run;
+5. its predictive scores, leave one replicate cluster out and leave one spin band out
+   (:mod:`.predictive`), by which the recommendation is made;
 
 then profile-likelihood intervals for the recommended model's parameters and
 the spread of its t_cr over the release phase psi_0.
