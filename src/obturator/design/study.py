@@ -4,15 +4,21 @@
 store keeps every finished task, so an interrupted study resumes):
 
 1. the Laplace posterior of every candidate's fit to the measured runs
-   (:mod:`.posterior`; one task per candidate, or taken from given fits);
+   (:mod:`.posterior`): the fit ``validate`` makes
+   (:func:`obturator.validation.study.all_run_fits`, one task per candidate, or taken from
+   given fits), with a new ball's own copy of the ball-specific parameters;
 2. the exact solves behind each candidate's surrogate at every candidate setting
    (:mod:`.surrogate`; the grid of :class:`.settings.SettingRanges` and the measured
    runs' spins on the Table 1 rig);
 3. for each N, the plan of N runs maximising the Box-Hill criterion (:mod:`.criterion`)
-   with the replicate SD of each spin band as the noise;
+   with the replicate SD of each spin band as the noise, over the settings the rig can
+   hold (:mod:`.feasibility`; those outside the measured runs marked);
 4. simulated campaigns (:mod:`.campaigns`): exact t_cr at posterior draws of each
    generating model at every planned setting and at the naive plans' spins, the
-   decision rates of the designed and the naive plans, and the surrogate's error.
+   decision rates of the designed and the naive plans, how often each exposes a truth
+   outside the candidates, and the surrogate's error;
+5. the plan of the recommended size without the feasibility check and on the as-built
+   ball alone (plan search only).
 """
 
 from __future__ import annotations
