@@ -531,7 +531,7 @@ def test_predictive_scores_in_json_and_the_recommendation(tiny_csv, capsys):
             cand, w[~test], y[~test], band=band[~test], start=whole.values, controls=held
         )
         expected = predict(cand, ref.values, w[test], t_max=20.0)
-        assert got[test] == pytest.approx(expected, abs=1e-4)  # a 30th of the 3 ms noise
+        assert got[test] == pytest.approx(expected, abs=3e-4)  # a tenth of the 3 ms noise
     assert not np.allclose(got, mu["runs"]["model_s"], rtol=0.0, atol=1e-9)  # refitted
     rec = obj["recommendation"]
     assert "left out" in rec and "rms" in rec
