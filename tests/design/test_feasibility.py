@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from obturator.calibration.data import load_thesis_data
 from obturator.design.campaigns import OUTSIDE, decision_rates, discrepancy, discrepancy_at
@@ -192,3 +194,27 @@ def test_discrepancy_interpolates_cluster_means_in_log_spin():
     assert discrepancy_at(table, np.array([mid, 50.0, 900.0])) == pytest.approx(
         [0.035, 0.07, -0.01]
     )
+
+
+@given(
+    spin=st.floats(20.0, 2000.0),
+    theta=st.floats(45.0, 89.5),
+    hole=st.floats(1e-3, 5.58e-3),
+    rho=st.floats(1000.0, 20000.0),
+)
+@settings(max_examples=60, deadline=None)
+def test_holding_moment_scales_and_feasibility_is_the_bound(spin, theta, hole, rho):
+    """M_hold grows as omega_p^2 and with rho (both inertias scale with it); a setting is
+    feasible exactly when M_hold is within the bound, and the bound is never below the
+    largest moment the measured runs needed."""
+    m = holding_moment(spin, theta, hole, rho)
+    assert holding_moment(2.0 * spin, theta, hole, rho) == pytest.approx(4.0 * m, rel=1e-12)
+    assert holding_moment(spin, theta, hole, 2.0 * rho) == pytest.approx(2.0 * m, rel=1e-12)
+    v = _THESIS_RANGE
+    f = check_setting(Setting(spin, theta, hole, rho), v)
+    assert f.bound >= v.holding_moment_max
+    assert f.feasible == (f.holding_moment <= f.bound)
+    assert f.stick_ratio == pytest.approx(f.holding_moment / f.seat_moment, rel=1e-12)
+
+
+_THESIS_RANGE = ValidatedRange.of(load_thesis_data())
