@@ -130,10 +130,9 @@ def test_a_new_ball_gets_the_prior_of_its_offset_not_the_fitted_one():
     fit = _fit(("mu_s", "theta0_deg"), {"mu_s": 0.6, "theta0_deg": 85.3}, [[1e-4, 0], [0, 0.0625]])
     post = Posterior.from_fit(fit)
     assert post.params == ("mu_s", "theta0_deg", "theta0_deg@new_ball")
-    # prior SD: the larger of the stated +-1 deg (uniform: 1/sqrt 3) and |offset| 1.95 deg
-    assert new_ball_prior_sd("theta0_deg", 85.3) == pytest.approx(1.95)
-    assert new_ball_prior_sd("theta0_deg", 87.0) == pytest.approx(1.0 / math.sqrt(3.0))
-    assert math.sqrt(post.covariance[2, 2]) == pytest.approx(0.195)  # on the /10 scale
+    # prior SD: the stated +-1 deg as a uniform range, 1/sqrt 3 deg, whatever was fitted
+    assert new_ball_prior_sd("theta0_deg") == pytest.approx(1.0 / math.sqrt(3.0))
+    assert math.sqrt(post.covariance[2, 2]) == pytest.approx(0.1 / math.sqrt(3.0))  # /10
     assert post.covariance[2, :2] == pytest.approx([0.0, 0.0])
     assert post.to_values(post.mean)["theta0_deg@new_ball"] == pytest.approx(87.25)
     cand = CANDIDATES["theta0"]

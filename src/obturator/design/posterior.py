@@ -14,9 +14,14 @@ polished spot on the ball, not the hole axis (:data:`obturator.params.FIT_SPECS`
 offset is the spot's, and a new ball (another hole radius or density) has its own. A
 posterior of a candidate that fits such a parameter (:data:`BALL_SPECIFIC`) carries a
 second copy of it, ``<name>@new_ball``, the new ball's, independent of everything fitted:
-its prior is centred on the nominal value (offset 0) with an SD the larger of the
-stated tolerance (+-1 deg, uniform: 0.58 deg) and the as-built ball's fitted offset (the
-one ball whose offset was measured). A run on a new ball uses that copy
+its prior is the parameter's stated range (the fit registry's plausible range: theta_0
+87.25 +- 1 deg, "could only vary by +-1 deg", thesis chapter IV p. 97), as a Gaussian
+with the mean and SD of that uniform range (SD 0.58 deg). The as-built ball's fitted
+offset (85.3 deg under band-wise noise: outside the range) is not carried over: it is
+what one spot did. A wider prior was tried (SD the as-built offset, 1.95 deg): it puts
+the new ball's release within a few tenths of a degree of 90 deg in a fifth of the draws,
+where t_cr grows without bound, and the second-order surrogate of t_cr then misses the
+exact solves by 2 replicate SDs rms. A run on a new ball uses that copy
 (:func:`.settings.design_case`); a run on the as-built ball the fitted one.
 """
 
@@ -49,11 +54,10 @@ def base_name(name: str) -> str:
     return name.removesuffix(NEW_BALL)
 
 
-def new_ball_prior_sd(name: str, fitted: float) -> float:
-    """Prior SD of a new ball's `name` (physical units): the larger of the stated
-    tolerance as a uniform SD and the as-built ball's fitted offset from nominal."""
-    nominal = PARAMETERS[name].start
-    return max(BALL_SPECIFIC[name] / math.sqrt(3.0), abs(fitted - nominal))
+def new_ball_prior_sd(name: str) -> float:
+    """Prior SD of a new ball's `name` (physical units): its stated tolerance as the SD of
+    a uniform range (module notes)."""
+    return BALL_SPECIFIC[name] / math.sqrt(3.0)
 
 
 @field_docs
@@ -141,7 +145,7 @@ class Posterior:
         for k in fit.params:
             if k in BALL_SPECIFIC:
                 par = PARAMETERS[k]
-                sd = new_ball_prior_sd(k, fit.values[k])
+                sd = new_ball_prior_sd(k)
                 x0 = par.to_internal(par.start)
                 # on the optimiser's scale (value / scale for theta_0: linear)
                 sd_int = abs(par.to_internal(par.start + sd) - x0)
