@@ -19,9 +19,9 @@ its prior is the parameter's stated range (the fit registry's plausible range: t
 with the mean and SD of that uniform range (SD 0.58 deg). The as-built ball's fitted
 offset (85.3 deg under band-wise noise: outside the range) is not carried over: it is
 what one spot did. A wider prior was tried (SD the as-built offset, 1.95 deg): it puts
-the new ball's release within a few tenths of a degree of 90 deg in a fifth of the draws,
-where t_cr grows without bound, and the second-order surrogate of t_cr then misses the
-exact solves by 2 replicate SDs rms. A run on a new ball uses that copy
+the new ball's release within 0.3 deg of 90 deg in about a tenth of the draws, where
+t_cr grows without bound, and the second-order surrogate of t_cr then missed the exact
+solves by 2.2 replicate SDs rms (17.7 s at worst). A run on a new ball uses that copy
 (:func:`.settings.design_case`); a run on the as-built ball the fitted one.
 """
 
