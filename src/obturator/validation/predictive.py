@@ -155,7 +155,8 @@ def cross_validation_task(
         r = (filled - y)[done]
         dev = 2.0 * float(np.sum(nll_terms(y[done], pred[done], fit.sd[done], t_max)))
         out[scheme] = {
-            "refit": "one Gauss-Newton step from the all-run optimum"
+            "refit": "one Gauss-Newton step from the all-run optimum (a least-squares "
+            "pass where the step is longer than one posterior SD)"
             if scheme == "leave_one_cluster_out"
             else "least-squares pass from the all-run optimum, slopes and sigmas held",
             "rms_s": float(np.sqrt(np.mean(r * r))) if r.size else math.nan,
