@@ -51,9 +51,9 @@ from .campaigns import (
 from .criterion import greedy_exchange, plan_value
 from .feasibility import ValidatedRange, check_setting
 from .noise import RELEASE_STEP_DEG, ReplicateNoise
-from .posterior import Posterior
+from .posterior import Posterior, new_ball_prior_sd
 from .results import DesignResult, PlanResult, recommended_plan
-from .settings import Setting, SettingRanges, naive_plan
+from .settings import NEW_BALL, Setting, SettingRanges, naive_plan
 from .surrogate import Surrogate, assemble, opening_time_table, surrogate_tasks
 
 __all__ = [
@@ -213,6 +213,20 @@ def _best_plans(
     return plans
 
 
+#: Closest approach to 90 deg [deg] a new ball's release may make at two prior SDs of its
+#: own offset: at 90 deg the ball never leaves (t_cr grows as ln 1/(90 deg - theta_0)),
+#: and a run there tells only the offset the run cannot measure.
+EQUILIBRIUM_MARGIN_DEG = 0.5
+
+
+def _testable(s: Setting, posts: Mapping[str, Posterior]) -> bool:
+    """A new ball's set angle stays :data:`EQUILIBRIUM_MARGIN_DEG` below 90 deg with two
+    prior SDs of its own theta_0 offset (the as-built ball's offset is fitted)."""
+    if s.is_as_built_ball or not any("theta0_deg" + NEW_BALL in p.params for p in posts.values()):
+        return True
+    return s.theta0_deg + 2.0 * new_ball_prior_sd("theta0_deg") <= 90.0 - EQUILIBRIUM_MARGIN_DEG
+
+
 def _recommended_size(plans: Sequence[PlanResult]) -> int:
     return recommended_plan(plans).n_runs
 
@@ -322,8 +336,9 @@ def design_experiment(
     solvable = [i for i in range(len(settings)) if valid[i] and settings[i] in on_grid]
     if not solvable:
         raise InputError("ranges", "no candidate setting where every model opens by t_max")
-    # never plan a setting the rig cannot hold
-    candidates = [i for i in solvable if feasible[i]]
+    # never plan a setting the rig cannot hold, nor one on a new ball released so near
+    # 90 deg that the ball's own unknown offset may put it at the equilibrium
+    candidates = [i for i in solvable if feasible[i] and _testable(settings[i], posts)]
     if not candidates:
         raise InputError("ranges", "no setting the rig can hold where every model opens by t_max")
 

@@ -131,7 +131,9 @@ def feasibility_lines(result: DesignResult) -> list[str]:
         "seat's friction moment mu_s W R_s + the holding jet's F_jet R_s and the "
         f"{v.holding_moment_max:.3g} N m the measured runs needed (stick ratio "
         f"{v.stick_ratio[0]:.3f}-{v.stick_ratio[1]:.2f}); {n_out} of "
-        f"{len(grid)} settings exceed it and are never planned.",
+        f"{len(grid)} settings exceed it and are never planned; nor is a new ball set "
+        "within 0.5 deg + two prior SDs of its own theta_0 offset of 90 deg (the run would "
+        "tell only that offset).",
     ]
     for label, (n, runs, d) in result.alternative_plans.items():
         parts = []
