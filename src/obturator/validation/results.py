@@ -300,6 +300,8 @@ class ModelResult:
                 "all_plausible": f.all_plausible,
                 "out_of_band_rms_s": self.out_of_band_rms,
                 "predictive": self.predictive,
+                "flat_directions": list(f.flat_directions),
+                "n_restarts": f.n_restarts,
                 "fits": {
                     sel.selection: sel.to_dict()
                     for sel in (self.starred, self.high, self.low)
