@@ -110,7 +110,11 @@ BLOCKS: dict[str, Block] = {
             r"^Models ranked",
             r"^\s+(#|replicate floor|\d+ (?!rad/s)\S)",
             r"^  k counts",
-            r"^  (mu_s|speed_ratio|slip_speed|sigma) ",
+            r"^Predictive scores",
+            r"^  model\s+AIC\s+LOCO",
+            r"^  [\w+-]+\*?\s+-?\d+\.\d\d\s+\d+\.\d{4}\s",
+            r"^Recommended: ",
+            r"^  (mu_s|theta0_deg|theta_dot0|speed_ratio|slip_speed|sigma) ",
         ),
         # near-stick runs: fitted values and out-of-band rms move in the 4th digit from
         # run to run; a rounding-level change of the kernels moves the out-of-band rms of
@@ -145,6 +149,10 @@ BLOCKS: dict[str, Block] = {
             r"^\s+N\s+designed",
             r"^\s+(5|10|20)\s+\d\.\d\d\s",
             r"^\s+runs for P",
+            r"^Feasibility",
+            r"^\s+\d+-run plan (without|on the)",
+            r"^Can the",
+            r"^\s+truth outside",
         ),
         rtol=0.02,  # seeded campaigns: a decision at the edge may move a rate by 1/200
         slow=True,

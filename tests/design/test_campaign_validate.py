@@ -1,12 +1,14 @@
 """A synthetic campaign at the designed settings, fed to ``obturator validate`` beside the
 Appendix B runs: the evidence must move toward the model that generated it.
 
-The campaign is the plan ``obturator design-experiment`` recommends with its defaults
-(8 runs at 200 rad/s released at 70 deg with a 5.58 mm hole, 2 at 225.8 rad/s with a
-3.75 mm hole), its times made by the package's exact model of the generating candidate
-plus the replicate noise of the run's spin band (thesis Appendix B replicates). The data
-go through the CSV reader and the command line as a user's would (per-run ``theta0_deg``
-and ``hole_radius_mm`` columns). Seeded; about 45 s, so marked slow (CI runs it).
+The campaign is the plan ``obturator design-experiment`` recommended with its defaults
+before its feasibility check (8 runs at 200 rad/s released at 70 deg with a 5.58 mm hole,
+which the rig cannot hold, 2 at 225.8 rad/s with a 3.75 mm hole), kept as a synthetic
+test of the validation's model choice; its times made by the package's exact model of the
+generating candidate plus the replicate noise of the run's spin band (thesis Appendix B
+replicates). The data go through the CSV reader and the command line as a user's would
+(per-run ``theta0_deg`` and ``hole_radius_mm`` columns). Seeded; about 45 s, so marked
+slow (CI runs it).
 """
 
 from __future__ import annotations

@@ -21,6 +21,8 @@ from obturator.cli import main
         (["--models", "thesis-1980,theta0"], "models"),  # fits no parameter
         (["--models", "nope,theta0"], "models"),
         (["--out", "design.csv"], "--out"),
+        # 440-450 rad/s held at 70-75 deg: 4.4e-3 N m or more, 5 times the rig's bound
+        (["--spin-min", "440", "--theta0-min", "70", "--theta0-max", "75"], "ranges"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(argv, field, capsys, tmp_path, monkeypatch):

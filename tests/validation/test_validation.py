@@ -15,7 +15,7 @@ import pytest
 from scipy import stats
 
 from obturator import rig_case
-from obturator.calibration.data import load_thesis_data
+from obturator.calibration.data import load_spin_rig_csv, load_thesis_data
 from obturator.cli import main
 from obturator.errors import InputError
 from obturator.model.torques import SlipSpeedLaw
@@ -31,6 +31,7 @@ from obturator.validation import (
     replicate_floor,
 )
 from obturator.validation.evaluate import ModelEvaluator
+from obturator.validation.fit import FitControls, predict
 from obturator.validation.floor import DEFAULT_CLUSTER_GAP, band_of, lack_of_fit
 from obturator.validation.likelihood import (
     LOG_2PI,
@@ -487,3 +488,51 @@ def test_crawling_first_pass_is_followed_by_one_with_the_other_scaling(monkeypat
         for *_, start in calls:  # both passes from the same start
             np.testing.assert_array_equal(start, x0)
     assert settings.max_nfev == fit._FIRST_PASS_EVALUATIONS == 50
+
+
+def test_predictive_scores_in_json_and_the_recommendation(tiny_csv, capsys):
+    """Leave-one-cluster-out and leave-one-band-out scores per model in ``--json``, cited by
+    the recommendation; checked against refits made independently (a full fit from the
+    default start without the left-out runs) and, for the model without parameters,
+    against its own all-run predictions."""
+    rc = main(
+        ["validate", "--data", str(tiny_csv), "--models", "thesis-1980,mu", "--jobs", "1"]
+        + ["--json", "--no-profile", "--no-progress"]
+    )
+    assert rc == 0
+    obj = json.loads(capsys.readouterr().out)
+    data = load_spin_rig_csv(tiny_csv)
+    w, y = data.spin_rate, data.opening_time
+    clusters = cluster_runs(w)
+    for m in obj["models"]:
+        pred = m["predictive"]
+        assert set(pred) == {"leave_one_cluster_out", "leave_one_band_out"}
+        for s in pred.values():
+            assert s["n_predicted"] == w.size and math.isfinite(s["deviance"])
+        if m["name"] == "thesis-1980":  # nothing to refit: the all-run predictions
+            r = np.array(m["runs"]["model_s"]) - y
+            assert pred["leave_one_cluster_out"]["rms_s"] == pytest.approx(
+                float(np.sqrt(np.mean(r**2))), rel=1e-12
+            )
+    mu = next(m for m in obj["models"] if m["name"] == "mu")
+    got = np.array(mu["predictive"]["leave_one_cluster_out"]["predicted_s"])
+    cand = CANDIDATES["mu"]
+    band = band_of(replicate_floor(w, y).cluster_mean_spin())
+    whole = fit_candidate(cand, w, y, band=band, t_max=20.0)
+    assert whole.values["mu_s"] == pytest.approx(mu["params"]["mu_s"]["value"], rel=1e-9)
+    for c in np.unique(clusters):
+        test = clusters == c
+        # the same estimator iterated to convergence: least squares without the cluster,
+        # the all-run fit's slopes and sigmas held (the one-step refit linearises it)
+        held = FitControls(
+            whole.slope[~test], covariance=False, xtol=1e-12, sigma=whole.sigma_per_run[~test]
+        )
+        ref = fit_candidate(
+            cand, w[~test], y[~test], band=band[~test], start=whole.values, controls=held
+        )
+        expected = predict(cand, ref.values, w[test], t_max=20.0)
+        assert got[test] == pytest.approx(expected, abs=3e-4)  # a tenth of the 3 ms noise
+    assert not np.allclose(got, mu["runs"]["model_s"], rtol=0.0, atol=1e-9)  # refitted
+    rec = obj["recommendation"]
+    assert "left out" in rec and "rms" in rec
+    assert f"{mu['predictive']['leave_one_cluster_out']['rms_s']:.3f} s" in rec

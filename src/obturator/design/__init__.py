@@ -4,7 +4,10 @@ One concern per module:
 
 * :mod:`.settings` - what the rig can set (spin, release angle, hole radius, density),
   the candidate grid, the naive plan, and a setting as a case of each candidate;
-* :mod:`.posterior` - each candidate's Laplace posterior from its validation fit;
+* :mod:`.feasibility` - the holding moment a setting needs against the rig's bound, and
+  where it leaves the validated runs;
+* :mod:`.posterior` - each candidate's Laplace posterior from its validation fit (a new
+  ball's own copy of the ball-specific parameters);
 * :mod:`.surrogate` - t_cr over (setting, parameters) from exact front-door solves;
 * :mod:`.criterion` - the Box-Hill criterion (symmetric KL of predictive Gaussians) and
   the greedy/exchange plan search;

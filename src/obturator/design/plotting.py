@@ -78,7 +78,12 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
             f"release {setting.theta0_deg:.2f} deg, r_s {1e3 * setting.hole_radius:.2f} mm, "
             f"rho {setting.density:.0f} kg/m$^3$; separation "
             f"{row['separation_in_replicate_sd']:.1f} replicate SDs "
-            f"(means {1e3 * abs(means[0] - means[1]):.0f} ms apart, SD {1e3 * sd:.0f} ms)",
+            f"(means {1e3 * abs(means[0] - means[1]):.0f} ms apart, SD {1e3 * sd:.0f} ms)"
+            + (
+                "; extrapolated (outside the measured runs)"
+                if result.feasibility and result.feasibility[i].extrapolated
+                else ""
+            ),
             fontsize=9,
             fontweight="bold",
         )
@@ -134,7 +139,8 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
         "setting (xN: replicates); each panel varies one setting through that run and holds "
         "the other three at its values\n"
         "curves: each model's mean t_cr and 95 % predictive band (parameters and noise); at "
-        "the planned value (dotted): each model's mean +- one replicate SD (one run's noise)"
+        "the planned value (dotted): each model's mean +- one replicate SD (one run's noise); "
+        "settings the rig cannot hold (holding moment above its bound) left out"
         + (f"; {more} more planned settings not drawn" if more > 0 else ""),
         fontsize=9,
     )

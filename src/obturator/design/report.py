@@ -18,7 +18,14 @@ from ..validation.results import CandidateFit
 from .plotting import save_design_figure
 from .settings import SettingRanges
 from .study import design_experiment
-from .textreport import decision_table, mechanism_note, plan_table
+from .textreport import (
+    decision_table,
+    feasibility_lines,
+    flat_lines,
+    mechanism_note,
+    misfit_lines,
+    plan_table,
+)
 
 __all__ = ["DesignSection", "design_section"]
 
@@ -79,8 +86,17 @@ def design_section(
         f"of simulated campaigns; the naive plan of the same size (spins spread as Appendix "
         f"B, Table 1 rig) in {100 * rec.naive_p_decisive:.0f} %; {need_txt}.",
         f"What the planned settings test: {notes}.",
+        *(
+            " ".join(x.strip() for x in block)
+            for block in (feasibility_lines(res), misfit_lines(res))
+            if block
+        ),
     )
-    pre = ("\n".join(plan_table(res, rec.n_runs)), "\n".join(decision_table(res)))
+    pre = (
+        "\n".join(plan_table(res, rec.n_runs)),
+        "\n".join(decision_table(res)),
+        *("\n".join(flat) for flat in (flat_lines(res),) if flat),
+    )
     figures = (("design.png", "Experiment design: candidates' t_cr over each setting"),)
     return DesignSection(
         "Which experiment decides between the mechanisms", paragraphs, figures, pre

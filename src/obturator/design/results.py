@@ -4,15 +4,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .._docs import field_docs
-from .campaigns import DECISIVE_BAYES_FACTOR, Rates
+from .campaigns import DECISIVE_BAYES_FACTOR, MISFIT_LEVEL, OUTSIDE, Rates
 from .criterion import plan_value
+from .feasibility import Feasibility, ValidatedRange
 from .noise import ReplicateNoise
 from .posterior import Posterior
 from .settings import Setting, SettingRanges
@@ -31,7 +32,20 @@ _Z95 = 1.959963984540054
 
 
 def _mean_rate(rates: Mapping[str, Rates], key: str) -> float:
-    return float(np.mean([getattr(r, key) for r in rates.values()]))
+    """Mean over the candidates (equal prior) of one rate; truths outside the candidates
+    (``"<model>+discrepancy"``) are not averaged in."""
+    return float(np.mean([getattr(r, key) for m, r in rates.items() if not _outside(m)]))
+
+
+def _outside(name: str) -> bool:
+    return name.endswith(OUTSIDE.format(""))
+
+
+def recommended_plan(plans: Sequence[PlanResult]) -> PlanResult:
+    """The smallest plan of at least :data:`MIN_CAMPAIGN` runs decisive in >= 95 % of
+    campaigns, else the largest."""
+    good = [p for p in plans if p.p_decisive >= 0.95 and p.n_runs >= MIN_CAMPAIGN]
+    return min(good, key=lambda p: p.n_runs) if good else plans[-1]
 
 
 @field_docs
@@ -104,6 +118,17 @@ class DesignResult:
     data_source: str
     #: Wall time of the study [s].
     elapsed_s: float
+    #: Holding moment, the rig's bound and the distance from the measured runs of every
+    #: setting (:mod:`.feasibility`).
+    feasibility: list[Feasibility] = field(default_factory=list)
+    #: What the measured runs cover.
+    validated: ValidatedRange | None = None
+    #: Other plans of the recommended size, by what they drop: "without the feasibility
+    #: check", "on the as-built ball alone"; each (N, setting indices, Box-Hill D [nats]).
+    alternative_plans: dict[str, tuple[int, list[int], float]] = field(default_factory=dict)
+    #: Flat directions of each candidate's fit (:func:`obturator.validation.valley.
+    #: flat_directions`).
+    flat_directions: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
 
     # ------------------------------------------------------------------ derived
 
@@ -118,8 +143,12 @@ class DesignResult:
     def recommended(self) -> PlanResult:
         """The smallest plan of at least :data:`MIN_CAMPAIGN` runs decisive in >= 95 % of
         campaigns, else the largest."""
-        good = [p for p in self.plans if p.p_decisive >= 0.95 and p.n_runs >= MIN_CAMPAIGN]
-        return min(good, key=lambda p: p.n_runs) if good else self.plans[-1]
+        return recommended_plan(self.plans)
+
+    def misfit_rates(self, p: PlanResult) -> dict[str, float]:
+        """P(every candidate fails its predictive check) of a plan per generating truth:
+        the candidates (false alarms) and the truths outside them (exposed misfits)."""
+        return {m: r.p_misfit for m, r in p.designed.items()}
 
     def naive_runs_needed(self, target: float) -> int | None:
         """Smallest simulated naive size whose mean P(decisive) reaches `target` (None: none)."""
@@ -181,6 +210,7 @@ class DesignResult:
                 {
                     "setting": self.settings[i],
                     "index": i,
+                    "feasibility": self.feasibility[i] if self.feasibility else None,
                     "replicates": p.runs.count(i),
                     "criterion_loss_without": float(loss),
                     "predicted": {
@@ -212,6 +242,8 @@ class DesignResult:
                         "criterion_loss_without_nats": r["criterion_loss_without"],
                         "replicate_sd_s": r["replicate_sd_s"],
                         "separation_in_replicate_sd": r["separation_in_replicate_sd"],
+                        **(r["feasibility"].to_dict() if r["feasibility"] else {}),
+                        "as_built_ball": r["setting"].is_as_built_ball,
                         "predicted_t_cr_s": {
                             m: {"mean_s": v[0], "pi95_low_s": v[1], "pi95_high_s": v[2]}
                             for m, v in r["predicted"].items()
@@ -268,6 +300,31 @@ class DesignResult:
                 for t in (0.9, 0.95, 0.99)
             },
             "surrogate_error": self.surrogate_error,
+            "validated_range": None if self.validated is None else self.validated.to_dict(),
+            "n_infeasible_settings": sum(not f.feasible for f in self.feasibility),
+            "alternative_plans": {
+                label: {
+                    "n_runs": n,
+                    "criterion_nats": d,
+                    "runs": [
+                        {
+                            **self.settings[i].to_dict(),
+                            "replicates": runs.count(i),
+                            **(self.feasibility[i].to_dict() if self.feasibility else {}),
+                        }
+                        for i in sorted(set(runs))
+                    ],
+                }
+                for label, (n, runs, d) in self.alternative_plans.items()
+            },
+            "misfit_check": {
+                "rule": "every candidate's posterior predictive check (chi^2, N dof) fails "
+                f"at {MISFIT_LEVEL:g}",
+                "truth_outside": "generating model + its all-run fit's mean residual per "
+                "replicate cluster, interpolated in ln omega_p",
+                "p_misfit_exposed_recommended": self.misfit_rates(rec),
+            },
+            "flat_directions": self.flat_directions,
             "campaigns_per_model": self.campaigns,
             "seed": self.seed,
             "n_exact_solves": self.n_solves,
@@ -292,6 +349,21 @@ class DesignResult:
             "replicate_sd": ("setting", self.noise_sd, {"units": "s"}),
             "release_slope": ("setting", self.release_slope, {"units": "s/deg"}),
             "candidate": ("setting", self.candidate_mask.astype(np.int8), {}),
+            "holding_moment": (
+                "setting",
+                np.array([f.holding_moment for f in self.feasibility]),
+                {"units": "N m"},
+            ),
+            "holding_bound": (
+                "setting",
+                np.array([f.bound for f in self.feasibility]),
+                {"units": "N m"},
+            ),
+            "extrapolated": (
+                "setting",
+                np.array([bool(f.extrapolated) for f in self.feasibility], dtype=np.int8),
+                {"note": "1: outside what the measured runs cover (spin, release, ball, kappa)"},
+            ),
             "t_cr_mean": (
                 ("model", "setting"),
                 np.array([pred[m]["mean"] for m in self.models]),

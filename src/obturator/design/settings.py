@@ -36,6 +36,9 @@ from ..model.case import Case
 from ..model.cases import TABLE1
 from ..validation.candidates import Candidate
 
+#: Suffix of a new ball's copy of a ball-specific parameter (:data:`.posterior.NEW_BALL`).
+NEW_BALL = "@new_ball"
+
 __all__ = [
     "NAIVE_SPINS",
     "NOMINAL_SETTING",
@@ -96,6 +99,11 @@ class Setting:
                 not math.isclose(self.density, _RHO),
             )
         )
+
+    @property
+    def is_as_built_ball(self) -> bool:
+        """The Table 1 ball (hole radius and density), whatever the spin and release."""
+        return math.isclose(self.hole_radius, _HOLE) and math.isclose(self.density, _RHO)
 
     @property
     def is_nominal_rig(self) -> bool:
@@ -191,7 +199,8 @@ def design_case(
     (:func:`obturator.calibration.rig_model.apply_run_settings`, the same path as a
     user's runs with those columns in ``validate``): the release angle as set plus the
     candidate's theta_0 offset, a new ball (weight rho V g) where the hole or the
-    density differs from Table 1's.
+    density differs from Table 1's; on a new ball a ball-specific parameter takes the new
+    ball's value (``"<name>@new_ball"`` in `values`, :mod:`.posterior`) where given.
 
     Parameters
     ----------
@@ -203,9 +212,15 @@ def design_case(
         Horizon [s].
     """
     v = {k: float(values[k]) for k in candidate.params}
+    new_ball = not setting.is_as_built_ball
+    # a ball-specific parameter (the theta_0 offset of the polished spot) is the new ball's
+    # own where the values carry one (:class:`.posterior.Posterior`), else the fitted one
+    for k in candidate.params:
+        if new_ball and f"{k}{NEW_BALL}" in values:
+            v[k] = float(values[f"{k}{NEW_BALL}"])
     offset = v["theta0_deg"] - _THETA0 if "theta0_deg" in candidate.params else 0.0
     conditions: dict[str, float] = {"theta0_deg": min(setting.theta0_deg, 90.0 - offset)}
-    if not math.isclose(setting.hole_radius, _HOLE) or not math.isclose(setting.density, _RHO):
+    if new_ball:
         conditions.update(hole_radius=setting.hole_radius, density=setting.density)
     run = replace(candidate, conditions=tuple(conditions.items()))
     return run.build(setting.spin_rate, v, t_max)

@@ -4,15 +4,21 @@
 store keeps every finished task, so an interrupted study resumes):
 
 1. the Laplace posterior of every candidate's fit to the measured runs
-   (:mod:`.posterior`; one task per candidate, or taken from given fits);
+   (:mod:`.posterior`): the fit ``validate`` makes
+   (:func:`obturator.validation.study.all_run_fits`, one task per candidate, or taken from
+   given fits), with a new ball's own copy of the ball-specific parameters;
 2. the exact solves behind each candidate's surrogate at every candidate setting
    (:mod:`.surrogate`; the grid of :class:`.settings.SettingRanges` and the measured
    runs' spins on the Table 1 rig);
 3. for each N, the plan of N runs maximising the Box-Hill criterion (:mod:`.criterion`)
-   with the replicate SD of each spin band as the noise;
+   with the replicate SD of each spin band as the noise, over the settings the rig can
+   hold (:mod:`.feasibility`; those outside the measured runs marked);
 4. simulated campaigns (:mod:`.campaigns`): exact t_cr at posterior draws of each
    generating model at every planned setting and at the naive plans' spins, the
-   decision rates of the designed and the naive plans, and the surrogate's error.
+   decision rates of the designed and the naive plans, how often each exposes a truth
+   outside the candidates, and the surrogate's error;
+5. the plan of the recommended size without the feasibility check and on the as-built
+   ball alone (plan search only).
 """
 
 from __future__ import annotations
@@ -30,14 +36,24 @@ from ..errors import InputError, check_range
 from ..runs import Runner
 from ..validation.candidates import get_candidates
 from ..validation.evaluate import DEFAULT_T_MAX
+from ..validation.floor import replicate_floor
 from ..validation.results import CandidateFit
+from ..validation.study import all_run_fits
 from ..validation.tasks import warm_up
-from .campaigns import campaign_draws, decision_rates, surrogate_error
+from .campaigns import (
+    OUTSIDE,
+    campaign_draws,
+    decision_rates,
+    discrepancy,
+    discrepancy_at,
+    surrogate_error,
+)
 from .criterion import EXCHANGE_PASSES, greedy_exchange, plan_value
+from .feasibility import ValidatedRange, check_setting
 from .noise import RELEASE_STEP_DEG, ReplicateNoise
-from .posterior import Posterior, fit_task
-from .results import DesignResult, PlanResult
-from .settings import Setting, SettingRanges, naive_plan
+from .posterior import Posterior, new_ball_prior_sd
+from .results import DesignResult, PlanResult, recommended_plan
+from .settings import NEW_BALL, Setting, SettingRanges, naive_plan
 from .surrogate import Surrogate, assemble, opening_time_table, surrogate_tasks
 
 __all__ = [
@@ -63,37 +79,34 @@ _SETTINGS_PER_TASK = 24
 _DRAWS_PER_TASK = 8
 
 
-def _posteriors(
+def _fits(
     names: Sequence[str],
     fits: Mapping[str, CandidateFit] | None,
     data: SpinRigData,
     runner: Runner,
     t_max: float,
-) -> dict[str, Posterior]:
-    given = {k: Posterior.from_fit(f) for k, f in (fits or {}).items() if k in names}
+) -> dict[str, CandidateFit]:
+    """Each candidate's fit to all runs: given, or the one ``validate`` makes
+    (:func:`obturator.validation.study.all_run_fits`: same observations, noise model and
+    bounded multi-start, kept in this process by content)."""
+    given = {k: f for k, f in (fits or {}).items() if k in names}
     todo = [n for n in names if n not in given]
-    tasks = [
-        {
-            "model": n,
-            "spin_rate": data.spin_rate.tolist(),
-            "measured": data.opening_time.tolist(),
-            "t_max": t_max,
-            "conditions": [[list(kv) for kv in c] for c in data.run_settings()],
-        }
-        for n in todo
-    ]
-    if tasks:
-        done = runner.map(
-            fit_task,
-            tasks,
-            label="design: posterior fits",
-            unit="fits",
-            chunk_size=1,
-            probe_first=False,
-            warm=warm_up,
-        )
-        given.update({n: Posterior.from_dict(d) for n, d in zip(todo, done, strict=True)})
+    if todo:
+        given.update(all_run_fits(todo, data, runner=runner, t_max=t_max))
     return {n: given[n] for n in names}
+
+
+def _discrepancies(
+    fits: Mapping[str, CandidateFit], data: SpinRigData
+) -> dict[str, tuple[NDArray[np.float64], NDArray[np.float64]]]:
+    """Each fit's mean residual per replicate cluster of the measured runs' t_cr
+    (:func:`.campaigns.discrepancy`)."""
+    n = data.spin_rate.size
+    cluster = replicate_floor(data.spin_rate, data.opening_time).cluster
+    return {
+        k: discrepancy(data.spin_rate, f.measured[:n] - f.model[:n], cluster)
+        for k, f in fits.items()
+    }
 
 
 def _exact_tables(
@@ -202,6 +215,24 @@ def _best_plans(
     return plans
 
 
+#: Closest approach to 90 deg [deg] a new ball's release may make at two prior SDs of its
+#: own offset: at 90 deg the ball never leaves (t_cr grows as ln 1/(90 deg - theta_0)),
+#: and a run there tells only the offset the run cannot measure.
+EQUILIBRIUM_MARGIN_DEG = 0.5
+
+
+def _testable(s: Setting, posts: Mapping[str, Posterior]) -> bool:
+    """A new ball's set angle stays :data:`EQUILIBRIUM_MARGIN_DEG` below 90 deg with two
+    prior SDs of its own theta_0 offset (the as-built ball's offset is fitted)."""
+    if s.is_as_built_ball or not any("theta0_deg" + NEW_BALL in p.params for p in posts.values()):
+        return True
+    return s.theta0_deg + 2.0 * new_ball_prior_sd("theta0_deg") <= 90.0 - EQUILIBRIUM_MARGIN_DEG
+
+
+def _recommended_size(plans: Sequence[PlanResult]) -> int:
+    return recommended_plan(plans).n_runs
+
+
 def design_experiment(
     models: Sequence[str] | str | None = None,
     *,
@@ -265,13 +296,27 @@ def design_experiment(
     runner = runner or Runner(workers=2)
     naive_sizes = sorted({*sizes, *(int(n) for n in naive_runs)})
 
-    noise_model = ReplicateNoise.of(data)
-    posts = _posteriors(names, fits, data, runner, t_max)
-
+    validated = ValidatedRange.of(data)
     grid = ranges.grid()
+    # the rig must hold the ball at the set angle while it spins: a grid it cannot hold
+    # anywhere is refused before any solve
+    if not any(check_setting(s, validated).feasible for s in grid):
+        raise InputError(
+            "ranges",
+            "no candidate setting the rig can hold: every one needs a holding moment above "
+            "the rig's bound (the largest of the seat's friction plus the holding jet and "
+            f"the {validated.holding_moment_max:.3g} N m the measured runs needed)",
+        )
+    noise_model = ReplicateNoise.of(data)
+    fitted = _fits(names, fits, data, runner, t_max)
+    posts = {n: Posterior.from_fit(f) for n, f in fitted.items()}
+    misfit = _discrepancies(fitted, data)
+
     measured_spins = sorted({float(w) for w in data.spin_rate})
     settings: list[Setting] = list(dict.fromkeys([*grid, *(Setting(w) for w in measured_spins)]))
     index = {s: i for i, s in enumerate(settings)}
+    feasibility = [check_setting(s, validated) for s in settings]
+    feasible = np.array([f.feasible for f in feasibility])
 
     tasks = [
         t for n in names for t in surrogate_tasks(posts[n], settings, t_max, _SETTINGS_PER_TASK)
@@ -290,9 +335,14 @@ def design_experiment(
         )
     noise = noise_model.at(np.array([s.spin_rate for s in settings]), t_typical, slope)
     on_grid = set(grid)
-    candidates = [i for i in range(len(settings)) if valid[i] and settings[i] in on_grid]
-    if not candidates:
+    solvable = [i for i in range(len(settings)) if valid[i] and settings[i] in on_grid]
+    if not solvable:
         raise InputError("ranges", "no candidate setting where every model opens by t_max")
+    # never plan a setting the rig cannot hold, nor one on a new ball released so near
+    # 90 deg that the ball's own unknown offset may put it at the equilibrium
+    candidates = [i for i in solvable if feasible[i] and _testable(settings[i], posts)]
+    if not candidates:
+        raise InputError("ranges", "no setting the rig can hold where every model opens by t_max")
 
     def value(plan: list[int]) -> float:
         return plan_value(surrogates.values(), noise, plan)
@@ -309,12 +359,15 @@ def design_experiment(
     gen = _exact_tables(gen_tasks, runner, "design: simulated campaigns (exact solves)")
     exact: dict[str, NDArray[np.float64]] = {}
     errors: dict[str, dict[str, float]] = {}
+    spins = np.array([s.spin_rate for s in settings])
     for n in names:
         tab = np.array([[np.nan if v is None else v for v in row] for r in gen[n] for row in r])
         errors[n] = surrogate_error(tab, draws[n], posts[n], surrogates[n], columns, noise)
         full = np.full((campaigns, len(settings)), np.nan)
         full[:, columns] = np.where(np.isfinite(tab), tab, t_max)  # not opened: at the horizon
         exact[n] = full
+    for n in names:  # the truths outside the candidates (.campaigns module notes)
+        exact[OUTSIDE.format(n)] = exact[n] + discrepancy_at(misfit[n], spins)
 
     designed, naive_rates = {}, {}
     total = len(plans) + len(naive)
@@ -334,6 +387,18 @@ def design_experiment(
         for n in sizes
     ]
     n_solves = sum(len(t["values"]) * len(t["settings"]) for t in [*tasks, *gen_tasks])
+    # the plan of the recommended size before the feasibility check, and on the as-built
+    # ball alone (plan search only: the campaigns simulate the plans that may be run)
+    n_rec = _recommended_size(plan_results)
+    alternatives = {}
+    for label, pool in (
+        ("without the feasibility check", solvable),
+        ("on the as-built ball alone", [i for i in candidates if settings[i].is_as_built_ball]),
+    ):
+        if pool and pool != candidates:
+            runner.reporter.note(f"design: the best {n_rec}-run plan {label}")
+            alt = _best_plans([n_rec], pool, value, settings, runner)[n_rec]
+            alternatives[label] = (n_rec, alt[0], alt[1])
     return DesignResult(
         models=tuple(names),
         posteriors=posts,
@@ -352,4 +417,8 @@ def design_experiment(
         n_solves=n_solves,
         data_source=data.source,
         elapsed_s=time.perf_counter() - t_start,
+        feasibility=feasibility,
+        validated=validated,
+        alternative_plans=alternatives,
+        flat_directions={n: list(f.flat_directions) for n, f in fitted.items()},
     )

@@ -33,7 +33,7 @@ from ..solve import opening_times
 from ..validation.candidates import get_candidates
 from ..validation.evaluate import VALIDATION_OPTIONS
 from .posterior import Posterior
-from .settings import Setting, design_case, settings_of
+from .settings import NEW_BALL, Setting, design_case, settings_of
 
 __all__ = ["Surrogate", "assemble", "opening_time_table", "stencil", "surrogate_tasks"]
 
@@ -48,9 +48,22 @@ def opening_time_table(task: Mapping[str, Any]) -> list[list[float | None]]:
     (cand,) = get_candidates([str(task["model"])])
     settings = settings_of(task["settings"])
     t_max = float(task["t_max"])
-    cases = [design_case(cand, s, v, t_max) for v in task["values"] for s in settings]
+    # points that differ only in the parameter copy a ball does not use (the new ball's
+    # on the as-built ball, the as-built ball's on a new one) give one case: solved once
+    keys: dict[tuple[Any, ...], int] = {}
+    cases, where = [], []
+    for v in task["values"]:
+        for s in settings:
+            used = {k: x for k, x in v.items() if NEW_BALL not in k}
+            if not s.is_as_built_ball:
+                used.update({k.removesuffix(NEW_BALL): x for k, x in v.items() if NEW_BALL in k})
+            key = (tuple(sorted(used.items())), s)
+            if key not in keys:
+                keys[key] = len(cases)
+                cases.append(design_case(cand, s, v, t_max))
+            where.append(keys[key])
     t, _, _ = opening_times(cases, VALIDATION_OPTIONS)
-    table = t.reshape(len(task["values"]), len(settings))
+    table = t[np.array(where, dtype=np.intp)].reshape(len(task["values"]), len(settings))
     return [[float(x) if np.isfinite(x) else None for x in row] for row in table]
 
 

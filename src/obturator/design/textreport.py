@@ -10,7 +10,16 @@ from ..model.cases import table1_ball
 from .results import DesignResult
 from .settings import NOMINAL_SETTING, Setting
 
-__all__ = ["decision_table", "format_design", "mechanism_note", "plan_table", "setting_notes"]
+__all__ = [
+    "decision_table",
+    "feasibility_lines",
+    "flat_lines",
+    "format_design",
+    "mechanism_note",
+    "misfit_lines",
+    "plan_table",
+    "setting_notes",
+]
 
 
 def _setting_text(s: Setting) -> str:
@@ -80,21 +89,105 @@ def mechanism_note(s: Setting) -> str:
 def plan_table(result: DesignResult, n_runs: int) -> list[str]:
     """The ranked plan of `n_runs` runs, one line per distinct setting."""
     m = result.models
-    head = "  #  x  setting" + " " * 54 + "  ".join(f"{x[:14]:>24}" for x in m) + "  sep/SD"
+    head = (
+        "  #  x  setting"
+        + " " * 54
+        + "  ".join(f"{x[:14]:>24}" for x in m)
+        + "  sep/SD  hold/bound  extrapolated"
+    )
     lines = [head]
     for k, r in enumerate(result.ranked_plan(n_runs), 1):
         preds = "  ".join(
             f"{v[0]:7.4f} [{v[1]:6.3f},{v[2]:6.3f}]".rjust(24) for v in r["predicted"].values()
         )
+        f = r["feasibility"]
+        where = ""
+        if f is not None:
+            where = f"  {f.holding_moment / f.bound:10.2f}  {', '.join(f.extrapolated) or '-'}"
         lines.append(
             f"{k:3d} {r['replicates']:2d}  {_setting_text(r['setting'])}  {preds}"
-            f"  {r['separation_in_replicate_sd']:6.1f}"
+            f"  {r['separation_in_replicate_sd']:6.1f}{where}"
         )
     lines.append(
         "  x: replicates; predicted t_cr [s]: mean [95 % predictive interval: parameters "
         "and replicate noise]; sep/SD: difference of the first two models' means in "
-        "replicate SDs"
+        "replicate SDs; hold/bound: holding moment at the set angle over the rig's bound; "
+        "extrapolated: where the setting leaves the measured runs"
     )
+    return lines
+
+
+def feasibility_lines(result: DesignResult) -> list[str]:
+    """The rig's holding bound, the settings it excludes, and the plans of the recommended
+    size without the check and on the as-built ball alone."""
+    if not result.feasibility or result.validated is None:
+        return []
+    v = result.validated
+    grid = result.feasibility
+    n_out = sum(not f.feasible for f in grid)
+    lines = [
+        "Feasibility: holding the ball at the set angle while it spins needs "
+        "omega_p^2 |C - A| sin theta_0 cos theta_0; the rig's bound is the larger of the "
+        "seat's friction moment mu_s W R_s + the holding jet's F_jet R_s and the "
+        f"{v.holding_moment_max:.3g} N m the measured runs needed (stick ratio "
+        f"{v.stick_ratio[0]:.3f}-{v.stick_ratio[1]:.2f}); {n_out} of "
+        f"{len(grid)} settings exceed it and are never planned; nor is a new ball set "
+        "within 0.5 deg + two prior SDs of its own theta_0 offset of 90 deg (the run would "
+        "tell only that offset).",
+    ]
+    for label, (n, runs, d) in result.alternative_plans.items():
+        parts = []
+        for i in sorted(set(runs)):
+            f = result.feasibility[i]
+            parts.append(
+                f"{runs.count(i)} x {_setting_text(result.settings[i]).strip()} (hold "
+                f"{f.holding_moment:.2g} N m = {f.holding_moment / f.bound:.2f} x bound"
+                + ("" if f.feasible else ", infeasible")
+                + ")"
+            )
+        rec = result.plan(n)
+        lines.append(
+            f"  {n}-run plan {label}: D {d:.2f} nats (planned: {rec.criterion:.2f}): "
+            + "; ".join(parts)
+        )
+    return lines
+
+
+def misfit_lines(result: DesignResult) -> list[str]:
+    """How often the recommended plan exposes a misfit, per generating truth."""
+    rec = result.recommended
+    rates = result.misfit_rates(rec)
+    if not rates or all(math.isnan(x) for x in rates.values()):
+        return []
+    inside = ", ".join(f"{m} {x:.2f}" for m, x in rates.items() if m in result.models)
+    outside = [(m, x) for m, x in rates.items() if m not in result.models]
+    lines = [
+        f"Can the {rec.n_runs}-run plan say 'neither'? P(every candidate fails its posterior "
+        f"predictive check at 5 %): under a candidate's own truth {inside} (false alarms)"
+    ]
+    for m, x in outside:
+        lead = rec.designed[m]
+        lines.append(
+            f"  truth outside the candidates, {m} (fits every measured cluster): misfit "
+            f"exposed in {x:.2f} of campaigns; decisive for a candidate (misleading) in "
+            f"{lead.p_misleading:.2f}"
+        )
+    return lines
+
+
+def flat_lines(result: DesignResult) -> list[str]:
+    """The flat directions of each candidate's fit (where a valley makes the point
+    estimate arbitrary)."""
+    lines = []
+    for m, dirs in result.flat_directions.items():
+        for d in dirs[:1]:
+            change = ", ".join(f"{k} {v:+.3g}" for k, v in d["one_sd_change"].items())
+            lines.append(
+                f"  {m}: a valley {d['axis_ratio']:.0f} times longer than wide; one SD along "
+                f"it moves {change}"
+            )
+    if lines:
+        lines.insert(0, "Flat directions of the fits (one fit per model, shared with validate):")
     return lines
 
 
@@ -117,7 +210,7 @@ def decision_table(result: DesignResult) -> list[str]:
             f"  {sep_d:5.1f}/{sep_n:.1f}"
         )
     curve = ", ".join(
-        f"{n}: {sum(r.p_decisive for r in v.values()) / len(v):.3f}"
+        f"{n}: {np.mean([v[m].p_decisive for m in result.models]):.3f}"
         for n, v in sorted(result.naive_rates.items())
     )
     lines.append(f"  naive plan (spins spread as the measured runs, Table 1 rig) by N: {curve}")
@@ -155,8 +248,15 @@ def setting_notes(result: DesignResult, n_runs: int) -> list[str]:
                 f"{r['replicate_sd_s']:.3f} s needs a release repeatable to "
                 f"{r['replicate_sd_s'] / slope:.2f} deg (SD)"
             )
+        ball = (
+            " On the as-built ball."
+            if r["setting"].is_as_built_ball
+            else " On a new ball: its theta_0 offset is its own (the laser reads that ball's "
+            "polished spot), drawn from the prior, not the as-built ball's fitted offset."
+        )
         out.append(
-            f"  {k}. {_setting_text(r['setting']).strip()}: {sep}. {mechanism_note(r['setting'])}"
+            f"  {k}. {_setting_text(r['setting']).strip()}: {sep}. "
+            f"{mechanism_note(r['setting'])}.{ball}"
         )
     return out
 
@@ -189,6 +289,9 @@ def format_design(result: DesignResult) -> str:
         "What each planned setting tests:",
     ]
     lines += setting_notes(result, rec.n_runs)
+    for extra in (feasibility_lines(result), misfit_lines(result), flat_lines(result)):
+        if extra:
+            lines += ["", *extra]
     lines.append("")
     lines.append(
         "Surrogate (second-order in the posterior, central differences one SD along each "

@@ -12,6 +12,8 @@ One concern per module:
 * :mod:`.evaluate` - cached exact-model t_cr per (parameter vector, spin);
 * :mod:`.fit` - maximum-likelihood fit, Wald and profile-likelihood intervals, through
   the fit engine :mod:`obturator.fitting`;
+* :mod:`.predictive` - leave-one-cluster-out and leave-one-band-out predictive scores;
+* :mod:`.valley` - flat directions of a fit and the bounded multi-start along them;
 * :mod:`.results` - result objects (numbers, JSON);
 * :mod:`.textreport` - text and Markdown tables;
 * :mod:`.plotting` - the validation figure;

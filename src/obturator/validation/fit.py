@@ -70,6 +70,7 @@ from .results import CandidateFit
 
 __all__ = [
     "CHI2_95",
+    "COVARIANCE_STEP",
     "FitControls",
     "RunModels",
     "fit_candidate",
@@ -103,6 +104,8 @@ _SETTINGS = LeastSquaresSettings("2-point", 1e-3, 1.0, _XTOL, _FTOL, 1e-3)
 #: cases, from ``obturator validate``: ``docs/benchmarks.md``, history).
 _FIRST_PASS_EVALUATIONS = 50
 _SETTINGS_FIRST = replace(_SETTINGS, x_scale="jac", max_nfev=_FIRST_PASS_EVALUATIONS)
+#: Central-difference step of the covariance's Jacobian (optimiser scale, relative).
+COVARIANCE_STEP = _SETTINGS.covariance_step
 _SETTINGS_STARTED = replace(_SETTINGS, max_nfev=_FIRST_PASS_EVALUATIONS)
 
 

@@ -15,7 +15,7 @@ from ..runs.store import atomic_write_text
 from .plotting import save_validation_figure
 from .results import ValidationResult
 from .study import run_validation
-from .textreport import floor_table, params_table, ranked_table, thesis_line
+from .textreport import floor_table, params_table, predictive_table, ranked_table, thesis_line
 
 __all__ = ["QUICK_MODELS", "ValidationSection", "validation_section", "run_for_report"]
 
@@ -50,13 +50,15 @@ def validation_section(
         "One model and one parameter set for every spin-rig run (`obturator validate`): "
         "candidates fitted by maximum likelihood to all runs (censored where a run does not "
         "open within the horizon, spin readout error as errors in variables), ranked by "
-        f"AIC, against the pure-error floor of the replicate clusters ({scope}).",
+        f"AIC, scored by what they predict (each run predicted by the model refitted without "
+        f"its replicate cluster, and without its spin band), against the pure-error floor "
+        f"of the replicate clusters ({scope}).",
         f"Recommended: {result.recommendation}",
         thesis_line(result),
     )
     rec = result.model(result.recommended).fit
     pre = (
-        "\n".join([*floor_table(result), "", *ranked_table(result)]),
+        "\n".join([*floor_table(result), "", *ranked_table(result), "", *predictive_table(result)]),
         "\n".join(params_table(rec)),
     )
     figures = (("validation.png", "Validation: data, model curves and the replicate floor"),)

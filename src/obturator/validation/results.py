@@ -121,6 +121,11 @@ class CandidateFit:
     #: Each run's own settings as (name, SI value) pairs, where a data file gave them (None:
     #: Table 1 for every run).
     conditions: tuple[tuple[tuple[str, float], ...], ...] | None = None
+    #: Flat directions of the likelihood at the optimum (:func:`.valley.flat_directions`;
+    #: empty: none, or not looked for).
+    flat_directions: tuple[dict[str, Any], ...] = ()
+    #: Fits of the bounded multi-start along the flattest direction that ran (0: none).
+    n_restarts: int = 0
 
     @property
     def sigma_per_run(self) -> NDArray[np.float64]:
@@ -227,6 +232,8 @@ class CandidateFit:
                 "nfev": self.nfev,
                 "n_integrations": self.n_integrations,
                 "elapsed_s": self.elapsed_s,
+                "flat_directions": list(self.flat_directions),
+                "n_restarts": self.n_restarts,
             }
         )
 
@@ -261,6 +268,9 @@ class ModelResult:
     #: Per-band and per-cluster goodness of fit of the all-run fit against the replicate floor
     #: (:func:`.goodness.goodness_summary`).
     goodness: dict[str, Any] = field(default_factory=dict)
+    #: Predictive scores by cross-validation, per scheme ("leave_one_cluster_out",
+    #: "leave_one_band_out"; :mod:`.predictive`); empty: not computed.
+    predictive: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     @property
     def description(self) -> str:
@@ -289,6 +299,9 @@ class ModelResult:
                 "n_censored": f.n_censored,
                 "all_plausible": f.all_plausible,
                 "out_of_band_rms_s": self.out_of_band_rms,
+                "predictive": self.predictive,
+                "flat_directions": list(f.flat_directions),
+                "n_restarts": f.n_restarts,
                 "fits": {
                     sel.selection: sel.to_dict()
                     for sel in (self.starred, self.high, self.low)

@@ -2,7 +2,9 @@
 
 :func:`run_validation` runs, for every candidate,
 
-1. the fit to all runs (ranked by AIC);
+1. the fit to all runs (ranked by AIC; the one fit per model that
+   ``design-experiment`` shares, :func:`all_run_fits`, with a bounded multi-start
+   along its flat directions, :mod:`.valley`);
 2. the fit to the starred runs (the thesis's selection) and its rms on all runs;
 3. out-of-band prediction: a fit to the runs whose cluster-mean spin is
    >= 200 rad/s, predicting the runs below, and the reverse (the split is by
@@ -11,6 +13,8 @@
 4. the t_cr(omega_p) curve of the all-run fit and a convergence check
    (:func:`obturator.solve.convergence_check`: tolerances / 10, width / 10
    and another regularisation family) of its prediction at every run;
+5. its predictive scores, leave one replicate cluster out and leave one spin band out
+   (:mod:`.predictive`), by which the recommendation is made;
 
 then profile-likelihood intervals for the recommended model's parameters and
 the spread of its t_cr over the release phase psi_0.
@@ -43,19 +47,20 @@ from .candidates import Candidate, get_candidates
 from .evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS
 from .floor import DEFAULT_CLUSTER_GAP, ReplicateFloor, band_of, replicate_floor
 from .likelihood import SPIN_SD
+from .predictive import cross_validation_task
 from .recommend import OUT_OF_BAND_SPLIT, model_aic, recommend
 from .results import CandidateFit, ModelResult, ValidationResult
 from .tasks import (
     Observations,
+    all_run_fit_task,
     call,
     cost_rank,
-    fit_task,
     phase_task,
     profile_task,
     warm_up,
 )
 
-__all__ = ["OUT_OF_BAND_SPLIT", "recommend", "run_validation"]
+__all__ = ["OUT_OF_BAND_SPLIT", "all_run_fits", "recommend", "run_validation"]
 
 _CURVE_POINTS = 48
 
@@ -125,7 +130,7 @@ def run_validation(
     check_choice("noise", noise, NOISE_MODELS)
     common = (spin_sd, t_max, options, noise)
     floor, obs = _observations(data, gap, common, curve_points)
-    w, y, run, band, conds = obs.w, obs.y, obs.run, obs.band, obs.conds
+    band = obs.band
     if runner.sidecar is None:  # else a study that holds this one (reproduce) keeps the fits
         runner.open(
             study_digest(
@@ -138,27 +143,17 @@ def run_validation(
                 }
             )
         )
-    # phase 1: every all-run fit
+    # phase 1: every all-run fit (the one both studies share)
     timings: dict[str, float] = {}
-    # costliest first, so that the last fit to end is not a long one started late
-    order = sorted(range(len(cands)), key=lambda i: cost_rank(cands[i]), reverse=True)
-    # one task per chunk, kept in the store by content (fits are not JSON-ready)
     run_tasks = partial(
         runner.map, call, chunk_size=1, probe_first=False, warm=partial(warm_up, options)
     )
-    fitted_ordered = run_tasks(
-        [
-            (fit_task, cands[i].name, "all", w, y, band, run, None, None, *common, conds)
-            for i in order
-        ],
-        label="validate: all-run fits",
-        unit="fits",
-        pickled=True,
-    )
-    fits = {cands[i].name: res[0] for i, res in zip(order, fitted_ordered, strict=True)}
+    # computed here (or resumed from the store), never taken from the memo: the study
+    # is its own record; the memo serves design-experiment after it in this process
+    fits = _fits_of(cands, obs, gap, runner, data, memo=False)
     timings["all_run_fits"] = time.perf_counter() - t_start
-    # the ranking needs the all-run fits only: the recommended model is known now, and
-    # its profile intervals run alongside phase 2
+    # the provisional choice by AIC (the all-run fits only): its profile intervals run
+    # alongside phase 2, which computes the predictive scores of the final choice
     prelim = sorted((ModelResult(c.name, fits[c.name]) for c in cands), key=model_aic)
     rec_name, why = recommend(prelim)
     rec_fit = fits[rec_name]
@@ -178,16 +173,38 @@ def run_validation(
         for task, tag in obs.candidate_tasks(c, fits[c.name]):
             tasks.append(task)
             tags.append(tag)
+    folds = {
+        "leave_one_cluster_out": obs.cluster,
+        "leave_one_band_out": np.unique(band, return_inverse=True)[1].astype(np.int64),
+    }
+    for c in sorted(cands, key=cost_rank, reverse=True):
+        tasks.append((cross_validation_task, c.name, fits[c.name], folds, spin_sd, options))
+        tags.append(("predictive", c.name, None))
     done = run_tasks(
         tasks, label="validate: profiles, subset fits, curves", unit="tasks", pickled=True
     )
-    sub, prof, phase = _phase_two_results(tags, done, cands)
-    timings["subset_fits_curves_checks_profiles"] = (
+    sub, prof, phase, scores = _phase_two_results(tags, done, cands)
+    timings["subset_fits_curves_checks_profiles_predictive"] = (
         time.perf_counter() - t_start - timings["all_run_fits"]
     )
-    results = [obs.model_result(c, fits[c.name], sub[c.name], floor) for c in cands]
+    results = [
+        replace(obs.model_result(c, fits[c.name], sub[c.name], floor), predictive=scores[c.name])
+        for c in cands
+    ]
     results.sort(key=model_aic)
-    rec_name, why = recommend(results)  # same choice, now with out-of-band numbers
+    # the choice by the predictive scores; the provisional one (AIC, for the profiles that
+    # ran alongside phase 2) may differ: then the chosen model's profiles run now
+    final_name, why = recommend(results)
+    if profile and final_name not in prof:
+        more = [
+            (profile_task, fits[final_name], final_name, k, side, spin_sd, options)
+            for k in fits[final_name].params
+            for side in (-1, 1)
+        ]
+        got = run_tasks(more, label="validate: profiles", unit="tasks", pickled=True)
+        for task, res in zip(more, got, strict=True):
+            prof.setdefault(final_name, {}).setdefault(task[3], {})[task[4]] = res[2]
+    rec_name = final_name
     results = _with_profile_intervals(results, fits, prof)
     label = "all" if profile_all else "recommended" if profile else "none"
     settings = _settings_record(data, obs, gap, jobs, label, timings)
@@ -204,21 +221,111 @@ def run_validation(
 
 def _phase_two_results(
     tags: list[tuple[Any, Any, Any]], done: list[Any], cands: Sequence[Candidate]
-) -> tuple[dict[str, dict[str, Any]], dict[str, dict[str, dict[int, float]]], dict[str, Any]]:
+) -> tuple[
+    dict[str, dict[str, Any]],
+    dict[str, dict[str, dict[int, float]]],
+    dict[str, Any],
+    dict[str, dict[str, Any]],
+]:
     """Phase 2's results by kind: per candidate its subset fits and curve, per profiled
-    candidate and parameter the two profile bounds (by side), and the phase scatter."""
+    candidate and parameter the two profile bounds (by side), the phase scatter, and per
+    candidate its predictive scores."""
     sub: dict[str, dict[str, Any]] = {c.name: {} for c in cands}
     prof: dict[str, dict[str, dict[int, float]]] = {}
     phase: dict[str, Any] = {}
+    scores: dict[str, dict[str, Any]] = {}
     for (name, label, m_pred), res in zip(tags, done, strict=True):
         if name == "profile":
             pname, k = label
             prof.setdefault(pname, {}).setdefault(k, {})[int(m_pred)] = res[2]
         elif name == "phase":
             phase = res
+        elif name == "predictive":
+            scores[label] = res
         else:
             sub[name][label] = (res, m_pred)
-    return sub, prof, phase
+    return sub, prof, phase, scores
+
+
+#: The all-run fits of this process, by content (data, candidate, settings): a study
+#: that asks again (``design-experiment`` after ``validate`` in ``reproduce``, or any
+#: caller of :func:`all_run_fits`) gets the same fit, not a second one.
+_FIT_MEMO: dict[str, CandidateFit] = {}
+_FIT_MEMO_SIZE = 64
+
+
+def _fits_of(
+    cands: Sequence[Candidate],
+    obs: Observations,
+    gap: float,
+    runner: Runner,
+    data: SpinRigData,
+    memo: bool = True,
+) -> dict[str, CandidateFit]:
+    """Every candidate's all-run fit (:func:`.tasks.all_run_fit_task`), from this process's
+    memo (with `memo`) or computed on the runner (costliest first, one task per chunk, kept
+    in its store by content); computed fits go into the memo either way."""
+    w, y, run, band, conds = obs.w, obs.y, obs.run, obs.band, obs.conds
+    keys = {
+        c.name: study_digest(
+            {
+                "fit": "all runs",
+                "version": __version__,
+                "data": data,
+                "model": c.name,
+                "settings": [*obs.common, gap],
+            }
+        )  # fmt: skip
+        for c in cands
+    }
+    todo = [c for c in cands if not memo or keys[c.name] not in _FIT_MEMO]
+    # costliest first, so that the last fit to end is not a long one started late
+    todo.sort(key=cost_rank, reverse=True)
+    done = (
+        []
+        if not todo
+        else runner.map(
+            call,
+            [(all_run_fit_task, c.name, w, y, band, run, *obs.common, conds) for c in todo],
+            label="validate: all-run fits",
+            unit="fits",
+            chunk_size=1,
+            probe_first=False,
+            warm=partial(warm_up, obs.common[2]),
+            pickled=True,
+        )
+    )
+    for c, res in zip(todo, done, strict=True):
+        if len(_FIT_MEMO) >= _FIT_MEMO_SIZE:
+            _FIT_MEMO.pop(next(iter(_FIT_MEMO)))
+        _FIT_MEMO[keys[c.name]] = res[0]
+    return {c.name: _FIT_MEMO[keys[c.name]] for c in cands}
+
+
+def all_run_fits(
+    models: Sequence[str] | str | None = None,
+    data: SpinRigData | None = None,
+    *,
+    runner: Runner | None = None,
+    t_max: float = DEFAULT_T_MAX,
+    spin_sd: float = SPIN_SD,
+    gap: float = DEFAULT_CLUSTER_GAP,
+    options: SolverOptions | None = None,
+    noise: str = "band",
+) -> dict[str, CandidateFit]:
+    """The fit of each candidate to all runs, exactly as :func:`run_validation` makes it.
+
+    The one fit per model and data: the same observations, bands, noise model and
+    bounded multi-start (:func:`.tasks.all_run_fit_task`), kept in this process by
+    content, so that ``design-experiment`` and ``validate`` report the same parameters.
+    Arguments as :func:`run_validation`'s.
+    """
+    options = options or VALIDATION_OPTIONS
+    data = load_thesis_data() if data is None else data
+    cands = get_candidates(models)
+    check_choice("noise", noise, NOISE_MODELS)
+    _, obs = _observations(data, gap, (spin_sd, t_max, options, noise), 2)
+    return _fits_of(cands, obs, gap, runner or Runner(workers=2), data)
 
 
 def _with_profile_intervals(
@@ -266,7 +373,8 @@ def _settings_record(
         )
         + ", + (dt/domega sigma_w)^2 error-in-variables; "
         "runs not opened by t_max censored (survival term)",
-        "ranking": "AIC of the all-run fit",
+        "ranking": "AIC of the all-run fit (table order); recommendation by the "
+        "leave-one-cluster-out deviance among plausible candidates",
         "starred_runs_are_high_half": obs.same_split,
         "timings_s": timings,
     }
@@ -289,6 +397,7 @@ def _observations(
     )
     band = band_of(floor.cluster_mean_spin())
     high = floor.cluster_mean_spin() >= OUT_OF_BAND_SPLIT
+    cluster = np.asarray(floor.cluster, dtype=np.int64)
     n_runs = len(data.spin_rate)
     w, y, run, starred = data.spin_rate, data.opening_time, data.run, data.starred
     settings = data.run_settings()
@@ -305,6 +414,7 @@ def _observations(
         w = np.concatenate([w, w[extra]])
         y = np.concatenate([y, t_angle[extra]])
         run, band = np.concatenate([run, run[extra]]), np.concatenate([band, band[extra]])
+        cluster = np.concatenate([cluster, cluster[extra]])
         high = np.concatenate([high, high[extra]])
         starred = np.concatenate([starred, starred[extra]])
     if len(w) < 5:
@@ -314,7 +424,7 @@ def _observations(
     same_split = bool(np.array_equal(starred, high))
     obs = Observations(
         w, y, run, band, high, starred, conds if any(conds) else None, n_runs, common, grid,
-        same_split,
+        same_split, cluster,
     )  # fmt: skip
     return floor, obs
 

@@ -19,14 +19,16 @@ from numpy.typing import NDArray
 from ..solve import SolverOptions, convergence_checks, opening_times
 from .candidates import CANDIDATES, Candidate
 from .evaluate import ModelEvaluator
-from .fit import Conditions, fit_candidate, predict, profile_interval
+from .fit import Conditions, FitControls, fit_candidate, predict, profile_interval
 from .floor import ReplicateFloor, lack_of_fit
 from .goodness import goodness_summary
 from .recommend import OUT_OF_BAND_SPLIT
 from .results import CandidateFit, ModelResult
+from .valley import valley_starts, with_flat_directions
 
 __all__ = [
     "Observations",
+    "all_run_fit_task",
     "call",
     "cost_rank",
     "curve_task",
@@ -80,6 +82,46 @@ def fit_task(
     if predict_w is not None:
         pred = predict(cand, fit.values, predict_w, evaluator=ev, conditions=predict_conditions)
     return fit, pred
+
+
+def all_run_fit_task(
+    name: str,
+    w: NDArray[np.float64],
+    y: NDArray[np.float64],
+    band: NDArray[np.str_],
+    run: NDArray[np.int64],
+    spin_sd: float,
+    t_max: float,
+    options: SolverOptions | None,
+    noise: str = "band",
+    conditions: list[Conditions] | None = None,
+) -> tuple[CandidateFit, None]:
+    """The fit of one candidate to all observations, the one both studies use: the fit
+    from the default start, then the bounded multi-start along its flattest direction
+    (:mod:`.valley`), the lowest -log L kept, with its flat directions recorded."""
+    cand = CANDIDATES[name]
+    ev = ModelEvaluator(cand, t_max, options)
+    kw: dict[str, Any] = {
+        "band": band,
+        "run": run,
+        "selection": "all",
+        "spin_sd": spin_sd,
+        "t_max": t_max,
+        "options": options,
+        "evaluator": ev,
+        "noise": noise,
+        "conditions": conditions,
+    }
+    best = fit_candidate(cand, w, y, **kw)
+    starts = valley_starts(best)
+    winner = None
+    for start in starts:  # without the covariance: only a winner needs it
+        other = fit_candidate(cand, w, y, start=start, controls=FitControls(covariance=False), **kw)
+        if other.nll < (winner or best).nll - 1e-6:
+            winner = other
+    if winner is not None:
+        best = fit_candidate(cand, w, y, start=winner.values, **kw)
+    return replace(with_flat_directions(best), n_restarts=len(starts)), None
 
 
 def curve_task(
@@ -216,7 +258,8 @@ class Observations:
     [s], run numbers, spin bands, the high half, the starred flags, per-run settings),
     the number of t_cr observations (the first `n_runs`; the rest are times to
     intermediate angles), the fit settings ``(spin_sd, t_max, options, noise)``, the
-    curve's spin grid [rad/s] and whether the starred runs are the high half."""
+    curve's spin grid [rad/s], whether the starred runs are the high half, and each
+    observation's replicate cluster."""
 
     w: NDArray[np.float64]
     y: NDArray[np.float64]
@@ -229,6 +272,7 @@ class Observations:
     common: tuple[Any, ...]
     grid: NDArray[np.float64]
     same_split: bool
+    cluster: NDArray[np.int64]
 
     def candidate_tasks(
         self, c: Candidate, fit: CandidateFit

@@ -78,6 +78,48 @@ def ranked_table(result: ValidationResult) -> list[str]:
     return lines
 
 
+def predictive_table(result: ValidationResult) -> list[str]:
+    """Lines: every model's cross-validated predictive scores beside its AIC (empty when
+    the study computed none)."""
+    keys = ("leave_one_cluster_out", "leave_one_band_out")
+    if not any(m.predictive for m in result.models):
+        return []
+    best = {
+        k: min(
+            (m.predictive[k]["deviance"] for m in result.models if k in m.predictive),
+            default=math.nan,
+        )
+        for k in keys
+    }
+    lines = [
+        "Predictive scores: each run predicted by the model refitted without its replicate "
+        "cluster (LOCO) or its spin band (LOBO); rms [s] and -2 log predictive density "
+        "(deviance, the scale of AIC; d: above the best)",
+        f"  {'model':<27} {'AIC':>8} {'LOCO rms':>9} {'deviance':>9} {'d':>6} "
+        f"{'LOBO rms':>9} {'deviance':>9} {'d':>7}",
+    ]
+
+    def loco(m: ModelResult) -> float:
+        return float(m.predictive.get(keys[0], {}).get("deviance", math.inf))
+
+    for m in sorted(result.models, key=loco):
+        name = m.name + ("*" if m.name == result.recommended else "")
+        row = f"  {name:<27} {_f(m.fit.aic, '.2f'):>8}"
+        for k, wide in zip(keys, (6, 7), strict=True):
+            sc = m.predictive.get(k, {})
+            dev = sc.get("deviance", math.nan)
+            row += (
+                f" {_f(sc.get('rms_s', math.nan)):>9} {_f(dev, '.2f'):>9}"
+                f" {_f(dev - best[k], '.2f'):>{wide}}"
+            )
+        lines.append(row)
+    lines.append(
+        "  refits start at the all-run optimum with its slopes and sigmas held (one "
+        "least-squares pass); * recommended"
+    )
+    return lines
+
+
 def params_table(fit: CandidateFit, indent: str = "  ") -> list[str]:
     """Lines: value, stderr, 95 % interval and physical range of each parameter."""
     lines = []
@@ -200,6 +242,13 @@ def _model_lines(m: ModelResult) -> list[str]:
         )
     if f.n_censored:
         lines.append(f"    censored runs (not opened by {f.t_max:g} s): {f.n_censored}")
+    for d in f.flat_directions[:1]:
+        change = ", ".join(f"{k} {v:+.3g}" for k, v in d["one_sd_change"].items())
+        lines.append(
+            f"    flat direction: a valley {d['axis_ratio']:.0f} times longer than wide "
+            f"(one SD along it: {change}); {f.n_restarts} restarts along it, the lowest "
+            "-log L kept"
+        )
     seen: list[CandidateFit] = []
     for sub in (m.starred, m.high, m.low):
         if sub is None or any(sub is x for x in seen):
@@ -213,6 +262,8 @@ def _model_lines(m: ModelResult) -> list[str]:
 def format_report(result: ValidationResult, *, details: bool = True) -> str:
     """The study as text: floor, ranked table, recommendation, per-model details."""
     lines = floor_table(result) + [""] + ranked_table(result) + [""]
+    pred = predictive_table(result)
+    lines += [*pred, ""] if pred else []
     lines += goodness_table(result) + [""] + cluster_table(result) + [""]
     rec = result.model(result.recommended)
     lines.append("Recommended: " + result.recommendation)
