@@ -25,7 +25,6 @@ import numpy as np
 import pytest
 
 from obturator.core.integrators.lanes import LANES, integrate_radau_lanes
-from obturator.errors import InputError
 from obturator.model.cases import flight_case, rig_case
 from obturator.solve import (
     OPENING_TIME_ACCURACY,
@@ -35,8 +34,10 @@ from obturator.solve import (
     opening_times,
 )
 from obturator.solve import many as batch
-from obturator.solve.many import RADAU_LANES_MIN
 from obturator.status import Status
+
+#: Fewest stiff points the batches below put in the Radau IIA lanes (they take every one).
+RADAU_LANES_MIN = 32
 
 # the lanes themselves, also for groups lanes_pay_from would run one by one
 pytestmark = pytest.mark.usefixtures("lanes_always")
@@ -85,8 +86,8 @@ def _kernel_batch(kernel):
 def stiff_batch(request):
     """opening_times of one kernel's near-stick batch, and how many points the Radau IIA
     lanes took (a spy on integrate_radau_lanes: the comparison below must not pass
-    because every point went one by one). The generic kernel's lanes take batches from
-    RADAU_LANES_MIN stiff points here, as the thesis kernel's do."""
+    because every point went one by one). With ``radau_lanes`` (the default) every stiff
+    point of every kernel continues in the lanes."""
     cases, options = _kernel_batch(request.param)
     in_lanes = []
 
@@ -97,8 +98,6 @@ def stiff_batch(request):
     lanes_radau = batch.integrate_radau_lanes
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(batch, "integrate_radau_lanes", spy)
-        mp.setattr(batch, "RADAU_LANES_MIN_GENERIC", RADAU_LANES_MIN)
-        mp.setattr(batch, "GENERIC_LANES_MIN", RADAU_LANES_MIN)
         t, s, stats = opening_times(cases, options)
     return cases, options, t, s, stats, in_lanes
 
@@ -119,11 +118,10 @@ def test_every_stiff_point_matches_scalar_radau(stiff_batch):
     np.testing.assert_allclose(t, ref, rtol=1e-6, atol=0.0)  # NaN where ref is NaN
 
 
-def test_same_as_one_by_one_hand_over(stiff_batch, monkeypatch):
-    """OBTURATOR_RADAU_LANES=0 continues the same points one by one (scalar Radau IIA)."""
+def test_same_as_one_by_one_hand_over(stiff_batch):
+    """``radau_lanes=False`` continues the same points one by one (scalar Radau IIA)."""
     cases, options, t, s, _, _ = stiff_batch
-    monkeypatch.setenv("OBTURATOR_RADAU_LANES", "0")
-    t1, s1, stats = opening_times(cases, options)
+    t1, s1, stats = opening_times(cases, replace(options, radau_lanes=False))
     np.testing.assert_array_equal(s, s1)
     np.testing.assert_allclose(t, t1, rtol=1e-6, atol=0.0)
 
@@ -231,14 +229,15 @@ def _direct_width(cases, vw):
     )  # fmt: skip
 
 
-def test_few_stiff_points_go_one_by_one(monkeypatch):
-    """Below RADAU_LANES_MIN stiff points the batch uses the scalar Radau IIA."""
-    called = []
-    monkeypatch.setattr(batch, "integrate_radau_lanes", lambda *a, **k: called.append(1))
+def test_few_stiff_points_take_the_lanes_as_many_do():
+    """A stiff point continues in the Radau IIA lanes however few share its batch (the
+    route is the point's own, solve/plan.py): two stiff points give each the t_cr it has
+    alone, bit for bit."""
     cases = [rig_case(float(w), MU_S) for w in (120.0, 160.0, 400.0)]
     t, s, stats = opening_times(cases, REGULARISED)
-    assert not called and stats["n_stiff"] == 2
-    assert all(math.isfinite(x) for x in t)
+    assert stats["n_stiff"] == 2 and all(math.isfinite(x) for x in t)
+    for k, case in enumerate(cases):
+        np.testing.assert_array_equal(opening_times([case], REGULARISED)[0], t[k : k + 1])
 
 
 def test_lane_lu_solves_match_numpy():
@@ -295,13 +294,3 @@ def test_generated_lane_lu_is_current():
     if not tool.exists():  # pragma: no cover - installed package without the repository
         pytest.skip("tools/ not present")
     assert subprocess.run([sys.executable, str(tool), "--check"]).returncode == 0
-
-
-@pytest.mark.parametrize("name", ["OBTURATOR_LANES", "OBTURATOR_RADAU_LANES"])
-def test_path_switches_refuse_other_values(monkeypatch, name):
-    """Only 0 and 1: a typo must not silently select a path."""
-    monkeypatch.setenv(name, "yes")
-    cases = [rig_case(float(w), MU_S) for w in STIFF_BAND]
-    with pytest.raises(InputError, match=name):
-        if batch.batchable(REGULARISED):  # OBTURATOR_LANES is read here
-            opening_times(cases, REGULARISED)  # OBTURATOR_RADAU_LANES here
