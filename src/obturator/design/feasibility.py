@@ -44,7 +44,9 @@ import numpy as np
 
 from .._docs import field_docs
 from ..calibration.data import SpinRigData
-from ..model.cases import TABLE1, table1_ball
+from ..model import validity
+from ..model.case import Case
+from ..model.cases import TABLE1, rig_case, table1_ball
 from ..validation.candidates import THESIS_MU_S
 from .settings import Setting
 
@@ -59,7 +61,7 @@ __all__ = [
 ]
 
 #: Largest force of the holding jet [N] (the fit registry's argument for theta_dot0).
-JET_FORCE = 0.04
+JET_FORCE = validity.HOLDING_JET_FORCE
 #: Stated alignment tolerance of the release angle [deg] (thesis chapter IV, p. 97).
 RELEASE_TOLERANCE_DEG = 1.0
 _HOLE = float(TABLE1["hole_radius"])
@@ -70,36 +72,40 @@ def _is_table1_ball(hole_radius: float, density: float) -> bool:
     return math.isclose(hole_radius, _HOLE) and math.isclose(density, _RHO)
 
 
+def _rig(
+    hole_radius: float,
+    density: float,
+    spin_rate: float = 100.0,
+    theta0_deg: float = 87.25,
+    mu_s: float = THESIS_MU_S,
+) -> Case:
+    """The rig case of a setting, loaded as :func:`obturator.design.design_case` loads a
+    ball: Table 1's measured W on the as-built ball, rho V g on any other."""
+    ball = table1_ball(hole_radius=hole_radius, density=density)
+    weight = float(TABLE1["rig_weight"]) if _is_table1_ball(hole_radius, density) else None
+    return rig_case(spin_rate, mu_s, theta0_deg=theta0_deg, weight=weight, ball=ball)
+
+
 def holding_moment(
     spin_rate: float, theta0_deg: float, hole_radius: float = _HOLE, density: float = _RHO
 ) -> float:
-    """Moment that holds the ball at `theta0_deg` in the seat spinning at `spin_rate` [N m].
-
-    omega_p^2 |C - A| sin(theta_0) cos(theta_0) (module notes; thesis Eqs. 5a-5c at
-    omega_r = 0). `spin_rate` [rad/s], `theta0_deg` [deg], `hole_radius` [m],
-    `density` [kg/m^3] (the Table 1 ball by default).
-    """
-    ball = table1_ball(hole_radius=hole_radius, density=density)
-    th = math.radians(theta0_deg)
-    c_minus_a = abs(ball.axial_inertia - ball.transverse_inertia)
-    return spin_rate**2 * c_minus_a * abs(math.sin(th) * math.cos(th))
+    """Moment that holds the ball at `theta0_deg` in the seat spinning at `spin_rate` [N m]:
+    :func:`obturator.model.validity.holding_moment` of the setting's rig case.
+    `spin_rate` [rad/s], `theta0_deg` [deg], `hole_radius` [m], `density` [kg/m^3] (the
+    Table 1 ball by default)."""
+    return validity.holding_moment(_rig(hole_radius, density, spin_rate, theta0_deg))
 
 
 def seat_friction_moment(
     hole_radius: float = _HOLE, density: float = _RHO, mu_s: float = THESIS_MU_S
 ) -> float:
-    """Largest friction moment of the seat on the ball, mu_s W R_s [N m] (thesis Eq. 61).
-
-    W is Table 1's measured load on the as-built ball, the ball's weight rho V g on any
-    other (as :func:`obturator.design.design_case` loads it).
-    """
-    ball = table1_ball(hole_radius=hole_radius, density=density)
-    weight = float(TABLE1["rig_weight"]) if _is_table1_ball(hole_radius, density) else ball.weight
-    return mu_s * weight * ball.radius
+    """Largest friction moment of the seat on the ball, mu_s W R_s [N m] (thesis Eq. 61):
+    :func:`obturator.model.validity.seat_friction_moment` of the setting's rig case."""
+    return validity.seat_friction_moment(_rig(hole_radius, density, mu_s=mu_s))
 
 
 def _jet_moment(hole_radius: float, density: float) -> float:
-    return JET_FORCE * table1_ball(hole_radius=hole_radius, density=density).radius
+    return validity.holding_jet_moment(_rig(hole_radius, density))
 
 
 def _setting_ratio(s: Setting) -> tuple[float, float]:
