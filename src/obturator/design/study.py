@@ -20,6 +20,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -33,6 +34,7 @@ from ..validation.evaluate import DEFAULT_T_MAX
 from ..validation.results import CandidateFit
 from ..validation.tasks import warm_up
 from .campaigns import campaign_draws, decision_rates, surrogate_error
+from .cost import CAMPAIGNS, SURROGATE, phase_weights
 from .criterion import EXCHANGE_PASSES, greedy_exchange, plan_value
 from .noise import RELEASE_STEP_DEG, ReplicateNoise
 from .posterior import Posterior, fit_task
@@ -266,90 +268,112 @@ def design_experiment(
     naive_sizes = sorted({*sizes, *(int(n) for n in naive_runs)})
 
     noise_model = ReplicateNoise.of(data)
-    posts = _posteriors(names, fits, data, runner, t_max)
-
     grid = ranges.grid()
     measured_spins = sorted({float(w) for w in data.spin_rate})
     settings: list[Setting] = list(dict.fromkeys([*grid, *(Setting(w) for w in measured_spins)]))
     index = {s: i for i, s in enumerate(settings)}
-
-    tasks = [
-        t for n in names for t in surrogate_tasks(posts[n], settings, t_max, _SETTINGS_PER_TASK)
-    ]
-    done = _exact_tables(tasks, runner, "design: surrogate solves")
-    surrogates = {n: assemble(n, done[n]) for n in names}
-    valid = np.all([s.valid for s in surrogates.values()], axis=0)
-    t_typical = np.nanmean([s.t0 for s in surrogates.values()], axis=0)
-    slope = _release_slopes(posts, surrogates, settings, runner, t_max)
-    noise_model = noise_model.with_release_bound(
-        data, slope[[index[Setting(float(w))] for w in data.spin_rate]]
-    )
-    if release_sd_deg is not None:
-        noise_model = replace(
-            noise_model, release_sd_deg=float(release_sd_deg), release_source="given"
-        )
-    noise = noise_model.at(np.array([s.spin_rate for s in settings]), t_typical, slope)
-    on_grid = set(grid)
-    candidates = [i for i in range(len(settings)) if valid[i] and settings[i] in on_grid]
-    if not candidates:
-        raise InputError("ranges", "no candidate setting where every model opens by t_max")
-
-    def value(plan: list[int]) -> float:
-        return plan_value(surrogates.values(), noise, plan)
-
-    plans = _best_plans(sizes, candidates, value, settings, runner)
-
-    naive = {n: [index[s] for s in naive_plan(n, data.spin_rate)] for n in naive_sizes}
-    columns = sorted(
-        {i for p, _ in plans.values() for i in p} | {i for p in naive.values() for i in p}
-    )
-    col_settings = [settings[i].to_dict() for i in columns]
-    draws = {n: campaign_draws(posts[n], campaigns, seed, k) for k, n in enumerate(names)}
-    gen_tasks = _campaign_tasks(posts, draws, col_settings, t_max)
-    gen = _exact_tables(gen_tasks, runner, "design: simulated campaigns (exact solves)")
-    exact: dict[str, NDArray[np.float64]] = {}
-    errors: dict[str, dict[str, float]] = {}
-    for n in names:
-        tab = np.array([[np.nan if v is None else v for v in row] for r in gen[n] for row in r])
-        errors[n] = surrogate_error(tab, draws[n], posts[n], surrogates[n], columns, noise)
-        full = np.full((campaigns, len(settings)), np.nan)
-        full[:, columns] = np.where(np.isfinite(tab), tab, t_max)  # not opened: at the horizon
-        exact[n] = full
-
-    designed, naive_rates = {}, {}
-    total = len(plans) + len(naive)
-    with runner.reporter.track("design: decision rates", total, unit="plans") as advance:
-        for n, (p, _) in plans.items():
-            rng = np.random.default_rng([seed, 2, 0, n])
-            designed[n] = decision_rates(exact, p, surrogates, noise, rng)
-            advance(1)
-        for n, p in naive.items():
-            rng = np.random.default_rng([seed, 2, 1, n])
-            naive_rates[n] = decision_rates(exact, p, surrogates, noise, rng)
-            advance(1)
-    plan_results = [
-        PlanResult(
-            n, plans[n][0], plans[n][1], value(naive[n]), designed[n], naive_rates[n], naive[n]
-        )
-        for n in sizes
-    ]
-    n_solves = sum(len(t["values"]) * len(t["settings"]) for t in [*tasks, *gen_tasks])
-    return DesignResult(
-        models=tuple(names),
-        posteriors=posts,
-        settings=settings,
-        candidate_mask=np.isin(np.arange(len(settings)), candidates),
-        surrogates=surrogates,
-        noise_sd=noise,
-        noise_model=noise_model,
-        release_slope=slope,
-        plans=plan_results,
-        naive_rates=naive_rates,
-        surrogate_error=errors,
-        ranges=ranges,
+    # one display for every phase (.cost): the plan search's candidates and the campaigns'
+    # settings are planned at their upper bounds until the earlier phases give them
+    weights = partial(
+        phase_weights,
+        [n for n in names if n not in (fits or {})],
+        names,
+        len(data.spin_rate),
+        len(settings),
+        sizes=sizes,
+        n_plans=len(sizes) + len(naive_sizes),
         campaigns=campaigns,
-        seed=seed,
-        n_solves=n_solves,
-        data_source=data.source,
-        elapsed_s=time.perf_counter() - t_start,
     )
+    bound = min(len(settings), sum(sizes) + len(measured_spins))
+    with runner.reporter.phases("design", weights(len(grid), n_columns=bound)) as phases:
+
+        def start(name: str, n_candidates: int, n_columns: int) -> None:
+            phases.start(name, dict(weights(n_candidates, n_columns=n_columns))[name])
+
+        phases.start("posterior fits")
+        posts = _posteriors(names, fits, data, runner, t_max)
+        phases.start(SURROGATE)
+        tasks = [
+            t for n in names for t in surrogate_tasks(posts[n], settings, t_max, _SETTINGS_PER_TASK)
+        ]
+        done = _exact_tables(tasks, runner, "design: surrogate solves")
+        phases.start("release-angle slopes")
+        surrogates = {n: assemble(n, done[n]) for n in names}
+        valid = np.all([s.valid for s in surrogates.values()], axis=0)
+        t_typical = np.nanmean([s.t0 for s in surrogates.values()], axis=0)
+        slope = _release_slopes(posts, surrogates, settings, runner, t_max)
+        noise_model = noise_model.with_release_bound(
+            data, slope[[index[Setting(float(w))] for w in data.spin_rate]]
+        )
+        if release_sd_deg is not None:
+            noise_model = replace(
+                noise_model, release_sd_deg=float(release_sd_deg), release_source="given"
+            )
+        noise = noise_model.at(np.array([s.spin_rate for s in settings]), t_typical, slope)
+        on_grid = set(grid)
+        candidates = [i for i in range(len(settings)) if valid[i] and settings[i] in on_grid]
+        if not candidates:
+            raise InputError("ranges", "no candidate setting where every model opens by t_max")
+
+        def value(plan: list[int]) -> float:
+            return plan_value(surrogates.values(), noise, plan)
+
+        start("plan search", len(candidates), bound)
+        plans = _best_plans(sizes, candidates, value, settings, runner)
+
+        naive = {n: [index[s] for s in naive_plan(n, data.spin_rate)] for n in naive_sizes}
+        columns = sorted(
+            {i for p, _ in plans.values() for i in p} | {i for p in naive.values() for i in p}
+        )
+        col_settings = [settings[i].to_dict() for i in columns]
+        draws = {n: campaign_draws(posts[n], campaigns, seed, k) for k, n in enumerate(names)}
+        gen_tasks = _campaign_tasks(posts, draws, col_settings, t_max)
+        start(CAMPAIGNS, len(candidates), len(columns))
+        gen = _exact_tables(gen_tasks, runner, "design: simulated campaigns (exact solves)")
+        exact: dict[str, NDArray[np.float64]] = {}
+        errors: dict[str, dict[str, float]] = {}
+        for n in names:
+            tab = np.array([[np.nan if v is None else v for v in row] for r in gen[n] for row in r])
+            errors[n] = surrogate_error(tab, draws[n], posts[n], surrogates[n], columns, noise)
+            full = np.full((campaigns, len(settings)), np.nan)
+            full[:, columns] = np.where(np.isfinite(tab), tab, t_max)  # not opened: at the horizon
+            exact[n] = full
+
+        phases.start("decision rates")
+        designed, naive_rates = {}, {}
+        total = len(plans) + len(naive)
+        with runner.reporter.track("design: decision rates", total, unit="plans") as advance:
+            for n, (p, _) in plans.items():
+                rng = np.random.default_rng([seed, 2, 0, n])
+                designed[n] = decision_rates(exact, p, surrogates, noise, rng)
+                advance(1)
+            for n, p in naive.items():
+                rng = np.random.default_rng([seed, 2, 1, n])
+                naive_rates[n] = decision_rates(exact, p, surrogates, noise, rng)
+                advance(1)
+        plan_results = [
+            PlanResult(
+                n, plans[n][0], plans[n][1], value(naive[n]), designed[n], naive_rates[n], naive[n]
+            )
+            for n in sizes
+        ]
+        n_solves = sum(len(t["values"]) * len(t["settings"]) for t in [*tasks, *gen_tasks])
+        return DesignResult(
+            models=tuple(names),
+            posteriors=posts,
+            settings=settings,
+            candidate_mask=np.isin(np.arange(len(settings)), candidates),
+            surrogates=surrogates,
+            noise_sd=noise,
+            noise_model=noise_model,
+            release_slope=slope,
+            plans=plan_results,
+            naive_rates=naive_rates,
+            surrogate_error=errors,
+            ranges=ranges,
+            campaigns=campaigns,
+            seed=seed,
+            n_solves=n_solves,
+            data_source=data.source,
+            elapsed_s=time.perf_counter() - t_start,
+        )
