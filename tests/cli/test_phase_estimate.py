@@ -124,3 +124,33 @@ def test_validation_weights_against_measured_phase_times():
     default = sum(w for _, w in _phase_weights(cands, obs, floor, 48, rec))
     everything = sum(w for _, w in _phase_weights(cands, obs, floor, 48, cands))
     assert 1.5 < everything / default < 3.5
+
+
+def test_design_weights_against_a_measured_run():
+    """The weights of design/cost.py against the phase times of a measured run
+    (docs/benchmarks.md, history, design/cost.py: mu and theta0, 154 settings, 105
+    candidate settings, runs 2 and 3, 20 campaigns, one worker): its first phase (the
+    posterior fits) ended at 18 s and the run at 38.3 s; the estimate at the end of the
+    first phase (its time over its share of the weights) must be within a factor of 2."""
+    from obturator.design.cost import phase_weights
+    from obturator.design.study import DEFAULT_NAIVE_RUNS
+
+    models = ["mu", "theta0"]
+    sizes = [2, 3]
+    n_plans = len(sizes) + len({*sizes, *DEFAULT_NAIVE_RUNS})
+    weights = dict(phase_weights(models, models, 54, 154, 105, sizes, n_plans, 51, 20))
+    assert list(weights) == [
+        "posterior fits",
+        "surrogate solves",
+        "release-angle slopes",
+        "plan search",
+        "simulated campaigns",
+        "decision rates",
+    ]
+    # the surrogate's solves by an independent count: 2 k + 1 stencil points (mu k = 1,
+    # theta0 k = 2) at each of the 154 settings
+    assert weights["surrogate solves"] == (3 + 5) * 154
+    estimate = 18.0 * sum(weights.values()) / weights["posterior fits"]
+    assert 38.3 / 2 < estimate < 2 * 38.3, weights
+    # given fits (from validate) leave the first phase empty
+    assert phase_weights([], models, 54, 154, 105, sizes, n_plans, 51, 20)[0][1] == 0.0
