@@ -128,9 +128,17 @@ class PhasePlan:
         return elapsed * (1.0 - share) / share if share > 0.0 else math.nan
 
     def start(self, name: str, weight: float | None = None) -> None:
-        """Begin the phase `name` (the next in the plan; `weight` replaces its planned
-        weight, e.g. once a count that the earlier phases decide is known). The end of
-        the previous phase is reported with the whole run's time left."""
+        """Begin a phase; the end of the previous one is reported with the whole run's
+        time left.
+
+        Parameters
+        ----------
+        name : str
+            A phase after the current one (those between count as done).
+        weight : float, optional
+            Replaces the phase's planned weight (a count that the earlier phases
+            decide, such as the profiled parameters of ``validate``).
+        """
         k = self.names.index(name, self.index + 1)
         if weight is not None:
             if weight < 0.0:
@@ -192,12 +200,27 @@ class Progress:
 
     @contextmanager
     def phases(self, label: str, weights: Sequence[tuple[str, float]]) -> Iterator[PhasePlan]:
-        """One display for a run of phases ``(name, weight)``, in order, each weight the
-        phase's relative cost (the study states its basis). Yields a :class:`PhasePlan`:
-        call ``start(name)`` as each phase begins. Within the block the plain lines of
-        every tracked run show the whole run's share done and time left (elapsed time
-        over the weight done, times the weight left), so that the time left covers the
-        phases still to come; the end of each phase is a line of its own."""
+        """One display for a run of phases.
+
+        Within the block the plain lines of every tracked run show the whole run's share
+        done and time left (the elapsed time over the weight done, times the weight
+        left), so that the time left covers the phases still to come; the end of each
+        phase is a line of its own, ``obturator: <label>: <phase> done (40 % of the
+        run), 1.2 min elapsed, about 1.8 min left; next: <phase>``.
+
+        Parameters
+        ----------
+        label : str
+            The run's name in the lines.
+        weights : sequence of (str, float)
+            The phases in order, each with its relative cost (>= 0, any unit; the study
+            states its basis).
+
+        Yields
+        ------
+        PhasePlan
+            Call its ``start(name)`` as each phase begins.
+        """
         plan = PhasePlan(self, label, weights)
         outer = _PLAN[0]
         _PLAN[0] = plan if self.mode == "lines" else None
