@@ -127,6 +127,14 @@ class PhasePlan:
         elapsed = time.monotonic() - self.t0
         return elapsed * (1.0 - share) / share if share > 0.0 else math.nan
 
+    @property
+    def measured(self) -> bool:
+        """Whether a phase of positive weight has ended: the time left is given from then
+        on. Within the first, the share of its tasks done says little of its time (the
+        studies' first phases fit candidates whose costs differ tenfold), and an estimate
+        from it would swing as the issue's did."""
+        return sum(self.weights[: max(self.index, 0)]) > 0.0
+
     def start(self, name: str, weight: float | None = None) -> None:
         """Begin a phase; the end of the previous one is reported with the whole run's
         time left.
@@ -203,10 +211,11 @@ class Progress:
         """One display for a run of phases.
 
         Within the block the plain lines of every tracked run show the whole run's share
-        done and time left (the elapsed time over the weight done, times the weight
-        left), so that the time left covers the phases still to come; the end of each
-        phase is a line of its own, ``obturator: <label>: <phase> done (40 % of the
-        run), 1.2 min elapsed, about 1.8 min left; next: <phase>``.
+        done and, once the first phase has ended (:attr:`PhasePlan.measured`), its time
+        left (the elapsed time over the weight done, times the weight left), so that the
+        time left covers the phases still to come; the end of each phase is a line of
+        its own, ``obturator: <label>: <phase> done (40 % of the run), 1.2 min elapsed,
+        about 1.8 min left; next: <phase>``.
 
         Parameters
         ----------
@@ -347,7 +356,8 @@ def _lines(
         if plan is not None and plan.index >= 0:  # the whole run's share and time left
             plan.part = share
             share = plan.share()
-            left, elapsed, of = plan.left_s(share), now - plan.t0, " of the run"
+            left = plan.left_s(share) if plan.measured else math.nan
+            elapsed, of = now - plan.t0, " of the run"
         what = f" ({state['what']})" if state["what"] else ""
         eta = f", about {fmt_duration(left)} left" if left == left else ""
         _say(
