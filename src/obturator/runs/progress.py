@@ -13,7 +13,11 @@
 * ``"off"``: nothing (``--no-progress`` and the Python API's default).
 
 :meth:`Progress.plan` prints a long run's planned work and its estimated time before
-the work starts (the runner estimates it from a timed probe).
+the work starts (the runner estimates it from a timed probe). :meth:`Progress.phases`
+makes a run of unequal phases (each one or more tracked runs) one display: the plain
+lines' share done and time left are those of the whole run, from each phase's weight
+(its relative cost, given by the study), and a line at each phase's end gives the
+whole run's time left.
 """
 
 from __future__ import annotations
@@ -32,6 +36,7 @@ __all__ = [
     "HEARTBEAT_S",
     "LINE_INTERVAL_S",
     "PLAN_MIN_S",
+    "PhasePlan",
     "Progress",
     "Tracker",
     "fmt_duration",
@@ -65,6 +70,10 @@ def _say(line: str, what: str | None = None) -> None:
             _LAST["what"] = what
 
 
+#: The phase plan of the run now reported (:meth:`Progress.phases`), or None.
+_PLAN: list[PhasePlan | None] = [None]
+
+
 def _running(what: str) -> None:
     """Note what runs now (shown by the next heartbeat line)."""
     _LAST["what"] = what
@@ -88,6 +97,75 @@ class Tracker:
 
     def __call__(self, n: int) -> None:
         self._advance(n)
+
+
+class PhasePlan:
+    """A run of weighted phases (:meth:`Progress.phases`): :meth:`start` begins the next
+    one; tracked runs within a phase advance the whole run's share by that phase's weight.
+    """
+
+    def __init__(self, progress: Progress, label: str, weights: Sequence[tuple[str, float]]):
+        self.progress = progress
+        self.label = label
+        self.names = [name for name, _ in weights]
+        self.weights = [float(w) for _, w in weights]
+        if not self.weights or min(self.weights) < 0.0 or sum(self.weights) <= 0.0:
+            raise ValueError(f"phase weights must be >= 0 with a positive sum: {weights}")
+        self.index = -1  # the phase now running
+        self.part = 0.0  # the share of the current phase done, 0-1
+        self.t0 = time.monotonic()
+
+    def share(self, part: float | None = None) -> float:
+        """The whole run's share done (0-1) with `part` of the current phase done."""
+        k = self.index
+        part = self.part if part is None else part
+        done = sum(self.weights[:k]) + (self.weights[k] * part if k >= 0 else 0.0)
+        return done / sum(self.weights)
+
+    def left_s(self, share: float) -> float:
+        """The whole run's time left [s] at `share` done (NaN before any work is done)."""
+        elapsed = time.monotonic() - self.t0
+        return elapsed * (1.0 - share) / share if share > 0.0 else math.nan
+
+    @property
+    def measured(self) -> bool:
+        """Whether a phase of positive weight has ended: the time left is given from then
+        on. Within the first, the share of its tasks done says little of its time (the
+        studies' first phases fit candidates whose costs differ tenfold), and an estimate
+        from it would swing as the issue's did."""
+        return sum(self.weights[: max(self.index, 0)]) > 0.0
+
+    def start(self, name: str, weight: float | None = None) -> None:
+        """Begin a phase; the end of the previous one is reported with the whole run's
+        time left.
+
+        Parameters
+        ----------
+        name : str
+            A phase after the current one (those between count as done).
+        weight : float, optional
+            Replaces the phase's planned weight (a count that the earlier phases
+            decide, such as the profiled parameters of ``validate``).
+        """
+        k = self.names.index(name, self.index + 1)
+        if weight is not None:
+            if weight < 0.0:
+                raise ValueError(f"phase weight {weight} < 0")
+            self.weights[k] = float(weight)
+        if self.index >= 0:
+            self._report_end(self.index, k)
+        self.index, self.part = k, 0.0
+
+    def _report_end(self, done: int, nxt: int) -> None:
+        self.index, self.part = done, 1.0
+        share = self.share()
+        left = self.left_s(share)
+        eta = f", about {fmt_duration(left)} left" if left == left else ""
+        self.progress.note(
+            f"{self.label}: {self.names[done]} done ({100 * share:.0f} % of the run), "
+            f"{fmt_duration(time.monotonic() - self.t0)} elapsed{eta}; "
+            f"next: {self.names[nxt]}"
+        )
 
 
 @dataclass(frozen=True)
@@ -127,6 +205,38 @@ class Progress:
             self.note(f"{label}: {work}")
         elif estimate_s >= PLAN_MIN_S:
             self.note(f"{label}: {work}; estimated {fmt_duration(estimate_s)} on idle cores")
+
+    @contextmanager
+    def phases(self, label: str, weights: Sequence[tuple[str, float]]) -> Iterator[PhasePlan]:
+        """One display for a run of phases.
+
+        Within the block the plain lines of every tracked run show the whole run's share
+        done and, once the first phase has ended (:attr:`PhasePlan.measured`), its time
+        left (the elapsed time over the weight done, times the weight left), so that the
+        time left covers the phases still to come; the end of each phase is a line of
+        its own, ``obturator: <label>: <phase> done (40 % of the run), 1.2 min elapsed,
+        about 1.8 min left; next: <phase>``.
+
+        Parameters
+        ----------
+        label : str
+            The run's name in the lines.
+        weights : sequence of (str, float)
+            The phases in order, each with its relative cost (>= 0, any unit; the study
+            states its basis).
+
+        Yields
+        ------
+        PhasePlan
+            Call its ``start(name)`` as each phase begins.
+        """
+        plan = PhasePlan(self, label, weights)
+        outer = _PLAN[0]
+        _PLAN[0] = plan if self.mode == "lines" else None
+        try:
+            yield plan
+        finally:
+            _PLAN[0] = outer
 
     @contextmanager
     def heartbeat(self, label: str, what: str = "") -> Iterator[Callable[[str], None]]:
@@ -240,11 +350,19 @@ def _lines(
         elapsed = now - t0
         spent = cost[state["done"]] - cost[done]
         left = elapsed / spent * (cost[total] - cost[state["done"]]) if spent > 0 else math.nan
+        share = cost[state["done"]] / cost[total] if cost[total] else 1.0
+        of = ""
+        plan = _PLAN[0]
+        if plan is not None and plan.index >= 0:  # the whole run's share and time left
+            plan.part = share
+            share = plan.share()
+            left = plan.left_s(share) if plan.measured else math.nan
+            elapsed, of = now - plan.t0, " of the run"
         what = f" ({state['what']})" if state["what"] else ""
         eta = f", about {fmt_duration(left)} left" if left == left else ""
         _say(
             f"obturator: {label}: {state['done']}/{total} {unit} "
-            f"({100 * cost[state['done']] / cost[total] if cost[total] else 100:.0f} %){what}, "
+            f"({100 * share:.0f} %{of}){what}, "
             f"{fmt_duration(elapsed)} elapsed{eta}",
             f"{label}: {state['done']}/{total} {unit}{what}",
         )

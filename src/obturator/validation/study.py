@@ -30,7 +30,7 @@ Recommendation rule: :mod:`obturator.validation.recommend`.
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from functools import partial
 from typing import Any
@@ -41,9 +41,11 @@ from .. import __version__
 from ..calibration.data import SpinRigData, load_thesis_data
 from ..errors import InputError, check_range
 from ..runs import Runner, study_digest
+from ..runs.progress import PhasePlan
 from ..solve import SolverOptions
 from ..vocab import NOISE_MODELS, check_choice
 from .candidates import Candidate, get_candidates
+from .cost import phase_weights
 from .evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS
 from .floor import DEFAULT_CLUSTER_GAP, ReplicateFloor, band_of, replicate_floor
 from .likelihood import SPIN_SD
@@ -130,7 +132,6 @@ def run_validation(
     check_choice("noise", noise, NOISE_MODELS)
     common = (spin_sd, t_max, options, noise)
     floor, obs = _observations(data, gap, common, curve_points)
-    band = obs.band
     if runner.sidecar is None:  # else a study that holds this one (reproduce) keeps the fits
         runner.open(
             study_digest(
@@ -143,7 +144,53 @@ def run_validation(
                 }
             )
         )
-    # phase 1: every all-run fit (the one both studies share)
+    # one display for both phases; until the recommended model is known, the profiles
+    # are planned for the candidate with the most parameters
+    weights = partial(_phase_weights, cands, obs, floor, curve_points)
+    first = cands if profile_all else [max(cands, key=lambda c: c.n_params)] if profile else []
+    with runner.reporter.phases("validate", weights(first)) as plan:
+        plan.start("all-run fits")
+        study = (data, cands, floor, obs, common, gap, jobs, profile, profile_all, t_start)
+        return _phases(runner, plan, weights, *study)
+
+
+def _phase_weights(
+    cands: Sequence[Candidate],
+    obs: Observations,
+    floor: ReplicateFloor,
+    curve_points: int,
+    profiled: Sequence[Candidate],
+) -> list[tuple[str, float]]:
+    """The two phases' weights of this study (:func:`.cost.phase_weights`)."""
+    high, n = obs.high, obs.w.size
+    subsets = []
+    if obs.starred.any() and not obs.same_split:
+        subsets.append((int(obs.starred.sum()), n))
+    if high.any() and (~high).any():
+        subsets += [(int(high.sum()), int((~high).sum())), (int((~high).sum()), int(high.sum()))]
+    n_centres = len({round(float(x), 6) for x in floor.cluster_mean_spin()})
+    return phase_weights(cands, n, obs.n_runs, subsets, curve_points, n_centres, profiled)
+
+
+def _phases(
+    runner: Runner,
+    ph: PhasePlan,
+    weights: Callable[[Sequence[Candidate]], list[tuple[str, float]]],
+    data: SpinRigData,
+    cands: list[Candidate],
+    floor: ReplicateFloor,
+    obs: Observations,
+    common: tuple[Any, ...],
+    gap: float,
+    jobs: int,
+    profile: bool,
+    profile_all: bool,
+    t_start: float,
+) -> ValidationResult:
+    """The study's two phases (see :func:`run_validation`), reported as one run."""
+    band = obs.band
+    spin_sd, t_max, options, _ = common
+    # phase 1: every all-run fit
     timings: dict[str, float] = {}
     run_tasks = partial(
         runner.map, call, chunk_size=1, probe_first=False, warm=partial(warm_up, options)
@@ -161,6 +208,9 @@ def run_validation(
     tasks: list[tuple[Any, ...]] = []
     tags: list[tuple[Any, Any, Any]] = []
     profiled = [c.name for c in cands] if profile_all else [rec_name] if profile else []
+    # its weight now that the profiled candidates are known
+    name, weight = weights([c for c in cands if c.name in profiled])[1]
+    ph.start(name, weight)
     for pname in profiled:
         for k in fits[pname].params:
             for side in (-1, 1):
