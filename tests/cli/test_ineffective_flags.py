@@ -13,6 +13,7 @@ import json
 import pytest
 
 from obturator.cli import build_parser, main
+from obturator.cli._args import study_options
 from obturator.cli._flight_args import model_from_args
 from obturator.cli._robust_args import PROBABILITY_DEFAULTS
 from obturator.cli.robust import _resolve_sampling_flags
@@ -115,6 +116,28 @@ REFUSED = [
         "--no-csv: turns off the automatic CSV, and --csv asks for one",
     ),
     (
+        ["sweep", "--method", "moreau-jean", "--friction-width", "1e-6", "--spin-rate", "300",
+         "--out", "x.nc"],
+        "--friction-width: sets the regularised law, which --method moreau-jean does not use",
+    ),
+    (
+        ["montecarlo", "--method", "moreau-jean", "--friction-family", "tanh", "--samples", "2",
+         "--vary", "mu_s=uniform:0.5,0.6"],
+        "--friction-family: sets the regularised law, which --method moreau-jean does not use",
+    ),
+    (
+        ["sweep", "--method", "set-valued", "--friction-width", "1e-6", "--spin-rate", "300",
+         "--out", "x.nc"],  # the sweep's convergence check is off by default
+        "--friction-width: acts with --method set-valued only through the convergence check's "
+        "regularised reruns, which are off here",
+    ),
+    (
+        ["montecarlo", "--method", "set-valued", "--friction-family", "tanh",
+         "--no-convergence-check", "--samples", "2", "--vary", "mu_s=uniform:0.5,0.6"],
+        "--friction-family: acts with --method set-valued only through the convergence check's "
+        "regularised reruns, which are off here",
+    ),
+    (
         ["validate", "--profile-all", "--no-profile"],
         "--profile-all: profiles every candidate, which --no-profile turns off",
     ),
@@ -215,3 +238,22 @@ def test_twist_or_spin_rate_alone_still_builds_the_model(argv):
         assert model.launch.spin_rate == 10000.0
     if "--twist" in argv:
         assert model.launch.twist == 0.4 and model.launch.spin_rate is None
+
+
+@pytest.mark.parametrize(
+    ("command", "argv", "width", "family"),
+    [
+        ("sweep", ["--method", "set-valued", "--convergence-check", "--friction-width", "1e-6",
+                   "--friction-family", "tanh"], 1e-6, "tanh"),
+        ("montecarlo", ["--method", "set-valued", "--friction-width", "1e-6"], 1e-6, "algebraic"),
+        ("sweep", ["--method", "regularised", "--friction-width", "1e-6"], 1e-6, "algebraic"),
+        ("sweep", ["--friction-family", "linear"], 1e-7, "linear"),  # auto: its regularised cases
+        ("montecarlo", ["--method", "moreau-jean"], 1e-7, "algebraic"),
+    ],
+)  # fmt: skip
+def test_width_and_family_where_they_act_reach_the_options(command, argv, width, family):
+    required = ["--out", "x.nc"] if command == "sweep" else ["--vary", "mu_s=uniform:0,1"]
+    required += [] if command == "sweep" else ["--samples", "2"]
+    args = build_parser(command).parse_args([command, *argv, *required])
+    opts = study_options(args)
+    assert (opts.friction_width, opts.friction_family) == (width, family)
