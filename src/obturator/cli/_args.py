@@ -183,7 +183,31 @@ def warn_far_from_data(spec: Any, lowest_spin: float | None = None) -> None:
 
 
 def study_options(args: argparse.Namespace) -> SolverOptions:
-    """The solver options of the study flags (after :func:`study_config`)."""
+    """The solver options of the study flags (after :func:`study_config`).
+
+    Refuses ``--friction-width``/``--friction-family`` where the method gives them
+    nothing to act on: ``moreau-jean`` (no width, nor its convergence check), and
+    ``set-valued`` without the convergence check (whose regularised reruns are the only
+    runs that use them).
+    """
+    method = getattr(args, "method", None)
+    check = getattr(args, "convergence_check", False)
+    for key, flag in (
+        ("friction_width", "--friction-width"),
+        ("friction_family", "--friction-family"),
+    ):
+        if getattr(args, key, None) is None:
+            continue
+        if method == "moreau-jean":
+            raise InputError(
+                flag, "sets the regularised law, which --method moreau-jean does not use"
+            )
+        if method == "set-valued" and not check:
+            raise InputError(
+                flag,
+                "acts with --method set-valued only through the convergence check's "
+                "regularised reruns, which are off here",
+            )
     s: dict[str, Any] = {}
     for key in ("rtol", "atol", "method", "friction_width", "friction_family", "formulation"):
         value = getattr(args, key, None)

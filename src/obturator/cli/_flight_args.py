@@ -304,6 +304,10 @@ def model_from_args(args: argparse.Namespace, load: str = "coupled") -> Any:
     from ..envelope.model import FlightModel
     from ..envelope.trajectory import Launch, Projectile
 
+    if getattr(args, "twist", None) is not None and getattr(args, "spin_rate", None) is not None:
+        raise InputError(
+            "--twist", "sets the muzzle spin by the twist law, which --spin-rate replaces: give one"
+        )
     s = _settings(args)
     dkw: dict[str, Any] = {
         k: s[k] for k in (*_DESIGN_FLAGS, "n_contacts", "patch_radius") if k in s

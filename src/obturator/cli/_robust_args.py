@@ -38,7 +38,9 @@ __all__ = [
     "DEFAULT_UNCERTAINTY",
     "DEFAULT_RANGES",
     "DEFAULT_RIG_RANGES",
+    "IS_FLAGS",
     "MAX_SOBOL_BASE",
+    "PROBABILITY_DEFAULTS",
 ]
 
 #: Default uncertain inputs of ``probability`` (manufacturing and knowledge
@@ -65,6 +67,22 @@ DEFAULT_RIG_RANGES = (
     "density=uniform:7500,7850",
 )
 
+
+#: Defaults of ``probability``'s sampling flags, resolved after parsing (the flags
+#: default to None, so that one given with a --method it does not act in is refused):
+#: ``samples`` acts with --method mc or both, the others with is or both.
+PROBABILITY_DEFAULTS = {
+    "samples": "2000",
+    "stage_samples": "500",
+    "final_samples": "1000",
+    "rho": "0.1",
+}
+#: The flags of ``probability`` that act with the importance sampler only.
+IS_FLAGS = (
+    ("--stage-samples", "stage_samples"),
+    ("--final-samples", "final_samples"),
+    ("--rho", "rho"),
+)
 
 _POSITIVE = Range(0.0, math.inf, True, True)
 #: Largest SALib base sample N: N (2 D + 2) model runs, ~0.9 million for D = 6 at
@@ -124,14 +142,30 @@ def _add_probability(
             "--samples",
             1,
             MAX_SAMPLES,
-            f"brute-force samples (at most {MAX_SAMPLES}, as montecarlo)",
+            f"brute-force samples (at most {MAX_SAMPLES}, as montecarlo; default "
+            f"{PROBABILITY_DEFAULTS['samples']}; --method mc or both)",
             example=20,
-            default="2000",
         ),
-        count("--stage-samples", 20, MAX_SAMPLES, "IS samples per stage", default="500"),
-        count("--final-samples", 20, MAX_SAMPLES, "IS final samples", default="1000"),
+        count(
+            "--stage-samples",
+            20,
+            MAX_SAMPLES,
+            f"IS samples per stage (default {PROBABILITY_DEFAULTS['stage_samples']}; "
+            "--method is or both)",
+        ),
+        count(
+            "--final-samples",
+            20,
+            MAX_SAMPLES,
+            f"IS final samples (default {PROBABILITY_DEFAULTS['final_samples']}; "
+            "--method is or both)",
+        ),
         quantity_option(
-            "--rho", "", Range(0.0, 1.0, True, True), "0.1", "IS elite fraction", default="0.1"
+            "--rho",
+            "",
+            Range(0.0, 1.0, True, True),
+            "0.1",
+            f"IS elite fraction (default {PROBABILITY_DEFAULTS['rho']}; --method is or both)",
         ),
         SEED_FLAG,
         CONFIDENCE,

@@ -81,6 +81,8 @@ def _calibrate(args: argparse.Namespace) -> int:
     from ..calibration import calibrate_csv
     from ..io import CASE_FIELDS, study_settings
 
+    if args.seed is not None and args.bootstrap == 0:
+        raise InputError("--seed", "seeds the bootstrap, which --bootstrap 0 turns off")
     conf = study_settings(args.config, "calibrate", CASE_FIELDS)
     kwargs: dict[str, object] = _base_case(conf)
     names = tuple(n.strip() for n in args.fit.split(",") if n.strip())
@@ -95,7 +97,7 @@ def _calibrate(args: argparse.Namespace) -> int:
         min_spin=args.min_spin,
         fit=names,
         bootstrap=args.bootstrap,
-        bootstrap_seed=args.seed,
+        bootstrap_seed=0 if args.seed is None else args.seed,
         options=solver_options(conf.get("solver", {})),
         **kwargs,
     )
@@ -153,7 +155,9 @@ register = command(
     ),
     # 1e5 resamples give percentile intervals to ~1e-3 of their width; more is wasted
     count("--bootstrap", 0, 100_000, "bootstrap resamples (0: none; at most 100000)", default=200),
-    SEED_FLAG.but(metavar="N", default=0, help="bootstrap seed"),
+    SEED_FLAG.but(
+        metavar="N", default=None, help="bootstrap seed (default 0; with --bootstrap N > 0)"
+    ),
     JSON,
     *figure_flags("fit.png", "write data, model and residuals"),
 )

@@ -146,7 +146,46 @@ def _cmd_start(args: argparse.Namespace) -> int:
     return _emit(args, data, rows)
 
 
+#: The flags of ``gasdyn choke`` that act on some of its three routes only (--fld; L/D
+#: with --reynolds; L/D with --bore-diameter-m): dest -> (flag, default, the routes it
+#: acts on). They default to None, so that one given on another route is refused;
+#: :func:`_choke_route` fills in the defaults after that check.
+_CHOKE_ONLY: dict[str, tuple[str, str | None, tuple[str, ...]]] = {
+    "branch": ("--branch", "supersonic", ("--fld",)),
+    "reynolds": ("--reynolds", None, ("--l-over-d",)),
+    "bore_diameter_m": ("--bore-diameter-m", None, ("--l-over-d",)),
+    "reynolds_mach": ("--reynolds-mach", str(gd.THESIS_REYNOLDS_MACH), ("--reynolds",)),
+    "iterations": ("--iterations", "1", ("--reynolds",)),
+    "altitude_m": ("--altitude-m", "0", ("--bore-diameter-m",)),
+    "roughness": ("--roughness", "0", ("--reynolds", "--bore-diameter-m")),
+    "correlation": ("--correlation", "colebrook", ("--reynolds", "--bore-diameter-m")),
+}
+
+
+def _choke_route(args: argparse.Namespace) -> None:
+    """Refuse a flag given on a route of ``gasdyn choke`` it does nothing on (one line
+    naming both flags), then set the unset ones to their defaults."""
+    if args.fld is not None:
+        routes = ("--fld",)
+    elif args.bore_diameter_m is not None:
+        routes = ("--l-over-d", "--bore-diameter-m")
+    elif args.reynolds is not None:
+        routes = ("--l-over-d", "--reynolds")
+    else:
+        raise InputError("reynolds", "--l-over-d needs --reynolds or --bore-diameter-m")
+    for dest, (flag, default, acts_on) in _CHOKE_ONLY.items():
+        if getattr(args, dest) is None:
+            setattr(args, dest, default)
+        elif not set(acts_on) & set(routes):
+            raise InputError(
+                flag, f"applies with {' or '.join(acts_on)} only, not with {routes[-1]}"
+            )
+
+
 def _cmd_choke(args: argparse.Namespace) -> int:
+    if args.bore_diameter_m is not None and args.reynolds is not None:
+        raise InputError("reynolds", "give either --reynolds or --bore-diameter-m, not both")
+    _choke_route(args)
     gamma = _number("gamma", args.gamma)
     if args.fld is not None:
         fld = _number("fld", args.fld)
@@ -162,8 +201,6 @@ def _cmd_choke(args: argparse.Namespace) -> int:
     l_over_d = _number("l_over_d", args.l_over_d)
     roughness = _number("relative_roughness", args.roughness)
     if args.bore_diameter_m is not None:
-        if args.reynolds is not None:
-            raise InputError("reynolds", "give either --reynolds or --bore-diameter-m, not both")
         diameter = _number("bore_diameter_m", args.bore_diameter_m)
         altitude = _number("altitude_m", args.altitude_m)
         mach = gd.choking_mach_freestream(
@@ -198,8 +235,6 @@ def _cmd_choke(args: argparse.Namespace) -> int:
         ]
         return _emit(args, data, rows)
 
-    if args.reynolds is None:
-        raise InputError("reynolds", "--l-over-d needs --reynolds or --bore-diameter-m")
     steps = gd.choking_history(
         l_over_d,
         _number("reynolds", args.reynolds),
@@ -319,21 +354,18 @@ def register(subparsers: Any) -> None:
     p.add_argument(
         "--branch",
         choices=("supersonic", "subsonic"),
-        default="supersonic",
         help="which choking Mach of f_D L/D: the supersonic (default) or the subsonic branch",
     )
     p.add_argument("--reynolds", type=POSITIVE, help="bore Reynolds number at --reynolds-mach")
     p.add_argument(
         "--reynolds-mach",
-        default=str(gd.THESIS_REYNOLDS_MACH),
         type=POSITIVE,
         help="flight Mach at which --reynolds holds (2.5)",
     )
     p.add_argument(
         "--iterations",
-        default="1",
         type=Count(1, 100),
-        help="friction-factor revisions (1; the iteration converges in < 10)",
+        help="friction-factor revisions of --reynolds (1; the iteration converges in < 10)",
     )
     p.add_argument(
         "--bore-diameter-m",
@@ -342,21 +374,19 @@ def register(subparsers: Any) -> None:
     )
     p.add_argument(
         "--altitude-m",
-        default="0",
         type=quantity_of("altitude_m"),
         help="altitude for --bore-diameter-m [m] (0)",
     )
     p.add_argument(
         "--roughness",
-        default="0",
         type=Quantity("", Range(0.0, 1.0, False, True), "0.001"),
-        help="relative roughness eps/D (0: smooth)",
+        help="relative roughness eps/D of --reynolds or --bore-diameter-m (default 0: smooth)",
     )
     p.add_argument(
         "--correlation",
         choices=("colebrook", "haaland"),
-        default="colebrook",
-        help="friction factor of --reynolds: Colebrook-White (default) or Haaland",
+        help="friction factor of --reynolds or --bore-diameter-m: Colebrook-White (default) "
+        "or Haaland",
     )
     common(p)
     p.set_defaults(func=_cmd_choke)

@@ -38,6 +38,8 @@ from ._robust_args import (
     DEFAULT_RANGES,
     DEFAULT_RIG_RANGES,
     DEFAULT_UNCERTAINTY,
+    IS_FLAGS,
+    PROBABILITY_DEFAULTS,
     add_robust_commands,
 )
 from ._runner import study_runner, write_dataset
@@ -96,6 +98,7 @@ def _run_probability(args: argparse.Namespace) -> int:
     from ..sweeps import parse_axis
 
     _check_out(args)
+    _resolve_sampling_flags(args)
     model = model_from_args(args).with_(event=TIMES[args.event])
     dists = _dists(args.vary, DEFAULT_UNCERTAINTY, tuple(INPUTS))
     _check_support(model, dists)
@@ -215,6 +218,26 @@ def _launch(model: Any, mach: float, altitude: float) -> Any:
     from dataclasses import replace
 
     return replace(model.launch, mach=float(mach), altitude_m=float(altitude))
+
+
+def _resolve_sampling_flags(args: argparse.Namespace) -> None:
+    """Refuse a sampling flag that the chosen ``--method`` does not use (one line naming
+    both flags), then fill the unset ones with :data:`PROBABILITY_DEFAULTS`."""
+    if args.method == "is" and args.samples is not None:
+        raise InputError(
+            "--samples",
+            "applies to --method mc or both (brute force), not --method is (importance "
+            "sampling draws --stage-samples and --final-samples)",
+        )
+    if args.method == "mc":
+        for flag, dest in IS_FLAGS:
+            if getattr(args, dest) is not None:
+                raise InputError(
+                    flag, "applies to --method is or both (importance sampling), not --method mc"
+                )
+    for dest, default in PROBABILITY_DEFAULTS.items():
+        if getattr(args, dest) is None:
+            setattr(args, dest, default)
 
 
 # --------------------------------------------------------------------------- sensitivity

@@ -33,6 +33,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from ..errors import InputError
 from ..io import check_output_path
 from ..params import SWEEP_PARAMS
 from ..sweeps import SweepSpec, execute_sweep, parse_axis, sweep_summary
@@ -58,6 +59,10 @@ AUTO_CSV_MAX_POINTS = 10_000
 
 def _run_sweep(args: argparse.Namespace) -> int:
     axes: dict[str, Any] = {}
+    if args.csv is not None and args.no_csv:
+        raise InputError(
+            "--no-csv", "turns off the automatic CSV, and --csv asks for one: give one"
+        )
     fixed: dict[str, float] = study_config(args, "sweep")
     for name in SWEEP_PARAMS:
         text = getattr(args, name)

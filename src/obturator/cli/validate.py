@@ -87,6 +87,10 @@ def _validate(args: argparse.Namespace) -> int:
     from ..validation.floor import DEFAULT_CLUSTER_GAP
     from ..validation.likelihood import SPIN_SD
 
+    if args.no_profile and args.profile_all:
+        raise InputError(
+            "--profile-all", "profiles every candidate, which --no-profile turns off: give one"
+        )
     jobs, t_max = args.jobs, args.t_max  # checked by their kinds
     spin_sd = SPIN_SD if args.spin_sd is None else args.spin_sd
     gap = DEFAULT_CLUSTER_GAP if args.cluster_gap is None else args.cluster_gap

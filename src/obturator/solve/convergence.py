@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from contextlib import AbstractContextManager
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -15,6 +16,7 @@ from ..model.case import Case
 from ..status import Status
 from ..vocab import FRICTION_FAMILIES, check_choice
 from .dispatch import method_of
+from .limits import WIDTH_BOUND_METHODS, width_rule_waived
 from .one import opening_time
 from .options import SolverOptions
 
@@ -224,11 +226,20 @@ def convergence_check(
     t0 = opening_time(case, options) if opening_time_s is None else float(opening_time_s)
     chosen = _resolved(case, options)
     reruns = _reruns(options, chosen, factor, family)
-    t1, t2, t3 = (opening_time(case, o) for o in reruns)
-    if chosen.method != "set-valued":
-        return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
-    wide = tuple(opening_time(case, o) for o in _wide_reruns(reruns, factor))
+    with _own_reruns(options):
+        t1, t2, t3 = (opening_time(case, o) for o in reruns)
+        if chosen.method != "set-valued":
+            return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold)
+        wide = tuple(opening_time(case, o) for o in _wide_reruns(reruns, factor))
     return ConvergenceCheck(t0, t1, t2, t3, family, factor, threshold, "set-valued", wide)
+
+
+def _own_reruns(options: SolverOptions) -> AbstractContextManager[None]:
+    """The context of the reruns of a check of `options`: where its method is not bound by
+    the width-against-rtol rule (``"auto"``, ``"set-valued"``), neither are the
+    regularised reruns it makes by itself (:func:`~obturator.solve.limits.width_rule_waived`);
+    an explicitly regularised method's reruns keep its width/rtol ratio or raise it."""
+    return width_rule_waived(options.method not in WIDTH_BOUND_METHODS)
 
 
 def _wide_reruns(
@@ -333,8 +344,9 @@ def convergence_checks(
             planned = (*planned, *_wide_reruns(planned, factor))
             for i in idx:
                 strategy[i] = "set-valued"
-        for r, o in enumerate(planned):
-            reruns[r, idx] = opening_times(some, o)[0]
+        with _own_reruns(options):
+            for r, o in enumerate(planned):
+                reruns[r, idx] = opening_times(some, o)[0]
     return [
         ConvergenceCheck(
             float(t0[i]),

@@ -60,7 +60,10 @@ class SolverOptions:
         100 rad/s (65.93 rad/s; 1.5e-4 at 100-210, <= 2e-7 above: 2,000 rig points
         against the width-free limit, ``python -m benchmarks.dense_accuracy --limit``). Keep
         ``atol`` well below the width (both are in units of omega_p0): the
-        integrator must resolve slip speeds of order delta.
+        integrator must resolve slip speeds of order delta. The methods
+        ``"regularised"``, ``"radau"`` and ``"rosenbrock"`` need ``friction_width >=
+        rtol`` on a case with friction, refused where options meet the case
+        (:func:`~obturator.solve.limits.check_width_resolved`).
     friction_family : {"algebraic", "tanh", "linear"}
         Shape of the regularised magnitude s(|omega_r|/delta):
         x/sqrt(1+x^2) (default), tanh(x) or min(x, 1). Only the magnitude is

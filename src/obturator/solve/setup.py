@@ -33,6 +33,7 @@ from ..core.layout import (
 from ..core.specialised import specialise
 from ..errors import InputError
 from ..model.case import Case
+from .limits import check_width_resolved
 from .options import SolverOptions, max_step_periods
 
 __all__ = ["error_scale", "integration_controls", "integration_setup", "pack_parameters"]
@@ -116,8 +117,11 @@ def integration_setup(
     Raises
     ------
     InputError
-        `y0` not of shape (8,), or `t_eval` not non-negative and increasing.
+        `y0` not of shape (8,), or `t_eval` not non-negative and increasing; a width
+        the method cannot resolve at its rtol
+        (:func:`~obturator.solve.limits.check_width_resolved`).
     """
+    check_width_resolved(case, options)
     if y0 is None:
         y0 = case.initial_state(options.formulation)
     y0 = np.asarray(y0, dtype=float)
