@@ -247,7 +247,7 @@ def test_cli_montecarlo_table_and_json(tmp_path: Path, capsys: pytest.CaptureFix
         assert ds.sizes["sample"] == 8
         t = ds["t_cr"].values
     rows = [r for r in (tmp_path / "mc.csv").read_text().splitlines() if not r.startswith("#")]
-    assert rows[0] == "mu_s [1],theta0_deg [deg],t_cr [s],status"
+    assert rows[0] == "mu_s [1],theta0_deg [deg],t_cr [s],status,route"
     assert len(rows) == 9
     assert main([*base, "--json", "--quantiles", "10,50"]) == 0
     d = json.loads(capsys.readouterr().out)
@@ -276,8 +276,9 @@ def test_cli_montecarlo_bad_input(
 
 
 def test_unconverged_openings_are_flagged_and_excluded():
-    # 78 rad/s with a too-wide friction width (1e-5 omega_p): t_cr moves ~1 % against width/10
-    # and another family, so every opening is a status-2 sample: kept in the dataset but
+    # 78 rad/s, the regularised law with a too-wide friction width (1e-5 omega_p): t_cr moves
+    # ~1 % against width/10 and another family, so every opening is a status-2 sample: kept
+    # in the dataset but
     # excluded from quantiles and mean (the Monte Carlo default checks convergence).
     from obturator.sweeps import monte_carlo, monte_carlo_summary
 
@@ -287,7 +288,7 @@ def test_unconverged_openings_are_flagged_and_excluded():
         samples=3,
         seed=1,
         fixed={"spin_rate": 78.0},
-        options=SolverOptions(friction_width=1e-5),
+        options=SolverOptions(friction_width=1e-5, method="regularised"),
         runner=Runner(workers=1),
     )
     assert ds["status"].values.tolist() == [Status.UNCONVERGED] * 3

@@ -292,7 +292,20 @@ def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path:
 
 
 def _record(spec: SweepSpec, index, t_cr, status) -> dict:
-    keys, values = list(index), {"t_cr": list(t_cr), "status": list(status)}
+    """A store record as the sweep writes it, with each point's planned route."""
+    from obturator.solve.many import pack_points
+    from obturator.solve.plan import plan_routes
+
+    spins = spec.axes["spin_rate"]
+    routes = []
+    for i in index:
+        if not 0 <= i < len(spins):
+            routes.append(0)
+            continue
+        packed = pack_points([spec.build_case({"spin_rate": float(spins[i])})], spec.options)
+        routes.append(int(plan_routes(packed.valid, packed.p, packed.y0, spec.options)[0]))
+    keys = list(index)
+    values = {"t_cr": list(t_cr), "status": list(status), "route": routes}
     crc = run_store.record_crc(keys, values)
     return {"keys": keys, "values": values, "study": spec.digest(), "crc": crc}
 
@@ -370,7 +383,7 @@ def test_cli_sweep_writes_netcdf_and_csv(
     # the fixed parameters and the settings travel with the CSV
     assert "# mu_s = 0.5473 1" in comments and any("solver_rtol" in c for c in comments)
     assert any(c.startswith("# history = ") and "sweep" in c for c in comments)
-    assert rows[0] == "spin_rate [rad/s],t_cr [s],status" and len(rows) == 4
+    assert rows[0] == "spin_rate [rad/s],t_cr [s],status,route" and len(rows) == 4
     assert float(rows[1].split(",")[1]) == pytest.approx(want[0], rel=1e-11)
 
 
@@ -436,16 +449,17 @@ def test_cli_subprocess(tmp_path: Path) -> None:
 
 
 def test_convergence_check_marks_unconverged_points():
-    # With a too-wide friction width (1e-5 omega_p) t_cr at 78 rad/s moves ~1 % against
-    # width / 10 and another regularisation family (long near-stick phase) and must be
-    # flagged; at 200 rad/s the same width is converged (changes ~1e-4).
+    # The regularised law with a too-wide friction width (1e-5 omega_p): t_cr at 78 rad/s
+    # moves ~1 % against width / 10 and another regularisation family (long near-stick
+    # phase) and must be flagged; at 200 rad/s the same width is converged (changes
+    # ~1e-4). (Under "auto" 78 rad/s runs set-valued: no width, nothing to flag.)
     from obturator.sweeps import SweepSpec, run_sweep
 
     spec = SweepSpec(
         "spin-rig",
         {"spin_rate": np.array([78.0, 200.0])},
         {"mu_s": 0.5473},
-        options=SolverOptions(friction_width=1e-5),
+        options=SolverOptions(friction_width=1e-5, method="regularised"),
         check_convergence=True,
     )
     ds = run_sweep(spec, runner=Runner(workers=1))
@@ -455,7 +469,7 @@ def test_convergence_check_marks_unconverged_points():
         "spin-rig",
         {"spin_rate": np.array([78.0, 200.0])},
         {"mu_s": 0.5473},
-        options=SolverOptions(friction_width=1e-5),
+        options=SolverOptions(friction_width=1e-5, method="regularised"),
     )
     assert plain.digest() != spec.digest()  # a resumed run cannot mix the two
 
@@ -474,7 +488,7 @@ def test_damaged_records_are_discarded_and_recomputed(
     good = _record(spec, [0], [t[0]], [1])
     bad = dict(_record(spec, [1], [t[1]], [1]))
     if damage == "t_cr changed 1 %":
-        bad["values"] = {"t_cr": [t[1] * 1.01], "status": [1]}  # the CRC no longer matches
+        bad["values"] = {**bad["values"], "t_cr": [t[1] * 1.01]}  # the CRC no longer matches
     elif damage == "index -1":
         bad = _record(spec, [-1], [t[1]], [1])
     elif damage == "index n":
