@@ -44,7 +44,7 @@ __all__ = ["stage_sum", "error_sums"]'''
 
 # inlined into the caller (same flags): a call per sum and step would cost the
 # reference counting of its array arguments
-_DECORATOR = '@njit(cache=True, fastmath={"contract"}, error_model="numpy", inline="always")'
+_DECORATOR = '@njit(cache=True, fastmath=False, error_model="numpy", inline="always")'
 
 
 def _function(name: str, coef: list[tuple[int, float]]) -> str:
