@@ -108,7 +108,10 @@ def test_ctrl_c_is_prompt_inside_a_python_loop_of_numpy_calls(tmp_path, delay):
 
 def test_sigterm_is_one_line_exit_143(tmp_path):
     rc, err, dt = _interrupt(_commands(tmp_path)["simulate"], 2.0, signal.SIGTERM)
-    assert rc == 143 and err == "obturator: terminated\n" and dt < 1.5
+    *before, last = err.splitlines()
+    # before it only the one-line warning that 40 rad/s lies outside the measured runs
+    assert rc == 143 and last == "obturator: terminated" and dt < 1.5
+    assert len(before) <= 1 and all(x.startswith("obturator: warning: ") for x in before)
 
 
 @pytest.mark.slow  # ~15-20 s

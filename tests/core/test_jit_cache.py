@@ -34,7 +34,8 @@ def test_cache_dir_follows_digest_unless_user_sets_one(monkeypatch, tmp_path):
         path = _jit_cache.configure_cache()
         assert path == str(tmp_path / "obturator" / "numba" / core_digest())
         assert numba.config.CACHE_DIR == path
-        monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "mine"))
+        # the user's NUMBA_CACHE_DIR, as numba read it at start-up (numba.config)
+        monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path / "mine"))
         assert _jit_cache.configure_cache() is None
     finally:
         numba.config.CACHE_DIR = old

@@ -192,14 +192,18 @@ def test_tolerance_convergence_near_stick():
 
 
 def test_convergence_check_compares_with_the_regularised_path():
-    """For the set-valued path the width and family reruns are the regularised path
-    (width 1e-8 omega_p, both families): at 200 rad/s they agree to 1e-6 (the
-    regularised t_cr converges about linearly in the width there)."""
+    """For the set-valued path the own error is the rerun at tighter tolerances; the
+    regularised path (widths 1e-7 and 1e-8 omega_p, both families), extrapolated to zero
+    width (Richardson: t_cr about linear in the width), is an independent cross-check: at
+    200 rad/s it agrees within 1e-6, within its own two-family spread. The regularised
+    runs' own width change is that path's error, larger than the set-valued one's."""
     check = convergence_check(RIG, SolverOptions(method="set-valued"))
-    assert check.converged
+    assert check.strategy == "set-valued" and check.converged
     assert check.tolerance_change < 1e-7
-    assert 0.0 < check.width_change < 1e-6
-    assert 0.0 < check.family_change < 1e-6
+    assert check.cross_check_change < 1e-6
+    assert check.cross_check_change < check.cross_check_spread + 1e-7
+    assert check.width_change > check.tolerance_change
+    assert check.to_dict()["cross_check"]["regularised_path"]["width_rel_change"] > 0.0
 
 
 @pytest.mark.parametrize(
@@ -278,4 +282,6 @@ def test_zero_width_kernel_is_the_generic_law(case):
     run = stick_slip.run_cycles()
     t_kernel = run(problem._replace(p=kernel), controls, math.inf).t_event
     t_generic = run(problem._replace(p=generic), controls, math.inf).t_event
-    assert t_kernel == pytest.approx(t_generic, rel=1e-8)
+    # two implementations of one law differ by rounding (checked above per evaluation);
+    # the adaptive steps and the event search carry that to the order of rtol in t_cr
+    assert t_kernel == pytest.approx(t_generic, rel=5e-8)

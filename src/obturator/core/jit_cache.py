@@ -61,6 +61,11 @@ def core_digest(root: Path | None = None, names: Sequence[str] = CORE_MODULES) -
     return h.hexdigest()[:16]
 
 
+#: The folders :func:`configure_cache` pointed numba at in this process (any other
+#: value of ``numba.config.CACHE_DIR`` is the user's ``NUMBA_CACHE_DIR``).
+_SET_HERE: set[str] = set()
+
+
 def configure_cache() -> str | None:
     """Point numba's cache at ``$XDG_CACHE_HOME/obturator/numba/<digest>``.
 
@@ -75,7 +80,8 @@ def configure_cache() -> str | None:
 
     base = platformdirs.user_cache_path()  # $XDG_CACHE_HOME or ~/.cache on Linux
     path = str(base / "obturator" / "numba" / core_digest())
-    if numba.config.CACHE_DIR and numba.config.CACHE_DIR != path:
+    if numba.config.CACHE_DIR and numba.config.CACHE_DIR not in _SET_HERE:
         return None  # NUMBA_CACHE_DIR, as numba read it
     numba.config.CACHE_DIR = path
+    _SET_HERE.add(path)
     return path
