@@ -25,13 +25,13 @@ right. Every campaign therefore also gets a posterior predictive check: under ea
 candidate m the campaign's y has the predictive N(mu_m, Sigma_m + diag s^2), so
 d_m^2 = (y - mu_m)^T (Sigma_m + diag s^2)^-1 (y - mu_m) is chi^2 with N degrees of
 freedom; the campaign *exposes a misfit* when every candidate fails at 5 %
-(:data:`MISFIT_LEVEL`). Under a candidate's own truth this happens in about 5 % of
-campaigns or fewer (the false-alarm rate); to see how often a plan would expose a truth
+(:data:`MISFIT_LEVEL`). Under a candidate's own truth this is the test's false-alarm
+rate (reported with the campaigns); to see how often a plan would expose a truth
 outside the candidates, each generating model g is also run with a *discrepancy*
 delta_g(omega_p) added (:func:`discrepancy`): its all-run fit's mean residual per
 replicate cluster (y - t_cr), interpolated in ln omega_p, so that the truth fits every
-measured cluster (the 96 rad/s cluster too, where every candidate misses by 0.06-0.09
-s); applied at any setting by its spin (an assumption: the misfit is a function of spin).
+measured cluster (the 96 rad/s cluster too, which every candidate misses); applied at
+any setting by its spin (an assumption: the misfit is a function of spin).
 For such a truth "decisive" can only mislead.
 
 The data come from exact solves, the evidence from the surrogate, so the surrogate's

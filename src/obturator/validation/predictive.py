@@ -1,9 +1,9 @@
 """Models judged by what they predict: leave-one-cluster-out and leave-one-band-out scores.
 
 AIC ranks the fits to all runs by their in-sample likelihood and a parameter count. A
-model may win there and still predict badly where it was not fitted (issue 47: fitted
-to the runs at >= 200 rad/s, 'strengthening' predicts those below with rms 0.225 s
-against 0.054 s for 'theta0+strengthening'). This module scores each candidate by
+model may win there and still predict badly where it was not fitted (a model fitted
+to the high-spin runs alone can miss the low-spin ones by far more than another with
+the same AIC). This module scores each candidate by
 cross-validation over the natural units of the data:
 
 * **leave one cluster out** (LOCO): each replicate cluster (:func:`.floor.cluster_runs`;
