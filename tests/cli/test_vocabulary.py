@@ -142,3 +142,50 @@ def test_the_convergence_check_is_one_destination_with_the_documented_default(co
     assert parser.parse_args([command, *extra.get(command, []), flip]).convergence_check is (
         not default
     )
+
+
+def _quantity_options() -> list[tuple[str, str, object]]:
+    """(command, flag, kind) of every option that takes a quantity or an axis with a
+    unit, found by walking the parsers (the one argument layer types them,
+    ``cli/_kinds.py``)."""
+    from obturator.cli._kinds import Axis, Quantity
+
+    out = []
+    for name, parser in PARSERS:
+        for a in _shown(parser):
+            if isinstance(a.type, Quantity | Axis) and a.type.unit not in ("", "1"):
+                out.append((name, a.option_strings[-1], a.type))
+    return out
+
+
+QUANTITY_OPTIONS = _quantity_options()
+
+
+def test_the_walk_finds_quantity_options_in_every_kind_of_command():
+    commands = {n.split()[0] for n, _, _ in QUANTITY_OPTIONS}
+    assert {"simulate", "sweep", "envelope", "optimize", "probability", "trajectory"} <= commands
+
+
+@pytest.mark.parametrize(
+    ("name", "flag", "kind"), QUANTITY_OPTIONS, ids=[f"{n} {f}" for n, f, _ in QUANTITY_OPTIONS]
+)
+def test_every_quantity_and_axis_option_accepts_units(name, flag, kind):
+    """The option's example value written in the SI base unit (pint's conversion, an
+    independent computation) gives the same value as the bare example in the option's
+    unit: every such option reads units, as the README promises."""
+    from obturator.cli._kinds import Axis
+    from obturator.sweeps.grid import parse_axis
+    from obturator.units import _registry
+
+    ureg = _registry()
+    if isinstance(kind, Axis):
+        bare = float(parse_axis(kind(kind.example), "value", kind.unit)[0])
+    else:
+        bare = float(kind(kind.example))
+    q = ureg.Quantity(bare, kind.unit).to_base_units()
+    text = f"{q.magnitude!r} {q.units:~}"
+    if isinstance(kind, Axis):
+        got = float(parse_axis(kind(text), "value", kind.unit)[0])
+    else:
+        got = float(kind(text))
+    assert got == pytest.approx(bare, rel=1e-12, abs=1e-12), (name, flag, text)
