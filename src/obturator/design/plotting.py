@@ -139,8 +139,8 @@ def design_figure(result: DesignResult, n_runs: int | None = None) -> Figure:
         "setting (xN: replicates); each panel varies one setting through that run and holds "
         "the other three at its values\n"
         "curves: each model's mean t_cr and 95 % predictive band (parameters and noise); at "
-        "the planned value (dotted): each model's mean +- one replicate SD (one run's noise); "
-        "settings the rig cannot hold (holding moment above its bound) left out"
+        "the planned value (dotted): each model's mean +- one replicate SD (one run's noise)\n"
+        "settings the rig cannot hold (holding moment above its bound) are left out"
         + (f"; {more} more planned settings not drawn" if more > 0 else ""),
         fontsize=9,
     )
