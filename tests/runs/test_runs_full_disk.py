@@ -160,6 +160,9 @@ def _mount_tmpfs(where: Path, size_kb: int) -> bool:
 
 
 #: Study, arguments replaced, kB left: enough work that the records outgrow the space.
+#: Size of the test's tmpfs [kB]: the outputs of the sweep below (3,000 points with their
+#: routes in the store, the NetCDF and the CSV) fit in it, so only the filler fills it.
+TMPFS_KB = 1024
 ON_TMPFS = {
     "sweep": ({"--spin-rate": "100:700:1500"}, 40),
     "montecarlo": ({"--samples": "2000"}, 40),
@@ -170,17 +173,17 @@ ON_TMPFS = {
 @pytest.mark.slow
 @pytest.mark.parametrize("study", list(STUDIES))
 def test_real_full_tmpfs(study: str, reference: dict[str, np.ndarray], tmp_path: Path) -> None:
-    """On a 512 kB tmpfs with little space left (40 kB: where ``montecarlo`` hung and
-    ``envelope`` later refused its own store): one line, no hang, no traceback, the
+    """On a 1 MB tmpfs (room for every study's outputs, routes included) with little space
+    left (40 kB: where ``montecarlo`` hung and ``envelope`` later refused its own store): one line, no hang, no traceback, the
     lock released; with the space freed the same command, without ``--restart``,
     resumes and finishes with the results of a run that never failed."""
     disk = tmp_path / "disk"
-    if not _mount_tmpfs(disk, 512):
+    if not _mount_tmpfs(disk, TMPFS_KB):
         pytest.skip("cannot mount a tmpfs here (needs root on Linux)")
     try:
         changes, left_kb = ON_TMPFS[study]
         filler = disk / "filler"
-        filler.write_bytes(b"\0" * ((512 - left_kb) * 1024))
+        filler.write_bytes(b"\0" * ((TMPFS_KB - left_kb) * 1024))
         out = disk / "o.nc"
         argv = [*STUDIES[study], *FAST, "--workers", "2", "--no-progress", "--out", str(out)]
         for flag, value in changes.items():
