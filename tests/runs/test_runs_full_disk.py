@@ -174,9 +174,10 @@ ON_TMPFS = {
 @pytest.mark.parametrize("study", list(STUDIES))
 def test_real_full_tmpfs(study: str, reference: dict[str, np.ndarray], tmp_path: Path) -> None:
     """On a 1 MB tmpfs (room for every study's outputs, routes included) with little space
-    left (40 kB: where ``montecarlo`` hung and ``envelope`` later refused its own store): one line, no hang, no traceback, the
-    lock released; with the space freed the same command, without ``--restart``,
-    resumes and finishes with the results of a run that never failed."""
+    left (40 kB: where ``montecarlo`` hung and ``envelope`` later refused its own store):
+    one line, no hang, no traceback, the lock released; with the space freed the same
+    command, without ``--restart``, resumes and finishes with the results of a run that
+    never failed."""
     disk = tmp_path / "disk"
     if not _mount_tmpfs(disk, TMPFS_KB):
         pytest.skip("cannot mount a tmpfs here (needs root on Linux)")
