@@ -255,6 +255,62 @@ def _cli_latency(quick: bool) -> list[dict[str, Any]]:
     return [{"command": label, "wall_s": rec[key]} for label, key in labels]
 
 
+def _rhs_floor(quick: bool) -> list[dict[str, Any]]:
+    from benchmarks import rhs_floor
+
+    rec = rhs_floor.measure(500 if quick else 2000, (40.0, 1000.0), 40 if quick else 200)
+    floor = rec["floor"]
+    rows = [dict(r) for r in rec["bands"]]
+    rows.append(
+        {
+            "band": "40-1000 (all)",
+            "points": sum(r["points"] for r in rec["bands"]),
+            "cpu_s": rec["cpu_s"],
+            "ms_per_point": 1e3 * rec["cpu_s"] / sum(r["points"] for r in rec["bands"]),
+            "rhs_per_point": rec["median_rhs_per_point"],
+            "routes": f"RHS/point: median of {len(rec['rhs_per_point_sample'])} points alone",
+        }
+    )
+    rows.append(
+        {
+            "band": "floor",
+            "ns_per_rhs": floor.get("ns_per_lane_rhs"),
+            "routes": f"thesis kernel, {floor.get('lanes')} lanes; scalar "
+            f"{floor.get('ns_per_scalar_rhs', float('nan')):.1f} ns",
+        }
+    )
+    return rows
+
+
+def _envelope_following(quick: bool) -> list[dict[str, Any]]:
+    from benchmarks import envelope_following as ef
+
+    rows = []
+    for spin in (700.0,) if quick else (700.0, 1000.0):
+        rec = ef.study(spin, (1e-8, 1e-6, 1e-4), (3,) if quick else (3, 4))
+        rows.append(
+            {
+                "spin": spin,
+                "strategy": f"every revolution ({rec['revolutions']})",
+                "nfev": rec["full"]["nfev"],
+                "fewer": 1.0,
+                "error": abs(rec["full"]["rel_error"]),
+            }
+        )
+        for e in rec["envelope"]:
+            rows.append(
+                {
+                    "spin": spin,
+                    "strategy": f"envelope, {e['pairs']} pairs, tol {e['tol']:.0e} "
+                    f"({e['jumps']} jumps)",
+                    "nfev": e["nfev"],
+                    "fewer": e["fewer"],
+                    "error": abs(e["rel_error"]),
+                }
+            )
+    return rows
+
+
 _MS = "ms per point"
 #: The sections, in the document's order.
 SECTIONS: dict[str, Section] = {
@@ -355,6 +411,42 @@ SECTIONS: dict[str, Section] = {
             Column("ratio", "set-valued / regularised", "ratio"),
             Column("regularised_error", "error regularised", "error"),
             Column("set_valued_error", "error set-valued", "error"),
+        ),
+    ),
+    "rhs_floor": Section(
+        "Cost across the operating range, and the right-hand-side floor",
+        "python -m benchmarks.rhs_floor",
+        "Rig, mu_s 0.5473, a linear grid of spins as `obturator sweep` runs it (shared "
+        "return maps), per band in one process: CPU time and right-hand-side evaluations "
+        "per point (a shared map's nodes included), CPU ns per evaluation, and that over the "
+        "floor: the thesis kernel's right-hand side alone in its vector loop over the "
+        "lanes, per lane, in a tight loop of the same run.",
+        _rhs_floor,
+        (
+            Column("band", "band [rad/s]"),
+            Column("points", "points", "int"),
+            Column("ms_per_point", "CPU per point [ms]", "num"),
+            Column("rhs_per_point", "RHS per point", "int"),
+            Column("ns_per_rhs", "ns per RHS", "num"),
+            Column("over_floor", "over the floor", "ratio"),
+            Column("routes", "routes"),
+        ),
+    ),
+    "envelope_following": Section(
+        "Envelope following over the revolutions (not a route)",
+        "python -m benchmarks.envelope_following",
+        "Rig, mu_s 0.5473, the package's right-hand side under scipy's DOP853 at rtol "
+        "1e-10: every revolution integrated, against revolutions integrated from states "
+        "extrapolated over the sections psi = 0 (mod 2 pi) (the module's docstring); "
+        "evaluations and the t_cr error against rtol 1e-12. Why no envelope route: the "
+        "evaluations saved at errors below 1e-6.",
+        _envelope_following,
+        (
+            Column("spin", "spin [rad/s]", "num"),
+            Column("strategy", "strategy"),
+            Column("nfev", "evaluations", "int"),
+            Column("fewer", "fewer", "ratio"),
+            Column("error", "t_cr error", "error"),
         ),
     ),
     "cli_latency": Section(

@@ -1,0 +1,68 @@
+"""The operating-range cost benchmark and the envelope-following study compute what they
+say (correctness of their pieces, not timing)."""
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # benchmarks/ lives at the root
+
+from benchmarks import envelope_following as ef  # noqa: E402
+from benchmarks import rhs_floor  # noqa: E402
+
+
+def test_band_costs_partition_the_grid_and_count_work():
+    spins = np.linspace(40.0, 1000.0, 14)
+    rows = rhs_floor.band_costs(spins)
+    assert sum(r["points"] for r in rows) == spins.size  # every point in exactly one band
+    for r in rows:
+        assert r["rhs_per_point"] > 100 and r["cpu_s"] > 0.0
+        assert math.isclose(r["ns_per_rhs"], 1e9 * r["cpu_s"] / (r["rhs_per_point"] * r["points"]))
+    routes = " ".join(r["routes"] for r in rows)
+    assert "set-valued" in routes and "regularised" in routes
+
+
+def test_point_rhs_counts_one_opening_time():
+    """A point alone at the defaults: its count is that of ``opening_times`` of a batch
+    of one, which integrates at least the start to theta_cr (thousands of evaluations)."""
+    n = rhs_floor.point_rhs(np.array([300.0, 700.0]))
+    assert np.all(n > 1000) and n[1] > n[0]  # more revolutions to the opening at 700 rad/s
+
+
+@settings(max_examples=50, deadline=None)
+@given(
+    theta=st.floats(0.05, math.pi - 0.05),
+    rates=st.tuples(*(st.floats(-500.0, 500.0) for _ in range(3))),
+)
+def test_section_state_and_reduced_coordinates_are_inverse(theta, rates):
+    x = np.array([theta, *rates])
+    y = ef.state(x, 700.0)
+    assert abs(np.linalg.norm(y[:4]) - 1.0) < 1e-14
+    assert ef._rotation(y)[0, 2] == pytest.approx(0.0, abs=1e-15)  # on the section psi = 0
+    np.testing.assert_allclose(ef.reduced(y), x, rtol=1e-12, atol=1e-10)
+
+
+def test_reduced_coordinates_ignore_a_turn_about_the_hole_axis():
+    """The symmetry the sections rest on: turning the ball about its own axis z (body
+    rates turned back by the same angle) changes neither theta nor the nodal rates."""
+    y = ef.state(np.array([1.2, 3.0, -20.0, 150.0]), 700.0)
+    a = 0.7
+    qz = np.array([math.cos(a / 2), 0.0, 0.0, math.sin(a / 2)])
+    q = y[:4]
+    turned = np.array(
+        [
+            q[0] * qz[0] - q[3] * qz[3],
+            q[1] * qz[0] + q[2] * qz[3],
+            q[2] * qz[0] - q[1] * qz[3],
+            q[3] * qz[0] + q[0] * qz[3],
+        ]
+    )
+    c, s = math.cos(a), math.sin(a)
+    w = y[4:7]
+    body = np.array([c * w[0] + s * w[1], -s * w[0] + c * w[1], w[2]])
+    np.testing.assert_allclose(ef.reduced(np.r_[turned, body, y[7]]), ef.reduced(y), atol=1e-10)
