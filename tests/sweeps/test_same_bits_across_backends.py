@@ -52,13 +52,11 @@ def test_one_and_two_workers_give_the_bits_of_each_point_alone(spec_and_alone) -
         assert _bits(ds["t_cr"].values) == _bits(alone)
 
 
-def test_dask_gives_the_bits_of_each_point_alone(spec_and_alone) -> None:
-    distributed = pytest.importorskip("distributed")
+def test_dask_gives_the_bits_of_each_point_alone(spec_and_alone, dask_cluster) -> None:
+    import distributed
+
     spec, alone = spec_and_alone
-    with distributed.LocalCluster(
-        n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None
-    ) as cluster:
-        with distributed.Client(cluster) as client:
-            run = execute_sweep(spec, runner=Runner(scheduler=client, chunk_size=2))
+    with distributed.Client(dask_cluster) as client:
+        run = execute_sweep(spec, runner=Runner(scheduler=client, chunk_size=2))
     assert run.backend == "dask.distributed"
     assert _bits(run.dataset["t_cr"].values) == _bits(alone)

@@ -345,18 +345,16 @@ def test_bad_worker_count_and_directory(tmp_path: Path) -> None:
 # --------------------------------------------------------------------------- dask
 
 
-def test_dask_distributed_equals_local() -> None:
-    distributed = pytest.importorskip("distributed")
+def test_dask_distributed_equals_local(dask_cluster) -> None:
+    import distributed
+
     spec = small_spec()
     local = run_sweep(spec, runner=Runner(workers=1))
-    with distributed.LocalCluster(
-        n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None
-    ) as cluster:
-        with distributed.Client(cluster) as client:
-            run = execute_sweep(spec, runner=Runner(scheduler=client, chunk_size=2))
-            assert run.backend == "dask.distributed"
-            xr.testing.assert_identical(local, run.dataset)
-        by_address = run_sweep(spec, runner=Runner(scheduler=cluster.scheduler_address))
+    with distributed.Client(dask_cluster) as client:
+        run = execute_sweep(spec, runner=Runner(scheduler=client, chunk_size=2))
+        assert run.backend == "dask.distributed"
+        xr.testing.assert_identical(local, run.dataset)
+    by_address = run_sweep(spec, runner=Runner(scheduler=dask_cluster.scheduler_address))
     xr.testing.assert_identical(local, by_address)
 
 
