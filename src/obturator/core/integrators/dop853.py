@@ -312,6 +312,40 @@ def plan_next(st: Dop853State, err, h_max) -> None:
     st.h[0] = min(st.h[0] * fac, h_max)
 
 
+#: What :func:`_step` asks of :func:`integrate`'s loop: step again (rejected), end the
+#: run as stiff (the hand-over signal), end it at the opening, go on.
+_RETRY, _STIFF, _OPENED, _STEPPED = 0, 1, 2, 3
+
+
+# a function of its own, compiled without reference counting (it allocates nothing):
+# inlined into the counted loop, every phase's access to the state's arrays was wrapped
+# in reference counts (obturator.core.jit_flags); same operations, same order
+@njit(cache=True, fastmath=False, error_model="python", **NO_REFCOUNT)
+def _step(st: Dop853State, t, y, p, scale, controls, g_old, t_event, y_event, out):
+    """One step of :func:`integrate`: cut to end at t_max, the trial, the stiffness
+    test, outputs at `t_eval` inside it and the move to its end. `controls` is (t_max,
+    rtol, atol, terminal, event_tol) (the transformed tolerances), `out` (t_eval, i_eval,
+    ts, ys, n_out). Returns (code, err, t, t_event, g_old, i_eval, n_out) with the codes
+    above and the step's error estimate `err` (for :func:`plan_next`)."""
+    t_max, rtol, atol, terminal, event_tol = controls
+    t_eval, i_eval, ts, ys, n_out = out
+    if t + 1.01 * st.h[0] >= t_max:
+        st.h[0] = t_max - t
+    err = attempt(st, t, y, p, rtol, atol, scale)
+    if err > 1.0:
+        return _STIFF if underflow(st.h[0], t) else _RETRY, err, t, t_event, g_old, i_eval, n_out
+    if stiff_at_end(st, t, p):
+        return _STIFF, err, t, t_event, g_old, i_eval, n_out
+    t_event, opened, g_new, i_eval, n_out = accepted_outputs(
+        st, t, y, p, g_old, t_event, y_event, terminal, event_tol,
+        (t_eval, i_eval, ts, ys, n_out),
+    )  # fmt: skip
+    if opened:
+        return _OPENED, err, t, t_event, g_old, i_eval, n_out
+    t = advance(st, t, y)
+    return _STEPPED, err, t, t_event, g_new, i_eval, n_out
+
+
 # nogil: the CLI watcher thread can stop a long run
 @njit(cache=True, nogil=True, fastmath=False, error_model="python", **REFCOUNT)
 def integrate(problem, controls):
@@ -350,29 +384,21 @@ def integrate(problem, controls):
         if over_step_budget(c[N_STEPS] + c[N_REJ], steps_per_time, t, t0):
             status = Status.STIFF
             break
-        if t + 1.01 * st.h[0] >= t_max:
-            st.h[0] = t_max - t
-        err = attempt(st, t, y, p, rtol, atol, scale)
-        if err > 1.0:
-            if underflow(st.h[0], t):
-                status = Status.STIFF
-                break
+        code, err, t, t_event, g_old, i_eval, n_out = _step(
+            st, t, y, p, scale, (t_max, rtol, atol, terminal, event_tol), g_old, t_event,
+            y_event, (t_eval, i_eval, ts, ys, n_out),
+        )  # fmt: skip
+        if code == _RETRY:
             continue
-        if stiff_at_end(st, t, p):
+        if code == _STIFF:
             status = Status.STIFF
             break
-        t_event, opened, g_new, i_eval, n_out = accepted_outputs(
-            st, t, y, p, g_old, t_event, y_event, terminal, event_tol,
-            (t_eval, i_eval, ts, ys, n_out),
-        )  # fmt: skip
-        if opened:
+        if code == _OPENED:
             status = Status.OPENED
             ts, ys, n_out = record_row(ts, ys, n_out, t_event, y_event, record, use_eval)
             y[:] = y_event
             t = t_event
             break
-        g_old = g_new
-        t = advance(st, t, y)
         if record and not use_eval:  # a call per step costs reference counts
             ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         if not (y[0] == y[0]):

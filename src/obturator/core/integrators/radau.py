@@ -305,6 +305,41 @@ def work_with(y_event) -> RadauWork:
     )
 
 
+#: What :func:`_step` asks of :func:`integrate`'s loop: step again (a new Jacobian,
+#: factors or a shorter step), end the run as failed, end it at the opening, go on.
+_RETRY, _FAILED, _OPENED, _STEPPED = 0, 1, 2, 3
+
+
+# a function of its own, compiled without reference counting (it allocates nothing):
+# inlined into the counted loop, every phase's access to the state's arrays was wrapped
+# in reference counts (obturator.core.jit_flags); same operations, same order
+@njit(cache=True, fastmath=False, error_model="python", **NO_REFCOUNT)
+def _step(st: RadauState, ws: RadauWork, t, y, p, scale, controls, g_old, t_event, out):
+    """One step of :func:`integrate`: its Jacobian where due, factors, Newton, outputs at
+    `t_eval` inside it, the move to its end and f there. `controls` is (t_max, rtol, atol,
+    fnewt, terminal, event_tol) (RADAU5's tolerances), `out` (t_eval, i_eval, ts, ys,
+    n_out). Returns (code, t, t_event, g_old, i_eval, n_out) with the codes above."""
+    t_max, rtol, atol, fnewt, terminal, event_tol = controls
+    t_eval, i_eval, ts, ys, n_out = out
+    if st.need_jac[0]:
+        jacobian(t, y, ws.f0, p, scale, ws.jac, ws.scratch[0], ws.fwork)
+        took_jacobian(st)
+    if not factored(st, t, t_max, ws):
+        return _FAILED if underflow(st.h[0], t) else _RETRY, t, t_event, g_old, i_eval, n_out
+    predict(st, ws)
+    if not attempt(st, ws, t, y, p, scale, rtol, atol, fnewt):
+        return _FAILED if underflow(st.h[0], t) else _RETRY, t, t_event, g_old, i_eval, n_out
+    t_event, opened, g_new, i_eval, n_out = accepted_outputs(
+        st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt, (t_eval, i_eval, ts, ys, n_out)
+    )
+    if opened:
+        return _OPENED, t, t_event, g_old, i_eval, n_out
+    t = advance(st, ws, t, y)
+    rhs(t, y, p, ws.f0)
+    st.cnt[NFEV] += 1
+    return _STEPPED, t, t_event, g_new, i_eval, n_out
+
+
 @njit(cache=True, nogil=True, fastmath=False, error_model="python", **REFCOUNT)
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
@@ -338,34 +373,21 @@ def integrate(problem, controls):
         if st.cnt[N_STEPS] >= max_steps:
             status = Status.STEP_LIMIT
             break
-        if st.need_jac[0]:
-            jacobian(t, y, ws.f0, p, scale, ws.jac, ws.scratch[0], ws.fwork)
-            took_jacobian(st)
-        if not factored(st, t, t_max, ws):
-            if underflow(st.h[0], t):
-                status = Status.FAILED
-                break
+        code, t, t_event, g_old, i_eval, n_out = _step(
+            st, ws, t, y, p, scale, (t_max, rtol, atol, fnewt, terminal, event_tol),
+            g_old, t_event, (t_eval, i_eval, ts, ys, n_out),
+        )  # fmt: skip
+        if code == _RETRY:
             continue
-        predict(st, ws)
-        if not attempt(st, ws, t, y, p, scale, rtol, atol, fnewt):
-            if underflow(st.h[0], t):
-                status = Status.FAILED
-                break
-            continue
-        out = (t_eval, i_eval, ts, ys, n_out)
-        t_event, opened, g_new, i_eval, n_out = accepted_outputs(
-            st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt, out
-        )
-        if opened:
+        if code == _FAILED:
+            status = Status.FAILED
+            break
+        if code == _OPENED:
             status = Status.OPENED
             ts, ys, n_out = record_row(ts, ys, n_out, t_event, y_event, record, use_eval)
             y[:] = y_event
             t = t_event
             break
-        g_old = g_new
-        t = advance(st, ws, t, y)
-        rhs(t, y, p, ws.f0)
-        st.cnt[NFEV] += 1
         if record and not use_eval:  # a call per step costs reference counts
             ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         if not (y[0] == y[0]):

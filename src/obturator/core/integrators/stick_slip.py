@@ -425,6 +425,58 @@ def _fast_slip(st: RadauState, y, p, scale, f0, t, r, speeds, controls, out, end
     return t, ran, False, status, t_event, i_eval, ts, ys, n_out
 
 
+#: What :func:`_slip_step` asks of the loop: step again (a new Jacobian, factors or a
+#: shorter step), end the run as failed, hold the ball through the window, end it at the
+#: opening, go on slipping, or stick (zero slip reached).
+_RETRY, _FAILED, _WINDOW, _OPENED, _SLIPPING, _TO_ZERO = 0, 1, 2, 3, 4, 5
+
+
+# a function of its own, compiled without reference counting (it allocates nothing):
+# inlined into the counted loop, every phase's access to the Radau IIA state's arrays was
+# wrapped in reference counts (obturator.core.jit_flags); same operations, same order
+@njit(cache=True, fastmath=False, error_model="python", **NO_REFCOUNT)
+def _slip_step(st: RadauState, ws: RadauWork, t, y, p, scale, controls, modes, speeds, out):
+    """One Radau IIA step of the slip mode, from its Jacobian to the mode test at its end.
+
+    `controls` is (t_max, rtol, atol, fnewt, terminal, event_tol) (Radau IIA's
+    tolerances), `modes` (g_old, t_event, armed, took_off), `speeds` (r_kick, r_stick)
+    [rad/s], `out` (t_eval, i_eval, ts, ys, n_out), outputs at `t_eval` only (the loop
+    appends recorded steps). Returns (code, t, t_event, g_old, i_eval, n_out, armed,
+    took_off, (wx, wy, wz, |omega_r|), d|omega_r|/dt) with the codes above: ``_TO_ZERO``
+    with y already at zero slip (:func:`_to_zero_slip`).
+    """
+    t_max, rtol_r, atol_r, fnewt, terminal, event_tol = controls
+    g_old, t_event, armed, took_off = modes
+    r_kick, r_stick = speeds
+    t_eval, i_eval, ts, ys, n_out = out
+    f0, ytry = ws.f0, ws.event.ytry
+    w = (0.0, 0.0, 0.0, 0.0)
+    if st.need_jac[0]:  # forward differences far below the slip speed (stick's scale)
+        slip_jacobian(t, y, f0, p, scale, ws.jac, ws.scratch[0], ws.fwork, r_kick)
+        took_jacobian(st)
+    if not factored(st, t, t_max, ws):
+        code = _FAILED if underflow(st.h[0], t) else _RETRY
+        return code, t, t_event, g_old, i_eval, n_out, armed, took_off, w, 0.0
+    _predict(st, ws, y)
+    if not attempt(st, ws, t, y, p, scale, rtol_r, atol_r, fnewt):
+        code = _WINDOW if underflow(st.h[0], t) else _RETRY
+        return code, t, t_event, g_old, i_eval, n_out, armed, took_off, w, 0.0
+    t_event, opened, g_new, i_eval, n_out = accepted_outputs(
+        st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt,
+        (t_eval, i_eval, ts, ys, n_out),
+    )  # fmt: skip
+    if opened:
+        return _OPENED, t, t_event, g_old, i_eval, n_out, armed, took_off, w, 0.0
+    t = advance(st, ws, t, y)
+    if not (y[0] == y[0]):
+        return _FAILED, t, t_event, g_new, i_eval, n_out, armed, took_off, w, 0.0
+    armed, took_off, to_zero, w, rate = _slip_after_step(st, y, p, t, f0, armed, took_off, r_stick)
+    code = _SLIPPING
+    if to_zero:
+        t, code = _to_zero_slip(y, t, w, rate, ytry), _TO_ZERO
+    return code, t, t_event, g_new, i_eval, n_out, armed, took_off, w, rate
+
+
 @njit(cache=True, nogil=True, fastmath=False, error_model="python", **REFCOUNT)
 def _integrate(problem, controls, stick_slip, kick, cycle_end):
     """The mode loop: closed-form stick phases, Radau IIA slip phases (see module).
@@ -469,45 +521,31 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
         if st.cnt[N_STEPS] >= max_steps:
             status = Status.STEP_LIMIT
             break
-        if st.need_jac[0]:  # forward differences far below the slip speed (stick's scale)
-            slip_jacobian(t, y, f0, p, scale, ws.jac, ws.scratch[0], ws.fwork, r_kick)
-            took_jacobian(st)
-        if not factored(st, t, t_max, ws):
-            if underflow(st.h[0], t):
+        code, t, t_event, g_old, i_eval, n_out, armed, took_off, w, rate = _slip_step(
+            st, ws, t, y, p, scale, (t_max, rtol_r, atol_r, fnewt, terminal, event_tol),
+            (g_old, t_event, armed, took_off), (r_kick, r_stick), (t_eval, i_eval, ts, ys, n_out),
+        )  # fmt: skip
+        if code == _RETRY:
+            continue
+        if code == _FAILED:
+            status = Status.FAILED
+            break
+        if code == _WINDOW:  # a kicked slip that cannot take off
+            t_w, i_eval, n_out = _through_window(
+                y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval
+            )
+            if t_w < 0.0:
                 status = Status.FAILED
                 break
+            t, sticking = t_w, True
             continue
-        _predict(st, ws, y)
-        if not attempt(st, ws, t, y, p, scale, rtol_r, atol_r, fnewt):
-            if underflow(st.h[0], t):  # a kicked slip that cannot take off
-                t_w, i_eval, n_out = _through_window(
-                    y, p, t, t_max, r_kick, ytry, ts, ys, n_out, t_eval, i_eval
-                )
-                if t_w < 0.0:
-                    status = Status.FAILED
-                    break
-                t, sticking = t_w, True
-            continue
-        t_event, opened, g_new, i_eval, n_out = accepted_outputs(
-            st, ws, t, y, p, g_old, t_event, terminal, event_tol, fnewt,
-            (t_eval, i_eval, ts, ys, n_out),
-        )  # fmt: skip
-        if opened:
+        if code == _OPENED:
             status = Status.OPENED
             ts, ys, n_out = record_row(ts, ys, n_out, t_event, y_event, record, use_eval)
             y[:] = y_event
             t = t_event
             break
-        g_old = g_new
-        t = advance(st, ws, t, y)
-        if not (y[0] == y[0]):
-            status = Status.FAILED
-            break
-        armed, took_off, to_zero, w, rate = _slip_after_step(
-            st, y, p, t, f0, armed, took_off, r_stick
-        )
-        if to_zero:
-            t, sticking = _to_zero_slip(y, t, w, rate, ytry), True
+        sticking = code == _TO_ZERO
         if record and not use_eval:
             ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         if sticking:
