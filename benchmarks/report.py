@@ -261,12 +261,13 @@ def _rhs_floor(quick: bool) -> list[dict[str, Any]]:
     rec = rhs_floor.measure(500 if quick else 2000, (40.0, 1000.0), 40 if quick else 200)
     floor = rec["floor"]
     rows = [dict(r) for r in rec["bands"]]
+    points = sum(r["points"] for r in rows)
     rows.append(
         {
             "band": "40-1000 (all)",
-            "points": sum(r["points"] for r in rec["bands"]),
+            "points": points,
             "cpu_s": rec["cpu_s"],
-            "ms_per_point": 1e3 * rec["cpu_s"] / sum(r["points"] for r in rec["bands"]),
+            "ms_per_point": 1e3 * rec["cpu_s"] / points,
             "rhs_per_point": rec["median_rhs_per_point"],
             "routes": f"RHS/point: median of {len(rec['rhs_per_point_sample'])} points alone",
         }
