@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import cache
 
 from ..reference import TABLE1
 from .case import Case
@@ -149,13 +150,20 @@ def rig_run_holding_moments(mu_s: float | None = None) -> tuple[float, float]:
     (float, float)
         Lowest and highest holding moment [N m] (or ratio [-]).
     """
-    from .cases import rig_case
-
-    lo, hi = (holding_moment(rig_case(w, theta0_deg=TABLE1["theta0_deg"])) for w in RIG_RUN_SPINS)
+    lo, hi = _rig_run_holding_moments()
     if mu_s is None:
         return lo, hi
     seat = mu_s * TABLE1["rig_weight"] * TABLE1["ball_radius"]
     return lo / seat, hi / seat
+
+
+@cache
+def _rig_run_holding_moments() -> tuple[float, float]:
+    # constants of the runs, built once per process: a study's check asks per point
+    from .cases import rig_case
+
+    lo, hi = (holding_moment(rig_case(w, theta0_deg=TABLE1["theta0_deg"])) for w in RIG_RUN_SPINS)
+    return lo, hi
 
 
 def outside_validated_range(case: Case) -> str | None:
