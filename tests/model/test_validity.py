@@ -233,3 +233,33 @@ def test_montecarlo_warns_for_samples_outside_the_data(tmp_path, capsys):
     err = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
     assert len(err) == 1, err
     assert "4 of 4 points lie outside the validated data" in err[0] and "86.25-88.25" in err[0]
+
+
+def test_sweep_dataset_carries_the_note_computed_while_workers_run(monkeypatch):
+    """The note is the same whether the parent computes it while pool workers run (the
+    job's ``meanwhile``) or after an in-process run; beyond VALIDITY_POINTS it is taken on
+    evenly spaced points and says so. Expected counts from Appendix B's 77.8-446.1 rad/s:
+    of 250, 350, 450, 550 rad/s the last two lie outside."""
+    from obturator.runs import Runner
+    from obturator.sweeps import SweepSpec, points
+    from obturator.sweeps.sweep import execute_sweep
+
+    spec = SweepSpec("spin-rig", {"spin_rate": [250.0, 350.0, 450.0, 550.0]}, t_max=2.0)
+    notes = [
+        execute_sweep(spec, Runner(workers=w, progress=False)).dataset.attrs[
+            "outside_validated_data"
+        ]
+        for w in (1, 2)
+    ]
+    assert notes[0] == notes[1] and notes[0].startswith("2 of 4 points lie outside")
+    monkeypatch.setattr(points, "VALIDITY_POINTS", 3)  # indices 0, 1, 3: 250, 350, 550 rad/s
+    run = execute_sweep(spec, Runner(workers=1, progress=False))
+    note = run.dataset.attrs["outside_validated_data"]
+    assert note.startswith("1 of 3 points") and note.endswith("(3 evenly spaced points checked)")
+    flight = SweepSpec("flight", {"spin_rate": [300.0, 600.0]}, t_max=2.0)
+    assert (
+        execute_sweep(flight, Runner(workers=1, progress=False)).dataset.attrs[
+            "outside_validated_data"
+        ]
+        == ""
+    )

@@ -143,29 +143,9 @@ def _run_sweep(args: argparse.Namespace) -> int:
         + f", {summ['n_not_opened']} not opened by t_max, "
         f"{summ['n_failed'] + summ['n_invalid']} failed; {trange}; wrote {files}"
     )
-    _warn_outside_data(spec)
+    if run.dataset.attrs.get("outside_validated_data"):
+        print(f"obturator: warning: {run.dataset.attrs['outside_validated_data']}", file=sys.stderr)
     return 0
-
-
-#: Most points of a sweep whose cases the validity check builds (evenly spaced beyond).
-_VALIDITY_POINTS = 20_000
-
-
-def _warn_outside_data(spec: SweepSpec) -> None:
-    """One warning line when points lie outside the Appendix B runs (spin rig)."""
-    import numpy as np
-
-    from ..model.validity import outside_validated_data_many
-    from ..sweeps.points import rows_to_cases
-
-    if spec.case != "spin-rig":
-        return
-    n = spec.n_points
-    idx = np.unique(np.linspace(0, n - 1, min(n, _VALIDITY_POINTS)).astype(np.int64))
-    note = outside_validated_data_many(rows_to_cases(spec, spec.dims, spec.rows(idx)))
-    if note:
-        checked = "" if idx.size == n else f" ({idx.size} evenly spaced points checked)"
-        print(f"obturator: warning: {note}{checked}", file=sys.stderr)
 
 
 register = command(

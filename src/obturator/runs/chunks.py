@@ -44,8 +44,8 @@ class Job:
     #: ``ahead(chunks)``: does what `warm` does while a helper process prepares the chunks'
     #: arguments, and returns the job that uses them (pool runs only).
     ahead: Callable[[list[np.ndarray]], Job] | None = None
-    #: Work for this process while the workers compute, where a core is spare (the sweep imports its
-    #: output writer).
+    #: Work for this process while pool or Dask workers compute (a study imports its output writer
+    #: and checks its points against the validated data); in-process runs skip it.
     meanwhile: Callable[[], None] | None = None
     #: Whether a task's result is the same whatever chunk it runs in (False for points integrated in
     #: lanes, where a chunk's count of stiff points picks the Radau path: a probe in this process

@@ -135,8 +135,8 @@ class ProcessPool:
         pool, pending = self._start(ctx, job, chunks)
         retries = 0
         try:
-            if job.meanwhile is not None and default_workers() > self.workers:
-                job.meanwhile()  # a core is idle: use it
+            if job.meanwhile is not None:
+                job.meanwhile()  # this process would only wait
             # as_completed registers one waiter per future once; wait(FIRST_COMPLETED) in
             # a loop re-registered on every pending future per call, O(chunks^2): 15 % of
             # a core in this process during a 3,907-chunk sweep, taken from the workers

@@ -81,9 +81,16 @@ class PointResults:
             raise RuntimeError("some points were not computed")
 
 
-def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of) -> Job:
+def sweep_job(
+    spec: SweepSpec,
+    names: tuple[str, ...],
+    rows_of,
+    meanwhile: Callable[[], Any] | None = None,
+) -> Job:
     """The :class:`Job` of a sweep or Monte Carlo study: :func:`run_chunk` on rows of
-    values of `names` (``rows_of(idx)``), returning ``(t_cr, status, route)`` per chunk.
+    values of `names` (``rows_of(idx)``), returning ``(t_cr, status, route)`` per chunk;
+    while workers compute, this process imports the output writer
+    (:func:`prefetch_output`) and then calls `meanwhile` (the study's own serial work).
 
     A point's result never depends on its chunk (:mod:`obturator.solve.plan`), so the
     job is separable. Where the points are packed, the job can
@@ -96,12 +103,19 @@ def sweep_job(spec: SweepSpec, names: tuple[str, ...], rows_of) -> Job:
         run_chunk,
         lambda idx: (spec, names, rows_of(idx)),
         partial(warm, spec.options),
-        meanwhile=prefetch_output,
+        meanwhile=prefetch_output
+        if meanwhile is None
+        else partial(_both, prefetch_output, meanwhile),
         contiguous=lanes,
     )
     if lanes:
         job = replace(job, ahead=partial(_pack_while_loading, job, spec, names, rows_of))
     return job
+
+
+def _both(first: Callable[[], Any], second: Callable[[], Any]) -> None:
+    first()
+    second()
 
 
 def _pack_while_loading(
@@ -131,14 +145,16 @@ def _pack_while_loading(
 
 
 def prefetch_output() -> None:
-    """Import xarray and its NetCDF writer while pool workers compute (up to a second).
+    """Import xarray and its NetCDF writer while pool workers compute.
 
-    A first write to a file imports the engine, the encoders and the scheduler
-    probes behind xarray's write locks (with dask installed: dask.distributed).
-    Only where a core is left over for it: with as many workers as cores it took
-    that time from them (the chunks running beside it took up to twice as long).
-    Not done in a thread for in-process studies: that work holds the GIL and
-    made a short sweep slower (``docs/benchmarks.md``, history).
+    A first Dataset and a first write to a file import the engine, the encoders and
+    the chunk-manager and scheduler probes behind xarray's write locks (with dask
+    installed: dask.array and dask.distributed), serial work that would otherwise
+    follow the computation. Done while the workers run even with as many workers as
+    cores: the chunks beside it slow down by the share of a core it takes, less than
+    the same work after the last chunk costs (``python -m benchmarks.report
+    sweep_tail``). Not done in a thread for in-process studies: that work holds the
+    GIL and made a short sweep slower (``docs/benchmarks.md``, history).
     """
     import tempfile
 

@@ -165,29 +165,11 @@ def monte_carlo(
         **common_attrs(spec),
         "study_hash": digest,
         # what lies outside the Appendix B runs ("" if nothing; obturator.model.validity)
-        "outside_validated_data": _outside_data(spec, values) or "",
+        "outside_validated_data": out.outside_validated_data or "",
     }
     ds = xr.Dataset(data, coords=coords, attrs=attrs)
     write_outputs(ds, runner, csv)
     return ds
-
-
-#: Most samples whose cases the validity check builds (evenly spaced beyond).
-_VALIDITY_SAMPLES = 20_000
-
-
-def _outside_data(spec: SweepSpec, values: Mapping[str, np.ndarray]) -> str | None:
-    """:func:`obturator.model.validity.outside_validated_data_many` of the samples."""
-    from ..model.validity import outside_validated_data_many
-
-    names = list(values)
-    n = len(values[names[0]]) if names else 1
-    idx = np.unique(np.linspace(0, n - 1, min(n, _VALIDITY_SAMPLES)).astype(np.int64))
-    cases = [spec.build_case({k: float(values[k][i]) for k in names}) for i in idx]
-    note = outside_validated_data_many(cases)
-    if note and idx.size < n:
-        note += f" ({idx.size} evenly spaced samples checked)"
-    return note
 
 
 def _whole(field: str, value: Any, lo: int, hi: int | None) -> int:

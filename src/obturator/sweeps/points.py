@@ -11,7 +11,7 @@ that workers can import it.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 
 import numpy as np
@@ -34,17 +34,27 @@ from .spec import SweepSpec
 
 __all__ = [
     "POINT_STATUSES",
+    "VALIDITY_POINTS",
     "is_warm",
     "pack_rows",
     "point_status",
     "run_chunk",
+    "validity_note",
     "warm",
 ]
 
+#: Most points of a study whose cases :func:`validity_note` builds (evenly spaced beyond).
+VALIDITY_POINTS = 20_000
+
 
 def rows_to_cases(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> list[object]:
-    """The case of each row (values in `names` order); an invalid point keeps its
-    :class:`~obturator.errors.InputError`."""
+    """The case of each row of a chunk (values in `names` order); an invalid point keeps
+    its :class:`~obturator.errors.InputError`."""
+    return _cases(spec, names, rows)
+
+
+def _cases(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> list[object]:
+    # rows_to_cases is the chunks' one way in (the resume tests count the points there)
     cases: list[object] = []
     for row in rows:
         values: Mapping[str, float] = dict(zip(names, row.tolist(), strict=True))
@@ -53,6 +63,46 @@ def rows_to_cases(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> 
         except InputError as exc:
             cases.append(exc)
     return cases
+
+
+def validity_note(
+    spec: SweepSpec,
+    names: tuple[str, ...],
+    rows_of: Callable[[np.ndarray], np.ndarray],
+    n_points: int,
+    unit: str = "points",
+) -> str | None:
+    """What of a study's points lies outside the Appendix B runs, as one clause, or None.
+
+    :func:`obturator.model.validity.outside_validated_data_many` of the cases of the
+    rows ``rows_of(idx)``, at most :data:`VALIDITY_POINTS` of them, evenly spaced (the
+    clause then says how many were checked). Only the spin rig has runs to compare with.
+
+    Parameters
+    ----------
+    spec : SweepSpec
+    names : tuple of str
+        The varied inputs, in the rows' column order.
+    rows_of : callable
+        Flat point indices -> rows of values.
+    n_points : int
+        Points of the study.
+    unit : str
+        What a point is called in the clause (``"points"``, ``"samples"``).
+
+    Returns
+    -------
+    str or None
+    """
+    from ..model.validity import outside_validated_data_many
+
+    if spec.case != "spin-rig" or n_points < 1:
+        return None
+    idx = np.unique(np.linspace(0, n_points - 1, min(n_points, VALIDITY_POINTS)).astype(np.int64))
+    note = outside_validated_data_many(_cases(spec, names, rows_of(idx)))
+    if note and idx.size < n_points:
+        note += f" ({idx.size} evenly spaced {unit} checked)"
+    return note
 
 
 def pack_rows(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> PackedPoints:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -26,6 +27,7 @@ from ..solve import batchable
 from ..status import Status
 from .export import check_distinct_outputs, grid_dataset, write_outputs
 from .job import LANE_CHUNK, PointResults, sweep_job
+from .points import validity_note
 from .spec import SweepSpec
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -46,6 +48,9 @@ class Outcome:
     workers: int
     backend: str
     elapsed_s: float
+    #: What of the points lies outside the Appendix B runs
+    #: (:func:`~.points.validity_note`), or None.
+    outside_validated_data: str | None = None
 
 
 def run_points(
@@ -61,11 +66,14 @@ def run_points(
     extra_outputs: tuple[str, ...] = (),
 ) -> Outcome:
     """Compute t_cr and the status of `n_points` points with `runner`, resuming from and
-    writing to its resume store when it has one (:mod:`obturator.runs.store`)."""
+    writing to its resume store when it has one (:mod:`obturator.runs.store`), and
+    check them against the validated data (:func:`~.points.validity_note`; serial work,
+    done while pool or Dask workers compute)."""
     runner.open(digest, extra_outputs)
     results = PointResults(n_points)
     max_chunk = LANE_CHUNK if batchable(spec.options) else TASK_CHUNK
-    job = sweep_job(spec, names, rows_of)
+    note = _Once(partial(validity_note, spec, names, rows_of, n_points, unit))
+    job = sweep_job(spec, names, rows_of, meanwhile=note)
     info = runner.run(job, results, n_points, label=label, unit=unit, max_chunk=max_chunk)
     results.check_complete()
     return Outcome(
@@ -77,7 +85,23 @@ def run_points(
         info.workers,
         info.backend,
         info.elapsed_s,
+        note(),
     )
+
+
+class _Once:
+    """`fn()` computed at the first call, returned at every call."""
+
+    def __init__(self, fn: Callable[[], Any]) -> None:
+        self._fn = fn
+        self._done = False
+        self._value: Any = None
+
+    def __call__(self) -> Any:
+        if not self._done:
+            self._value = self._fn()
+            self._done = True
+        return self._value
 
 
 @field_docs
@@ -125,6 +149,8 @@ def execute_sweep(
         extra_outputs=() if csv is None else (str(csv),),
     )
     ds = grid_dataset(spec, out.t_cr, out.status, out.route)
+    # what lies outside the Appendix B runs ("" if nothing; obturator.model.validity)
+    ds.attrs["outside_validated_data"] = out.outside_validated_data or ""
     write_outputs(ds, runner, csv)
     return SweepRun(ds, out.n_computed, out.n_resumed, out.workers, out.backend, out.elapsed_s)
 
