@@ -7,6 +7,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from obturator.errors import InputError
@@ -172,3 +173,38 @@ def test_non_mapping_tasks_are_not_stored(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="^store:"):
         runner.map(len, [(1, 2), (3,)])
     runner.close()
+
+
+def test_a_pool_probes_one_point_of_a_sweep(monkeypatch, tmp_path: Path) -> None:
+    """A sweep's chunks are runs of consecutive points (``Job.contiguous``): before its pool
+    this process runs one probe point, not PROBE_TASKS, since the probe is serial work that
+    delays every worker, and a contiguous job's first points are the costliest end of the
+    grid (the lowest spins)."""
+    import os
+
+    from obturator.runs import runner as runs_runner
+    from obturator.sweeps import SweepSpec
+    from obturator.sweeps import job as sweep_job
+    from obturator.sweeps.sweep import execute_sweep
+
+    log = tmp_path / "chunks.txt"
+    monkeypatch.setenv("OBTURATOR_TEST_CHUNK_LOG", str(log))  # read by the forked workers
+    monkeypatch.setattr(sweep_job, "run_chunk", _logged_run_chunk)
+    monkeypatch.setattr(runs_runner, "POOL_MIN_SERIAL_S", 0.0)
+    spec = SweepSpec("spin-rig", {"spin_rate": list(np.linspace(300.0, 400.0, 40))}, t_max=2.0)
+    run = execute_sweep(spec, Runner(workers=2, chunk_size=10))
+    assert run.workers == 2 and run.n_computed == 40
+    here = [int(n) for pid, n in (line.split() for line in log.read_text().splitlines())
+            if int(pid) == os.getpid()]  # fmt: skip
+    assert sum(here) == 1, here
+
+
+def _logged_run_chunk(spec, names, rows, *packed):
+    """:func:`obturator.sweeps.points.run_chunk`, appending "pid points" to a log."""
+    import os
+
+    from obturator.sweeps.points import run_chunk
+
+    with open(os.environ["OBTURATOR_TEST_CHUNK_LOG"], "a") as fh:
+        fh.write(f"{os.getpid()} {len(rows)}\n")
+    return run_chunk(spec, names, rows, *packed)

@@ -224,7 +224,7 @@ class Runner:
                 # before a pool of a job whose chunks run consecutive tasks, one task: the
                 # probe is serial work (the workers start after it), and a longer probe of
                 # a rig sweep's lowest spins delayed the whole sweep (docs/benchmarks.md)
-                n_probe = 1 if pool and not job.separable else PROBE_TASKS
+                n_probe = 1 if pool and (job.contiguous or not job.separable) else PROBE_TASKS
                 if pool or (self.reporter.enabled and (keep or todo.size > 32 * PROBE_TASKS)):
                     cost = probe(job, chunks, sink, keep, n_probe)
                     serial = cost.serial_s(sum(c.size for c in chunks))
