@@ -23,11 +23,10 @@ class Status(IntEnum):
     """Outcome of one integration or one study point.
 
     Integrator values: ``OPENED`` (1), ``T_MAX`` (0), ``STEP_LIMIT`` (2),
-    ``FAILED`` (-1), and two hand-over signals between the explicit and the implicit
-    method that results never carry (:mod:`obturator.core.integrators.switching`):
-    ``STIFF`` (3, DOP853 only: stiff here, Radau IIA continues) and ``NONSTIFF`` (6,
-    Radau IIA under ``auto`` only: sliding has resumed for half a revolution, DOP853
-    continues).
+    ``FAILED`` (-1). The hand-over signals between the explicit and the implicit method
+    are not outcomes and live apart
+    (:class:`obturator.core.integrators.switching.HandOff`, values 3 and 6, which no
+    status takes).
     Study values:
     ``INVALID_INPUT`` (-2, the point is not a valid case and was not
     integrated), ``UNCONVERGED`` (4, opened but t_cr moved by more than the
@@ -41,10 +40,8 @@ class Status(IntEnum):
     T_MAX = 0
     OPENED = 1
     STEP_LIMIT = 2
-    STIFF = 3
     UNCONVERGED = 4
     SUBSONIC = 5
-    NONSTIFF = 6
 
     @property
     def message(self) -> str:
@@ -64,10 +61,8 @@ MESSAGES: dict[Status, str] = {
     Status.T_MAX: "Reached t_max before the bore opened.",
     Status.OPENED: "The bore opened: theta reached theta_cr.",
     Status.STEP_LIMIT: "Step limit reached before the bore opened or t_max.",
-    Status.STIFF: "DOP853 stopped: the problem is stiff here (auto continues with Radau IIA).",
     Status.UNCONVERGED: "The bore opened, but t_cr is not converged (convergence check).",
     Status.SUBSONIC: "The flight went subsonic before the bore opened (no normal-shock load).",
-    Status.NONSTIFF: "Radau IIA stopped: sliding resumed (auto continues with DOP853).",
 }
 
 #: Flag name of each status (CF ``flag_meanings`` in sweep and Monte Carlo files).
@@ -77,8 +72,6 @@ FLAGS: dict[Status, str] = {
     Status.T_MAX: "not_opened_by_t_max",
     Status.OPENED: "opened",
     Status.STEP_LIMIT: "step_limit",
-    Status.STIFF: "stiff",
     Status.UNCONVERGED: "opened_not_converged",
     Status.SUBSONIC: "subsonic_before_opening",
-    Status.NONSTIFF: "non_stiff",
 }

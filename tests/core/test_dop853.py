@@ -12,7 +12,7 @@ from conftest import THESIS_CASES, raw_solve
 
 from obturator import Case, SolverOptions, TorqueModel, rig_case, simulate
 from obturator.core.dynamics import nutation_angle_of_state, slip_and_spin
-from obturator.core.integrators import AUTO_HAND_BACKS, AUTO_RADAU_TOL_FACTOR
+from obturator.core.integrators import AUTO_HAND_BACKS, AUTO_RADAU_TOL_FACTOR, HandOff
 from obturator.core.integrators.switching import SLIDING_WIDTHS
 from obturator.core.layout import P_WIDTH
 from obturator.model.cases import table1_ball
@@ -104,14 +104,14 @@ def test_auto_switches_methods_in_flight(case):
     o, f = SolverOptions(), AUTO_RADAU_TOL_FACTOR
     auto, p = raw_solve(case, o, method="auto", record=True)  # as simulate() records
     stretch, _ = raw_solve(case, o, method="dop853", record=True)
-    assert stretch.status == Status.STIFF and 0.0 < stretch.t_end < case.t_max
+    assert stretch.status == HandOff.STIFF and 0.0 < stretch.t_end < case.t_max
     stretches = [stretch]
-    while stretch.status in (Status.STIFF, Status.NONSTIFF):
-        stiff = stretch.status == Status.STIFF
+    while stretch.status in (HandOff.STIFF, HandOff.NONSTIFF):
+        stiff = stretch.status == HandOff.STIFF
         if not stiff:
             slip, _ = slip_and_spin(stretch.y_end, p)
             assert slip >= SLIDING_WIDTHS * p[P_WIDTH]
-        hand_backs = sum(s.status == Status.NONSTIFF for s in stretches)
+        hand_backs = sum(s.status == HandOff.NONSTIFF for s in stretches)
         stretch, _ = raw_solve(
             case, o, method="radau" if stiff else "dop853", record=True, y0=stretch.y_end,
             t0=stretch.t_end, max_steps=o.max_steps - sum(s.n_steps for s in stretches),
@@ -128,7 +128,7 @@ def test_auto_switches_methods_in_flight(case):
     assert np.all(np.diff(auto.t) > 0.0)
     if case.spin_rate == 150:
         assert [s.status for s in stretches] == [
-            Status.STIFF, Status.NONSTIFF, Status.OPENED
+            HandOff.STIFF, HandOff.NONSTIFF, Status.OPENED
         ]  # fmt: skip
     tight = SolverOptions(method="radau", rtol=1e-11, atol=1e-13)
     ref = opening_time(case, tight)
@@ -149,7 +149,7 @@ def test_stiffness_detected_early():
 
     case = rig_case(150, MU)
     dop, _ = raw(case, SolverOptions())
-    assert dop.status == Status.STIFF
+    assert dop.status == HandOff.STIFF
     budget = STEPS_PER_PERIOD * 150 / (2 * math.pi) * dop.t_end + STEP_ALLOWANCE
     assert dop.n_steps + dop.n_rejected < 0.5 * budget
 

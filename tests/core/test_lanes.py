@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from obturator.core.dynamics import rhs
+from obturator.core.integrators import HandOff
 from obturator.core.layout import (
     KERNEL_GENERIC,
     KERNEL_THESIS_STRENGTHENING,
@@ -336,7 +337,7 @@ def test_point_status_mapping_matches_evaluate_point():
     assert math.isnan(t) and s == Status.T_MAX
     assert point_status(Status.STEP_LIMIT, math.nan)[1] == Status.STEP_LIMIT
     assert point_status(Status.FAILED, math.nan)[1] == Status.FAILED
-    assert point_status(Status.STIFF, math.nan)[1] == Status.FAILED
+    assert point_status(HandOff.STIFF, math.nan)[1] == Status.FAILED
 
 
 def test_lanes_sweep_resumes_after_interruption(monkeypatch, tmp_path):

@@ -24,6 +24,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from obturator.core.integrators import HandOff
 from obturator.core.integrators.lanes import LANES, integrate_radau_lanes
 from obturator.model.cases import flight_case, rig_case
 from obturator.solve import (
@@ -179,12 +180,12 @@ def test_hand_back_where_the_scalar_radau_hands_back(raw):
     cases = [rig_case(float(w), MU_S) for w in (120.0, 150.0, 180.0, 205.0)]
     opts = REGULARISED
     dop = [raw(c, opts, method="dop853")[0] for c in cases]
-    assert all(d.status == Status.STIFF for d in dop)
+    assert all(d.status == HandOff.STIFF for d in dop)
     start = [(d.t_end, d.y_end) for d in dop]
     st, _, t_end, y_end, *_ = _direct(cases, LANES, start=start, hand_back=True)
     for k, (c, d) in enumerate(zip(cases, dop, strict=True)):
         ref, _ = raw(c, opts, method="radau", y0=d.y_end, t0=d.t_end, hand_back=True)
-        assert st[k] == ref.status == Status.NONSTIFF
+        assert st[k] == ref.status == HandOff.NONSTIFF
         h_max = integration_setup(c, opts)[1].h_max
         assert abs(t_end[k] - ref.t_end) <= h_max
     st, *_ = _direct(cases, LANES, start=start, hand_back=False)

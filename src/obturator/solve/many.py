@@ -37,6 +37,7 @@ import numpy as np
 from ..core.integrators import (
     AUTO_HAND_BACKS,
     Controls,
+    HandOff,
     Problem,
     RawSolution,
     auto_radau_tolerances,
@@ -102,13 +103,15 @@ POINT_STATUSES: tuple[Status, ...] = (
 )
 
 
-def point_status(status: Status, t: float) -> tuple[float, int]:
+def point_status(status: int, t: float) -> tuple[float, int]:
     """(t_cr, status) of a case from an integration's status and t_event [s].
 
-    ``FAILED`` or ``STEP_LIMIT`` when the integration failed (t_cr NaN), ``T_MAX``
-    when it did not open, else ``OPENED``. Shared by the one-by-one path and the lanes.
+    ``FAILED`` or ``STEP_LIMIT`` when the integration failed (t_cr NaN; a hand-over
+    signal, :class:`~obturator.core.integrators.HandOff`, that reached a point's end is
+    a failure too), ``T_MAX`` when it did not open, else ``OPENED``. Shared by the
+    one-by-one path and the lanes.
     """
-    if not status.success:
+    if status not in (Status.OPENED, Status.T_MAX, Status.UNCONVERGED):
         return math.nan, Status.STEP_LIMIT if status == Status.STEP_LIMIT else Status.FAILED
     return (t, Status.OPENED) if math.isfinite(t) else (math.nan, Status.T_MAX)
 
@@ -434,8 +437,8 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
             np.argsort(-spin[sel], kind="stable"), options.rtol, options.atol,
             options.event_tol, n_lanes,
         )  # fmt: skip
-        _settle(sel, st, t_ev, st != Status.STIFF, end_status, t_event)
-        stiff = sel[st == Status.STIFF]
+        _settle(sel, st, t_ev, st != HandOff.STIFF, end_status, t_event)
+        stiff = sel[st == HandOff.STIFF]
         went_stiff[stiff] = True
         radau = stiff[np.all(np.isfinite(y[stiff]), axis=1) & (t[stiff] > 0.0)]
         if not options.radau_lanes:
@@ -444,7 +447,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
             problem = Problem(packed.y0[g], p[g], scale[g])
             controls = integration_controls(options, float(t_max[g]), float(h0[g]), float(h_max[g]))
             dop = RawSolution(
-                Status.STIFF, math.nan, np.full(N_STATE, math.nan), np.empty(0),
+                HandOff.STIFF, math.nan, np.full(N_STATE, math.nan), np.empty(0),
                 np.empty((0, N_STATE)), int(cnt[0, g]), 0, int(cnt[1, g]), int(cnt[2, g]),
                 float(t[g]), y[g].copy(),
             )  # fmt: skip
@@ -461,7 +464,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
                 np.argsort(spin[radau], kind="stable"), rtol, atol, options.event_tol,
                 n_lanes, LANES,
             )  # fmt: skip
-            back = st == Status.NONSTIFF
+            back = st == HandOff.NONSTIFF
             _settle(radau, st, t_ev, ~back, end_status, t_event)
             pending = radau[back]
             hand_backs[pending] += 1

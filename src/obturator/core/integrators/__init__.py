@@ -6,9 +6,9 @@
 what they share. Methods:
 
 * :mod:`.dop853`: explicit Dormand-Prince 8(5,3), no Jacobian; reports
-  ``STIFF`` in sticking phases;
+  ``HandOff.STIFF`` in sticking phases;
 * :mod:`.radau`: fifth-order Radau IIA collocation (simplified Newton); under
-  ``auto`` reports ``NONSTIFF`` once sliding has resumed;
+  ``auto`` reports ``HandOff.NONSTIFF`` once sliding has resumed;
 * :mod:`.stick_slip`: the set-valued (width-free) law, event-driven: exact stick and
   slip modes (:mod:`.stick_slip_modes`, the admissible set of
   :mod:`obturator.core.friction_sets`), slips by the phases of :mod:`.radau` and
@@ -32,7 +32,7 @@ import importlib
 import numpy as np
 
 from .contract import Controls, Problem, RawSolution, Status
-from .switching import SWITCH
+from .switching import SWITCH, HandOff
 
 __all__ = [
     "AUTO_HAND_BACKS",
@@ -41,6 +41,7 @@ __all__ = [
     "auto_radau_tolerances",
     "continue_auto",
     "Controls",
+    "HandOff",
     "Problem",
     "RawSolution",
     "Status",
@@ -110,9 +111,9 @@ def continue_auto(
     (:mod:`obturator.solve.many`) switch at the same points.
     """
     dop853 = method_module("dop853").integrate
-    while out.status == Status.STIFF:
+    while out.status == HandOff.STIFF:
         out = _hand_over(out, problem, controls, hand_backs < AUTO_HAND_BACKS)
-        if out.status != Status.NONSTIFF:
+        if out.status != HandOff.NONSTIFF:
             break
         hand_backs += 1
         out = _continue(out, dop853, problem, controls)

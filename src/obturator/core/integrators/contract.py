@@ -18,7 +18,8 @@ theta = theta_cr (``p[P_THETA_CR]``, a downward crossing) or ``t_max``:
   method may transform (rtol, atol) internally, and says how);
 * the status is a :class:`~obturator.status.Status`: ``OPENED``, ``T_MAX``,
   ``STEP_LIMIT`` (``max_steps`` accepted steps), ``FAILED`` (step size
-  underflow, non-finite state) or, DOP853 only, ``STIFF``.
+  underflow, non-finite state); DOP853 and Radau IIA may instead stop with a hand-over
+  signal (:class:`.switching.HandOff`, not an outcome).
 
 These are NamedTuples, so numba compiles them as plain tuples (and caches
 functions that take them); the Python side reads fields by name.
@@ -88,8 +89,9 @@ class Controls(NamedTuple):
 class RawSolution(NamedTuple):
     """What an integrator returns (SI units, raw state rows)."""
 
-    #: How the integration ended (:class:`obturator.status.Status`).
-    status: Status
+    #: How the integration ended: a :class:`obturator.status.Status`, or a hand-over signal
+    #: (:class:`.switching.HandOff`) where DOP853 or Radau IIA stopped for the other method.
+    status: int
     #: Opening time t_cr [s]; NaN if theta did not reach theta_cr.
     t_event: float
     #: State at the event, shape (8,) (NaN if none).

@@ -68,6 +68,7 @@ from .switching import (
     STEP_ALLOWANCE,
     STEPS_PER_PERIOD,
     STIFF_HLAMBDA,
+    STIFF_SIGNAL,
     STIFF_STEPS,
     over_step_budget,
     stiffness_count,
@@ -382,7 +383,7 @@ def integrate(problem, controls):
             status = Status.STEP_LIMIT
             break
         if over_step_budget(c[N_STEPS] + c[N_REJ], steps_per_time, t, t0):
-            status = Status.STIFF
+            status = STIFF_SIGNAL
             break
         code, err, t, t_event, g_old, i_eval, n_out = _step(
             st, t, y, p, scale, (t_max, rtol, atol, terminal, event_tol), g_old, t_event,
@@ -391,7 +392,7 @@ def integrate(problem, controls):
         if code == _RETRY:
             continue
         if code == _STIFF:
-            status = Status.STIFF
+            status = STIFF_SIGNAL
             break
         if code == _OPENED:
             status = Status.OPENED
@@ -402,7 +403,7 @@ def integrate(problem, controls):
         if record and not use_eval:  # a call per step costs reference counts
             ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         if not (y[0] == y[0]):
-            status = Status.STIFF
+            status = STIFF_SIGNAL
             break
         plan_next(st, err, h_max)
     return RawSolution(

@@ -80,7 +80,7 @@ from .radau_step import (
     locate_opening_at,
     new_work,
 )
-from .switching import sliding_resumed
+from .switching import NONSTIFF_SIGNAL, sliding_resumed
 
 __all__ = [
     "EventWork",
@@ -397,7 +397,7 @@ def integrate(problem, controls):
             slip, spin = slip_and_spin(y, p)
             back, t_stick = sliding_resumed(t, t_stick, slip, spin, p[P_WIDTH])
             if back:
-                status = Status.NONSTIFF
+                status = NONSTIFF_SIGNAL
                 break
         plan_next(st, h_max)
     c = st.cnt

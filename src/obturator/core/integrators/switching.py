@@ -5,22 +5,24 @@ M / (A |omega_r|) as the slip speed omega_r shrinks), so each driver runs the ex
 DOP853 where the ball slips fast and Radau IIA near stick, and all of them decide the
 switch with the thresholds of one record, :data:`SWITCH`, and the tests below:
 
-* DOP853 -> Radau IIA (the signal ``Status.STIFF``): Hairer's stiffness test
+* DOP853 -> Radau IIA (the signal :attr:`HandOff.STIFF`): Hairer's stiffness test
   (:func:`stiffness_count`, as ``dop853.f``) or the step budget
   (:func:`over_step_budget`); used by :mod:`.dop853` and the DOP853 lanes;
-* Radau IIA -> DOP853 under ``auto`` (the signal ``Status.NONSTIFF``): sliding resumed
+* Radau IIA -> DOP853 under ``auto`` (the signal :attr:`HandOff.NONSTIFF`): sliding resumed
   (:func:`sliding_resumed`); used by :mod:`.radau` and the Radau IIA lanes;
 * the set-valued solver's slips (:mod:`.stick_slip`): DOP853 stretches above
   :data:`FAST_SLIP` (M / A) h_max, each at most :data:`CHUNK` of the time the slip
   takes to halve, ended by the same stiffness test.
 
-Both signals are internal: ``auto`` and the set-valued solver act on them, and no
-result carries them.
+Both signals are internal (:class:`HandOff`, apart from the outcomes of
+:class:`~obturator.status.Status`): ``auto``, the lanes and the set-valued solver act on
+them, and no result carries them.
 """
 
 from __future__ import annotations
 
 import math
+from enum import IntEnum
 from typing import NamedTuple
 
 from numba import njit
@@ -31,6 +33,9 @@ __all__ = [
     "AUTO_HAND_BACKS",
     "CHUNK",
     "FAST_SLIP",
+    "HandOff",
+    "NONSTIFF_SIGNAL",
+    "STIFF_SIGNAL",
     "SLIDING_REVOLUTIONS",
     "SLIDING_WIDTHS",
     "STEPS_PER_PERIOD",
@@ -43,6 +48,26 @@ __all__ = [
     "sliding_resumed",
     "stiffness_count",
 ]
+
+
+class HandOff(IntEnum):
+    """Why an integrator stopped to hand the run to the other method: not an outcome.
+
+    An integrator's ``status`` field carries either an outcome
+    (:class:`~obturator.status.Status`) or one of these; the values are disjoint from the
+    outcomes', so one integer tells which.
+    """
+
+    #: DOP853 only: stiff here (Hairer's test or the step budget); Radau IIA continues.
+    STIFF = 3
+    #: Radau IIA under ``auto`` only: sliding has resumed; DOP853 continues.
+    NONSTIFF = 6
+
+
+#: The signals as plain integers, for the compiled code's status variables (an outcome
+#: member and an integer unify to an integer; two enumerations do not unify).
+STIFF_SIGNAL = int(HandOff.STIFF)
+NONSTIFF_SIGNAL = int(HandOff.NONSTIFF)
 
 
 @field_docs

@@ -43,7 +43,7 @@ from ...layout import KERNEL_GENERIC, N_STATE, P_KERNEL, P_THETA_CR
 from ..common import crossed, underflow
 from ..contract import Status
 from ..dop853 import TOL_FACTOR, locate_event, step_factor, stiffness_product
-from ..switching import STEPS_PER_PERIOD, over_step_budget, stiffness_count
+from ..switching import STEPS_PER_PERIOD, STIFF_SIGNAL, over_step_budget, stiffness_count
 from .dop853_sums import error_sums, stage_sum
 from .points import Outcome, Points, copy_lane, finish, new_outcome, pack_lanes
 from .rates import cos_nutation_lanes, rhs_generic_lanes, rhs_thesis_lanes
@@ -303,7 +303,7 @@ def _settle(ln: Lanes, at: Attempt, out: Outcome, j, quaternion, event_tol) -> b
         ln.rejected[j] = True
         ln.h[j] *= max(0.2, at.fac[j])
         if underflow(ln.h[j], ln.t[j]):
-            ln.live[j] = _end(ln, out, j, Status.STIFF)
+            ln.live[j] = _end(ln, out, j, STIFF_SIGNAL)
             return False
         return True
     ln.cnt[0, j] += 1
@@ -314,7 +314,7 @@ def _settle(ln: Lanes, at: Attempt, out: Outcome, j, quaternion, event_tol) -> b
     ln.cnt[3, j] = n_stiff
     ln.cnt[4, j] = n_calm
     if stiff:
-        ln.live[j] = _end(ln, out, j, Status.STIFF)
+        ln.live[j] = _end(ln, out, j, STIFF_SIGNAL)
         return False
     g_new = _g_new(ln, at, j, quaternion)
     if crossed(ln.g_old[j], g_new, math.nan):  # g_new <= 0: at.yn, at.ps filled
@@ -327,7 +327,7 @@ def _settle(ln: Lanes, at: Attempt, out: Outcome, j, quaternion, event_tol) -> b
         ln.k[i * LANES + j] = at.f1[i * LANES + j]
     ln.cnt[1, j] += 1
     if not (ln.y[j] == ln.y[j]):
-        ln.live[j] = _end(ln, out, j, Status.STIFF)
+        ln.live[j] = _end(ln, out, j, STIFF_SIGNAL)
         return False
     fac = min(10.0, max(0.2, at.fac[j]))
     if ln.rejected[j]:
@@ -449,7 +449,7 @@ def _control_lanes(err, fac, hl, h, f1, k, ynew, work, num, den) -> None:
 #: Going on: what :func:`_top_of_step` returns when the lane's point goes on; the
 #: codes that end it, as plain ints (numba has no ``int(IntEnum)``).
 _GO_ON = -100
-_T_MAX, _STEP_LIMIT, _STIFF = int(Status.T_MAX), int(Status.STEP_LIMIT), int(Status.STIFF)
+_T_MAX, _STEP_LIMIT, _STIFF = int(Status.T_MAX), int(Status.STEP_LIMIT), STIFF_SIGNAL
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", **NO_REFCOUNT)

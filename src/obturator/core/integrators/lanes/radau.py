@@ -73,7 +73,7 @@ from ..radau_control import (
     radau5_tolerances,
     step_quotient,
 )
-from ..switching import sliding_resumed
+from ..switching import NONSTIFF_SIGNAL, sliding_resumed
 from .lu import lu_factor_complex_lanes, lu_factor_lanes
 from .points import Outcome, Points, copy_lane, finish, lane_vector, new_outcome, pack_lanes
 from .radau_state import (
@@ -507,7 +507,7 @@ def _decide(ln: Lanes, at: Attempt, one: OneLane, out: Outcome, j, tol: Settings
         return False
     if ln.hand_back[j] and _sliding_resumed(ln, one, j):
         ln.cnt[0, j] += 1  # the scalar code has evaluated f at the new state
-        ln.live[j] = _end(ln, out, j, Status.NONSTIFF)
+        ln.live[j] = _end(ln, out, j, NONSTIFF_SIGNAL)
         return False
     ln.h[j], ln.h_lim[j], slow = next_step(
         h, h_new, ln.h_lim[j], ln.h_max[j], ln.rejected[j], at.theta[j]
