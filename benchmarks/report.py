@@ -283,6 +283,14 @@ def _rhs_floor(quick: bool) -> list[dict[str, Any]]:
     return rows
 
 
+def _sweeps(quick: bool) -> list[dict[str, Any]]:
+    from benchmarks import sweeps
+
+    grids = ((40.0, 1000.0, 2000), (100.0, 700.0, 4000)) if quick else sweeps.SWEEPS
+    rec = sweeps.measure([sweeps.ROOT], grids, workers=2, rounds=1 if quick else 3)
+    return rec["rows"]
+
+
 def _envelope_following(quick: bool) -> list[dict[str, Any]]:
     from benchmarks import envelope_following as ef
 
@@ -431,6 +439,21 @@ SECTIONS: dict[str, Section] = {
             Column("ns_per_rhs", "ns per RHS", "num"),
             Column("over_floor", "over the floor", "ratio"),
             Column("routes", "routes"),
+        ),
+    ),
+    "sweeps": Section(
+        "Whole sweeps",
+        "python -m benchmarks.sweeps (--against TREE: back to back against another tree)",
+        "`obturator sweep --case spin-rig --mu-s 0.5473 --workers 2` as a user runs it, in a "
+        "fresh process: median wall time of the rounds with process start, the part the "
+        "workers computed (the summary line's time) and the rest outside it (imports, the "
+        "probe, the outputs, what the parent does after the workers).",
+        _sweeps,
+        (
+            Column("sweep", "sweep"),
+            Column("wall_s", "wall [s]", "num"),
+            Column("compute_s", "compute [s]", "num"),
+            Column("outside_s", "outside compute [s]", "num"),
         ),
     ),
     "envelope_following": Section(

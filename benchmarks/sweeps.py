@@ -74,14 +74,17 @@ def measure(
     sweeps: tuple[tuple[float, float, int], ...] = SWEEPS,
     workers: int = 2,
     rounds: int = 2,
+    warm_points: int = 200,
 ) -> dict[str, Any]:
     """Each sweep of each tree `rounds` times, interleaved; per (sweep, tree) the walls
-    of the rounds and their medians. The first tree is the reference of the ratios."""
+    of the rounds and their medians. The first tree is the reference of the ratios.
+    First each tree runs each range with `warm_points` points (its numba cache then
+    holds the paths the sweeps take)."""
     from benchmarks.run import _meta
 
-    for tree in trees:  # warm each tree's numba cache on the paths the sweeps take
+    for tree in trees:
         for lo, hi, _ in sweeps:
-            run_sweep(tree, (lo, hi, 200), workers)
+            run_sweep(tree, (lo, hi, warm_points), workers)
     runs: dict[tuple[int, int], list[dict[str, Any]]] = {}
     for _ in range(rounds):
         for s, sweep in enumerate(sweeps):

@@ -185,3 +185,15 @@ def lanes_always(monkeypatch):
 
     monkeypatch.setattr(many, "THESIS_LANES_MIN", 1)
     monkeypatch.setattr(many, "GENERIC_LANES_MIN", 1)
+
+
+@pytest.fixture
+def dask_cluster():
+    """A local Dask cluster of two one-thread worker processes (skips without
+    ``distributed``). Here, not in a sub-folder's conftest: a second module named
+    ``conftest`` would shadow this one for the tests that import helpers from it."""
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(
+        n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None
+    ) as cluster:
+        yield cluster

@@ -66,3 +66,20 @@ def test_reduced_coordinates_ignore_a_turn_about_the_hole_axis():
     w = y[4:7]
     body = np.array([c * w[0] + s * w[1], -s * w[0] + c * w[1], w[2]])
     np.testing.assert_allclose(ef.reduced(np.r_[turned, body, y[7]]), ef.reduced(y), atol=1e-10)
+
+
+def test_whole_sweep_benchmark_times_a_real_sweep_and_reads_its_compute_time():
+    """One small sweep of this tree in a fresh process: the wall time from outside covers
+    the summary line's compute time (the workers' part), and the ratios' reference is the
+    first tree (1 against itself)."""
+    from benchmarks import sweeps
+
+    rec = sweeps.measure([sweeps.ROOT], ((300.0, 400.0, 40),), workers=1, rounds=1, warm_points=4)
+    (row,) = rec["rows"]
+    assert row["sweep"] == "40 points, 300-400 rad/s" and row["speed_up"] == 1.0
+    assert 0.0 < row["compute_s"] < row["wall_s"]
+    assert row["outside_s"] == pytest.approx(row["wall_s"] - row["compute_s"])
+    assert sweeps._parse_sweeps("40:1000:10000,100:700:20") == (
+        (40.0, 1000.0, 10000),
+        (100.0, 700.0, 20),
+    )
