@@ -152,9 +152,10 @@ def prefetch_output() -> None:
     installed: dask.array and dask.distributed), serial work that would otherwise
     follow the computation. Done while the workers run even with as many workers as
     cores: the chunks beside it slow down by the share of a core it takes, less than
-    the same work after the last chunk costs (``python -m benchmarks.report
-    sweep_tail``). Not done in a thread for in-process studies: that work holds the
-    GIL and made a short sweep slower (``docs/benchmarks.md``, history).
+    the same work after the last chunk costs (``python -m benchmarks.sweeps``;
+    ``docs/benchmarks.md``, history, "a sweep's serial tail"). Not done in a thread for
+    in-process studies: that work holds the GIL and made a short sweep slower (same
+    document, history).
     """
     import tempfile
 
