@@ -443,11 +443,12 @@ SECTIONS: dict[str, Section] = {
     ),
     "sweeps": Section(
         "Whole sweeps",
-        "python -m benchmarks.sweeps (--against TREE: back to back against another tree)",
+        "python -m benchmarks.sweeps",
         "`obturator sweep --case spin-rig --mu-s 0.5473 --workers 2` as a user runs it, in a "
         "fresh process: median wall time of the rounds with process start, the part the "
         "workers computed (the summary line's time) and the rest outside it (imports, the "
-        "probe, the outputs, what the parent does after the workers).",
+        "probe, the outputs, what the parent does after the workers). `--against TREE` "
+        "runs other source trees back to back in the same rounds.",
         _sweeps,
         (
             Column("sweep", "sweep"),
