@@ -182,6 +182,16 @@ def warn_far_from_data(spec: Any, lowest_spin: float | None = None) -> None:
         )
 
 
+def warn_outside_data(ds: Any) -> None:
+    """The study dataset's note on points outside the Appendix B runs (its attribute
+    ``outside_validated_data``, :func:`obturator.sweeps.points.validity_note`) as one
+    warning line on stderr, where there is one."""
+    import sys
+
+    if ds.attrs.get("outside_validated_data"):
+        print(f"obturator: warning: {ds.attrs['outside_validated_data']}", file=sys.stderr)
+
+
 def study_options(args: argparse.Namespace) -> SolverOptions:
     """The solver options of the study flags (after :func:`study_config`).
 

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 import time
 
 import numpy as np
@@ -37,6 +36,7 @@ from ._args import (
     study_options,
     study_t_max,
     warn_far_from_data,
+    warn_outside_data,
 )
 from ._flags import (
     CONFIDENCE,
@@ -161,8 +161,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
         check_convergence=args.convergence_check,
     )
     wall = time.perf_counter() - t0
-    if ds.attrs.get("outside_validated_data"):
-        print(f"obturator: warning: {ds.attrs['outside_validated_data']}", file=sys.stderr)
+    warn_outside_data(ds)
     summ = monte_carlo_summary(ds)
     if args.json:
         d = summ.to_dict()

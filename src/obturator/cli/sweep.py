@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -38,7 +37,13 @@ from ..io import check_output_path
 from ..params import SWEEP_PARAMS
 from ..sweeps import SweepSpec, execute_sweep, parse_axis, sweep_summary
 from . import _json
-from ._args import study_config, study_options, study_t_max, warn_far_from_data
+from ._args import (
+    study_config,
+    study_options,
+    study_t_max,
+    warn_far_from_data,
+    warn_outside_data,
+)
 from ._flags import (
     CSV,
     OUT_NETCDF,
@@ -143,8 +148,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         + f", {summ['n_not_opened']} not opened by t_max, "
         f"{summ['n_failed'] + summ['n_invalid']} failed; {trange}; wrote {files}"
     )
-    if run.dataset.attrs.get("outside_validated_data"):
-        print(f"obturator: warning: {run.dataset.attrs['outside_validated_data']}", file=sys.stderr)
+    warn_outside_data(run.dataset)
     return 0
 
 
