@@ -345,29 +345,30 @@ def test_lanes_sweep_resumes_after_interruption(monkeypatch, tmp_path):
     without recomputing finished chunks and gives the uninterrupted result."""
     import xarray as xr
 
-    from obturator.sweeps import execute_sweep, points
+    from obturator.sweeps import execute_sweep
+    from obturator.sweeps import job as sweep_job
 
     spec = SweepSpec(
         case="spin-rig", axes={"spin_rate": np.linspace(250.0, 650.0, 8)}, fixed={"mu_s": MU_S}
     )
     store = tmp_path / "s.nc"
-    original = points.rows_to_cases
+    original = sweep_job.run_chunk  # every chunk runs here
     chunks: list[int] = []
 
-    def exploding(sp, names, rows):
+    def exploding(sp, names, rows, *packed):
         if len(chunks) == 2:
             raise KeyboardInterrupt
         chunks.append(len(rows))
-        return original(sp, names, rows)
+        return original(sp, names, rows, *packed)
 
-    monkeypatch.setattr(points, "rows_to_cases", exploding)
+    monkeypatch.setattr(sweep_job, "run_chunk", exploding)
     with pytest.raises(KeyboardInterrupt):
         execute_sweep(spec, runner=Runner(workers=1, chunk_size=2, store=store))
     chunks.clear()
-    monkeypatch.setattr(points, "rows_to_cases", lambda *a: (chunks.append(1), original(*a))[1])
+    monkeypatch.setattr(sweep_job, "run_chunk", lambda *a: (chunks.append(1), original(*a))[1])
     run = execute_sweep(spec, runner=Runner(workers=1, chunk_size=2, store=store))
     assert run.n_resumed == 4 and run.n_computed == 4 and len(chunks) == 2
-    monkeypatch.setattr(points, "rows_to_cases", original)
+    monkeypatch.setattr(sweep_job, "run_chunk", original)
     xr.testing.assert_identical(run.dataset, run_sweep(spec, runner=Runner(workers=1)))
 
 

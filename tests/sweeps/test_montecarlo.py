@@ -12,7 +12,7 @@ import xarray as xr
 from scipy import stats
 
 import obturator.sweeps as ss
-import obturator.sweeps.points as points
+import obturator.sweeps.job as sweep_job
 from obturator.cli import main
 from obturator.errors import InputError
 from obturator.model.cases import rig_case
@@ -137,26 +137,29 @@ def test_independent_of_workers_and_chunking() -> None:
 
 def test_monte_carlo_store_resumes(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     store = tmp_path / "mc.nc"
-    original = points.rows_to_cases  # every chunk's rows become cases here
+    original = sweep_job.run_chunk  # every chunk runs here
     calls: list[int] = []
 
-    def exploding(spec: ss.SweepSpec, names, rows) -> list:
+    def exploding(spec: ss.SweepSpec, names, rows, *packed):
         if len(calls) == 4:
             raise KeyboardInterrupt
         calls.extend([1] * len(rows))
-        return original(spec, names, rows)
+        return original(spec, names, rows, *packed)
 
-    monkeypatch.setattr(points, "rows_to_cases", exploding)
+    monkeypatch.setattr(sweep_job, "run_chunk", exploding)
     with pytest.raises(KeyboardInterrupt):
         run_mc(store=store, chunk_size=2)
     assert sidecar_path(store).exists()
     calls.clear()
-    monkeypatch.setattr(
-        points, "rows_to_cases", lambda s, n, r: (calls.extend([1] * len(r)), original(s, n, r))[1]
-    )
+
+    def counting(spec: ss.SweepSpec, names, rows, *packed):
+        calls.extend([1] * len(rows))
+        return original(spec, names, rows, *packed)
+
+    monkeypatch.setattr(sweep_job, "run_chunk", counting)
     ds = run_mc(store=store, chunk_size=2)
     assert len(calls) == 6 and not sidecar_path(store).exists()
-    monkeypatch.setattr(points, "rows_to_cases", original)
+    monkeypatch.setattr(sweep_job, "run_chunk", original)
     xr.testing.assert_identical(ds, run_mc())
     with xr.open_dataset(store) as on_disk:
         np.testing.assert_array_equal(on_disk["t_cr"].values, ds["t_cr"].values)

@@ -19,7 +19,7 @@ import obturator.runs.pools as pools
 import obturator.runs.runner as runs_runner
 import obturator.runs.store as run_store
 import obturator.sweeps.export as export
-import obturator.sweeps.points as points
+import obturator.sweeps.job as job_module
 from obturator.cli import main
 from obturator.errors import InputError
 from obturator.model.cases import TABLE1, flight_case, rig_case, table1_ball
@@ -253,16 +253,16 @@ class Boom(Exception):
 def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     spec = small_spec(axes={"spin_rate": [300.0, 350.0, 400.0, 450.0, 500.0], "mu_s": [0.5, 0.6]})
     store = tmp_path / "s.nc"
-    original = points.rows_to_cases  # every chunk's rows become cases here
+    original = job_module.run_chunk  # every chunk runs here
     calls: list[tuple[float, float]] = []
 
-    def exploding(sp: SweepSpec, names, rows) -> list:
+    def exploding(sp: SweepSpec, names, rows, *packed):
         if len(calls) == 4:
             raise Boom
         calls.extend((r[0], r[1]) for r in rows.tolist())
-        return original(sp, names, rows)
+        return original(sp, names, rows, *packed)
 
-    monkeypatch.setattr(points, "rows_to_cases", exploding)
+    monkeypatch.setattr(job_module, "run_chunk", exploding)
     with pytest.raises(Boom):
         run_sweep(spec, runner=Runner(workers=1, chunk_size=2, store=store))
     side = sidecar_path(store)
@@ -275,16 +275,16 @@ def test_resume_skips_finished_points(monkeypatch: pytest.MonkeyPatch, tmp_path:
 
     recomputed: list[tuple[float, float]] = []
 
-    def counting(sp: SweepSpec, names, rows) -> list:
+    def counting(sp: SweepSpec, names, rows, *packed):
         recomputed.extend((r[0], r[1]) for r in rows.tolist())
-        return original(sp, names, rows)
+        return original(sp, names, rows, *packed)
 
-    monkeypatch.setattr(points, "rows_to_cases", counting)
+    monkeypatch.setattr(job_module, "run_chunk", counting)
     run = execute_sweep(spec, runner=Runner(workers=1, chunk_size=2, store=store))
     assert run.n_resumed == 4 and run.n_computed == 6
     assert len(recomputed) == 6 and not done & set(recomputed)
     assert store.exists() and not side.exists()
-    monkeypatch.setattr(points, "rows_to_cases", original)
+    monkeypatch.setattr(job_module, "run_chunk", original)
     full = run_sweep(spec, runner=Runner(workers=1))
     xr.testing.assert_identical(full, run.dataset)
     with xr.open_dataset(store) as on_disk:

@@ -48,13 +48,8 @@ VALIDITY_POINTS = 20_000
 
 
 def rows_to_cases(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> list[object]:
-    """The case of each row of a chunk (values in `names` order); an invalid point keeps
-    its :class:`~obturator.errors.InputError`."""
-    return _cases(spec, names, rows)
-
-
-def _cases(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> list[object]:
-    # rows_to_cases is the chunks' one way in (the resume tests count the points there)
+    """The case of each row (values in `names` order); an invalid point keeps its
+    :class:`~obturator.errors.InputError`."""
     cases: list[object] = []
     for row in rows:
         values: Mapping[str, float] = dict(zip(names, row.tolist(), strict=True))
@@ -99,7 +94,7 @@ def validity_note(
     if spec.case != "spin-rig" or n_points < 1:
         return None
     idx = np.unique(np.linspace(0, n_points - 1, min(n_points, VALIDITY_POINTS)).astype(np.int64))
-    note = outside_validated_data_many(_cases(spec, names, rows_of(idx)))
+    note = outside_validated_data_many(rows_to_cases(spec, names, rows_of(idx)))
     if note and idx.size < n_points:
         note += f" ({idx.size} evenly spaced {unit} checked)"
     return note

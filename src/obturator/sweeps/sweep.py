@@ -14,7 +14,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
+from functools import cache, partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -72,7 +72,7 @@ def run_points(
     runner.open(digest, extra_outputs)
     results = PointResults(n_points)
     max_chunk = LANE_CHUNK if batchable(spec.options) else TASK_CHUNK
-    note = _Once(partial(validity_note, spec, names, rows_of, n_points, unit))
+    note = cache(partial(validity_note, spec, names, rows_of, n_points, unit))  # once
     job = sweep_job(spec, names, rows_of, meanwhile=note)
     info = runner.run(job, results, n_points, label=label, unit=unit, max_chunk=max_chunk)
     results.check_complete()
@@ -87,21 +87,6 @@ def run_points(
         info.elapsed_s,
         note(),
     )
-
-
-class _Once:
-    """`fn()` computed at the first call, returned at every call."""
-
-    def __init__(self, fn: Callable[[], Any]) -> None:
-        self._fn = fn
-        self._done = False
-        self._value: Any = None
-
-    def __call__(self) -> Any:
-        if not self._done:
-            self._value = self._fn()
-            self._done = True
-        return self._value
 
 
 @field_docs
