@@ -30,6 +30,7 @@ import multiprocessing
 import os
 import sys
 import threading
+import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
@@ -203,9 +204,15 @@ def _why_lost(pool: ProcessPoolExecutor) -> str:
     for proc in workers:  # the dead one is reaped at once; the others as the pool ends them
         with suppress(Exception):
             proc.join(timeout=1.0)
-    codes = [p.exitcode for p in workers]
-    # the pool ends the other workers itself, with SIGTERM
-    ended = [c for c in codes if c not in (None, 0, -signal.SIGTERM)]
+    # The pool's manager thread reaps the same processes: where it won the race for
+    # waitpid, `exitcode` reads None here until that thread has stored the code.
+    deadline = time.monotonic() + 5.0
+    while True:
+        # the pool ends the other workers itself, with SIGTERM
+        ended = [c for c in (p.exitcode for p in workers) if c not in (None, 0, -signal.SIGTERM)]
+        if ended or time.monotonic() > deadline:
+            break
+        time.sleep(0.02)
     if not ended:
         return "a worker process ended abruptly"
     code = ended[0]
