@@ -42,7 +42,7 @@ def _dop853(pk, options, t0=None, y0=None):
     return integrate_lanes(
         pk.y0 if y0 is None else y0, np.zeros(n) if t0 is None else t0, pk.p, pk.scale,
         pk.t_max, pk.h0, pk.h_max, np.full(n, options.max_steps, dtype=np.int64), order,
-        options.rtol, options.atol, options.event_tol, LANES,
+        options.rtol, options.atol, options.event_tol, LANES, np.zeros(n),
     )  # fmt: skip
 
 

@@ -77,7 +77,7 @@ def _load(method: str) -> None:
         integrate_lanes(
             pr.y0[None], 0.0 * one, pr.p[None], pr.scale[None], c.t_max * one, c.h0 * one,
             c.h_max * one, np.full(1, c.max_steps), np.zeros(1, dtype=np.int64), c.rtol,
-            c.atol, c.event_tol, 16,
+            c.atol, c.event_tol, 16, np.zeros(1),
         )  # fmt: skip
         return
     # a short run that stays non-stiff: "regularised" compiles DOP853 alone; each process

@@ -39,11 +39,13 @@ def _pool() -> list:
 
 POOL = _pool()
 #: The options each property runs under: the defaults, and every speed strategy switched
-#: (the one-spin map and the shared band maps; lanes off; the scalar Radau IIA).
+#: (the one-spin map and the shared band maps; lanes off; the scalar Radau IIA; the
+#: set-valued last slips in the mode loop).
 OPTIONS = {
     "default": SolverOptions(),
     "shared maps": SolverOptions(shared_maps=True),
     "no lanes, scalar Radau": SolverOptions(lanes=False, radau_lanes=False),
+    "no slip lanes": SolverOptions(slip_lanes=False),
 }
 
 
@@ -105,23 +107,22 @@ def test_route_is_planned_from_the_point_and_the_options_alone():
     packed = pack_points(cases, SolverOptions())
     routes = plan_routes(packed.valid, packed.p, packed.y0, SolverOptions())
     assert [ROUTES[r] for r in routes] == [
-        "set-valued",
+        "set-valued, last slip in lanes",
         "regularised, Radau IIA lanes",
-        "set-valued",
+        "set-valued, last slip in lanes",
     ]
     shuffled = pack_points(cases[::-1], SolverOptions(shared_maps=True))
     routes = plan_routes(shuffled.valid, shuffled.p, shuffled.y0, SolverOptions(shared_maps=True))
-    assert [ROUTES[r] for r in routes] == [
-        "set-valued, shared map",
-        "regularised, Radau IIA lanes",
-        "set-valued, shared map",
-    ]
-    assert route_counts(routes) == {"set-valued, shared map": 2, "regularised, Radau IIA lanes": 1}
+    shared = "set-valued, shared map, last slip in lanes"
+    assert [ROUTES[r] for r in routes] == [shared, "regularised, Radau IIA lanes", shared]
+    assert route_counts(routes) == {shared: 2, "regularised, Radau IIA lanes": 1}
 
 
 def test_stats_count_the_routes():
     cases = [rig_case(60.0, 0.5473), rig_case(700.0, 0.5473)]
-    _, _, stats = opening_times(cases, replace(SolverOptions(), radau_lanes=False))
+    _, _, stats = opening_times(
+        cases, replace(SolverOptions(), radau_lanes=False, slip_lanes=False)
+    )
     assert stats["routes"] == {"set-valued": 1, "regularised": 1}
     assert list(stats["route"]) == [ROUTE_CODES["set-valued"], ROUTE_CODES["regularised"]]
 
@@ -144,7 +145,7 @@ def test_every_solver_option_is_in_the_study_digest():
         "rtol": 1e-9, "atol": 1e-11, "friction_width": 1e-6, "friction_family": "tanh",
         "formulation": "euler", "max_steps": 1000, "event_tol": 1e-10, "max_step": 1e-3,
         "method": "regularised", "fixed_step": None, "lanes": False, "radau_lanes": False,
-        "shared_maps": False,
+        "shared_maps": False, "slip_lanes": False,
     }  # fmt: skip
     assert set(flipped) == {f.name for f in fields(SolverOptions)}
     for name, value in flipped.items():

@@ -31,7 +31,7 @@ RETIRED: dict[str, str] = {
     "OBTURATOR_LANES": "SolverOptions(lanes=False) in Python",
     "OBTURATOR_RADAU_LANES": "SolverOptions(radau_lanes=False) in Python",
     "OBTURATOR_SHARED_MAPS": "SolverOptions(shared_maps=...) in Python",
-    "OBTURATOR_SLIP_LANES": "nothing: the last slips no longer run in lanes",
+    "OBTURATOR_SLIP_LANES": "SolverOptions(slip_lanes=False) in Python",
 }
 _ON_OFF = ("", "0", "1")
 #: numba variables that take one of a few words.

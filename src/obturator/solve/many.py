@@ -51,7 +51,7 @@ from ..status import MESSAGES, Status
 from .one import opening_time, simulate
 from .one_by_one import failed_status, run_one_by_one
 from .options import SolverOptions
-from .plan import ROUTE_CODES, plan_routes, route_counts, route_of
+from .plan import ROUTE_CODES, SET_VALUED_CODES, plan_routes, route_counts, route_of
 from .setup import integration_controls, integration_setup
 
 __all__ = [
@@ -371,18 +371,16 @@ def integrate_packed(
     n = packed.valid.size
     t_cr = np.full(n, math.nan)
     status = np.full(n, Status.INVALID_INPUT, dtype=np.int8)
-    routes = plan_routes(packed.valid, packed.p, packed.y0, options)
+    to_t_max = end_states is not None
+    routes = plan_routes(packed.valid, packed.p, packed.y0, options, t_cr_only=not to_t_max)
     stats = _stats(n, routes=routes)
     valid = np.flatnonzero(packed.valid)
-    set_valued = np.isin(
-        routes[valid], [ROUTE_CODES["set-valued"], ROUTE_CODES["set-valued, shared map"]]
-    )
+    set_valued = np.isin(routes[valid], SET_VALUED_CODES)
     exact, valid = valid[set_valued], valid[~set_valued]
-    to_t_max = end_states is not None
-    outs, nfev = run_one_by_one(packed, exact, options, to_t_max)
+    outs, nfev = run_one_by_one(packed, exact, options, to_t_max, n_lanes)
     stats["nfev_shared"] += nfev
     for k, out in zip(exact, outs, strict=True):
-        t_cr[k], status[k] = point_status(Status(out.status), float(out.t_event))
+        t_cr[k], status[k] = point_status(int(out.status), float(out.t_event))
         stats["nfev"] += int(out.nfev)
         stats["n_set_valued"] += 1
         if end_states is not None:
@@ -435,7 +433,7 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
         st, t_ev = _advance(
             dop853, sel, y, t, cnt, p, scale, t_max, h0, h_max, max_steps,
             np.argsort(-spin[sel], kind="stable"), options.rtol, options.atol,
-            options.event_tol, n_lanes,
+            options.event_tol, n_lanes, np.zeros(sel.size),
         )  # fmt: skip
         _settle(sel, st, t_ev, st != HandOff.STIFF, end_status, t_event)
         stiff = sel[st == HandOff.STIFF]
@@ -477,11 +475,12 @@ def _run_group(idx, packed, options, n_lanes, t_cr, status, stats) -> tuple[np.n
 
 
 def _dop853_one_by_one(
-    y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes
+    y0, t0, p, scale, t_max, h0, h_max, max_steps, order, rtol, atol, event_tol, n_lanes,
+    slip_floor,
 ):  # fmt: skip
     """:func:`integrate_lanes`'s contract, point by point through the scalar DOP853 (the
     same arithmetic: the lanes run it per lane); `order` and `n_lanes` are the lanes'
-    and unused."""
+    and unused, `slip_floor` is zero (the regularised law's points)."""
     run = method_module("dop853").integrate
     n = y0.shape[0]
     st = np.zeros(n, dtype=np.int8)

@@ -140,6 +140,14 @@ class SolverOptions:
         case's own one-spin map (``False``) within the maps' tolerance. It pays where many
         cases share a band (spin sweeps: ``obturator sweep`` turns it on); one case alone
         pays for its band's whole grid.
+    slip_lanes : bool
+        Speed strategy of the set-valued solver in :func:`~obturator.solve.opening_times`
+        (default True): a point's last slip (the ball no longer sticks) continues in the
+        DOP853 SIMD lanes with the other points' last slips
+        (:mod:`obturator.core.integrators.stick_slip_lanes`), alone or in any batch alike
+        (each lane runs the scalar arithmetic on its own point); it differs from the
+        mode loop's own stretches (``False``) within the tolerances, so the choice is a
+        route (:mod:`obturator.solve.plan`). A time history always runs in the mode loop.
     """
 
     rtol: float = 1e-8
@@ -155,6 +163,7 @@ class SolverOptions:
     lanes: bool = True
     radau_lanes: bool = True
     shared_maps: bool = False
+    slip_lanes: bool = True
 
     def __post_init__(self) -> None:
         # DOP853 works at 0.01 rtol, floored at 1e-14: a smaller rtol would be clamped.
@@ -169,7 +178,7 @@ class SolverOptions:
         check_choice("method", self.method, METHODS)
         if self.max_step is not None:
             check_range("max_step", self.max_step, 0.0, math.inf, lo_open=True, unit="s")
-        for name in ("lanes", "radau_lanes", "shared_maps"):
+        for name in ("lanes", "radau_lanes", "shared_maps", "slip_lanes"):
             if not isinstance(getattr(self, name), bool):
                 raise InputError(name, f"{getattr(self, name)!r}; allowed: true, false")
         if self.fixed_step is not None:

@@ -83,6 +83,11 @@ class Controls(NamedTuple):
     #: half a revolution (:func:`.switching.sliding_resumed`), so that ``auto`` continues
     #: with the cheaper explicit method. Every other integrator ignores it.
     stop_when_sliding: bool = False
+    #: The set-valued solver only (:mod:`.stick_slip`, set by the front door's strategy
+    #: ``slip_lanes``): stop with the hand-over signal ``NONSTIFF`` in the last slip (the
+    #: ball no longer sticks), so that the slip continues in the DOP853 lanes
+    #: (:mod:`.stick_slip_lanes`). Every other integrator ignores it.
+    last_slip_to_lanes: bool = False
 
 
 @field_docs

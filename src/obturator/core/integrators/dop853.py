@@ -355,7 +355,7 @@ def integrate(problem, controls):
     Status ``STIFF`` when the problem looks stiff; njev is always 0.
     """
     p, scale = problem.p, problem.scale
-    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
+    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _, _ = controls
     t, y, ts, ys, n_out, y_event = start(problem, controls)
     use_eval = t_eval.shape[0] > 0
     i_eval = 0

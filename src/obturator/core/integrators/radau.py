@@ -356,6 +356,7 @@ def integrate(problem, controls):
         terminal,
         event_tol,
         stop_when_sliding,
+        _,
     ) = controls
     t, y, ts, ys, n_out, y_event = start(problem, controls)
     ws = work_with(y_event)

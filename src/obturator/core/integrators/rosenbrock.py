@@ -78,7 +78,7 @@ def _step(t, y, h, f0, jac, p, lu, piv, k1, k2, k3, f1, f2, ynew, work) -> bool:
 def integrate(problem, controls):
     """Integrate from t = t0 until theta = theta_cr (event) or t_max; see :mod:`.contract`."""
     p, scale = problem.p, problem.scale
-    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
+    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _, _ = controls
     n = N_STATE
     theta_cr = p[P_THETA_CR]
     t, y, ts, ys, n_out, y_event = start(problem, controls)

@@ -91,9 +91,11 @@ from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import (
     FAMILY_ALGEBRAIC,
     FORM_QUATERNION,
+    KERNEL_THESIS,
     N_STATE,
     P_FAMILY,
     P_FORM,
+    P_KERNEL,
     P_SPIN_MODE,
     P_THETA_CR,
     P_WIDTH,
@@ -126,6 +128,8 @@ from .radau_control import radau5_tolerances
 from .radau_step import guess_stages
 from .stick_slip_jacobian import slip_jacobian
 from .stick_slip_modes import (
+    HAND_OFF_KAPPA,
+    HAND_OFF_SLIP,
     HOLD_THROUGH,
     REKICK,
     check_set_valued_law,
@@ -135,8 +139,9 @@ from .stick_slip_modes import break_away as _break_away
 from .stick_slip_modes import slip as _slip
 from .stick_slip_modes import slip_rate as _slip_rate
 from .stick_slip_modes import stick_admissible as _stick_admissible
+from .stick_slip_modes import stick_ratio as _stick_ratio
 from .stick_slip_modes import through_window as _through_window
-from .switching import CHUNK, FAST_SLIP
+from .switching import CHUNK, FAST_SLIP, NONSTIFF_SIGNAL
 
 __all__ = [
     "EVENT_DRIVEN",
@@ -376,7 +381,7 @@ def _fast_slip(st: RadauState, y, p, scale, f0, t, r, speeds, controls, out, end
     is (t_eval, i_eval, ts, ys, n_out); `ends` is
     (status, t_event, y_event). Returns (t, ran (a stretch ran), ended (the run ends:
     opened, step limit, non-finite state), status, t_event, i_eval, ts, ys, n_out)."""
-    t_max, rtol, atol, _, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
+    t_max, rtol, atol, _, h_max, max_steps, t_eval, record, terminal, event_tol, _, _ = controls
     t_eval, i_eval, ts, ys, n_out = out
     status, t_event, y_event = ends
     use_eval = t_eval.shape[0] > 0
@@ -393,7 +398,7 @@ def _fast_slip(st: RadauState, y, p, scale, f0, t, r, speeds, controls, out, end
             j += 1
         stretch = Controls(
             t_chunk, rtol, atol, min(st.h[0], h_max), h_max, max_steps - st.cnt[N_STEPS],
-            t_eval[i_eval:j], record and not use_eval, terminal, event_tol, False,
+            t_eval[i_eval:j], record and not use_eval, terminal, event_tol, False, False,
         )  # fmt: skip
         run = dop853_integrate(Problem(y.copy(), p, scale, t), stretch)
         ran = True
@@ -485,7 +490,7 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
     `cycle_end` [s], before its kick: one cycle of the return map (:mod:`.stick_slip_map`).
     """
     p, scale = problem.p, problem.scale
-    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _ = controls
+    t_max, rtol, atol, h0, h_max, max_steps, t_eval, record, terminal, event_tol, _, _ = controls
     t, y, ts, ys, n_out, y_event = start(problem, controls)
     ws = work_with(y_event)
     f0, ytry = ws.f0, ws.event.ytry
@@ -493,7 +498,9 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
     i_eval = 0
     status = Status.T_MAX
     t_event = math.nan
-    r_fast = slip_speed_unit(p, h_max) * FAST_SLIP
+    unit = slip_speed_unit(p, h_max)
+    r_fast, r_hand = unit * FAST_SLIP, unit * HAND_OFF_SLIP
+    hand_off = controls.last_slip_to_lanes and p[P_KERNEL] == KERNEL_THESIS
     # Radau IIA at auto's fraction of the tolerances (near-stick t_cr amplifies its
     # local errors), transformed as RADAU5 does; DOP853 stretches take them as given
     f = AUTO_RADAU_TOL_FACTOR
@@ -553,6 +560,9 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
         plan_next(st, h_max)
         if rate < 0.0 and -HOME_IN * w[3] / rate < st.h[0]:  # home in: Newton on |omega_r|(t)
             st.h[0] = -HOME_IN * w[3] / rate
+        if hand_off and w[3] >= r_hand and _stick_ratio(y, p) >= HAND_OFF_KAPPA:
+            status = NONSTIFF_SIGNAL  # the last slip, for the DOP853 lanes
+            break
         t, ran, ended, status, t_event, i_eval, ts, ys, n_out = _fast_slip(
             st, y, p, scale, f0, t, w[3], (r_fast, spin), controls, (t_eval, i_eval, ts, ys, n_out),
             (status, t_event, y_event),

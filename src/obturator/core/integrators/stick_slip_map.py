@@ -276,7 +276,7 @@ class _Nodes:
         self.rtol = controls.rtol
         rtol, atol = controls.rtol * NODE_TOL_FACTOR, controls.atol * NODE_TOL_FACTOR
         self.controls = controls._replace(
-            t_max=4.0 * self.half, rtol=rtol, atol=atol, stop_when_sliding=False
+            t_max=4.0 * self.half, rtol=rtol, atol=atol, last_slip_to_lanes=False
         )
         self.run = run
         self.values: dict[float, tuple[float, float, float, int]] = {}

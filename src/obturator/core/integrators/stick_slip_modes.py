@@ -41,12 +41,16 @@ from ..layout import (
 __all__ = [
     "MODES",
     "ModeSettings",
+    "HAND_OFF_KAPPA",
+    "HAND_OFF_SLIP",
     "HOLD_THROUGH",
     "REKICK",
+    "SLIP_FLOOR",
     "break_away",
     "check_set_valued_law",
     "excess",
     "slip",
+    "slip_floor",
     "slip_rate",
     "slip_speed_unit",
     "stick_admissible",
@@ -69,6 +73,18 @@ class ModeSettings(NamedTuple):
     #: Relative margin (of M) that G_req must keep inside F to enter stick (rounding of
     #: G_req on the boundary must not decide the mode).
     margin: float = 1e-9
+    #: A slip is handed to the DOP853 lanes (:mod:`.stick_slip_lanes`) once the stick
+    #: ratio kappa = |G_req| / M is at least this: on the rig a ball past kappa ~0.55 no
+    #: longer sticks (``docs/stick_slip.md`` section 10); at 0.8 a handed slip comes back
+    #: to the mode loop only rarely (at 0.55 often: a wasted hand-off) ...
+    hand_off_kappa: float = 0.8
+    #: ... and its slip speed is at least this, in units of (M / A) h_max
+    #: (:func:`slip_speed_unit`: the direction then relaxes within ~2 largest steps) ...
+    hand_off_slip: float = 0.5
+    #: ... and the lanes hand it back where an accepted step ends below this (same
+    #: units): DOP853 then still has ~4 largest steps per relaxation time of the slip
+    #: direction, which is singular at zero slip.
+    slip_floor: float = 0.25
 
 
 #: The thresholds the mode decisions use.
@@ -78,6 +94,9 @@ MODES = ModeSettings()
 REKICK = MODES.rekick
 HOLD_THROUGH = MODES.hold_through
 _MARGIN = MODES.margin
+HAND_OFF_KAPPA = MODES.hand_off_kappa
+HAND_OFF_SLIP = MODES.hand_off_slip
+SLIP_FLOOR = MODES.slip_floor
 
 
 def check_set_valued_law(p: np.ndarray, solver: str) -> None:
@@ -120,6 +139,12 @@ def stick_ratio(y: np.ndarray, p: np.ndarray) -> float:
     gx, gy, gz = required_reaction(y, p, y[7])
     scale = moment_scale(p)
     return math.sqrt(gx * gx + gy * gy + gz * gz) / scale if scale > 0.0 else math.inf
+
+
+def slip_floor(p: np.ndarray, h_max: float) -> float:
+    """The slip speed [rad/s] below which the DOP853 lanes give a handed slip back to the
+    mode loop: :data:`SLIP_FLOOR` (M / A) h_max."""
+    return SLIP_FLOOR * slip_speed_unit(p, h_max)
 
 
 @njit(cache=True, **NO_REFCOUNT, fastmath=False, error_model="python")

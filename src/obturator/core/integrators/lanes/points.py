@@ -39,6 +39,7 @@ class Points(NamedTuple):
     h_max: np.ndarray  #: (n,) largest steps [s]
     max_steps: np.ndarray  #: (n,) accepted-step limits
     hand_back: np.ndarray  #: (n,) bool: Radau IIA stops once sliding has resumed
+    slip_floor: np.ndarray  #: (n,) DOP853: slip speed below which the point ends [rad/s] (0: none)
     order: np.ndarray  #: (n,) the order in which points enter the lanes
 
 

@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
 from ...dynamics import nutation_angle_of_state, slip_and_spin
@@ -172,7 +173,8 @@ def integrate_radau_lanes(
         raise ValueError("vw must be LANES")
     n_pts = y0.shape[0]
     n_par = p.shape[1]
-    pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, hand_back, order)
+    no_floor = np.zeros(y0.shape[0])
+    pts = Points(y0, t0, p, scale, t_max, h0, h_max, max_steps, hand_back, no_floor, order)
     out = new_outcome(n_pts)
     rtol, atol, fnewt = radau5_tolerances(rtol, atol)  # as radau.integrate
     generic = n_pts > 0 and p[0, P_KERNEL] == KERNEL_GENERIC
