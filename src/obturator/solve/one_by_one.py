@@ -39,7 +39,7 @@ def run_one_by_one(
     idx: np.ndarray,
     options: SolverOptions,
     to_t_max: bool,
-    n_lanes: int = 1,
+    n_lanes: int,
 ) -> tuple[list[RawSolution], int]:
     """The points `idx` of `packed` through the set-valued solver, each as
     :func:`~obturator.solve.opening_time` runs it (with `to_t_max` to ``t_max`` with an
