@@ -371,6 +371,14 @@ def _to_zero_slip(y, t, w, rate, ytry) -> float:
     return t + tau
 
 
+@njit(**_PHASE, **NO_REFCOUNT)
+def _stretch_end(y, f0, t, r, r_fast, spin) -> float:
+    """End [s] of the next DOP853 stretch of a fast slip |omega_r| = `r` (see
+    :func:`_fast_slip`); f0 = f(t, y)."""
+    rate_floor = r * spin / (4.0 * math.pi)
+    return t + CHUNK * (r - 0.5 * r_fast) / max(abs(_slip_rate(y, f0)), rate_floor)
+
+
 @njit(**_PHASE, **REFCOUNT)
 def _fast_slip(st: RadauState, y, p, scale, f0, t, r, speeds, controls, out, ends):
     """Fast slip: DOP853 stretches (:func:`.dop853.integrate`, the tolerances as given in
@@ -388,8 +396,7 @@ def _fast_slip(st: RadauState, y, p, scale, f0, t, r, speeds, controls, out, end
     r_fast, spin = speeds
     ran = False
     while r >= r_fast and t < t_max:
-        rate_floor = r * spin / (4.0 * math.pi)
-        t_chunk = t + CHUNK * (r - 0.5 * r_fast) / max(abs(_slip_rate(y, f0)), rate_floor)
+        t_chunk = _stretch_end(y, f0, t, r, r_fast, spin)
         if t_chunk - t < 2.0 * h_max:
             break
         t_chunk = min(t_chunk, t_max)
@@ -432,14 +439,12 @@ def _fast_slip(st: RadauState, y, p, scale, f0, t, r, speeds, controls, out, end
 
 #: What :func:`_slip_step` asks of the loop: step again (a new Jacobian, factors or a
 #: shorter step), end the run as failed, hold the ball through the window, end it at the
-#: opening, go on slipping, or stick (zero slip reached).
-_RETRY, _FAILED, _WINDOW, _OPENED, _SLIPPING, _TO_ZERO = 0, 1, 2, 3, 4, 5
+#: opening, go on slipping, or stick (zero slip reached); and what :func:`_slip_steps`
+#: returns besides: the step limit reached, the last slip to hand to the DOP853 lanes.
+_RETRY, _FAILED, _WINDOW, _OPENED, _SLIPPING, _TO_ZERO, _STEP_LIMIT, _HAND_OFF = range(8)
 
 
-# a function of its own, compiled without reference counting (it allocates nothing):
-# inlined into the counted loop, every phase's access to the Radau IIA state's arrays was
-# wrapped in reference counts (obturator.core.jit_flags); same operations, same order
-@njit(cache=True, fastmath=False, error_model="python", **NO_REFCOUNT)
+@njit(**_PHASE, **NO_REFCOUNT)
 def _slip_step(st: RadauState, ws: RadauWork, t, y, p, scale, controls, modes, speeds, out):
     """One Radau IIA step of the slip mode, from its Jacobian to the mode test at its end.
 
@@ -480,6 +485,52 @@ def _slip_step(st: RadauState, ws: RadauWork, t, y, p, scale, controls, modes, s
     if to_zero:
         t, code = _to_zero_slip(y, t, w, rate, ytry), _TO_ZERO
     return code, t, t_event, g_new, i_eval, n_out, armed, took_off, w, rate
+
+
+# a function of its own, compiled without reference counting (it allocates nothing):
+# inlined into the counted loop, every phase's access to the Radau IIA state's arrays was
+# wrapped in reference counts (obturator.core.jit_flags), and called once per step from
+# it, each call counted the references of every array it passed; here a slip's steps
+# run in one call. Same operations in the same order as one step per call.
+@njit(cache=True, fastmath=False, error_model="python", **NO_REFCOUNT)
+def _slip_steps(st: RadauState, ws: RadauWork, t, y, p, scale, controls, modes, speeds, out, run):
+    """Radau IIA steps of the slip mode until the loop has something to do: a code other
+    than ``_SLIPPING`` or ``_RETRY`` of :func:`_slip_step`, the step limit
+    (``_STEP_LIMIT``), the last slip's hand-off (``_HAND_OFF``), a DOP853 stretch due
+    (``_SLIPPING``: :func:`_fast_slip` runs one) or `t_max`; after each accepted step in
+    slip, the next step planned and homed in on zero slip.
+
+    `controls`, `modes`, `speeds` and `out` as :func:`_slip_step`; `run` is (max_steps,
+    h_max, one_step (return after every accepted step: the loop records it), hand_off,
+    r_hand, r_fast, spin). Returns what :func:`_slip_step` does.
+    """
+    t_max = controls[0]
+    max_steps, h_max, one_step, hand_off, r_hand, r_fast, spin = run
+    while True:
+        if st.cnt[N_STEPS] >= max_steps:
+            w = (0.0, 0.0, 0.0, 0.0)
+            return _STEP_LIMIT, t, modes[1], modes[0], out[1], out[4], modes[2], modes[3], w, 0.0
+        code, t, t_event, g_old, i_eval, n_out, armed, took_off, w, rate = _slip_step(
+            st, ws, t, y, p, scale, controls, modes, speeds, out
+        )
+        modes = (g_old, t_event, armed, took_off)
+        out = (out[0], i_eval, out[2], out[3], n_out)
+        if code == _RETRY:
+            continue
+        if code != _SLIPPING:
+            return code, t, t_event, g_old, i_eval, n_out, armed, took_off, w, rate
+        plan_next(st, h_max)
+        if rate < 0.0 and -HOME_IN * w[3] / rate < st.h[0]:  # home in: Newton on |omega_r|(t)
+            st.h[0] = -HOME_IN * w[3] / rate
+        if hand_off and w[3] >= r_hand and _stick_ratio(y, p) >= HAND_OFF_KAPPA:
+            return _HAND_OFF, t, t_event, g_old, i_eval, n_out, armed, took_off, w, rate
+        stretch = w[3] >= r_fast and t < t_max
+        if (
+            one_step
+            or not t < t_max
+            or (stretch and not _stretch_end(y, ws.f0, t, w[3], r_fast, spin) - t < 2.0 * h_max)
+        ):
+            return code, t, t_event, g_old, i_eval, n_out, armed, took_off, w, rate
 
 
 @njit(cache=True, nogil=True, fastmath=False, error_model="python", **REFCOUNT)
@@ -525,15 +576,14 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
             sticking, armed, took_off = False, False, False
             g_old = nutation_angle_of_state(y, p) - p[P_THETA_CR]
             continue
-        if st.cnt[N_STEPS] >= max_steps:
-            status = Status.STEP_LIMIT
-            break
-        code, t, t_event, g_old, i_eval, n_out, armed, took_off, w, rate = _slip_step(
+        code, t, t_event, g_old, i_eval, n_out, armed, took_off, w, rate = _slip_steps(
             st, ws, t, y, p, scale, (t_max, rtol_r, atol_r, fnewt, terminal, event_tol),
             (g_old, t_event, armed, took_off), (r_kick, r_stick), (t_eval, i_eval, ts, ys, n_out),
+            (max_steps, h_max, record and not use_eval, hand_off, r_hand, r_fast, spin),
         )  # fmt: skip
-        if code == _RETRY:
-            continue
+        if code == _STEP_LIMIT:
+            status = Status.STEP_LIMIT
+            break
         if code == _FAILED:
             status = Status.FAILED
             break
@@ -557,10 +607,7 @@ def _integrate(problem, controls, stick_slip, kick, cycle_end):
             ts, ys, n_out = append_row(ts, ys, n_out, t, y)
         if sticking:
             continue
-        plan_next(st, h_max)
-        if rate < 0.0 and -HOME_IN * w[3] / rate < st.h[0]:  # home in: Newton on |omega_r|(t)
-            st.h[0] = -HOME_IN * w[3] / rate
-        if hand_off and w[3] >= r_hand and _stick_ratio(y, p) >= HAND_OFF_KAPPA:
+        if code == _HAND_OFF:
             status = NONSTIFF_SIGNAL  # the last slip, for the DOP853 lanes
             break
         t, ran, ended, status, t_event, i_eval, ts, ys, n_out = _fast_slip(
