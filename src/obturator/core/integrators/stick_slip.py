@@ -73,12 +73,10 @@ constant mu_s, and a constant or free spin.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from ..._docs import field_docs
 from ...errors import InputError
 from ..dynamics import nutation_angle_of_state, rhs
 from ..friction_sets import (
@@ -128,10 +126,17 @@ from .radau_control import radau5_tolerances
 from .radau_step import guess_stages
 from .stick_slip_jacobian import slip_jacobian
 from .stick_slip_modes import (
+    EVENT_DRIVEN,
     HAND_OFF_KAPPA,
     HAND_OFF_SLIP,
     HOLD_THROUGH,
+    HOME_IN,
+    KICK,
     REKICK,
+    RELEASE_KICK,
+    STICK_SLIP,
+    TAKE_OFF,
+    EventDrivenSettings,
     check_set_valued_law,
     slip_speed_unit,
 )
@@ -159,41 +164,6 @@ __all__ = [
     "run_cycles",
     "zero_width",
 ]
-
-
-@field_docs
-class EventDrivenSettings(NamedTuple):
-    """The mode transitions' thresholds (defaults: :data:`EVENT_DRIVEN`)."""
-
-    #: Slip speed, in units of |omega_p|, at which a decaying slip with G_req inside F
-    #: becomes stick (projecting from it moves the attitude by O(r^2 / a), below the
-    #: step error).
-    stick_slip: float = 1e-6
-    #: Slip speed, in units of |omega_p|, given at breakaway: at 1e-9 Radau IIA hovered
-    #: at the kick's level in the wide windows near theta = 49 deg (40 rad/s) and
-    #: rounding decided whether a window slipped; at 1e-8 it took off in every window.
-    kick: float = 1e-8
-    #: The kick at release (zero slip, G_req well outside F: flight, the rig at some
-    #: azimuths), where the slip takes off at once: larger kicks moved the flight t_cr.
-    release_kick: float = 1e-9
-    #: Fraction of the predicted time to zero slip taken as the step when homing in
-    #: (the slip changes ~1 / (1 - home_in) fold across it; near 1 Newton fails).
-    home_in: float = 0.5
-    #: First Radau IIA step after a breakaway, in units of the kicked slip's age (the
-    #: time from the exit of F to the kick): longer first steps let Newton land on a
-    #: decaying branch of the non-smooth law.
-    take_off: float = 1.0
-
-
-#: The thresholds the mode loop uses.
-EVENT_DRIVEN = EventDrivenSettings()
-
-# module constants for the compiled code (numba freezes plain globals)
-STICK_SLIP = EVENT_DRIVEN.stick_slip
-KICK = EVENT_DRIVEN.kick
-RELEASE_KICK = EVENT_DRIVEN.release_kick
-HOME_IN = EVENT_DRIVEN.home_in
-TAKE_OFF = EVENT_DRIVEN.take_off
 
 
 def integrate(
