@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
 import pytest
 
 from obturator import SolverOptions
@@ -262,4 +263,41 @@ def test_sweep_dataset_carries_the_note_computed_while_workers_run(monkeypatch):
             "outside_validated_data"
         ]
         == ""
+    )
+
+
+def test_the_notes_respun_cases_are_the_cases_built_one_by_one():
+    """The validity note builds one case per group of rows that differ in the spin alone
+    and re-spins it; the reference is every row's case built on its own (the sweep's
+    own path), invalid rows included: a release rate beyond the spin (a check that
+    depends on the spin), with the group's first row invalid and later ones valid."""
+    import itertools
+
+    from obturator.errors import InputError
+    from obturator.model.validity import outside_validated_data_many
+    from obturator.sweeps import SweepSpec, points
+
+    spec = SweepSpec(
+        "spin-rig",
+        {"spin_rate": [90.0, 460.0], "theta0_deg": [86.0, 89.0], "theta_dot0": [0.0, 50.0]},
+        {"mu_s": 0.5473},
+    )
+    values = {"spin_rate": [40.0, 90.0, 300.0, 460.0], "theta0_deg": [86.0, 87.25, 89.0]}
+    values["theta_dot0"] = [50.0, 0.0]
+    rows = np.array(list(itertools.product(*(values[n] for n in spec.dims))))
+    rows = rows[np.argsort(rows[:, spec.dims.index("spin_rate")], kind="stable")]
+    respun = points._respun_cases(spec, spec.dims, rows)
+    one_by_one = points.rows_to_cases(spec, spec.dims, rows)
+    assert len(respun) == len(one_by_one) == 24
+    n_invalid = 0
+    for a, b in zip(respun, one_by_one, strict=True):
+        assert isinstance(a, InputError) == isinstance(b, InputError)
+        n_invalid += isinstance(b, InputError)
+        if not isinstance(b, InputError):
+            assert a == b
+    assert n_invalid == 3  # 40 rad/s with theta_dot0 = 50 rad/s, at each theta_0
+    assert outside_validated_data_many(respun) == outside_validated_data_many(one_by_one)
+    note = points.validity_note(spec, spec.dims, spec.rows, spec.n_points)
+    assert note == outside_validated_data_many(
+        points.rows_to_cases(spec, spec.dims, spec.rows(np.arange(spec.n_points)))
     )

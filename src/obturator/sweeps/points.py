@@ -17,6 +17,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..errors import InputError
+from ..model.case import Case
 from ..model.cases import rig_case
 from ..solve import (
     POINT_STATUSES,
@@ -94,10 +95,36 @@ def validity_note(
     if spec.case != "spin-rig" or n_points < 1:
         return None
     idx = np.unique(np.linspace(0, n_points - 1, min(n_points, VALIDITY_POINTS)).astype(np.int64))
-    note = outside_validated_data_many(rows_to_cases(spec, names, rows_of(idx)))
+    note = outside_validated_data_many(_respun_cases(spec, names, rows_of(idx)))
     if note and idx.size < n_points:
         note += f" ({idx.size} evenly spaced {unit} checked)"
     return note
+
+
+def _respun_cases(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> list[object]:
+    """:func:`rows_to_cases` of rig rows, for the validity note: rows that differ in the
+    spin alone share one built case, re-spun (:func:`dataclasses.replace`, which checks
+    the spin again in :class:`~obturator.model.case.Case`). A rig case of
+    :func:`~obturator.model.cases.case_from_settings` depends on omega_p only through
+    ``Case.spin_rate``; a group whose first row is invalid builds each row itself.
+    Building a case is most of the note's cost (``docs/benchmarks.md``, history)."""
+    if "spin_rate" not in names or rows.shape[0] < 2:
+        return rows_to_cases(spec, names, rows)
+    k = names.index("spin_rate")
+    others = np.delete(rows, k, axis=1)
+    _, first, group = np.unique(others, axis=0, return_index=True, return_inverse=True)
+    built = rows_to_cases(spec, names, rows[first])
+    cases: list[object] = []
+    for row, g in zip(rows, group.ravel(), strict=True):
+        base = built[g]
+        if not isinstance(base, Case):
+            cases.extend(rows_to_cases(spec, names, row[None, :]))
+            continue
+        try:
+            cases.append(replace(base, spin_rate=float(row[k])))
+        except InputError as exc:
+            cases.append(exc)
+    return cases
 
 
 def pack_rows(spec: SweepSpec, names: tuple[str, ...], rows: np.ndarray) -> PackedPoints:
