@@ -34,13 +34,15 @@ over lanes with the row and column offsets written out as constants and the righ
 sides in registers, so that LLVM vectorises it (loops over rows and columns were
 slower: docs/benchmarks.md). Pivoting stays per lane (:mod:`.pivot`). Per lane the
 operations are those of :mod:`obturator.core.integrators.linalg` in the same order, with
-no fast-math (:mod:`obturator.core.jit_flags`). ``vw`` is the number of lanes, passed
+no fast-math (:mod:`obturator.core.jit_flags`) and the same fused multiply-adds
+(:func:`obturator.core.fma.fma`). ``vw`` is the number of lanes, passed
 at run time (always ``LANES``; with a constant trip count LLVM unrolled the loop into
 scalar code instead).
 Q3
 
 from numba import njit, uint64
 
+from ...fma import fma
 from .pivot import IMPORTS
 from .simd import LANE_KERNEL, LANES
 
@@ -77,17 +79,17 @@ def _substitution(complex_: bool) -> list[str]:
         for c in cols:
             ic = _off(i * N + c)
             if complex_:
-                out.append(f"        r{i} -= ar[{ic}] * r{c} - ai[{ic}] * s{c}")
-                out.append(f"        s{i} -= ar[{ic}] * s{c} + ai[{ic}] * r{c}")
+                out.append(f"        r{i} = fma(-ar[{ic}], r{c}, fma(ai[{ic}], s{c}, r{i}))")
+                out.append(f"        s{i} = fma(-ar[{ic}], s{c}, fma(-ai[{ic}], r{c}, s{i}))")
             else:
-                out.append(f"        b{i} -= lu[{ic}] * b{c}")
+                out.append(f"        b{i} = fma(-lu[{ic}], b{c}, b{i})")
         if step >= N:  # backward: times the reciprocal pivot
             ii = _off(i * N + i)
             if complex_:
                 out.append(f"        dr = ar[{ii}]")
                 out.append(f"        di = ai[{ii}]")
-                out.append(f"        t = r{i} * dr - s{i} * di")
-                out.append(f"        s{i} = r{i} * di + s{i} * dr")
+                out.append(f"        t = fma(r{i}, dr, -(s{i} * di))")
+                out.append(f"        s{i} = fma(r{i}, di, s{i} * dr)")
                 out.append(f"        r{i} = t")
             else:
                 out.append(f"        b{i} = b{i} * lu[{ii}]")

@@ -124,12 +124,14 @@ def test_map_agrees_with_cycles_and_the_regularised_limit():
 
 def test_equivalent_starts_open_together():
     """40 rad/s, 549 cycles: the run from release and the run from its first breakaway
-    (turned back 1e-3 rad into stick, exact) agree within 1e-6. With a kick of 1e-9 omega_p
-    one of them lost a whole window near theta = 49 deg (1.9e-3)."""
+    (turned back 1e-3 rad into stick, exact) agree within 4e-6, twice the cycle-by-cycle
+    run's own error at the default tolerances (up to 2e-6 over 40-300 rad/s against the
+    width-free limit: docs/stick_slip.md, "Accuracy over 40-300 rad/s"). With a kick of
+    1e-9 omega_p one of them lost a whole window near theta = 49 deg (1.9e-3)."""
     run = stick_slip.run_cycles()
     whole = run(PROBLEM_40, CONTROLS_40, math.inf).t_event
     first = run(PROBLEM_40, CONTROLS_40, 0.25 * math.pi / 40.0)
     y0 = stick_slip_map._rewound(first.y_end, 40.0)
     t0 = first.t_end - stick_slip_map._BACK / 40.0
     later = run(PROBLEM_40._replace(y0=y0, t0=t0), CONTROLS_40, math.inf).t_event
-    assert later == pytest.approx(whole, rel=1e-6)
+    assert later == pytest.approx(whole, rel=4e-6)

@@ -9,13 +9,16 @@ The routines are specialised to the fixed size N_STATE (loops with
 compile-time trip counts, which LLVM unrolls): about half the time per
 factorisation of a generic LU. The diagonal of U is stored as its reciprocal,
 so the solves multiply (a division per row would lengthen the solve's
-dependency chain). No fast-math (:mod:`obturator.core.jit_flags`).
+dependency chain). No fast-math (:mod:`obturator.core.jit_flags`); each multiply
+that feeds an add or a subtraction is one fused operation (:func:`~obturator.core.fma.fma`),
+written out.
 """
 
 from __future__ import annotations
 
 from numba import njit
 
+from ..fma import fma
 from ..jit_flags import NO_REFCOUNT
 from ..layout import N_STATE
 
@@ -50,7 +53,7 @@ def lu_factor(m, piv) -> bool:
             f = m[i, k] * inv
             m[i, k] = f
             for j in range(k + 1, N_STATE):
-                m[i, j] -= f * m[k, j]
+                m[i, j] = fma(-f, m[k, j], m[i, j])
     return True
 
 
@@ -66,12 +69,12 @@ def lu_solve(lu, piv, b) -> None:
     for i in range(N_STATE):
         s = b[i]
         for j in range(i):
-            s -= lu[i, j] * b[j]
+            s = fma(-lu[i, j], b[j], s)
         b[i] = s
     for i in range(N_STATE - 1, -1, -1):
         s = b[i]
         for j in range(i + 1, N_STATE):
-            s -= lu[i, j] * b[j]
+            s = fma(-lu[i, j], b[j], s)
         b[i] = s * lu[i, i]  # reciprocal pivot
 
 
@@ -101,19 +104,19 @@ def lu_factor_complex(ar, ai, piv) -> bool:
                 ti = ai[k, j]
                 ai[k, j] = ai[imax, j]
                 ai[imax, j] = ti
-        d = ar[k, k] * ar[k, k] + ai[k, k] * ai[k, k]
+        d = fma(ar[k, k], ar[k, k], ai[k, k] * ai[k, k])
         ir = ar[k, k] / d
         ii = -ai[k, k] / d
         ar[k, k] = ir
         ai[k, k] = ii
         for i in range(k + 1, N_STATE):
-            fr = ar[i, k] * ir - ai[i, k] * ii
-            fi = ar[i, k] * ii + ai[i, k] * ir
+            fr = fma(ar[i, k], ir, -(ai[i, k] * ii))
+            fi = fma(ar[i, k], ii, ai[i, k] * ir)
             ar[i, k] = fr
             ai[i, k] = fi
             for j in range(k + 1, N_STATE):
-                ar[i, j] -= fr * ar[k, j] - fi * ai[k, j]
-                ai[i, j] -= fr * ai[k, j] + fi * ar[k, j]
+                ar[i, j] = fma(-fr, ar[k, j], fma(fi, ai[k, j], ar[i, j]))
+                ai[i, j] = fma(-fr, ai[k, j], fma(-fi, ar[k, j], ai[i, j]))
     return True
 
 
@@ -143,9 +146,9 @@ def lu_solve_pair(lu, piv, b, ar, ai, pivc, br, bi) -> None:
         sr = br[i]
         si = bi[i]
         for j in range(i):
-            s -= lu[i, j] * b[j]
-            sr -= ar[i, j] * br[j] - ai[i, j] * bi[j]
-            si -= ar[i, j] * bi[j] + ai[i, j] * br[j]
+            s = fma(-lu[i, j], b[j], s)
+            sr = fma(-ar[i, j], br[j], fma(ai[i, j], bi[j], sr))
+            si = fma(-ar[i, j], bi[j], fma(-ai[i, j], br[j], si))
         b[i] = s
         br[i] = sr
         bi[i] = si
@@ -154,9 +157,9 @@ def lu_solve_pair(lu, piv, b, ar, ai, pivc, br, bi) -> None:
         sr = br[i]
         si = bi[i]
         for j in range(i + 1, N_STATE):
-            s -= lu[i, j] * b[j]
-            sr -= ar[i, j] * br[j] - ai[i, j] * bi[j]
-            si -= ar[i, j] * bi[j] + ai[i, j] * br[j]
+            s = fma(-lu[i, j], b[j], s)
+            sr = fma(-ar[i, j], br[j], fma(ai[i, j], bi[j], sr))
+            si = fma(-ar[i, j], bi[j], fma(-ai[i, j], br[j], si))
         b[i] = s * lu[i, i]  # times the reciprocal pivots
-        br[i] = sr * ar[i, i] - si * ai[i, i]
-        bi[i] = sr * ai[i, i] + si * ar[i, i]
+        br[i] = fma(sr, ar[i, i], -(si * ai[i, i]))
+        bi[i] = fma(sr, ai[i, i], si * ar[i, i])

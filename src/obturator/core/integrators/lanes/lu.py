@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from numba import njit, uint64
 
+from ...fma import fma
 from ...layout import N_STATE
 from .pivot import interchange, pivot_search
 from .simd import LANE_KERNEL, LANES
@@ -65,7 +66,7 @@ def lu_factor_lanes(m, piv, swapped, ok, vmax, vw) -> None:
                 m[_at(i, k, j)] = m[_at(i, k, j)] * m[_at(k, k, j)]
             for c in range(k + 1, _N):
                 for j in range(vw):
-                    m[_at(i, c, j)] -= m[_at(i, k, j)] * m[_at(k, c, j)]
+                    m[_at(i, c, j)] = fma(-m[_at(i, k, j)], m[_at(k, c, j)], m[_at(i, c, j)])
 
 
 @njit(**LANE_KERNEL)
@@ -82,7 +83,7 @@ def lu_factor_complex_lanes(ar, ai, piv, swapped, ok, vmax, vw) -> None:
         for j in range(vw):
             xr = ar[_at(k, k, j)]
             xi = ai[_at(k, k, j)]
-            d = xr * xr + xi * xi
+            d = fma(xr, xr, xi * xi)
             ir = xr / d
             ii = -xi / d
             ar[_at(k, k, j)] = ir
@@ -93,11 +94,13 @@ def lu_factor_complex_lanes(ar, ai, piv, swapped, ok, vmax, vw) -> None:
                 ii = ai[_at(k, k, j)]
                 pr = ar[_at(i, k, j)]
                 pi = ai[_at(i, k, j)]
-                ar[_at(i, k, j)] = pr * ir - pi * ii
-                ai[_at(i, k, j)] = pr * ii + pi * ir
+                ar[_at(i, k, j)] = fma(pr, ir, -(pi * ii))
+                ai[_at(i, k, j)] = fma(pr, ii, pi * ir)
             for c in range(k + 1, _N):
                 for j in range(vw):
                     fr = ar[_at(i, k, j)]
                     fi = ai[_at(i, k, j)]
-                    ar[_at(i, c, j)] -= fr * ar[_at(k, c, j)] - fi * ai[_at(k, c, j)]
-                    ai[_at(i, c, j)] -= fr * ai[_at(k, c, j)] + fi * ar[_at(k, c, j)]
+                    kr = ar[_at(k, c, j)]
+                    ki = ai[_at(k, c, j)]
+                    ar[_at(i, c, j)] = fma(-fr, kr, fma(fi, ki, ar[_at(i, c, j)]))
+                    ai[_at(i, c, j)] = fma(-fr, ki, fma(-fi, kr, ai[_at(i, c, j)]))
