@@ -8,7 +8,9 @@ a caller loaded from numba's cache runs its own linked copy of a callee, a compi
 process binds the callee's library, and a lane's bits on how many lanes were live.
 Without them every operation is rounded as written, so freshly compiled, cached and
 batched code give the same t_cr bit for bit (``tests/core/test_fresh_compile.py``,
-``tests/solve/test_plan.py``).
+``tests/solve/test_plan.py``). Where a fused multiply-add pays (the LU factorisations
+and solves), it is written out, :func:`obturator.core.fma.fma`, which rounds once in
+every context.
 
 **Every flag that numba lets a callee inherit is stated explicitly.** numba
 compiles a jitted function once per signature, the first time any caller needs

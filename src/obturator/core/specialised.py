@@ -40,8 +40,9 @@ pays nothing for them:
   (Stribeck) model 131 ms against 188 ms (its exp does not vectorise, and most of its
   runs are stiff; ``python -m benchmarks.speed_law_kernel`` compares the two on the
   same points in one run);
-* FMA contraction allowed (``fastmath=False``) and the NumPy error
-  model (a division never raises), so that loops over lanes vectorise.
+* no fast-math (:mod:`obturator.core.jit_flags`: every operation rounded as written)
+  and the NumPy error model (a division never raises), so that loops over lanes
+  vectorise.
 
 The law itself (viscous coefficient, arm weights, regularisation, slip-speed factor)
 is not written here: the kernel and the generic code take it from
