@@ -27,12 +27,13 @@ Each sum is its own function with the nonzero coefficients as literals, so the
 loop over lanes is the only loop and LLVM vectorises it; offsets are cast to
 unsigned because numba wraps negative indices, which would make the addresses
 non-affine. Per lane the terms are added in the order of
-:func:`obturator.core.integrators.dop853._stages`, so the results are the same
-to the bit.
+:func:`obturator.core.integrators.dop853._stages`, each product fused into its sum as
+there (:func:`obturator.core.fma.fma`), so the results are the same to the bit.
 """
 
 from numba import njit, uint64
 
+from ...fma import fma
 from ...layout import N_STATE
 from ..dop853 import error_weight
 from .simd import LANES
@@ -58,13 +59,13 @@ def _function(name: str, coef: list[tuple[int, float]]) -> str:
         "        for j in range(LANES):",
         "            u = uint64(r + j)",
     ]
-    # acc starts at 0.0 as in dop853._stages: with `acc = a0 * k0 + a1 * k1` either
-    # product may be fused into an FMA, and scalar and vector code chose differently
+    # acc starts at 0.0 and each term is fused into it, as in dop853._stages (fusing a
+    # zero coefficient's term there leaves acc unchanged, so dropping it here is exact)
     lines.append("            acc = 0.0")
     for m, a in coef:
         idx = "u" if m == 0 else f"uint64({m} * _KS + r + j)"
-        lines.append(f"            acc += {a!r} * k[{idx}]")
-    lines.append("            out[u] = y[u] + h[j] * acc")
+        lines.append(f"            acc = fma({a!r}, k[{idx}], acc)")
+    lines.append("            out[u] = fma(h[j], acc, y[u])")
     return "\n".join(lines)
 
 
@@ -90,12 +91,12 @@ def _error_function() -> str:
         for m in range(12):
             if coef[m]:
                 idx = "u" if m == 0 else f"uint64({m} * _KS + r + j)"
-                lines.append(f"            {name} += {float(coef[m])!r} * k[{idx}]")
+                lines.append(f"            {name} = fma({float(coef[m])!r}, k[{idx}], {name})")
     lines += [
         "            e5 /= sc",
         "            e3 /= sc",
-        "            s5[j] += e5 * e5",
-        "            s3[j] += e3 * e3",
+        "            s5[j] = fma(e5, e5, s5[j])",
+        "            s3[j] = fma(e3, e3, s3[j])",
     ]
     return "\n".join(lines)
 

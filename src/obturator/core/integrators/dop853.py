@@ -46,6 +46,7 @@ import numpy as np
 from numba import njit
 
 from ..dynamics import nutation_angle_of_state, rhs
+from ..fma import fma
 from ..jit_flags import NO_REFCOUNT, REFCOUNT
 from ..layout import N_STATE, P_THETA_CR
 from .common import (
@@ -95,14 +96,14 @@ def _stages(t, y, h, p, k, ynew, work) -> None:
         for i in range(n):
             acc = 0.0
             for j in range(s):
-                acc += _A[s, j] * k[j, i]
-            work[i] = y[i] + h * acc
+                acc = fma(_A[s, j], k[j, i], acc)
+            work[i] = fma(h, acc, y[i])
         rhs(t + _C[s] * h, work, p, k[s])
     for i in range(n):
         acc = 0.0
         for j in range(12):
-            acc += _B[j] * k[j, i]
-        ynew[i] = y[i] + h * acc
+            acc = fma(_B[j], k[j, i], acc)
+        ynew[i] = fma(h, acc, y[i])
 
 
 @njit(cache=True, error_model="numpy", **NO_REFCOUNT, fastmath=False)
@@ -141,12 +142,12 @@ def _error_norm(k, h, y, ynew, rtol, atol, scale) -> float:
         e5 = 0.0
         e3 = 0.0
         for j in range(12):
-            e5 += _E5[j] * k[j, i]
-            e3 += _E3[j] * k[j, i]
+            e5 = fma(_E5[j], k[j, i], e5)
+            e3 = fma(_E3[j], k[j, i], e3)
         e5 /= sc
         e3 /= sc
-        s5 += e5 * e5
-        s3 += e3 * e3
+        s5 = fma(e5, e5, s5)
+        s3 = fma(e3, e3, s3)
     if s5 == 0.0 and s3 == 0.0:
         return 0.0
     return abs(h) * s5 / math.sqrt((s5 + 0.01 * s3) * n)

@@ -6,12 +6,13 @@ Each sum is its own function with the nonzero coefficients as literals, so the
 loop over lanes is the only loop and LLVM vectorises it; offsets are cast to
 unsigned because numba wraps negative indices, which would make the addresses
 non-affine. Per lane the terms are added in the order of
-:func:`obturator.core.integrators.dop853._stages`, so the results are the same
-to the bit.
+:func:`obturator.core.integrators.dop853._stages`, each product fused into its sum as
+there (:func:`obturator.core.fma.fma`), so the results are the same to the bit.
 """
 
 from numba import njit, uint64
 
+from ...fma import fma
 from ...layout import N_STATE
 from ..dop853 import error_weight
 from .simd import LANES
@@ -28,8 +29,8 @@ def _sum1(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.05260015195876773 * k[u]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.05260015195876773, k[u], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -39,9 +40,9 @@ def _sum2(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.0197250569845379 * k[u]
-            acc += 0.0591751709536137 * k[uint64(1 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.0197250569845379, k[u], acc)
+            acc = fma(0.0591751709536137, k[uint64(1 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -51,9 +52,9 @@ def _sum3(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.02958758547680685 * k[u]
-            acc += 0.08876275643042054 * k[uint64(2 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.02958758547680685, k[u], acc)
+            acc = fma(0.08876275643042054, k[uint64(2 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -63,10 +64,10 @@ def _sum4(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.2413651341592667 * k[u]
-            acc += -0.8845494793282861 * k[uint64(2 * _KS + r + j)]
-            acc += 0.924834003261792 * k[uint64(3 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.2413651341592667, k[u], acc)
+            acc = fma(-0.8845494793282861, k[uint64(2 * _KS + r + j)], acc)
+            acc = fma(0.924834003261792, k[uint64(3 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -76,10 +77,10 @@ def _sum5(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.037037037037037035 * k[u]
-            acc += 0.17082860872947386 * k[uint64(3 * _KS + r + j)]
-            acc += 0.12546768756682242 * k[uint64(4 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.037037037037037035, k[u], acc)
+            acc = fma(0.17082860872947386, k[uint64(3 * _KS + r + j)], acc)
+            acc = fma(0.12546768756682242, k[uint64(4 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -89,11 +90,11 @@ def _sum6(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.037109375 * k[u]
-            acc += 0.17025221101954405 * k[uint64(3 * _KS + r + j)]
-            acc += 0.06021653898045596 * k[uint64(4 * _KS + r + j)]
-            acc += -0.017578125 * k[uint64(5 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.037109375, k[u], acc)
+            acc = fma(0.17025221101954405, k[uint64(3 * _KS + r + j)], acc)
+            acc = fma(0.06021653898045596, k[uint64(4 * _KS + r + j)], acc)
+            acc = fma(-0.017578125, k[uint64(5 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -103,12 +104,12 @@ def _sum7(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.03709200011850479 * k[u]
-            acc += 0.17038392571223998 * k[uint64(3 * _KS + r + j)]
-            acc += 0.10726203044637328 * k[uint64(4 * _KS + r + j)]
-            acc += -0.015319437748624402 * k[uint64(5 * _KS + r + j)]
-            acc += 0.008273789163814023 * k[uint64(6 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.03709200011850479, k[u], acc)
+            acc = fma(0.17038392571223998, k[uint64(3 * _KS + r + j)], acc)
+            acc = fma(0.10726203044637328, k[uint64(4 * _KS + r + j)], acc)
+            acc = fma(-0.015319437748624402, k[uint64(5 * _KS + r + j)], acc)
+            acc = fma(0.008273789163814023, k[uint64(6 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -118,13 +119,13 @@ def _sum8(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.6241109587160757 * k[u]
-            acc += -3.3608926294469414 * k[uint64(3 * _KS + r + j)]
-            acc += -0.868219346841726 * k[uint64(4 * _KS + r + j)]
-            acc += 27.59209969944671 * k[uint64(5 * _KS + r + j)]
-            acc += 20.154067550477894 * k[uint64(6 * _KS + r + j)]
-            acc += -43.48988418106996 * k[uint64(7 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.6241109587160757, k[u], acc)
+            acc = fma(-3.3608926294469414, k[uint64(3 * _KS + r + j)], acc)
+            acc = fma(-0.868219346841726, k[uint64(4 * _KS + r + j)], acc)
+            acc = fma(27.59209969944671, k[uint64(5 * _KS + r + j)], acc)
+            acc = fma(20.154067550477894, k[uint64(6 * _KS + r + j)], acc)
+            acc = fma(-43.48988418106996, k[uint64(7 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -134,14 +135,14 @@ def _sum9(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.47766253643826434 * k[u]
-            acc += -2.4881146199716677 * k[uint64(3 * _KS + r + j)]
-            acc += -0.590290826836843 * k[uint64(4 * _KS + r + j)]
-            acc += 21.230051448181193 * k[uint64(5 * _KS + r + j)]
-            acc += 15.279233632882423 * k[uint64(6 * _KS + r + j)]
-            acc += -33.28821096898486 * k[uint64(7 * _KS + r + j)]
-            acc += -0.020331201708508627 * k[uint64(8 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.47766253643826434, k[u], acc)
+            acc = fma(-2.4881146199716677, k[uint64(3 * _KS + r + j)], acc)
+            acc = fma(-0.590290826836843, k[uint64(4 * _KS + r + j)], acc)
+            acc = fma(21.230051448181193, k[uint64(5 * _KS + r + j)], acc)
+            acc = fma(15.279233632882423, k[uint64(6 * _KS + r + j)], acc)
+            acc = fma(-33.28821096898486, k[uint64(7 * _KS + r + j)], acc)
+            acc = fma(-0.020331201708508627, k[uint64(8 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -151,15 +152,15 @@ def _sum10(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += -0.9371424300859873 * k[u]
-            acc += 5.186372428844064 * k[uint64(3 * _KS + r + j)]
-            acc += 1.0914373489967295 * k[uint64(4 * _KS + r + j)]
-            acc += -8.149787010746927 * k[uint64(5 * _KS + r + j)]
-            acc += -18.52006565999696 * k[uint64(6 * _KS + r + j)]
-            acc += 22.739487099350505 * k[uint64(7 * _KS + r + j)]
-            acc += 2.4936055526796523 * k[uint64(8 * _KS + r + j)]
-            acc += -3.0467644718982196 * k[uint64(9 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(-0.9371424300859873, k[u], acc)
+            acc = fma(5.186372428844064, k[uint64(3 * _KS + r + j)], acc)
+            acc = fma(1.0914373489967295, k[uint64(4 * _KS + r + j)], acc)
+            acc = fma(-8.149787010746927, k[uint64(5 * _KS + r + j)], acc)
+            acc = fma(-18.52006565999696, k[uint64(6 * _KS + r + j)], acc)
+            acc = fma(22.739487099350505, k[uint64(7 * _KS + r + j)], acc)
+            acc = fma(2.4936055526796523, k[uint64(8 * _KS + r + j)], acc)
+            acc = fma(-3.0467644718982196, k[uint64(9 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -169,16 +170,16 @@ def _sum11(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 2.273310147516538 * k[u]
-            acc += -10.53449546673725 * k[uint64(3 * _KS + r + j)]
-            acc += -2.0008720582248625 * k[uint64(4 * _KS + r + j)]
-            acc += -17.9589318631188 * k[uint64(5 * _KS + r + j)]
-            acc += 27.94888452941996 * k[uint64(6 * _KS + r + j)]
-            acc += -2.8589982771350235 * k[uint64(7 * _KS + r + j)]
-            acc += -8.87285693353063 * k[uint64(8 * _KS + r + j)]
-            acc += 12.360567175794303 * k[uint64(9 * _KS + r + j)]
-            acc += 0.6433927460157636 * k[uint64(10 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(2.273310147516538, k[u], acc)
+            acc = fma(-10.53449546673725, k[uint64(3 * _KS + r + j)], acc)
+            acc = fma(-2.0008720582248625, k[uint64(4 * _KS + r + j)], acc)
+            acc = fma(-17.9589318631188, k[uint64(5 * _KS + r + j)], acc)
+            acc = fma(27.94888452941996, k[uint64(6 * _KS + r + j)], acc)
+            acc = fma(-2.8589982771350235, k[uint64(7 * _KS + r + j)], acc)
+            acc = fma(-8.87285693353063, k[uint64(8 * _KS + r + j)], acc)
+            acc = fma(12.360567175794303, k[uint64(9 * _KS + r + j)], acc)
+            acc = fma(0.6433927460157636, k[uint64(10 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -188,15 +189,15 @@ def _sum12(y, h, k, out):  # pragma: no cover - compiled
         for j in range(LANES):
             u = uint64(r + j)
             acc = 0.0
-            acc += 0.054293734116568765 * k[u]
-            acc += 4.450312892752409 * k[uint64(5 * _KS + r + j)]
-            acc += 1.8915178993145003 * k[uint64(6 * _KS + r + j)]
-            acc += -5.801203960010585 * k[uint64(7 * _KS + r + j)]
-            acc += 0.3111643669578199 * k[uint64(8 * _KS + r + j)]
-            acc += -0.1521609496625161 * k[uint64(9 * _KS + r + j)]
-            acc += 0.20136540080403034 * k[uint64(10 * _KS + r + j)]
-            acc += 0.04471061572777259 * k[uint64(11 * _KS + r + j)]
-            out[u] = y[u] + h[j] * acc
+            acc = fma(0.054293734116568765, k[u], acc)
+            acc = fma(4.450312892752409, k[uint64(5 * _KS + r + j)], acc)
+            acc = fma(1.8915178993145003, k[uint64(6 * _KS + r + j)], acc)
+            acc = fma(-5.801203960010585, k[uint64(7 * _KS + r + j)], acc)
+            acc = fma(0.3111643669578199, k[uint64(8 * _KS + r + j)], acc)
+            acc = fma(-0.1521609496625161, k[uint64(9 * _KS + r + j)], acc)
+            acc = fma(0.20136540080403034, k[uint64(10 * _KS + r + j)], acc)
+            acc = fma(0.04471061572777259, k[uint64(11 * _KS + r + j)], acc)
+            out[u] = fma(h[j], acc, y[u])
 
 
 @njit(cache=True, fastmath=False, error_model="numpy", inline="always")
@@ -241,24 +242,24 @@ def error_sums(k, y, ynew, rtol, atol, scale, s5, s3):  # pragma: no cover
             u = uint64(r + j)
             sc = error_weight(atol, scale[u], rtol, y[u], ynew[u])
             e5 = 0.0
-            e5 += 0.01312004499419488 * k[u]
-            e5 += -1.2251564463762044 * k[uint64(5 * _KS + r + j)]
-            e5 += -0.4957589496572502 * k[uint64(6 * _KS + r + j)]
-            e5 += 1.6643771824549864 * k[uint64(7 * _KS + r + j)]
-            e5 += -0.35032884874997366 * k[uint64(8 * _KS + r + j)]
-            e5 += 0.3341791187130175 * k[uint64(9 * _KS + r + j)]
-            e5 += 0.08192320648511571 * k[uint64(10 * _KS + r + j)]
-            e5 += -0.022355307863886294 * k[uint64(11 * _KS + r + j)]
+            e5 = fma(0.01312004499419488, k[u], e5)
+            e5 = fma(-1.2251564463762044, k[uint64(5 * _KS + r + j)], e5)
+            e5 = fma(-0.4957589496572502, k[uint64(6 * _KS + r + j)], e5)
+            e5 = fma(1.6643771824549864, k[uint64(7 * _KS + r + j)], e5)
+            e5 = fma(-0.35032884874997366, k[uint64(8 * _KS + r + j)], e5)
+            e5 = fma(0.3341791187130175, k[uint64(9 * _KS + r + j)], e5)
+            e5 = fma(0.08192320648511571, k[uint64(10 * _KS + r + j)], e5)
+            e5 = fma(-0.022355307863886294, k[uint64(11 * _KS + r + j)], e5)
             e3 = 0.0
-            e3 += -0.18980075407240762 * k[u]
-            e3 += 4.450312892752409 * k[uint64(5 * _KS + r + j)]
-            e3 += 1.8915178993145003 * k[uint64(6 * _KS + r + j)]
-            e3 += -5.801203960010585 * k[uint64(7 * _KS + r + j)]
-            e3 += -0.4226823213237919 * k[uint64(8 * _KS + r + j)]
-            e3 += -0.1521609496625161 * k[uint64(9 * _KS + r + j)]
-            e3 += 0.20136540080403034 * k[uint64(10 * _KS + r + j)]
-            e3 += 0.02265179219836082 * k[uint64(11 * _KS + r + j)]
+            e3 = fma(-0.18980075407240762, k[u], e3)
+            e3 = fma(4.450312892752409, k[uint64(5 * _KS + r + j)], e3)
+            e3 = fma(1.8915178993145003, k[uint64(6 * _KS + r + j)], e3)
+            e3 = fma(-5.801203960010585, k[uint64(7 * _KS + r + j)], e3)
+            e3 = fma(-0.4226823213237919, k[uint64(8 * _KS + r + j)], e3)
+            e3 = fma(-0.1521609496625161, k[uint64(9 * _KS + r + j)], e3)
+            e3 = fma(0.20136540080403034, k[uint64(10 * _KS + r + j)], e3)
+            e3 = fma(0.02265179219836082, k[uint64(11 * _KS + r + j)], e3)
             e5 /= sc
             e3 /= sc
-            s5[j] += e5 * e5
-            s3[j] += e3 * e3
+            s5[j] = fma(e5, e5, s5[j])
+            s3[j] = fma(e3, e3, s3[j])
