@@ -10,9 +10,9 @@ compiled code. This function asks for the fusion explicitly instead: it is LLVM'
 a CPU with FMA instructions it is one instruction and vectorises; on one without, LLVM
 calls the C library's ``fma``: slower, the same bits.
 
-Used in the hot arithmetic of the batched integrators (the LU factorisations and solves,
-the right-hand side), where a multiply feeds an add: one rounding instead of two, and
-half the instructions.
+Used where a multiply feeds an add in the integrators' hot arithmetic (the LU
+factorisations and solves, DOP853's stage and error sums; scalar and in lanes, in the
+same order): one rounding instead of two, one instruction instead of two.
 """
 
 from __future__ import annotations
