@@ -29,12 +29,17 @@ from .progress import Progress
 from .results import MapResults, run_tasks
 from .store import ResumeStore, full_disk_error
 
-__all__ = ["POOL_MIN_SERIAL_S", "Results", "RunInfo", "Runner"]
+__all__ = ["POOL_MIN_SERIAL_S", "POOL_SURE_TASKS", "Results", "RunInfo", "Runner"]
 
 #: A pool is started only when the tasks left after the probe would take at least this
 #: long in this process [s]: below it, starting the workers costs more than they save
 #: (the sweep table of ``python -m benchmarks``; ``docs/benchmarks.md``, history).
 POOL_MIN_SERIAL_S = 0.1
+#: A pool run of at least this many tasks whose probe would be one task starts its
+#: workers without it: at the cheapest t_cr (tens of microseconds in lanes) that is
+#: already more than :data:`POOL_MIN_SERIAL_S` of work, and the one task (the
+#: costliest end of a sweep) is serial work with the other cores idle.
+POOL_SURE_TASKS = 8192
 
 
 class Results(Protocol):
@@ -225,7 +230,9 @@ class Runner:
                 # probe is serial work (the workers start after it), and a longer probe of
                 # a rig sweep's lowest spins delayed the whole sweep (docs/benchmarks.md)
                 n_probe = 1 if pool and (job.contiguous or not job.separable) else PROBE_TASKS
-                if pool or (self.reporter.enabled and (keep or todo.size > 32 * PROBE_TASKS)):
+                sure = pool and n_probe == 1 and todo.size >= POOL_SURE_TASKS
+                wanted = pool or (self.reporter.enabled and (keep or todo.size > 32 * PROBE_TASKS))
+                if wanted and not sure:
                     cost = probe(job, chunks, sink, keep, n_probe)
                     serial = cost.serial_s(sum(c.size for c in chunks))
                     if pool and serial < POOL_MIN_SERIAL_S:
