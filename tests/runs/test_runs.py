@@ -141,7 +141,6 @@ def test_a_pool_probes_one_task_of_a_non_separable_job(monkeypatch, capsys) -> N
     assert sum(p == here for p in one_by_one) == PROBE_TASKS
 
 
-
 def test_a_large_pool_run_starts_without_a_probe(monkeypatch) -> None:
     """From POOL_SURE_TASKS tasks on, a pool run whose probe would be one task (batched,
     or a sweep's consecutive points) starts its workers at once: no task runs here; a
@@ -157,6 +156,7 @@ def test_a_large_pool_run_starts_without_a_probe(monkeypatch) -> None:
     assert sum(p == here for p in at) == 0 and len(at) == 200
     below = Runner(workers=2, chunk_size=50).map(_pid_of_each, tasks(199), batched=True)
     assert sum(p == here for p in below) == 1
+
 
 def _pid_of_each_task(task):
     import os
