@@ -2,9 +2,10 @@
 
 A study describes its work as a :class:`~obturator.runs.chunks.Job` over flat task
 indices and collects the results in a :class:`Results`; :meth:`Runner.run` restores
-finished tasks from the resume store, splits the rest into chunks, probes their cost,
-announces the plan, computes them where :func:`~obturator.runs.pools.choose_executor`
-says (this process, a process pool, a Dask cluster) and records every finished chunk.
+finished tasks from the resume store, splits the rest into chunks, probes their cost
+(not before a pool that pays at any cost: :data:`POOL_SURE_TASKS`), announces the plan,
+computes them where :func:`~obturator.runs.pools.choose_executor` says (this process, a
+process pool, a Dask cluster) and records every finished chunk.
 :meth:`Runner.map` is the same for a list of picklable tasks with JSON-ready results,
 stored under the content hash of each task (:class:`~obturator.runs.results.MapResults`).
 """
