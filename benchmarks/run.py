@@ -161,10 +161,9 @@ def trajectory(name: str, case: Case, repeat: int, repeat_base: int) -> dict[str
         if abs(_rel(opening_time(case, opt), reference)) <= b_err:
             variants[f"auto, equal accuracy (rtol={rtol:g})"] = opt
             break
+    # no Radau IIA at the baseline's rtol: it cannot resolve the default width below it
+    # (obturator.solve.limits refuses that pair)
     variants["radau, rtol=1e-8"] = SolverOptions(method="radau")
-    variants[f"radau, baseline tol (rtol={BASE_RTOL:g})"] = SolverOptions(
-        rtol=BASE_RTOL, atol=BASE_ATOL, method="radau"
-    )
     variants["rosenbrock, default rtol=1e-8"] = SolverOptions(method="rosenbrock")
     out: dict[str, Any] = {
         "case": name,
