@@ -3,11 +3,9 @@
 ``tools/readme_blocks.py`` produces each block (``python tools/readme_blocks.py --write``
 rewrites them all); here each block is rerun and compared line by line, with the
 block's machine-dependent parts masked (timings, worker counts) and near-stick digits
-compared to the block's stated relative tolerance. Costs on a loaded 2-core machine
-(``python tools/readme_blocks.py --list``): simulate 3 s, calibrate 8 s, sweep 21 s
-(fast subset); envelope 50 s, optimize 62 s, design 30 s, probability 373 s (28 min
-before its points ran in lanes), validate about 6.5 min and reproduce 4.4 min (slow). The
-validate run is shared with the whole-study checks of the validation tests
+compared to the block's stated relative tolerance. Each block's cost and whether it is
+slow: ``python tools/readme_blocks.py --list`` (the blocks' own record, not repeated
+here). The validate run is shared with the whole-study checks of the validation tests
 (``readme_validate_run`` in ``tests/conftest.py``), so CI pays for it once.
 """
 
