@@ -37,9 +37,10 @@ __all__ = ["POOL_MIN_SERIAL_S", "POOL_SURE_TASKS", "Results", "RunInfo", "Runner
 #: (the sweep table of ``python -m benchmarks``; ``docs/benchmarks.md``, history).
 POOL_MIN_SERIAL_S = 0.1
 #: A pool run of at least this many tasks whose probe would be one task starts its
-#: workers without it: at the cheapest t_cr (tens of microseconds in lanes) that is
-#: already more than :data:`POOL_MIN_SERIAL_S` of work, and the one task (the
-#: costliest end of a sweep) is serial work with the other cores idle.
+#: workers without it: that many of the cheapest t_cr (``docs/benchmarks.md``, "Cost
+#: across the operating range") are already more than :data:`POOL_MIN_SERIAL_S` of
+#: work, and the one task (the costliest end of a sweep) is serial work with the other
+#: cores idle.
 POOL_SURE_TASKS = 8192
 
 
