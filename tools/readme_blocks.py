@@ -95,7 +95,7 @@ BLOCKS: dict[str, Block] = {
     "reproduce": Block(
         ("obturator reproduce --out report",),
         slow=True,
-        cost="1.4 min, nearly idle (the 54-run validation study inside)",
+        cost="6.5 min, nearly idle (the 54-run validation study inside)",
     ),
     "calibrate": Block(
         ("obturator calibrate examples/rig_runs.csv --bootstrap 0 --figure residuals.png",),
@@ -121,7 +121,7 @@ BLOCKS: dict[str, Block] = {
         # the ill-determined subset fits far more (regenerate the block then)
         rtol=2e-3,
         slow=True,
-        cost="1.3 min, nearly idle",
+        cost="6.7 min, nearly idle",
     ),
     "envelope": Block(
         (
