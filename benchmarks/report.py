@@ -447,7 +447,8 @@ SECTIONS: dict[str, Section] = {
         "`obturator sweep --case spin-rig --mu-s 0.5473 --workers 2` as a user runs it, in a "
         "fresh process: median wall time of the rounds with process start, the part the "
         "workers computed (the summary line's time) and the rest outside it (imports, the "
-        "probe, the outputs, what the parent does after the workers). `--against TREE` "
+        "probe, the outputs, what the parent does after the workers), and the processor "
+        "time of the whole process tree (parent, workers, helpers). `--against TREE` "
         "runs other source trees back to back in the same rounds.",
         _sweeps,
         (
@@ -455,6 +456,7 @@ SECTIONS: dict[str, Section] = {
             Column("wall_s", "wall [s]", "num"),
             Column("compute_s", "compute [s]", "num"),
             Column("outside_s", "outside compute [s]", "num"),
+            Column("cpu_s", "CPU [s]", "num"),
         ),
     ),
     "envelope_following": Section(

@@ -9,7 +9,10 @@ the path), timed from outside: the wall time a user waits, process start, import
 packing, the workers, the output files and the validity warning included. The sweep's
 summary line gives the part the workers computed ("in X s on 2 workers", the runner's
 wall time); the rest, *outside compute*, is the parent process's serial work before
-and after.
+and after. *CPU* is the processor time of the whole process tree (the parent, its
+workers and helpers: user and system time of the children this process has waited for,
+:func:`resource.getrusage`): on a shared machine it varies less than the wall, so a
+difference between trees that the walls cannot resolve shows there first.
 
 Every tree first runs a small sweep over the same range (its numba cache then holds
 what the sweeps use); then the rounds run interleaved (round by round, sweep by
@@ -24,6 +27,7 @@ import argparse
 import json
 import os
 import re
+import resource
 import statistics
 import subprocess
 import sys
@@ -50,8 +54,9 @@ def _commit(tree: Path) -> str:
 
 def run_sweep(tree: Path, sweep: tuple[float, float, int], workers: int) -> dict[str, Any]:
     """One ``obturator sweep`` of `tree` in a fresh process, as a user runs it (its
-    default outputs, its warnings): the wall time [s] from outside, and the workers'
-    part that its summary line reports (``compute_s``, NaN where it lacks one)."""
+    default outputs, its warnings): the wall time [s] from outside, the workers' part
+    that its summary line reports (``compute_s``, NaN where it lacks one) and the
+    processor time of the process tree (``cpu_s``)."""
     lo, hi, n = sweep
     with tempfile.TemporaryDirectory(prefix="obturator-bench-") as tmp:
         cmd = [
@@ -60,13 +65,22 @@ def run_sweep(tree: Path, sweep: tuple[float, float, int], workers: int) -> dict
             "--workers", str(workers), "--no-progress", "--out", os.path.join(tmp, "sweep.nc"),
         ]  # fmt: skip
         env = os.environ | {"PYTHONPATH": str(tree / "src")}
+        cpu0 = _children_cpu()
         t0 = time.perf_counter()
         proc = subprocess.run(cmd, capture_output=True, text=True, env=env, cwd=tmp)
         wall = time.perf_counter() - t0
+        cpu = _children_cpu() - cpu0
     if proc.returncode != 0:
         raise RuntimeError(f"{tree}: sweep failed: {proc.stderr.strip()[-500:]}")
     found = re.search(r" in ([0-9.e+-]+) s on ", proc.stdout)
-    return {"wall_s": wall, "compute_s": float(found.group(1)) if found else float("nan")}
+    compute = float(found.group(1)) if found else float("nan")
+    return {"wall_s": wall, "compute_s": compute, "cpu_s": cpu}
+
+
+def _children_cpu() -> float:
+    """User and system time [s] of this process's waited-for descendants so far."""
+    use = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return use.ru_utime + use.ru_stime
 
 
 def measure(
@@ -93,10 +107,12 @@ def measure(
     rows = []
     for s, (lo, hi, n) in enumerate(sweeps):
         ref = statistics.median(r["wall_s"] for r in runs[(s, 0)])
+        ref_cpu = statistics.median(r["cpu_s"] for r in runs[(s, 0)])
         for t, tree in enumerate(trees):
             rs = runs[(s, t)]
             wall = statistics.median(r["wall_s"] for r in rs)
             compute = statistics.median(r["compute_s"] for r in rs)
+            cpu = statistics.median(r["cpu_s"] for r in rs)
             rows.append(
                 {
                     "sweep": f"{n:,} points, {lo:g}-{hi:g} rad/s",
@@ -106,6 +122,8 @@ def measure(
                     "compute_s": compute,
                     "outside_s": wall - compute,
                     "speed_up": wall / ref,  # > 1: the first tree is faster
+                    "cpu_s": cpu,
+                    "cpu_ratio": cpu / ref_cpu,  # > 1: the first tree needs less CPU
                 }
             )
     return {"meta": _meta() | {"workers": workers, "rounds": rounds}, "rows": rows}
@@ -139,12 +157,14 @@ def main(argv: list[str] | None = None) -> int:
         f"{args.workers} workers, {args.rounds} rounds interleaved; wall with process start"
     )
     print(f"{'sweep':32} {'tree':10} {'walls [s]':22} {'median':>7} {'compute':>8} "
-          f"{'outside':>8} {'this tree faster':>17}")  # fmt: skip
+          f"{'outside':>8} {'this tree faster':>17} {'CPU [s]':>8} "
+          f"{'this tree less CPU':>19}")  # fmt: skip
     for r in rec["rows"]:
         walls = ", ".join(f"{w:.2f}" for w in r["walls_s"])
         print(
             f"{r['sweep']:32} {r['tree']:10} {walls:22} {r['wall_s']:7.2f} "
-            f"{r['compute_s']:8.2f} {r['outside_s']:8.2f} {r['speed_up']:16.2f}x"
+            f"{r['compute_s']:8.2f} {r['outside_s']:8.2f} {r['speed_up']:16.2f}x "
+            f"{r['cpu_s']:8.2f} {r['cpu_ratio']:18.2f}x"
         )
     if args.json:
         Path(args.json).write_text(json.dumps(rec, indent=1))

@@ -70,8 +70,10 @@ def test_reduced_coordinates_ignore_a_turn_about_the_hole_axis():
 
 def test_whole_sweep_benchmark_times_a_real_sweep_and_reads_its_compute_time():
     """One small sweep of this tree in a fresh process: the wall time from outside covers
-    the summary line's compute time (the workers' part), and the ratios' reference is the
-    first tree (1 against itself)."""
+    the summary line's compute time (the workers' part), the processor time of the
+    process tree covers most of that compute time (it is spent computing, in the sweep's
+    process or its workers: a count of this process's own time would be near zero), and
+    the ratios' reference is the first tree (1 against itself)."""
     from benchmarks import sweeps
 
     rec = sweeps.measure([sweeps.ROOT], ((300.0, 400.0, 40),), workers=1, rounds=1, warm_points=4)
@@ -79,6 +81,7 @@ def test_whole_sweep_benchmark_times_a_real_sweep_and_reads_its_compute_time():
     assert row["sweep"] == "40 points, 300-400 rad/s" and row["speed_up"] == 1.0
     assert 0.0 < row["compute_s"] < row["wall_s"]
     assert row["outside_s"] == pytest.approx(row["wall_s"] - row["compute_s"])
+    assert row["cpu_s"] > 0.5 * row["compute_s"] and row["cpu_ratio"] == 1.0
     assert sweeps._parse_sweeps("40:1000:10000,100:700:20") == (
         (40.0, 1000.0, 10000),
         (100.0, 700.0, 20),
