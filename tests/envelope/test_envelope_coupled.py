@@ -141,3 +141,21 @@ def test_many_points_in_lanes_match_one_at_a_time():
                 assert value == pytest.approx(alone[key], rel=1e-12), key
             else:
                 assert value == alone[key] or (value != value and alone[key] != alone[key])
+
+
+def test_start_angles_of_all_bounds_share_one_start_condition_per_mach():
+    """The nominal, late and early start angles of a design at one altitude and Mach come
+    from one memoised start condition (it computes all three), with the values of a
+    direct :func:`~obturator.model.start.start_condition`."""
+    from obturator.envelope import design as design_module
+    from obturator.model.start import start_condition
+
+    d = ObturatorDesign()
+    altitude, mach = 2345.5, 2.25  # values no other test asks for
+    before = design_module._start_condition.cache_info()
+    got = [d.start_angle(altitude, bound)(mach) for bound in ("nominal", "late", "early")]
+    after = design_module._start_condition.cache_info()
+    assert (after.misses - before.misses, after.hits - before.hits) == (1, 2)
+    cond = start_condition(mach, d.ball(), d.bore_radius, gamma=d.gamma, altitude_m=altitude)
+    expect = [cond.theta_start, cond.theta_start_late, cond.theta_start_early]
+    assert got == pytest.approx(expect, rel=0.0, abs=0.0, nan_ok=True)

@@ -408,3 +408,26 @@ def test_cli_optimize_sensitivity_t_start_late(capsys):
     args += ["--vary", "mu_s=uniform:0.3,0.4", "--vary", "density=uniform:7000,8000"]
     assert main(args) == 0
     assert "Sobol indices of t_start_late" in capsys.readouterr().out
+
+
+def test_start_condition_solves_the_choking_mach_once_per_bore_and_altitude():
+    """The Fanno choking Mach does not depend on the flight Mach: start conditions at two
+    Mach numbers of one flight solve it once (memoised), and the memoised value is the
+    one a direct call gives (the same bits)."""
+    from obturator.flow import choking_mach_freestream
+    from obturator.model import start
+
+    ball = table1_ball()
+    altitude = 1234.5  # a value no other test asks for
+    before = start._choking_mach.cache_info()
+    a = start_condition(2.0, ball, altitude_m=altitude)
+    b = start_condition(3.0, ball, altitude_m=altitude)
+    after = start._choking_mach.cache_info()
+    assert (after.misses - before.misses, after.hits - before.hits) == (1, 1)
+    direct = choking_mach_freestream(
+        TABLE1["projectile_length"] / (2.0 * TABLE1["bore_radius"]),
+        2.0 * TABLE1["bore_radius"],
+        altitude_m=altitude,
+        gamma=TABLE1["gamma"],
+    )
+    assert a.choke_mach == b.choke_mach == direct

@@ -20,11 +20,22 @@ from ..flow import pressure_force
 from ..model.case import Case
 from ..model.cases import TABLE1, flight_case
 from ..model.geometry import BoredBall
-from ..model.start import start_condition
+from ..model.start import StartCondition, start_condition
 from ..solve import SolverOptions, convergence_check, opening_time
 from .trajectory import Launch
 
 __all__ = ["ObturatorDesign", "constant_case", "constant_opening"]
+
+
+@functools.lru_cache(maxsize=4096)
+def _start_condition(
+    mach: float, ball: BoredBall, bore_radius: float, gamma: float, altitude_m: float
+) -> StartCondition:
+    """:func:`~obturator.model.start.start_condition` (the bore as capture area), memoised:
+    a pure function of its arguments, asked for the same Mach numbers by every bound
+    (nominal, late, early) and every run of a flight at one altitude; each call solves
+    for the Fanno choking Mach and inverts the turned window's quadrature."""
+    return start_condition(mach, ball, bore_radius, gamma=gamma, altitude_m=altitude_m)
 
 
 @dataclass(frozen=True)
@@ -144,7 +155,7 @@ class ObturatorDesign:
         """theta_start(M) [rad] of this design (NaN where the tube cannot start).
 
         :func:`obturator.model.start.start_condition` with the bore as capture
-        area; memoised per Mach number (a flight repeats few values). `bound`
+        area, memoised per process (:func:`_start_condition`). `bound`
         ``"nominal"`` is Eq. 2 on the frictionless lens, ``"late"`` the late bound
         (wall friction and the lowest discharge coefficient; NaN where it never
         starts), ``"early"`` the flow turned through the hole.
@@ -154,11 +165,8 @@ class ObturatorDesign:
         if bound not in key:
             raise InputError("bound", f"{bound!r}; allowed: {', '.join(key)}")
 
-        @functools.lru_cache(maxsize=1024)
         def angle(mach: float) -> float:
-            cond = start_condition(
-                mach, ball, self.bore_radius, gamma=self.gamma, altitude_m=altitude_m
-            )
+            cond = _start_condition(mach, ball, self.bore_radius, self.gamma, altitude_m)
             return float(getattr(cond, key[bound]))
 
         return angle

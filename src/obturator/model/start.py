@@ -42,6 +42,7 @@ as well not below M 2.05). theta_start (decreasing in time) is in
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import asdict, dataclass
 from typing import Any
@@ -219,6 +220,14 @@ def full_bore_start_mach(
     return float(start_mach(max(1.0, _capture(bore_radius, capture_area) / full), gamma))
 
 
+@functools.lru_cache(maxsize=256)
+def _choking_mach(l_over_d: float, diameter: float, altitude_m: float, gamma: float) -> float:
+    """:func:`obturator.flow.choking_mach_freestream`, memoised: it depends on the bore and
+    the altitude, not on the flight Mach, so every Mach number of a flight (each
+    :func:`start_condition`) asks for the same fixed point of the Fanno relations."""
+    return choking_mach_freestream(l_over_d, diameter, altitude_m=altitude_m, gamma=gamma)
+
+
 def start_condition(
     mach: float,
     ball: BoredBall,
@@ -271,7 +280,7 @@ def start_condition(
     l_over_d = check_range("tube_length", tube_length, 0.0, 10.0, lo_open=True, unit="m") / (
         2.0 * bore_radius
     )
-    choke = choking_mach_freestream(l_over_d, 2.0 * bore_radius, altitude_m=altitude_m, gamma=gamma)
+    choke = _choking_mach(l_over_d, 2.0 * bore_radius, altitude_m, gamma)
     cd_lo, cd_hi = (
         check_range("discharge_coefficient", c, 0.0, 1.0, lo_open=True)
         for c in discharge_coefficients
