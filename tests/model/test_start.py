@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -341,6 +342,47 @@ def test_turned_window_against_ray_count(deg, bore):
     t = math.radians(deg)
     mc, se = _window_ray_count(t, bore)
     assert turned_open_area(t, R_S, R_HOLE, bore) == pytest.approx(mc, abs=5 * se)
+
+
+def _window_by_quadrature(theta: float, bore: float) -> float:
+    """The turned window by adaptive quadrature of the smaller half-width (scipy ``quad``,
+    the boundaries' crossings as break points): an independent way to the closed form."""
+    from scipy.integrate import quad
+
+    c = math.sqrt(R_S**2 - R_HOLE**2)
+    cos_t, sin_t = math.cos(theta), math.sin(theta)
+    d = c * sin_t
+    lo, hi = max(-bore, d - R_HOLE * cos_t), min(bore, d + R_HOLE * cos_t)
+    if hi <= lo:
+        return 0.0
+
+    def half_width(x: float) -> float:
+        return math.sqrt(max(0.0, min(R_HOLE**2 - ((x - d) / cos_t) ** 2, bore**2 - x * x)))
+
+    qa, qb, qc = sin_t**2, -2.0 * d, d * d - (R_HOLE**2 - bore**2) * cos_t**2
+    disc = qb * qb - 4.0 * qa * qc
+    points = []
+    if qa > 0.0 and disc >= 0.0:
+        roots = ((-qb - math.sqrt(disc)) / (2 * qa), (-qb + math.sqrt(disc)) / (2 * qa))
+        points = [x for x in roots if lo < x < hi]
+    value, _ = quad(half_width, lo, hi, points=points or None, epsabs=0.0, epsrel=1e-13, limit=400)
+    return min(2.0 * value, math.pi * min(R_HOLE, bore) ** 2)
+
+
+@pytest.mark.parametrize("bore", [2e-3, 3e-3, R_BORE, 5.5e-3, 6e-3])
+def test_turned_window_closed_form_against_quadrature(bore):
+    """The closed form against quadrature over the whole range of angles, the slivers
+    where the window closes included (relative to the window where it is at least 1e-6
+    of the full bore, else to the full bore)."""
+    full = math.pi * min(R_HOLE, bore) ** 2
+    closes = BETA_S + math.asin(bore / R_S)
+    for t in np.linspace(0.0, min(closes, math.radians(89.0)), 400):
+        got = turned_open_area(float(t), R_S, R_HOLE, bore)
+        ref = _window_by_quadrature(float(t), bore)
+        if ref > 1e-6 * full:
+            assert got == pytest.approx(ref, rel=1e-10)
+        else:
+            assert got == pytest.approx(ref, abs=1e-13 * full)
 
 
 def test_turned_window_limits_and_inverse():

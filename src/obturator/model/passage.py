@@ -323,8 +323,13 @@ def turned_open_area(
     ((x - c sin theta) / cos theta)^2 + y^2 <= r_s^2 (the mouth circle seen along Z,
     c = sqrt(R_s^2 - r_s^2)); the downstream window is its mirror image. Both
     intervals in y are centred on y = 0, so the overlap's half-width is the smaller of
-    the two half-widths (scipy ``quad`` with the crossings as break points, to 1e-12
-    relative).
+    the two half-widths, the circle's sqrt(r_p^2 - x^2) or the ellipse's
+    sqrt(r_s^2 - u^2) with u = (x - c sin theta) / cos theta. Between the crossings of
+    the two boundaries the smaller one is integrated in closed form
+    (:func:`_segment`). Written out, not left to adaptive quadrature: a study asks for
+    thousands of start conditions, and the quadrature inside the inverse
+    (:func:`turned_open_angle`) was the larger part of each
+    (``tests/model/test_start.py`` checks it against scipy's ``quad``).
 
     Parameters
     ----------
@@ -339,31 +344,68 @@ def turned_open_area(
         Window [m^2]: pi min(r_s, r_p)^2 at theta = 0, at least :func:`open_area`, 0 from
         theta = beta_s + asin(r_p/R_s) on.
     """
-    from scipy.integrate import quad
-
     big, r_s, r_p, c = _geometry(ball_radius, hole_radius, bore_radius)
     t = _theta(theta)
     cos_t, sin_t = math.cos(t), math.sin(t)
     d = c * sin_t
-    lo, hi = max(-r_p, d - r_s * cos_t), min(r_p, d + r_s * cos_t)
+    left, right = d - r_s * cos_t, d + r_s * cos_t  # the ellipse's ends in x
+    lo, hi = max(-r_p, left), min(r_p, right)
     if hi <= lo:
         return 0.0
-
-    def half_width(x: float) -> float:
-        mouth = r_s * r_s - ((x - d) / cos_t) ** 2
-        return math.sqrt(max(0.0, min(mouth, r_p * r_p - x * x)))
-
     # crossings of the two boundaries: x^2 sin^2 - 2 d x + d^2 - (r_s^2 - r_p^2) cos^2 = 0
     qa, qb, qc = sin_t * sin_t, -2.0 * d, d * d - (r_s * r_s - r_p * r_p) * cos_t * cos_t
-    points: list[float] = []
+    edges = [lo, hi]
     if qa > 0.0:
         disc = qb * qb - 4.0 * qa * qc
         if disc >= 0.0:
             root = math.sqrt(disc)
-            points = sorted(x for x in ((-qb - root) / (2 * qa), (-qb + root) / (2 * qa)))
-            points = [x for x in points if lo < x < hi]
-    value, _ = quad(half_width, lo, hi, points=points or None, epsabs=0.0, epsrel=1e-12, limit=200)
+            edges += [x for x in ((-qb - root) / (2 * qa), (-qb + root) / (2 * qa)) if lo < x < hi]
+    edges.sort()
+    value = 0.0
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        mid = 0.5 * (a + b)
+        if r_s * r_s - ((mid - d) / cos_t) ** 2 <= r_p * r_p - mid * mid:  # the ellipse's
+            ends = (
+                (a - left) / cos_t,
+                (b - left) / cos_t,
+                (right - a) / cos_t,
+                (right - b) / cos_t,
+            )
+            value += cos_t * _segment(r_s, *ends)
+        else:
+            value += _segment(r_p, a + r_p, b + r_p, r_p - a, r_p - b)
     return min(2.0 * value, math.pi * min(r_s, r_p) ** 2)
+
+
+def _segment(radius: float, va: float, vb: float, wa: float, wb: float) -> float:
+    """Integral of sqrt(radius^2 - u^2) du between two points a < b of [-radius, radius],
+    given by their distances from the ends: v = u + radius, w = radius - u.
+
+    From the nearer end: the area from an end to a point at distance v is
+    radius^2 (phi - sin phi cos phi) / 2 with phi = 2 asin(sqrt(v / (2 radius))), the
+    bracket by its series where phi is small. A sliver at an end (where the window opens
+    or closes) is thus as accurate as a wide band; differences of the primitive
+    (u sqrt(radius^2 - u^2) + radius^2 asin(u / radius)) / 2 lose it to rounding there.
+    """
+    r2 = 0.5 * radius * radius
+
+    def from_end(dist: float) -> float:
+        ratio = min(max(dist, 0.0) / (2.0 * radius), 1.0)
+        phi = 2.0 * math.asin(math.sqrt(ratio))
+        if phi < 0.25:  # phi - sin(phi) cos(phi) = (x - sin x) / 2, x = 2 phi
+            x = 2.0 * phi
+            x2, term, total = x * x, x * x * x / 6.0, 0.0
+            for k in range(1, 9):
+                total += term
+                term *= -x2 / ((2 * k + 2) * (2 * k + 3))
+            return r2 * 0.5 * total
+        return r2 * (phi - math.sin(phi) * math.cos(phi))
+
+    if vb <= radius:  # both points in the left half
+        return from_end(vb) - from_end(va)
+    if va >= radius:  # both in the right half
+        return from_end(wa) - from_end(wb)
+    return (math.pi * r2 - from_end(wb)) - from_end(va)
 
 
 def turned_open_angle(
