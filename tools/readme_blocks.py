@@ -132,14 +132,14 @@ BLOCKS: dict[str, Block] = {
         keep=(r"^(M0|t_cr|difference)", r"^envelope:"),
         rtol=1e-4,
         slow=True,
-        cost="50 s",
+        cost="18 s",
     ),
     "start": Block(
         ("obturator trajectory --mach 2.5",),
         keep=(r"^(M0|t_cr|t_start|inlet)",),
         rtol=1e-4,
         slow=True,
-        cost="20 s",
+        cost="2 s",
     ),
     "design": Block(
         ("obturator design-experiment --out design.nc --figure design.png",),
@@ -175,7 +175,7 @@ BLOCKS: dict[str, Block] = {
         keep=(r"^ball mass", r"^bore blocked", r"^max:"),
         rtol=1e-4,
         slow=True,
-        cost="62 s",
+        cost="4 s",
     ),
     "sweep": Block(
         (
