@@ -61,7 +61,23 @@ def gaussian_kl(
 
 def jeffreys(mu0: NDArray, cov0: NDArray, mu1: NDArray, cov1: NDArray) -> float:
     """Symmetric divergence KL(0||1) + KL(1||0) [nats]."""
-    return gaussian_kl(mu0, cov0, mu1, cov1) + gaussian_kl(mu1, cov1, mu0, cov0)
+    m0, m1 = np.atleast_1d(mu0).astype(float), np.atleast_1d(mu1).astype(float)
+    l0 = np.linalg.cholesky(np.atleast_2d(cov0).astype(float))
+    l1 = np.linalg.cholesky(np.atleast_2d(cov1).astype(float))
+    return _jeffreys_factored(m0, l0, m1, l1)
+
+
+def _jeffreys_factored(
+    m0: NDArray[np.float64], l0: NDArray[np.float64], m1: NDArray[np.float64], l1: NDArray
+) -> float:
+    """:func:`jeffreys` from the Cholesky factors L0, L1 of the covariances. The log
+    determinants of the two directions cancel: J = (tr(S1^-1 S0) + tr(S0^-1 S1)
+    + d' (S0^-1 + S1^-1) d) / 2 - n with d = mu1 - mu0, each term a squared Frobenius
+    norm of one triangular solve with the other factor and d as right-hand sides."""
+    d = (m1 - m0)[:, None]
+    a = np.linalg.solve(l1, np.hstack((l0, d)))  # L1^-1 [L0, d]
+    b = np.linalg.solve(l0, np.hstack((l1, d)))  # L0^-1 [L1, d]
+    return 0.5 * (float(np.sum(a * a)) + float(np.sum(b * b))) - m0.size
 
 
 def box_hill(
@@ -69,12 +85,15 @@ def box_hill(
     covs: Sequence[NDArray[np.float64]],
     prior: Sequence[float] | None = None,
 ) -> float:
-    """Box-Hill D = sum_{i<j} P_i P_j J_ij over the models' predictive Gaussians."""
+    """Box-Hill D = sum_{i<j} P_i P_j J_ij over the models' predictive Gaussians (each
+    covariance factored once for all its pairs)."""
     m = len(means)
     p = np.full(m, 1.0 / m) if prior is None else np.asarray(prior, dtype=float)
+    mus = [np.atleast_1d(mu).astype(float) for mu in means]
+    chol = [np.linalg.cholesky(np.atleast_2d(c).astype(float)) for c in covs]
     return float(
         sum(
-            p[i] * p[j] * jeffreys(means[i], covs[i], means[j], covs[j])
+            p[i] * p[j] * _jeffreys_factored(mus[i], chol[i], mus[j], chol[j])
             for i in range(m)
             for j in range(i + 1, m)
         )
