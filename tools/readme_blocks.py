@@ -165,7 +165,7 @@ BLOCKS: dict[str, Block] = {
         ),
         keep=(r"p = ", r"IS inside"),
         slow=True,
-        cost="373 s (loaded 2-vCPU Zen 4; 28 min before the lanes)",
+        cost="88 s",
     ),
     "optimize": Block(
         (
