@@ -34,7 +34,7 @@ def _start_condition(
     """:func:`~obturator.model.start.start_condition` (the bore as capture area), memoised:
     a pure function of its arguments, asked for the same Mach numbers by every bound
     (nominal, late, early) and every run of a flight at one altitude; each call solves
-    for the Fanno choking Mach and inverts the turned window's quadrature."""
+    Eq. 2 for the lens and inverts the turned window (a root search each)."""
     return start_condition(mach, ball, bore_radius, gamma=gamma, altitude_m=altitude_m)
 
 
