@@ -95,7 +95,7 @@ BLOCKS: dict[str, Block] = {
     "reproduce": Block(
         ("obturator reproduce --out report",),
         slow=True,
-        cost="6.5 min, nearly idle (the 54-run validation study inside)",
+        cost="5.0 min, nearly idle (the 54-run validation study inside)",
     ),
     "calibrate": Block(
         ("obturator calibrate examples/rig_runs.csv --bootstrap 0 --figure residuals.png",),
