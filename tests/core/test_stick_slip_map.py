@@ -135,3 +135,65 @@ def test_equivalent_starts_open_together():
     t0 = first.t_end - stick_slip_map._BACK / 40.0
     later = run(PROBLEM_40._replace(y0=y0, t0=t0), CONTROLS_40, math.inf).t_event
     assert later == pytest.approx(whole, rel=4e-6)
+
+
+def _tcr(case, rtol: float, by_map: bool, built: list | None = None) -> float:
+    """t_cr [s] of the set-valued solver at `rtol` (atol rtol / 100), through the map or
+    cycle by cycle; `built` collects the last-cycles count of each map built."""
+    opts = SolverOptions(method="set-valued", rtol=rtol, atol=rtol * 1e-2)
+    problem, controls = integration_setup(case, opts)
+    problem = problem._replace(p=stick_slip.zero_width(problem.p.copy()))
+    run = stick_slip.run_cycles()
+    if not by_map:
+        return run(problem, controls, math.inf).t_event
+    if built is not None:
+        on = stick_slip_map._map_on
+
+        def recorded(*args):
+            out = on(*args)
+            if isinstance(out, stick_slip_map.CycleMap):
+                built.append(out.last_cycles)
+            return out
+
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(stick_slip_map, "_map_on", recorded)
+            return stick_slip_map.integrate(problem, controls, run).t_event
+    return stick_slip_map.integrate(problem, controls, run).t_event
+
+
+def test_map_ends_above_a_change_of_cycle_kind():
+    """67.6 rad/s on the rig: the 9 nodes down to 50 deg change kind below ~65 deg (a
+    cycle there does not stick again within two revolutions), so the map is built again
+    down to the last node of the top's kind and ends there (one cycle left to the run,
+    not three). Its t_cr at the defaults is within 5e-8 of the cycle-by-cycle run at
+    rtol 1e-11 (which rtol 1e-10 confirms to 1.2e-8); without the map (as before) the
+    default run was 1.6e-7 off it."""
+    case = rig_case(67.61904761904762, THESIS_MU_S)
+    built: list[int] = []
+    ref = _tcr(case, 1e-11, by_map=False)
+    assert _tcr(case, 1e-10, by_map=False) == pytest.approx(ref, rel=3e-8)
+    assert _tcr(case, 1e-8 / 3.0, by_map=True, built=built) == pytest.approx(ref, rel=5e-8)
+    assert built == [1]
+    assert opening_time(case, SolverOptions()) == pytest.approx(ref, rel=5e-8)
+
+
+def test_map_at_the_nodes_noise_floor():
+    """A release at 89 deg (a 3.75 mm hole, 90 rad/s: ~1,700 cycles over 19.5 s, each
+    changing theta by ~1e-5 rad at first). At rtol 1e-9 / 3 (the validation's, as
+    ``auto`` runs it) the 33-node estimate stops falling (2e-8 from 17 nodes: the nodes'
+    own error) above 50 rtol; the map is taken (PLATEAU_TOL) and its t_cr is within 1e-7
+    of both tight references, the map and the cycle-by-cycle run at rtol 1e-11 (1.1e-8
+    apart), where the cycle-by-cycle run at the same tolerances errs by 1.9e-6 (measured;
+    5e-6 at rtol 1e-9)."""
+    from obturator.model.geometry import BoredBall
+
+    ball = BoredBall(radius=0.007899, hole_radius=0.00375, density=7669.6)
+    case = rig_case(90.0, 0.515, theta0_deg=89.0, ball=ball, weight=None, t_max=30.0)
+    built: list[int] = []
+    ref_cycles = _tcr(case, 1e-11, by_map=False)
+    ref_map = _tcr(case, 1e-11, by_map=True)
+    assert ref_map == pytest.approx(ref_cycles, rel=3e-8)
+    t = _tcr(case, 1e-9 / 3.0, by_map=True, built=built)
+    assert built == [1]
+    assert t == pytest.approx(ref_map, rel=1e-7)
+    assert t == pytest.approx(ref_cycles, rel=1e-7)
