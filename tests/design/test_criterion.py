@@ -71,6 +71,11 @@ def test_kl_is_non_negative_and_zero_only_for_equal(m0, s0, m1, s1):
         assert k > 0.0
 
 
+def _each(value):
+    """A value of one plan (a list) as the plan search asks for it: of each row."""
+    return lambda plans: np.array([value(list(p)) for p in np.asarray(plans).tolist()])
+
+
 def test_greedy_exchange_finds_the_known_optimum():
     """Value = sum of per-run scores with a diminishing return on repeats: the best plan
     of 3 takes the two best candidates, the best one twice."""
@@ -81,7 +86,7 @@ def test_greedy_exchange_finds_the_known_optimum():
             score[c] * (1.0 if k == 0 else 0.5) for c in set(plan) for k in range(plan.count(c))
         )
 
-    plan, v = greedy_exchange(3, list(score), value)
+    plan, v = greedy_exchange(3, list(score), _each(value))
     assert plan == [1, 1, 2]
     assert v == pytest.approx(5.0 + 2.5 + 3.0)
 
@@ -164,7 +169,7 @@ def test_greedy_exchange_reports_every_step():
     steps: list[int] = []
     score = {0: 1.0, 1: 3.0, 2: 2.0}
     plan, _ = greedy_exchange(
-        4, list(score), lambda p: sum(score[i] for i in p), advance=steps.append
+        4, list(score), _each(lambda p: sum(score[i] for i in p)), advance=steps.append
     )
     assert plan == [1, 1, 1, 1]  # the best candidate, 4 times: by hand
     assert sum(steps) == 4 * (1 + EXCHANGE_PASSES)
@@ -178,7 +183,8 @@ def test_plan_search_shows_progress_lines(capsys):
     score = {0: 1.0, 1: 3.0, 2: 2.0}
     settings = [Setting(100.0), Setting(200.0), Setting(300.0)]
     runner = Runner(workers=1, progress=Progress("lines", interval_s=0.0))
-    plans = _best_plans([2, 3], list(score), lambda p: sum(score[i] for i in p), settings, runner)
+    value = _each(lambda p: sum(score[i] for i in p))
+    plans = _best_plans([2, 3], list(score), value, settings, runner)
     assert sorted(plans) == [2, 3]
     lines = [ln for ln in capsys.readouterr().err.splitlines() if "plan search" in ln]
     assert lines and all(ln.startswith("obturator: design: plan search: ") for ln in lines)
@@ -195,3 +201,29 @@ def test_jeffreys_is_the_sum_of_both_directions(n):
         m0, m1 = rng.normal(size=n), rng.normal(size=n)
         both = gaussian_kl(m0, s0, m1, s1) + gaussian_kl(m1, s1, m0, s0)
         assert jeffreys(m0, s0, m1, s1) == pytest.approx(both, rel=1e-12)
+
+
+def test_plan_values_of_stacked_plans_are_box_hill_of_each():
+    """The stacked evaluation of the plan search against :func:`box_hill` of each plan's
+    means and covariances built one plan at a time (Surrogate.mean, Surrogate.covariance
+    plus the noise): 3 models, 2 parameters, 12 settings, plans of 1-6 runs with repeats."""
+    from obturator.design.criterion import plan_value, plan_values
+
+    rng = np.random.default_rng(5)
+    sur = [
+        Surrogate(
+            m, rng.uniform(0.2, 0.6, 12), rng.normal(0, 0.01, (12, 2)), rng.normal(0, 1e-3, (12, 2))
+        )
+        for m in "abc"
+    ]
+    noise = rng.uniform(0.005, 0.02, 12)
+    for n in (1, 2, 3, 6):
+        plans = rng.integers(0, 12, (40, n))
+        got = plan_values(sur, noise, plans)
+        for plan, v in zip(plans, got, strict=True):
+            cov_noise = np.diag(noise[plan] ** 2)
+            one = box_hill(
+                [s.mean(plan) for s in sur], [s.covariance(plan) + cov_noise for s in sur]
+            )
+            assert v == pytest.approx(one, rel=1e-12)
+            assert plan_value(sur, noise, list(plan)) == pytest.approx(one, rel=1e-12)

@@ -37,6 +37,7 @@ __all__ = [
     "greedy_exchange",
     "jeffreys",
     "plan_value",
+    "plan_values",
 ]
 
 
@@ -64,20 +65,21 @@ def jeffreys(mu0: NDArray, cov0: NDArray, mu1: NDArray, cov1: NDArray) -> float:
     m0, m1 = np.atleast_1d(mu0).astype(float), np.atleast_1d(mu1).astype(float)
     l0 = np.linalg.cholesky(np.atleast_2d(cov0).astype(float))
     l1 = np.linalg.cholesky(np.atleast_2d(cov1).astype(float))
-    return _jeffreys_factored(m0, l0, m1, l1)
+    return float(_jeffreys_factored(m0, l0, m1, l1))
 
 
 def _jeffreys_factored(
     m0: NDArray[np.float64], l0: NDArray[np.float64], m1: NDArray[np.float64], l1: NDArray
-) -> float:
-    """:func:`jeffreys` from the Cholesky factors L0, L1 of the covariances. The log
-    determinants of the two directions cancel: J = (tr(S1^-1 S0) + tr(S0^-1 S1)
-    + d' (S0^-1 + S1^-1) d) / 2 - n with d = mu1 - mu0, each term a squared Frobenius
-    norm of one triangular solve with the other factor and d as right-hand sides."""
-    d = (m1 - m0)[:, None]
-    a = np.linalg.solve(l1, np.hstack((l0, d)))  # L1^-1 [L0, d]
-    b = np.linalg.solve(l0, np.hstack((l1, d)))  # L0^-1 [L1, d]
-    return 0.5 * (float(np.sum(a * a)) + float(np.sum(b * b))) - m0.size
+) -> NDArray[np.float64]:
+    """:func:`jeffreys` from the Cholesky factors L0, L1 of the covariances, over any
+    leading (stacked) axes. The log determinants of the two directions cancel:
+    J = (tr(S1^-1 S0) + tr(S0^-1 S1) + d' (S0^-1 + S1^-1) d) / 2 - n with d = mu1 - mu0,
+    each term a squared Frobenius norm of one triangular solve with the other factor and
+    d as right-hand sides."""
+    d = (m1 - m0)[..., None]
+    a = np.linalg.solve(l1, np.concatenate((l0, d), axis=-1))  # L1^-1 [L0, d]
+    b = np.linalg.solve(l0, np.concatenate((l1, d), axis=-1))  # L0^-1 [L1, d]
+    return 0.5 * (np.sum(a * a, axis=(-2, -1)) + np.sum(b * b, axis=(-2, -1))) - m0.shape[-1]
 
 
 def box_hill(
@@ -87,16 +89,24 @@ def box_hill(
 ) -> float:
     """Box-Hill D = sum_{i<j} P_i P_j J_ij over the models' predictive Gaussians (each
     covariance factored once for all its pairs)."""
-    m = len(means)
-    p = np.full(m, 1.0 / m) if prior is None else np.asarray(prior, dtype=float)
     mus = [np.atleast_1d(mu).astype(float) for mu in means]
     chol = [np.linalg.cholesky(np.atleast_2d(c).astype(float)) for c in covs]
-    return float(
-        sum(
-            p[i] * p[j] * _jeffreys_factored(mus[i], chol[i], mus[j], chol[j])
-            for i in range(m)
-            for j in range(i + 1, m)
-        )
+    return float(_box_hill_factored(mus, chol, prior))
+
+
+def _box_hill_factored(
+    mus: Sequence[NDArray[np.float64]],
+    chol: Sequence[NDArray[np.float64]],
+    prior: Sequence[float] | None = None,
+) -> NDArray[np.float64]:
+    """:func:`box_hill` from the models' means and covariance factors, over any leading
+    (stacked) axes: one value per stacked plan."""
+    m = len(mus)
+    p = np.full(m, 1.0 / m) if prior is None else np.asarray(prior, dtype=float)
+    return sum(  # type: ignore[return-value]
+        p[i] * p[j] * _jeffreys_factored(mus[i], chol[i], mus[j], chol[j])
+        for i in range(m)
+        for j in range(i + 1, m)
     )
 
 
@@ -104,13 +114,27 @@ def plan_value(
     surrogates: Iterable[Any], noise_sd: NDArray[np.float64], plan: Sequence[int]
 ) -> float:
     """Box-Hill D of a plan (setting indices) from the models' surrogates and the noise SD."""
-    idx = np.asarray(plan, dtype=np.intp)
-    cov_noise = np.diag(noise_sd[idx] ** 2)
-    means, covs = [], []
+    return float(plan_values(surrogates, noise_sd, np.asarray([plan], dtype=np.intp))[0])
+
+
+def plan_values(
+    surrogates: Iterable[Any], noise_sd: NDArray[np.float64], plans: NDArray[np.intp]
+) -> NDArray[np.float64]:
+    """Box-Hill D of each plan, `plans` an integer array (P, N): one plan of N setting
+    indices per row. All the plans at once (stacked covariances, one LAPACK call per
+    stack): the plan search asks for every candidate of one step together, and one plan
+    at a time its Python overhead was most of design-experiment's search."""
+    idx = np.asarray(plans, dtype=np.intp)
+    n = idx.shape[-1]
+    diag = np.arange(n)
+    mus, chol = [], []
     for s in surrogates:
-        means.append(s.mean(idx))
-        covs.append(s.covariance(idx) + cov_noise)
-    return box_hill(means, covs)
+        g, c = s.grad[idx], s.curv[idx]  # (P, N, k): Surrogate.covariance per plan
+        cov = g @ g.swapaxes(-1, -2) + 0.5 * (c @ c.swapaxes(-1, -2))
+        cov[..., diag, diag] += noise_sd[idx] ** 2
+        mus.append(s.t0[idx] + 0.5 * c.sum(axis=-1))
+        chol.append(np.linalg.cholesky(cov))
+    return _box_hill_factored(mus, chol)
 
 
 #: Most exchange passes of :func:`greedy_exchange` after its greedy start.
@@ -120,41 +144,43 @@ EXCHANGE_PASSES = 6
 def greedy_exchange(
     n_runs: int,
     candidates: Sequence[int],
-    value: Callable[[list[int]], float],
+    value: Callable[[NDArray[np.intp]], NDArray[np.float64]],
     max_passes: int = EXCHANGE_PASSES,
     advance: Callable[[int], None] | None = None,
 ) -> tuple[list[int], float]:
-    """Maximise `value(plan)` over plans of `n_runs` candidates (repeats allowed).
+    """Maximise the value of plans of `n_runs` candidates (repeats allowed).
 
     Greedy start, then exchange passes until a pass improves D by less than 1e-9
-    relative or `max_passes` have run. Returns the plan (sorted) and its value.
-    `advance(k)`, if given, is told of each of the ``n_runs * (1 + max_passes)`` steps
-    (a run placed, a position exchanged; the passes not needed at the end, at once).
+    relative or `max_passes` have run. `value(plans)` gives the value of each row of an
+    integer array (P, n_runs) of candidates: every plan of one greedy step, or of one
+    position's exchanges, is asked for in one call (as :func:`plan_values` takes them).
+    Returns the plan (sorted) and its value. `advance(k)`, if given, is told of each of
+    the ``n_runs * (1 + max_passes)`` steps (a run placed, a position exchanged; the
+    passes not needed at the end, at once).
     """
     step = advance or (lambda k: None)
-    cands = list(candidates)
-    plan: list[int] = []
+    cands = np.asarray(candidates, dtype=np.intp)
+    plan = np.empty(0, dtype=np.intp)
     for _ in range(n_runs):
-        scores = [value([*plan, c]) for c in cands]
-        plan.append(cands[int(np.argmax(scores))])
+        trials = np.column_stack((np.tile(plan, (cands.size, 1)), cands))
+        plan = np.append(plan, cands[int(np.argmax(value(trials)))])
         step(1)
-    best = value(plan)
+    best = float(value(plan[None, :])[0])
     passes = 0
     for _ in range(max_passes):
         start = best
         passes += 1
         for pos in range(n_runs):
-            trial = list(plan)
-            for c in cands:
-                if c == plan[pos]:
-                    continue
-                trial[pos] = c
-                v = value(trial)
+            # the other positions stay fixed while this one is exchanged: every candidate
+            # for it at once, then taken in order wherever it beats the best so far
+            others = cands[cands != plan[pos]]
+            trials = np.tile(plan, (others.size, 1))
+            trials[:, pos] = others
+            for c, v in zip(others.tolist(), value(trials).tolist(), strict=True):
                 if v > best * (1.0 + 1e-12):
                     best, plan[pos] = v, c
-                    trial = list(plan)
             step(1)
         if not best > start * (1.0 + 1e-9) or not math.isfinite(best):
             break
     step(n_runs * (max_passes - passes))
-    return sorted(plan), best
+    return sorted(plan.tolist()), best

@@ -48,7 +48,7 @@ from .campaigns import (
     discrepancy_at,
     surrogate_error,
 )
-from .criterion import EXCHANGE_PASSES, greedy_exchange, plan_value
+from .criterion import EXCHANGE_PASSES, greedy_exchange, plan_values
 from .feasibility import ValidatedRange, check_setting
 from .noise import RELEASE_STEP_DEG, ReplicateNoise
 from .posterior import Posterior, new_ball_prior_sd
@@ -194,16 +194,17 @@ def _model_names(models: Sequence[str] | str | None) -> list[str]:
 def _best_plans(
     sizes: Sequence[int],
     candidates: list[int],
-    value: Callable[[list[int]], float],
+    value: Callable[[NDArray[np.intp]], NDArray[np.float64]],
     settings: Sequence[Setting],
     runner: Runner,
 ) -> dict[int, tuple[list[int], float]]:
     """The best plan of each size among the `candidates` (indices into `settings`), and its
-    value; near-ties go to the simpler experiment (fewer changes from the Table 1 rig)."""
+    value (`value(plans)`: of each row, as :func:`.criterion.greedy_exchange` asks);
+    near-ties go to the simpler experiment (fewer changes from the Table 1 rig)."""
     changes = np.array([s.n_changes for s in settings], dtype=float)
 
-    def preferred(plan: list[int]) -> float:
-        return value(plan) * (1.0 - SIMPLICITY * float(np.mean(changes[plan])) / 3.0)
+    def preferred(plans: NDArray[np.intp]) -> NDArray[np.float64]:
+        return value(plans) * (1.0 - SIMPLICITY * changes[plans].mean(axis=-1) / 3.0)
 
     plans = {}
     steps = sum(sizes) * (1 + EXCHANGE_PASSES)
@@ -211,7 +212,7 @@ def _best_plans(
         for n in sizes:
             advance.describe(f"the best {n}-run plan")
             plan, _ = greedy_exchange(n, candidates, preferred, EXCHANGE_PASSES, advance)
-            plans[n] = (plan, value(plan))
+            plans[n] = (plan, float(value(np.asarray([plan], dtype=np.intp))[0]))
     return plans
 
 
@@ -344,8 +345,8 @@ def design_experiment(
     if not candidates:
         raise InputError("ranges", "no setting the rig can hold where every model opens by t_max")
 
-    def value(plan: list[int]) -> float:
-        return plan_value(surrogates.values(), noise, plan)
+    def value(plans: NDArray[np.intp]) -> NDArray[np.float64]:
+        return plan_values(surrogates.values(), noise, plans)
 
     plans = _best_plans(sizes, candidates, value, settings, runner)
 
