@@ -385,7 +385,7 @@ def _map_on(nodes: _Nodes, theta_lo: float, theta: float, t: float, last: int) -
     while n <= MAX_NODES:
         rows = nodes.leading(node_thetas(lo, hi, n))
         if rows.shape[0] < n or _same_kind(rows) < n:
-            return min(_same_kind(rows), rows.shape[0]) if n == 9 and rows.shape[0] else 0
+            return _same_kind(rows) if n == 9 and rows.shape[0] else 0
         c = [_coefficients(rows[:, i]) for i in range(3)]
         c[1] *= nodes.half
         # error estimate: the last two Chebyshev coefficients (log(-D), T / half period)
