@@ -121,7 +121,7 @@ BLOCKS: dict[str, Block] = {
         # the ill-determined subset fits far more (regenerate the block then)
         rtol=2e-3,
         slow=True,
-        cost="6.7 min, nearly idle",
+        cost="4.3 min, nearly idle",
     ),
     "envelope": Block(
         (
