@@ -125,14 +125,12 @@ def plan_values(
     stack): the plan search asks for every candidate of one step together, and one plan
     at a time its Python overhead was most of design-experiment's search."""
     idx = np.asarray(plans, dtype=np.intp)
-    n = idx.shape[-1]
-    diag = np.arange(n)
+    diag = np.arange(idx.shape[-1])
     mus, chol = [], []
     for s in surrogates:
-        g, c = s.grad[idx], s.curv[idx]  # (P, N, k): Surrogate.covariance per plan
-        cov = g @ g.swapaxes(-1, -2) + 0.5 * (c @ c.swapaxes(-1, -2))
+        cov = s.covariance(idx)  # (P, N, N)
         cov[..., diag, diag] += noise_sd[idx] ** 2
-        mus.append(s.t0[idx] + 0.5 * c.sum(axis=-1))
+        mus.append(s.mean(idx))
         chol.append(np.linalg.cholesky(cov))
     return _box_hill_factored(mus, chol)
 

@@ -106,15 +106,17 @@ class Surrogate:
         return np.isfinite(self.t0) & np.all(np.isfinite(self.grad), axis=1)
 
     def mean(self, idx: Sequence[int] | NDArray[np.intp]) -> NDArray[np.float64]:
-        """Posterior mean of t_cr at the settings `idx` [s]."""
+        """Posterior mean of t_cr at the settings `idx` [s] (an index array of any shape:
+        one mean per index)."""
         i = np.asarray(idx, dtype=np.intp)
-        return self.t0[i] + 0.5 * self.curv[i].sum(axis=1)
+        return self.t0[i] + 0.5 * self.curv[i].sum(axis=-1)
 
     def covariance(self, idx: Sequence[int] | NDArray[np.intp]) -> NDArray[np.float64]:
-        """Posterior covariance of t_cr between the settings `idx` [s^2]."""
+        """Posterior covariance of t_cr between the settings `idx` [s^2]; `idx` of shape
+        (..., N) gives one N x N covariance per leading index (stacked plans)."""
         i = np.asarray(idx, dtype=np.intp)
         g, c = self.grad[i], self.curv[i]
-        return g @ g.T + 0.5 * (c @ c.T)
+        return g @ g.swapaxes(-1, -2) + 0.5 * (c @ c.swapaxes(-1, -2))
 
     def sd(self) -> NDArray[np.float64]:
         """Posterior SD of t_cr at every setting [s]."""

@@ -359,10 +359,11 @@ def _build_map(nodes: _Nodes, theta_lo: float, theta: float, t: float) -> CycleM
     top's kind, and ends there, above theta_cr: the cycles below, few and of large
     change, are integrated one by one with the rest."""
     built = _map_on(nodes, theta_lo, theta, t, LAST_CYCLES)
-    if isinstance(built, CycleMap) or built < MIN_KIND_NODES:
-        return built if isinstance(built, CycleMap) else None
-    lo, hi = abscissa(theta_lo), abscissa(theta)
-    top = float(node_thetas(lo, hi, 9)[built - 1])
+    if isinstance(built, CycleMap):
+        return built
+    if built < MIN_KIND_NODES:
+        return None
+    top = float(node_thetas(abscissa(theta_lo), abscissa(theta), 9)[built - 1])
     shrunk = _map_on(nodes, top, theta, t, 1)
     return shrunk if isinstance(shrunk, CycleMap) else None
 
@@ -384,8 +385,9 @@ def _map_on(nodes: _Nodes, theta_lo: float, theta: float, t: float, last: int) -
     n = 9
     while n <= MAX_NODES:
         rows = nodes.leading(node_thetas(lo, hi, n))
-        if rows.shape[0] < n or _same_kind(rows) < n:
-            return _same_kind(rows) if n == 9 and rows.shape[0] else 0
+        kind = _same_kind(rows) if rows.shape[0] else 0
+        if kind < n:
+            return kind if n == 9 else 0
         c = [_coefficients(rows[:, i]) for i in range(3)]
         c[1] *= nodes.half
         # error estimate: the last two Chebyshev coefficients (log(-D), T / half period)
