@@ -104,7 +104,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     run = execute_sweep(spec, runner, csv=csv_path)
     wall = time.perf_counter() - t0
-    summ = sweep_summary(run.dataset)
+    summ = sweep_summary(run.table)
     rate = run.n_computed / run.elapsed_s if run.elapsed_s > 0 else math.inf
     if args.json:
         print(
@@ -148,7 +148,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
         + f", {summ['n_not_opened']} not opened by t_max, "
         f"{summ['n_failed'] + summ['n_invalid']} failed; {trange}; wrote {files}"
     )
-    warn_outside_data(run.dataset)
+    warn_outside_data(run.table)
     return 0
 
 

@@ -10,7 +10,8 @@ embarrassingly parallel. One concern per module:
 * :mod:`.job`: a study's chunks as a job of :class:`obturator.runs.Runner` (which
   runs them here, on a pool or Dask, resumably) and their results;
 * :mod:`.sweep`: running a study (:func:`run_sweep`, :func:`execute_sweep`);
-* :mod:`.export`: the Dataset, NetCDF and CSV;
+* :mod:`.table`: a study's results as arrays (:class:`StudyTable`) and its NetCDF file;
+* :mod:`.export`: the study's table, CSV, and the files written atomically;
 * :mod:`.distributions`, :mod:`.stats`, :mod:`.montecarlo`: Monte Carlo.
 
 Status values stored in the ``status`` variable are those of
@@ -31,6 +32,7 @@ from .points import POINT_STATUSES
 from .spec import SweepSpec
 from .stats import MonteCarloSummary, QuantileEstimate, summarize_monte_carlo
 from .sweep import SweepRun, execute_sweep, run_sweep, sweep_summary
+from .table import StudyTable
 
 __all__ = [
     "PARAMETERS",
@@ -38,6 +40,7 @@ __all__ = [
     "Status",
     "SweepSpec",
     "SweepRun",
+    "StudyTable",
     "Distribution",
     "QuantileEstimate",
     "MonteCarloSummary",

@@ -1,4 +1,4 @@
-"""Study results as files: the xarray Dataset, NetCDF (CF attributes) and a flat CSV.
+"""Study results as files: the study's table (:mod:`.table`), NetCDF (CF attributes) and a flat CSV.
 
 Both files are written atomically; the resume store is removed only after
 both are in place (:func:`write_outputs`), so an interruption while writing
@@ -26,6 +26,7 @@ from ..solve.plan import ROUTES
 from ..status import FLAGS
 from .points import POINT_STATUSES
 from .spec import SweepSpec
+from .table import StudyTable, write_table_netcdf
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray
@@ -37,7 +38,7 @@ __all__ = [
     "check_distinct_outputs",
     "common_attrs",
     "coord_attrs",
-    "grid_dataset",
+    "grid_table",
     "route_attrs",
     "status_attrs",
     "write_csv",
@@ -113,12 +114,12 @@ T_CR_ATTRS = {
 }
 
 
-def grid_dataset(
+def grid_table(
     spec: SweepSpec, t_cr: np.ndarray, status: np.ndarray, route: np.ndarray
-) -> xarray.Dataset:
-    """The sweep's Dataset: t_cr, status and route over the swept dimensions."""
-    import xarray as xr
-
+) -> StudyTable:
+    """The sweep's results: t_cr, status and route over the swept dimensions, with the
+    swept parameters as dimension coordinates and the fixed ones as scalar coordinates
+    (:meth:`~.table.StudyTable.to_dataset` gives the Dataset)."""
     dims = spec.dims
     coords: dict[str, Any] = {d: (d, spec.axes[d], coord_attrs(d)) for d in dims}
     for name, value in spec.resolved().items():
@@ -132,31 +133,32 @@ def grid_dataset(
     attrs = {"title": f"obturator sweep of t_cr over {', '.join(dims) or 'one point'}"}
     attrs.update(common_attrs(spec))
     attrs["spec_hash"] = spec.digest()
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    return StudyTable(data, coords, attrs)
 
 
-def write_netcdf(ds: xarray.Dataset, path: str | os.PathLike[str]) -> str:
-    """Write ``ds`` to NetCDF atomically; return the engine used (netcdf4 or scipy)."""
-    try:
-        import netCDF4  # noqa: F401
+def write_netcdf(ds: xarray.Dataset | StudyTable, path: str | os.PathLike[str]) -> None:
+    """Write a Dataset or a study's :class:`~.table.StudyTable` to NetCDF-4, atomically
+    (a temporary file renamed into place, never over a device node).
 
-        engine = "netcdf4"
-    except ImportError:  # pragma: no cover - optional engine
-        engine = "scipy"
+    A table is written with netCDF4 directly (:func:`~.table.write_table_netcdf`: the
+    same file, without xarray's imports), a Dataset by xarray.
+    """
     from ..files import publish, temporary_for
 
     out = Path(path)
     tmp = temporary_for(out)
     try:
-        ds.to_netcdf(tmp, engine=engine)
-        publish(tmp, out)  # never renamed over a device node
+        if isinstance(ds, StudyTable):
+            write_table_netcdf(ds, tmp)
+        else:
+            ds.to_netcdf(tmp, engine="netcdf4")
+        publish(tmp, out)
     finally:
         tmp.unlink(missing_ok=True)
-    return engine
 
 
-def write_csv(ds: xarray.Dataset, path: str | os.PathLike[str]) -> None:
-    """Write a sweep or Monte Carlo dataset as a flat CSV table (units in the header), atomically.
+def write_csv(ds: xarray.Dataset | StudyTable, path: str | os.PathLike[str]) -> None:
+    """Write a sweep or Monte Carlo study as a flat CSV table (units in the header), atomically.
 
     Leading ``#`` lines carry everything that is not a column: the fixed
     parameters (scalar coordinates with units), the case, models, solver
@@ -166,31 +168,29 @@ def write_csv(ds: xarray.Dataset, path: str | os.PathLike[str]) -> None:
     where not opened), ``status`` and ``route`` (by name: :mod:`obturator.solve.plan`).
     Written to a temporary file and renamed.
     """
-    if "sample" in ds.dims:
-        cols = [v for v in ds.data_vars if ds[v].dims == ("sample",) and v in SWEEP_PARAMS]
-        table = [ds[c].values for c in cols]
-        t = ds["t_cr"].values
-        s = ds["status"].values
-        r = ds["route"].values
+    table = ds if isinstance(ds, StudyTable) else _table_of(ds)
+    t = table.values("t_cr").reshape(-1)
+    s = table.values("status").reshape(-1)
+    r = table.values("route").reshape(-1)
+    if "sample" in table.dims("t_cr"):
+        cols = [v for v in table.data if table.dims(v) == ("sample",) and v in SWEEP_PARAMS]
+        columns = [table.values(c) for c in cols]
     else:
-        cols = list(ds["t_cr"].dims)
-        mesh = np.meshgrid(*[ds[c].values for c in cols], indexing="ij")
-        table = [m.reshape(-1) for m in mesh]
-        t = ds["t_cr"].values.reshape(-1)
-        s = ds["status"].values.reshape(-1)
-        r = ds["route"].values.reshape(-1)
+        cols = list(table.dims("t_cr"))
+        mesh = np.meshgrid(*[table.values(c) for c in cols], indexing="ij")
+        columns = [m.reshape(-1) for m in mesh]
     lines = []
-    for name, coord in ds.coords.items():
-        if coord.ndim == 0:
-            unit = coord.attrs.get("units", "")
-            lines.append(f"# {name} = {coord.item()!r} {unit}".rstrip())
-    for key, value in ds.attrs.items():
+    for name, (_, value, attrs) in table.coords.items():
+        if np.ndim(value) == 0:
+            unit = attrs.get("units", "")
+            lines.append(f"# {name} = {np.asarray(value).item()!r} {unit}".rstrip())
+    for key, value in table.attrs.items():
         if np.ndim(value) == 0:
             lines.append(f"# {key} = {' '.join(str(value).split())}")
     header = [f"{c} [{SWEEP_PARAMS[c].unit}]" for c in cols] + ["t_cr [s]", "status", "route"]
     lines.append(",".join(header))
     for k in range(t.size):
-        cells = [f"{col[k]:.12g}" for col in table]
+        cells = [f"{col[k]:.12g}" for col in columns]
         cells.append(f"{t[k]:.12g}" if math.isfinite(t[k]) else "")
         cells.append(str(int(s[k])))
         cells.append(ROUTES[int(r[k])])
@@ -198,7 +198,14 @@ def write_csv(ds: xarray.Dataset, path: str | os.PathLike[str]) -> None:
     atomic_write_text(Path(path), "\n".join(lines) + "\n")
 
 
-def write_outputs(ds: xarray.Dataset, runner: Runner, csv: str | os.PathLike[str] | None) -> None:
+def _table_of(ds: xarray.Dataset) -> StudyTable:
+    def entries(variables: Any) -> dict[str, Any]:
+        return {k: (v.dims, v.values, dict(v.attrs)) for k, v in variables.items()}
+
+    return StudyTable(entries(ds.data_vars), entries(ds.coords), dict(ds.attrs))
+
+
+def write_outputs(table: StudyTable, runner: Runner, csv: str | os.PathLike[str] | None) -> None:
     """NetCDF (the runner's store path), then CSV, each atomic; the resume store goes only
     after both are in place (:meth:`~obturator.runs.Runner.write_outputs`: a full disk is
     one error that keeps the finished points).
@@ -207,5 +214,7 @@ def write_outputs(ds: xarray.Dataset, runner: Runner, csv: str | os.PathLike[str
     returned dataset does not, so two runs of one study compare identical.
     """
     now = datetime.now(UTC).isoformat(timespec="seconds")
-    ds = ds.assign_attrs(date_created=now, history=f"{now}: {command_line()}")
-    runner.write_outputs([(runner.store, partial(write_netcdf, ds)), (csv, partial(write_csv, ds))])
+    table = table.with_attrs(date_created=now, history=f"{now}: {command_line()}")
+    runner.write_outputs(
+        [(runner.store, partial(write_netcdf, table)), (csv, partial(write_csv, table))]
+    )

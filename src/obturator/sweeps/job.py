@@ -145,22 +145,19 @@ def _pack_while_loading(
 
 
 def prefetch_output() -> None:
-    """Import xarray and its NetCDF writer while pool workers compute.
+    """Load the NetCDF writer (netCDF4 and HDF5) while pool workers compute.
 
-    A first Dataset and a first write to a file import the engine, the encoders and
-    the chunk-manager and scheduler probes behind xarray's write locks (with dask
-    installed: dask.array and dask.distributed), serial work that would otherwise
-    follow the computation. Done while the workers run even with as many workers as
-    cores: the chunks beside it slow down by the share of a core it takes, less than
-    the same work after the last chunk costs (``python -m benchmarks.sweeps``;
-    ``docs/benchmarks.md``, history, "a sweep's serial tail"). Not done in a thread for
-    in-process studies: that work holds the GIL and made a short sweep slower (same
-    document, history).
+    Its first import and first file are serial work that would otherwise follow the
+    computation. Done while the workers run even with as many workers as cores: the
+    chunks beside it slow down by the share of a core it takes, less than the same work
+    after the last chunk costs (``python -m benchmarks.sweeps``; ``docs/benchmarks.md``,
+    history, "a sweep's serial tail"). Not done in a thread for in-process studies:
+    that work holds the GIL and made a short sweep slower (same document, history).
     """
     import tempfile
 
-    import xarray as xr
+    from .table import StudyTable, write_table_netcdf
 
-    tiny = xr.Dataset({"t_cr": ("x", np.zeros(1))})
+    tiny = StudyTable({"t_cr": ("x", np.zeros(1), {})}, {})
     with tempfile.TemporaryDirectory(prefix="obturator-") as tmp:
-        tiny.to_netcdf(os.path.join(tmp, "warm.nc"))
+        write_table_netcdf(tiny, os.path.join(tmp, "warm.nc"))

@@ -35,6 +35,7 @@ from .export import (
 from .spec import SweepSpec
 from .stats import CI_METHOD, MonteCarloSummary, summarize_monte_carlo
 from .sweep import run_points
+from .table import StudyTable
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray
@@ -108,8 +109,6 @@ def monte_carlo(
         attributes with the distributions, seed, counts, fraction not opened
         and its interval, and the solver settings.
     """
-    import xarray as xr
-
     dists = distributions(vary)
     n = _whole("samples", samples, 1, MAX_SAMPLES)
     seed_i = _whole("seed", seed, 0, None)
@@ -167,9 +166,9 @@ def monte_carlo(
         # what lies outside the Appendix B runs ("" if nothing; obturator.model.validity)
         "outside_validated_data": out.outside_validated_data or "",
     }
-    ds = xr.Dataset(data, coords=coords, attrs=attrs)
-    write_outputs(ds, runner, csv)
-    return ds
+    table = StudyTable(data, coords, attrs)
+    write_outputs(table, runner, csv)
+    return table.to_dataset()
 
 
 def _whole(field: str, value: Any, lo: int, hi: int | None) -> int:

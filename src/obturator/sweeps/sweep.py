@@ -14,7 +14,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import cache, partial
+from functools import cache, cached_property, partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -25,10 +25,11 @@ from ..runs import Runner
 from ..runs.chunks import TASK_CHUNK
 from ..solve import batchable
 from ..status import Status
-from .export import check_distinct_outputs, grid_dataset, write_outputs
+from .export import check_distinct_outputs, grid_table, write_outputs
 from .job import LANE_CHUNK, PointResults, sweep_job
 from .points import validity_note
 from .spec import SweepSpec
+from .table import StudyTable
 
 if TYPE_CHECKING:  # pragma: no cover
     import xarray
@@ -94,8 +95,8 @@ def run_points(
 class SweepRun:
     """Outcome of :func:`execute_sweep`."""
 
-    #: The results (see :func:`run_sweep`).
-    dataset: xarray.Dataset
+    #: The results as arrays (:class:`~.table.StudyTable`; :attr:`dataset` as a Dataset).
+    table: StudyTable
     #: Points integrated in this call.
     n_computed: int
     #: Points taken from the resume store instead of being integrated again.
@@ -106,6 +107,11 @@ class SweepRun:
     backend: str
     #: Wall time of the computation [s] (without writing files).
     elapsed_s: float
+
+    @cached_property
+    def dataset(self) -> xarray.Dataset:
+        """The results as an :class:`xarray.Dataset` (see :func:`run_sweep`)."""
+        return self.table.to_dataset()
 
 
 def execute_sweep(
@@ -133,11 +139,11 @@ def execute_sweep(
         label="sweep",
         extra_outputs=() if csv is None else (str(csv),),
     )
-    ds = grid_dataset(spec, out.t_cr, out.status, out.route)
+    table = grid_table(spec, out.t_cr, out.status, out.route)
     # what lies outside the Appendix B runs ("" if nothing; obturator.model.validity)
-    ds.attrs["outside_validated_data"] = out.outside_validated_data or ""
-    write_outputs(ds, runner, csv)
-    return SweepRun(ds, out.n_computed, out.n_resumed, out.workers, out.backend, out.elapsed_s)
+    table = table.with_attrs(outside_validated_data=out.outside_validated_data or "")
+    write_outputs(table, runner, csv)
+    return SweepRun(table, out.n_computed, out.n_resumed, out.workers, out.backend, out.elapsed_s)
 
 
 def run_sweep(spec: SweepSpec, runner: Runner | None = None) -> xarray.Dataset:
@@ -176,8 +182,14 @@ def run_sweep(spec: SweepSpec, runner: Runner | None = None) -> xarray.Dataset:
     return execute_sweep(spec, runner).dataset
 
 
-def sweep_summary(ds: xarray.Dataset) -> dict[str, Any]:
-    """Counts and the t_cr range of a sweep (or Monte Carlo) dataset.
+def sweep_summary(ds: xarray.Dataset | StudyTable) -> dict[str, Any]:
+    """Counts and the t_cr range of a sweep (or Monte Carlo) study.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or StudyTable
+        The study's results (:func:`run_sweep`, :func:`~.montecarlo.monte_carlo`, or
+        :attr:`SweepRun.table`).
 
     Returns
     -------
@@ -187,8 +199,16 @@ def sweep_summary(ds: xarray.Dataset) -> dict[str, Any]:
         ``t_cr_min_s``, ``t_cr_max_s`` (None if nothing opened) and
         ``argmin``: the parameter values at the smallest t_cr.
     """
-    t = np.asarray(ds["t_cr"].values, dtype=float)
-    s = np.asarray(ds["status"].values)
+    if isinstance(ds, StudyTable):
+        t = np.asarray(ds.values("t_cr"), dtype=float)
+        s = ds.values("status")
+        dims = ds.dims("t_cr")
+        axis = ds.values
+    else:
+        t = np.asarray(ds["t_cr"].values, dtype=float)
+        s = np.asarray(ds["status"].values)
+        dims = tuple(ds["t_cr"].dims)
+        axis = lambda d: ds[d].values  # noqa: E731
     res: dict[str, Any] = {
         "n_points": int(t.size),
         "n_opened": int(np.sum(s == Status.OPENED)),
@@ -203,9 +223,7 @@ def sweep_summary(ds: xarray.Dataset) -> dict[str, Any]:
     if np.any(np.isfinite(t)):
         res["t_cr_min_s"] = float(np.nanmin(t))
         res["t_cr_max_s"] = float(np.nanmax(t))
-        if "sample" not in ds["t_cr"].dims and t.ndim:
+        if "sample" not in dims and t.ndim:
             where = np.unravel_index(int(np.nanargmin(t)), t.shape)
-            res["argmin"] = {
-                d: float(ds[d].values[i]) for d, i in zip(ds["t_cr"].dims, where, strict=True)
-            }
+            res["argmin"] = {d: float(axis(d)[i]) for d, i in zip(dims, where, strict=True)}
     return res
