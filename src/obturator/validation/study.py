@@ -57,10 +57,14 @@ from .tasks import (
     all_run_fit_task,
     call,
     cost_rank,
+    first_fit_task,
     phase_task,
     profile_task,
+    restart_fit_task,
+    settled_fit_task,
     warm_up,
 )
+from .valley import valley_starts
 
 __all__ = ["OUT_OF_BAND_SPLIT", "all_run_fits", "recommend", "run_validation"]
 
@@ -331,25 +335,61 @@ def _fits_of(
     todo = [c for c in cands if not memo or keys[c.name] not in _FIT_MEMO]
     # costliest first, so that the last fit to end is not a long one started late
     todo.sort(key=cost_rank, reverse=True)
-    done = (
-        []
-        if not todo
-        else runner.map(
-            call,
-            [(all_run_fit_task, c.name, w, y, band, run, *obs.common, conds) for c in todo],
-            label="validate: all-run fits",
-            unit="fits",
-            chunk_size=1,
-            probe_first=False,
-            warm=partial(warm_up, obs.common[2]),
-            pickled=True,
-        )
+    data_of = (w, y, band, run, *obs.common, conds)
+    fit_map = partial(
+        runner.map,
+        call,
+        unit="fits",
+        chunk_size=1,
+        probe_first=False,
+        warm=partial(warm_up, obs.common[2]),
+        pickled=True,
     )
+    if not todo:
+        done = []
+    elif len(todo) < STAGED_BELOW * runner.n_workers:
+        done = _staged_fits(todo, data_of, fit_map)
+    else:
+        done = fit_map(
+            [(all_run_fit_task, c.name, *data_of) for c in todo], label="validate: all-run fits"
+        )
     for c, res in zip(todo, done, strict=True):
         if len(_FIT_MEMO) >= _FIT_MEMO_SIZE:
             _FIT_MEMO.pop(next(iter(_FIT_MEMO)))
         _FIT_MEMO[keys[c.name]] = res[0]
     return {c.name: _FIT_MEMO[keys[c.name]] for c in cands}
+
+
+#: Fewer all-run fits than this many per worker run their three steps as tasks of their
+#: own (:func:`_staged_fits`): with two candidates on two workers (``design-experiment``)
+#: one fit with its restarts would hold one worker while the other idles. With more
+#: fits than that, one task per fit keeps the pool balanced without the two barriers.
+STAGED_BELOW = 2
+
+
+def _staged_fits(
+    todo: Sequence[Candidate], data_of: tuple[Any, ...], fit_map: Callable[..., list[Any]]
+) -> list[tuple[CandidateFit, None]]:
+    """:func:`.tasks.all_run_fit_task` of each candidate in `todo` as three runner maps:
+    the first fits, every restart of every candidate, the settled fits (the same results
+    as one task per fit: each step builds its own evaluator)."""
+    firsts = fit_map(
+        [(first_fit_task, c.name, *data_of) for c in todo], label="validate: all-run fits"
+    )
+    starts = [valley_starts(f) for f in firsts]
+    flat = [(k, s) for k, ss in enumerate(starts) for s in ss]
+    others = fit_map(
+        [(restart_fit_task, todo[k].name, s, *data_of) for k, s in flat],
+        label="validate: all-run fits, restarts",
+    ) if flat else []  # fmt: skip
+    of = [[o for (k, _), o in zip(flat, others, strict=True) if k == j] for j in range(len(todo))]
+    return fit_map(
+        [
+            (settled_fit_task, c.name, f, o, *data_of)
+            for c, f, o in zip(todo, firsts, of, strict=True)
+        ],
+        label="validate: all-run fits, settled",
+    )
 
 
 def all_run_fits(

@@ -29,6 +29,9 @@ from .valley import valley_starts, with_flat_directions
 __all__ = [
     "Observations",
     "all_run_fit_task",
+    "first_fit_task",
+    "restart_fit_task",
+    "settled_fit_task",
     "call",
     "cost_rank",
     "curve_task",
@@ -97,31 +100,108 @@ def all_run_fit_task(
     conditions: list[Conditions] | None = None,
 ) -> tuple[CandidateFit, None]:
     """The fit of one candidate to all observations, the one both studies use: the fit
-    from the default start, then the bounded multi-start along its flattest direction
-    (:mod:`.valley`), the lowest -log L kept, with its flat directions recorded."""
+    from the default start (:func:`first_fit_task`), then the bounded multi-start along
+    its flattest direction (:mod:`.valley`, :func:`restart_fit_task`), the lowest -log L
+    kept, with its flat directions recorded (:func:`settled_fit_task`). The three steps
+    in one task; a study with few fits runs them as tasks of their own (the same
+    result: each step builds its own evaluator)."""
+    data = (w, y, band, run, spin_sd, t_max, options, noise, conditions)
+    best = first_fit_task(name, *data)
+    others = [restart_fit_task(name, start, *data) for start in valley_starts(best)]
+    return settled_fit_task(name, best, others, *data)
+
+
+def first_fit_task(
+    name: str,
+    w: NDArray[np.float64],
+    y: NDArray[np.float64],
+    band: NDArray[np.str_],
+    run: NDArray[np.int64],
+    spin_sd: float,
+    t_max: float,
+    options: SolverOptions | None,
+    noise: str = "band",
+    conditions: list[Conditions] | None = None,
+) -> CandidateFit:
+    """Step 1 of :func:`all_run_fit_task`: the fit from the candidate's default start."""
     cand = CANDIDATES[name]
-    ev = ModelEvaluator(cand, t_max, options)
-    kw: dict[str, Any] = {
+    kw = _all_runs(cand, band, run, spin_sd, t_max, options, noise, conditions)
+    return fit_candidate(cand, w, y, **kw)
+
+
+def restart_fit_task(
+    name: str,
+    start: dict[str, float],
+    w: NDArray[np.float64],
+    y: NDArray[np.float64],
+    band: NDArray[np.str_],
+    run: NDArray[np.int64],
+    spin_sd: float,
+    t_max: float,
+    options: SolverOptions | None,
+    noise: str = "band",
+    conditions: list[Conditions] | None = None,
+) -> CandidateFit:
+    """Step 2 of :func:`all_run_fit_task`: one fit of the multi-start from `start`, without
+    the covariance (only a winner needs it)."""
+    cand = CANDIDATES[name]
+    kw = _all_runs(cand, band, run, spin_sd, t_max, options, noise, conditions)
+    return fit_candidate(cand, w, y, start=start, controls=FitControls(covariance=False), **kw)
+
+
+def settled_fit_task(
+    name: str,
+    best: CandidateFit,
+    others: list[CandidateFit],
+    w: NDArray[np.float64],
+    y: NDArray[np.float64],
+    band: NDArray[np.str_],
+    run: NDArray[np.int64],
+    spin_sd: float,
+    t_max: float,
+    options: SolverOptions | None,
+    noise: str = "band",
+    conditions: list[Conditions] | None = None,
+) -> tuple[CandidateFit, None]:
+    """Step 3 of :func:`all_run_fit_task`: of the first fit `best` and the restarts
+    `others` (in the order of their starts), the lowest -log L, a restart winning only by
+    more than 1e-6; a winning restart is fitted again from its optimum with the
+    covariance. The flat directions recorded."""
+    winner = None
+    for other in others:
+        if other.nll < (winner or best).nll - 1e-6:
+            winner = other
+    if winner is not None:
+        cand = CANDIDATES[name]
+        kw = _all_runs(cand, band, run, spin_sd, t_max, options, noise, conditions)
+        best = fit_candidate(cand, w, y, start=winner.values, **kw)
+    return replace(with_flat_directions(best), n_restarts=len(others)), None
+
+
+def _all_runs(
+    cand: Candidate,
+    band: NDArray[np.str_],
+    run: NDArray[np.int64],
+    spin_sd: float,
+    t_max: float,
+    options: SolverOptions | None,
+    noise: str,
+    conditions: list[Conditions] | None,
+) -> dict[str, Any]:
+    """The keywords of :func:`~.fit.fit_candidate` for a fit to all runs, with an
+    evaluator of its own (its cache of t_cr never shared between steps, so that a step's
+    counters do not depend on which steps ran in its process before)."""
+    return {
         "band": band,
         "run": run,
         "selection": "all",
         "spin_sd": spin_sd,
         "t_max": t_max,
         "options": options,
-        "evaluator": ev,
+        "evaluator": ModelEvaluator(cand, t_max, options),
         "noise": noise,
         "conditions": conditions,
     }
-    best = fit_candidate(cand, w, y, **kw)
-    starts = valley_starts(best)
-    winner = None
-    for start in starts:  # without the covariance: only a winner needs it
-        other = fit_candidate(cand, w, y, start=start, controls=FitControls(covariance=False), **kw)
-        if other.nll < (winner or best).nll - 1e-6:
-            winner = other
-    if winner is not None:
-        best = fit_candidate(cand, w, y, start=winner.values, **kw)
-    return replace(with_flat_directions(best), n_restarts=len(starts)), None
 
 
 def curve_task(
