@@ -156,7 +156,7 @@ BLOCKS: dict[str, Block] = {
         ),
         rtol=0.02,  # seeded campaigns: a decision at the edge may move a rate by 1/200
         slow=True,
-        cost="24 s",
+        cost="21 s",
     ),
     "probability": Block(
         (
