@@ -15,7 +15,13 @@ import pytest
 import xarray as xr
 
 from obturator.runs import Runner
-from obturator.sweeps import SweepSpec, monte_carlo, write_netcdf
+from obturator.sweeps import (
+    SweepSpec,
+    monte_carlo,
+    monte_carlo_summary,
+    monte_carlo_table,
+    write_netcdf,
+)
 from obturator.sweeps.export import grid_table
 from obturator.sweeps.table import StudyTable, write_table_netcdf
 
@@ -72,6 +78,13 @@ def test_monte_carlo_file_is_its_dataset(tmp_path):
         assert key in back.attrs and key not in ds.attrs
         del back.attrs[key]
     xr.testing.assert_identical(back, ds)
+    table = monte_carlo_table(
+        "spin-rig", {"mu_s": "uniform:0.5,0.55"}, samples=3, seed=1,
+        fixed={"spin_rate": 300.0}, check_convergence=False,
+        runner=Runner(workers=1, progress=False),
+    )  # fmt: skip
+    xr.testing.assert_identical(table.to_dataset(), ds)
+    assert monte_carlo_summary(table) == monte_carlo_summary(ds)
 
 
 def test_table_refuses_what_it_cannot_write(tmp_path):
@@ -86,17 +99,24 @@ def test_table_refuses_what_it_cannot_write(tmp_path):
         write_table_netcdf(bad_attr, tmp_path / "c.nc")
 
 
-def test_command_line_sweep_writes_without_xarray(tmp_path):
+@pytest.mark.parametrize(
+    "command",
+    [
+        ["sweep", "--case", "spin-rig", "--spin-rate", "250,300", "--workers", "1"],
+        ["montecarlo", "--case", "spin-rig", "--spin-rate", "300", "--samples", "2",
+         "--seed", "1", "--vary", "mu_s=normal:0.5473,0.03", "--workers", "1"],
+    ],
+    ids=["sweep", "montecarlo"],
+)  # fmt: skip
+def test_command_line_writes_without_xarray(tmp_path, command):
     out = tmp_path / "s.nc"
     code = (
         "import sys\n"
         "from obturator.cli import main\n"
-        f"rc = main(['sweep', '--case', 'spin-rig', '--spin-rate', '250,300', '--workers', '1',"
-        f" '--no-progress', '--out', {str(out)!r}])\n"
+        f"rc = main({[*command, '--no-progress', '--out', str(out)]!r})\n"
         "print(rc, 'xarray' in sys.modules)\n"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.split()[-2:] == ["0", "False"]
     ds = xr.open_dataset(out)
     assert ds["t_cr"].shape == (2,) and np.all(ds["status"].values == 1)
-    assert out.with_suffix(".csv").read_text().count("\n") > 2

@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import InputError, check_range
 from ..io import check_output_path
 from ..params import SWEEP_PARAMS
-from ..sweeps import MAX_SAMPLES, MonteCarloSummary, monte_carlo, monte_carlo_summary
+from ..sweeps import MAX_SAMPLES, MonteCarloSummary, monte_carlo_summary, monte_carlo_table
 from ..units import parse_quantity
 from . import _json
 from ._args import (
@@ -142,7 +142,7 @@ def _run_montecarlo(args: argparse.Namespace) -> int:
     check_output_path("out", args.out)
     check_output_path("csv", args.csv)
     t0 = time.perf_counter()
-    ds = monte_carlo(
+    ds = monte_carlo_table(
         args.case,
         args.vary,
         samples=samples,  # type: ignore[arg-type]

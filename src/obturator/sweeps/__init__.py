@@ -27,7 +27,7 @@ from ..status import Status
 from .distributions import Distribution, parse_distribution, sample_inputs
 from .export import write_csv, write_netcdf
 from .grid import parse_axis
-from .montecarlo import MAX_SAMPLES, monte_carlo, monte_carlo_summary
+from .montecarlo import MAX_SAMPLES, monte_carlo, monte_carlo_summary, monte_carlo_table
 from .points import POINT_STATUSES
 from .spec import SweepSpec
 from .stats import MonteCarloSummary, QuantileEstimate, summarize_monte_carlo
@@ -50,6 +50,7 @@ __all__ = [
     "execute_sweep",
     "sweep_summary",
     "monte_carlo",
+    "monte_carlo_table",
     "MAX_SAMPLES",
     "summarize_monte_carlo",
     "monte_carlo_summary",

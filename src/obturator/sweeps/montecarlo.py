@@ -49,7 +49,7 @@ if TYPE_CHECKING:  # pragma: no cover
 #: history). Rare-event probabilities: ``obturator probability`` (importance sampling).
 MAX_SAMPLES = 100_000
 
-__all__ = ["monte_carlo", "monte_carlo_summary", "MAX_SAMPLES"]
+__all__ = ["monte_carlo", "monte_carlo_table", "monte_carlo_summary", "MAX_SAMPLES"]
 
 
 def monte_carlo(
@@ -109,6 +109,26 @@ def monte_carlo(
         attributes with the distributions, seed, counts, fraction not opened
         and its interval, and the solver settings.
     """
+    return monte_carlo_table(
+        case, vary, samples=samples, seed=seed, quantiles=quantiles, confidence=confidence,
+        runner=runner, csv=csv, **model,
+    ).to_dataset()  # fmt: skip
+
+
+def monte_carlo_table(
+    case: str | SweepSpec = "spin-rig",
+    vary: Mapping[str, Distribution | str] | Sequence[str] = (),
+    *,
+    samples: int,
+    seed: int,
+    quantiles: Sequence[float] = (0.05, 0.5, 0.95),
+    confidence: float = 0.95,
+    runner: Runner | None = None,
+    csv: str | os.PathLike[str] | None = None,
+    **model: Any,
+) -> StudyTable:
+    """:func:`monte_carlo`, its results as arrays (:class:`~.table.StudyTable`, the form
+    the command line writes its files from without xarray); arguments as there."""
     dists = distributions(vary)
     n = _whole("samples", samples, 1, MAX_SAMPLES)
     seed_i = _whole("seed", seed, 0, None)
@@ -166,9 +186,9 @@ def monte_carlo(
         # what lies outside the Appendix B runs ("" if nothing; obturator.model.validity)
         "outside_validated_data": out.outside_validated_data or "",
     }
-    table = StudyTable(data, coords, attrs)
-    write_outputs(table, runner, csv)
-    return table.to_dataset()
+    result = StudyTable(data, coords, attrs)
+    write_outputs(result, runner, csv)
+    return result
 
 
 def _whole(field: str, value: Any, lo: int, hi: int | None) -> int:
@@ -231,12 +251,14 @@ def _summary_attrs(summ: MonteCarloSummary) -> dict[str, Any]:
     }
 
 
-def monte_carlo_summary(ds: xarray.Dataset) -> MonteCarloSummary:
-    """Recompute the :class:`MonteCarloSummary` of a :func:`monte_carlo` dataset."""
+def monte_carlo_summary(ds: xarray.Dataset | StudyTable) -> MonteCarloSummary:
+    """Recompute the :class:`MonteCarloSummary` of a :func:`monte_carlo` study (its
+    Dataset, or :func:`monte_carlo_table`'s arrays)."""
+    values = ds.values if isinstance(ds, StudyTable) else (lambda name: ds[name].values)
     return summarize_monte_carlo(
-        ds["t_cr"].values,
-        ds["status"].values,
+        values("t_cr"),
+        values("status"),
         t_max=float(ds.attrs["t_max_s"]),
-        quantiles=[float(q) for q in ds["quantile"].values],
+        quantiles=[float(q) for q in values("quantile")],
         confidence=float(ds.attrs["confidence"]),
     )
