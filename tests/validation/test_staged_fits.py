@@ -20,7 +20,7 @@ from obturator.validation.evaluate import DEFAULT_T_MAX, VALIDATION_OPTIONS
 from obturator.validation.floor import DEFAULT_CLUSTER_GAP
 from obturator.validation.likelihood import SPIN_SD
 from obturator.validation.study import STAGED_BELOW, _fits_of, _observations
-from obturator.validation.tasks import all_run_fit_task
+from obturator.validation.tasks import AllRuns, all_run_fit_task
 
 
 @pytest.mark.slow
@@ -32,7 +32,9 @@ def test_staged_all_run_fit_is_the_one_task_fit():
     assert 1 < STAGED_BELOW * runner.n_workers  # one candidate on two workers: staged
     cand = CANDIDATES["strengthening"]
     staged = _fits_of([cand], obs, DEFAULT_CLUSTER_GAP, runner, data, memo=False)[cand.name]
-    one, _ = all_run_fit_task(cand.name, obs.w, obs.y, obs.band, obs.run, *common, obs.conds)
+    one, _ = all_run_fit_task(
+        cand.name, AllRuns(obs.w, obs.y, obs.band, obs.run, *common, obs.conds)
+    )
     assert one.n_restarts == 2  # the restarts stage ran
     mine, ref = staged.to_dict(), one.to_dict()
     for d in (mine, ref):

@@ -53,6 +53,7 @@ from .predictive import cross_validation_task
 from .recommend import OUT_OF_BAND_SPLIT, model_aic, recommend
 from .results import CandidateFit, ModelResult, ValidationResult
 from .tasks import (
+    AllRuns,
     Observations,
     all_run_fit_task,
     call,
@@ -335,7 +336,7 @@ def _fits_of(
     todo = [c for c in cands if not memo or keys[c.name] not in _FIT_MEMO]
     # costliest first, so that the last fit to end is not a long one started late
     todo.sort(key=cost_rank, reverse=True)
-    data_of = (w, y, band, run, *obs.common, conds)
+    data_of = AllRuns(w, y, band, run, *obs.common, conds)
     fit_map = partial(
         runner.map,
         call,
@@ -351,7 +352,7 @@ def _fits_of(
         done = _staged_fits(todo, data_of, fit_map)
     else:
         done = fit_map(
-            [(all_run_fit_task, c.name, *data_of) for c in todo], label="validate: all-run fits"
+            [(all_run_fit_task, c.name, data_of) for c in todo], label="validate: all-run fits"
         )
     for c, res in zip(todo, done, strict=True):
         if len(_FIT_MEMO) >= _FIT_MEMO_SIZE:
@@ -368,24 +369,24 @@ STAGED_BELOW = 2
 
 
 def _staged_fits(
-    todo: Sequence[Candidate], data_of: tuple[Any, ...], fit_map: Callable[..., list[Any]]
+    todo: Sequence[Candidate], data_of: AllRuns, fit_map: Callable[..., list[Any]]
 ) -> list[tuple[CandidateFit, None]]:
     """:func:`.tasks.all_run_fit_task` of each candidate in `todo` as three runner maps:
     the first fits, every restart of every candidate, the settled fits (the same results
     as one task per fit: each step builds its own evaluator)."""
     firsts = fit_map(
-        [(first_fit_task, c.name, *data_of) for c in todo], label="validate: all-run fits"
+        [(first_fit_task, c.name, data_of) for c in todo], label="validate: all-run fits"
     )
     starts = [valley_starts(f) for f in firsts]
     flat = [(k, s) for k, ss in enumerate(starts) for s in ss]
     others = fit_map(
-        [(restart_fit_task, todo[k].name, s, *data_of) for k, s in flat],
+        [(restart_fit_task, todo[k].name, s, data_of) for k, s in flat],
         label="validate: all-run fits, restarts",
     ) if flat else []  # fmt: skip
     of = [[o for (k, _), o in zip(flat, others, strict=True) if k == j] for j in range(len(todo))]
     return fit_map(
         [
-            (settled_fit_task, c.name, f, o, *data_of)
+            (settled_fit_task, c.name, f, o, data_of)
             for c, f, o in zip(todo, firsts, of, strict=True)
         ],
         label="validate: all-run fits, settled",

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,6 +27,7 @@ from .results import CandidateFit, ModelResult
 from .valley import valley_starts, with_flat_directions
 
 __all__ = [
+    "AllRuns",
     "Observations",
     "all_run_fit_task",
     "first_fit_task",
@@ -87,81 +88,52 @@ def fit_task(
     return fit, pred
 
 
-def all_run_fit_task(
-    name: str,
-    w: NDArray[np.float64],
-    y: NDArray[np.float64],
-    band: NDArray[np.str_],
-    run: NDArray[np.int64],
-    spin_sd: float,
-    t_max: float,
-    options: SolverOptions | None,
-    noise: str = "band",
-    conditions: list[Conditions] | None = None,
-) -> tuple[CandidateFit, None]:
+class AllRuns(NamedTuple):
+    """What the steps of one fit to all observations share: the observations
+    (spins [rad/s], t_cr [s], bands, run numbers, per-observation settings) and the
+    study's settings (spin SD [rad/s], t_max [s], solver options, noise model)."""
+
+    w: NDArray[np.float64]
+    y: NDArray[np.float64]
+    band: NDArray[np.str_]
+    run: NDArray[np.int64]
+    spin_sd: float
+    t_max: float
+    options: SolverOptions | None
+    noise: str = "band"
+    conditions: list[Conditions] | None = None
+
+
+def all_run_fit_task(name: str, data: AllRuns) -> tuple[CandidateFit, None]:
     """The fit of one candidate to all observations, the one both studies use: the fit
     from the default start (:func:`first_fit_task`), then the bounded multi-start along
     its flattest direction (:mod:`.valley`, :func:`restart_fit_task`), the lowest -log L
     kept, with its flat directions recorded (:func:`settled_fit_task`). The three steps
     in one task; a study with few fits runs them as tasks of their own (the same
     result: each step builds its own evaluator)."""
-    data = (w, y, band, run, spin_sd, t_max, options, noise, conditions)
-    best = first_fit_task(name, *data)
-    others = [restart_fit_task(name, start, *data) for start in valley_starts(best)]
-    return settled_fit_task(name, best, others, *data)
+    best = first_fit_task(name, data)
+    others = [restart_fit_task(name, start, data) for start in valley_starts(best)]
+    return settled_fit_task(name, best, others, data)
 
 
-def first_fit_task(
-    name: str,
-    w: NDArray[np.float64],
-    y: NDArray[np.float64],
-    band: NDArray[np.str_],
-    run: NDArray[np.int64],
-    spin_sd: float,
-    t_max: float,
-    options: SolverOptions | None,
-    noise: str = "band",
-    conditions: list[Conditions] | None = None,
-) -> CandidateFit:
+def first_fit_task(name: str, data: AllRuns) -> CandidateFit:
     """Step 1 of :func:`all_run_fit_task`: the fit from the candidate's default start."""
     cand = CANDIDATES[name]
-    kw = _all_runs(cand, band, run, spin_sd, t_max, options, noise, conditions)
-    return fit_candidate(cand, w, y, **kw)
+    return fit_candidate(cand, data.w, data.y, **_all_runs(cand, data))
 
 
-def restart_fit_task(
-    name: str,
-    start: dict[str, float],
-    w: NDArray[np.float64],
-    y: NDArray[np.float64],
-    band: NDArray[np.str_],
-    run: NDArray[np.int64],
-    spin_sd: float,
-    t_max: float,
-    options: SolverOptions | None,
-    noise: str = "band",
-    conditions: list[Conditions] | None = None,
-) -> CandidateFit:
+def restart_fit_task(name: str, start: dict[str, float], data: AllRuns) -> CandidateFit:
     """Step 2 of :func:`all_run_fit_task`: one fit of the multi-start from `start`, without
     the covariance (only a winner needs it)."""
     cand = CANDIDATES[name]
-    kw = _all_runs(cand, band, run, spin_sd, t_max, options, noise, conditions)
-    return fit_candidate(cand, w, y, start=start, controls=FitControls(covariance=False), **kw)
+    controls = FitControls(covariance=False)
+    return fit_candidate(
+        cand, data.w, data.y, start=start, controls=controls, **_all_runs(cand, data)
+    )
 
 
 def settled_fit_task(
-    name: str,
-    best: CandidateFit,
-    others: list[CandidateFit],
-    w: NDArray[np.float64],
-    y: NDArray[np.float64],
-    band: NDArray[np.str_],
-    run: NDArray[np.int64],
-    spin_sd: float,
-    t_max: float,
-    options: SolverOptions | None,
-    noise: str = "band",
-    conditions: list[Conditions] | None = None,
+    name: str, best: CandidateFit, others: list[CandidateFit], data: AllRuns
 ) -> tuple[CandidateFit, None]:
     """Step 3 of :func:`all_run_fit_task`: of the first fit `best` and the restarts
     `others` (in the order of their starts), the lowest -log L, a restart winning only by
@@ -173,34 +145,24 @@ def settled_fit_task(
             winner = other
     if winner is not None:
         cand = CANDIDATES[name]
-        kw = _all_runs(cand, band, run, spin_sd, t_max, options, noise, conditions)
-        best = fit_candidate(cand, w, y, start=winner.values, **kw)
+        best = fit_candidate(cand, data.w, data.y, start=winner.values, **_all_runs(cand, data))
     return replace(with_flat_directions(best), n_restarts=len(others)), None
 
 
-def _all_runs(
-    cand: Candidate,
-    band: NDArray[np.str_],
-    run: NDArray[np.int64],
-    spin_sd: float,
-    t_max: float,
-    options: SolverOptions | None,
-    noise: str,
-    conditions: list[Conditions] | None,
-) -> dict[str, Any]:
+def _all_runs(cand: Candidate, data: AllRuns) -> dict[str, Any]:
     """The keywords of :func:`~.fit.fit_candidate` for a fit to all runs, with an
     evaluator of its own (its cache of t_cr never shared between steps, so that a step's
     counters do not depend on which steps ran in its process before)."""
     return {
-        "band": band,
-        "run": run,
+        "band": data.band,
+        "run": data.run,
         "selection": "all",
-        "spin_sd": spin_sd,
-        "t_max": t_max,
-        "options": options,
-        "evaluator": ModelEvaluator(cand, t_max, options),
-        "noise": noise,
-        "conditions": conditions,
+        "spin_sd": data.spin_sd,
+        "t_max": data.t_max,
+        "options": data.options,
+        "evaluator": ModelEvaluator(cand, data.t_max, data.options),
+        "noise": data.noise,
+        "conditions": data.conditions,
     }
 
 
