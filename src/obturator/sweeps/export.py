@@ -168,7 +168,7 @@ def write_csv(ds: xarray.Dataset | StudyTable, path: str | os.PathLike[str]) -> 
     where not opened), ``status`` and ``route`` (by name: :mod:`obturator.solve.plan`).
     Written to a temporary file and renamed.
     """
-    table = ds if isinstance(ds, StudyTable) else _table_of(ds)
+    table = StudyTable.of(ds)
     t = table.values("t_cr").reshape(-1)
     s = table.values("status").reshape(-1)
     r = table.values("route").reshape(-1)
@@ -196,13 +196,6 @@ def write_csv(ds: xarray.Dataset | StudyTable, path: str | os.PathLike[str]) -> 
         cells.append(ROUTES[int(r[k])])
         lines.append(",".join(cells))
     atomic_write_text(Path(path), "\n".join(lines) + "\n")
-
-
-def _table_of(ds: xarray.Dataset) -> StudyTable:
-    def entries(variables: Any) -> dict[str, Any]:
-        return {k: (v.dims, v.values, dict(v.attrs)) for k, v in variables.items()}
-
-    return StudyTable(entries(ds.data_vars), entries(ds.coords), dict(ds.attrs))
 
 
 def write_outputs(table: StudyTable, runner: Runner, csv: str | os.PathLike[str] | None) -> None:

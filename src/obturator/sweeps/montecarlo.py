@@ -254,11 +254,11 @@ def _summary_attrs(summ: MonteCarloSummary) -> dict[str, Any]:
 def monte_carlo_summary(ds: xarray.Dataset | StudyTable) -> MonteCarloSummary:
     """Recompute the :class:`MonteCarloSummary` of a :func:`monte_carlo` study (its
     Dataset, or :func:`monte_carlo_table`'s arrays)."""
-    values = ds.values if isinstance(ds, StudyTable) else (lambda name: ds[name].values)
+    table = StudyTable.of(ds)
     return summarize_monte_carlo(
-        values("t_cr"),
-        values("status"),
-        t_max=float(ds.attrs["t_max_s"]),
-        quantiles=[float(q) for q in values("quantile")],
-        confidence=float(ds.attrs["confidence"]),
+        table.values("t_cr"),
+        table.values("status"),
+        t_max=float(table.attrs["t_max_s"]),
+        quantiles=[float(q) for q in table.values("quantile")],
+        confidence=float(table.attrs["confidence"]),
     )

@@ -199,16 +199,10 @@ def sweep_summary(ds: xarray.Dataset | StudyTable) -> dict[str, Any]:
         ``t_cr_min_s``, ``t_cr_max_s`` (None if nothing opened) and
         ``argmin``: the parameter values at the smallest t_cr.
     """
-    if isinstance(ds, StudyTable):
-        t = np.asarray(ds.values("t_cr"), dtype=float)
-        s = ds.values("status")
-        dims = ds.dims("t_cr")
-        axis = ds.values
-    else:
-        t = np.asarray(ds["t_cr"].values, dtype=float)
-        s = np.asarray(ds["status"].values)
-        dims = tuple(ds["t_cr"].dims)
-        axis = lambda d: ds[d].values  # noqa: E731
+    table = StudyTable.of(ds)
+    t = np.asarray(table.values("t_cr"), dtype=float)
+    s = table.values("status")
+    dims = table.dims("t_cr")
     res: dict[str, Any] = {
         "n_points": int(t.size),
         "n_opened": int(np.sum(s == Status.OPENED)),
@@ -225,5 +219,5 @@ def sweep_summary(ds: xarray.Dataset | StudyTable) -> dict[str, Any]:
         res["t_cr_max_s"] = float(np.nanmax(t))
         if "sample" not in dims and t.ndim:
             where = np.unravel_index(int(np.nanargmin(t)), t.shape)
-            res["argmin"] = {d: float(axis(d)[i]) for d, i in zip(dims, where, strict=True)}
+            res["argmin"] = {d: float(table.values(d)[i]) for d, i in zip(dims, where, strict=True)}
     return res

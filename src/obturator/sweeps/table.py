@@ -57,6 +57,19 @@ class StudyTable:
     coords: Variables
     attrs: dict[str, Any] = field(default_factory=dict)
 
+    @classmethod
+    def of(cls, results: StudyTable | xarray.Dataset) -> StudyTable:
+        """`results` as a table: a table as it is, a Dataset's variables, coordinates and
+        attributes (their numpy values), so that the summaries and the CSV writer read
+        either the same way."""
+        if isinstance(results, StudyTable):
+            return results
+
+        def entries(variables: Any) -> dict[str, Any]:
+            return {k: (v.dims, v.values, dict(v.attrs)) for k, v in variables.items()}
+
+        return cls(entries(results.data_vars), entries(results.coords), dict(results.attrs))
+
     def values(self, name: str) -> np.ndarray:
         """The values of the data variable or coordinate `name`."""
         return np.asarray(self._entry(name)[1])
