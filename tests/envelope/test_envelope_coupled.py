@@ -143,19 +143,35 @@ def test_many_points_in_lanes_match_one_at_a_time():
                 assert value == alone[key] or (value != value and alone[key] != alone[key])
 
 
-def test_start_angles_of_all_bounds_share_one_start_condition_per_mach():
-    """The nominal, late and early start angles of a design at one altitude and Mach come
-    from one memoised start condition (it computes all three), with the values of a
-    direct :func:`~obturator.model.start.start_condition`."""
+def test_start_angles_are_the_start_conditions_fields_each_computed_once_per_mach():
+    """The nominal, late and early start angles of a design at one altitude and Mach are
+    the fields of a direct :func:`~obturator.model.start.start_condition` to the bit (the
+    flight runs ask for one bound at every segment, which computes only that bound), and
+    each is computed once per Mach (memoised)."""
     from obturator.envelope import design as design_module
     from obturator.model.start import start_condition
 
     d = ObturatorDesign()
-    altitude, mach = 2345.5, 2.25  # values no other test asks for
-    before = design_module._start_condition.cache_info()
-    got = [d.start_angle(altitude, bound)(mach) for bound in ("nominal", "late", "early")]
-    after = design_module._start_condition.cache_info()
-    assert (after.misses - before.misses, after.hits - before.hits) == (1, 2)
-    cond = start_condition(mach, d.ball(), d.bore_radius, gamma=d.gamma, altitude_m=altitude)
-    expect = [cond.theta_start, cond.theta_start_late, cond.theta_start_early]
-    assert got == pytest.approx(expect, rel=0.0, abs=0.0, nan_ok=True)
+    bounds = ("nominal", "late", "early")
+    for altitude, mach in [(2345.5, 2.25), (0.0, 1.2), (9000.0, 1.45), (500.0, 5.5)]:
+        # (0 m, M 1.2): below the late bound's start; (9 km, M 1.45): late NaN, nominal not
+        before = design_module._start_angle.cache_info()
+        got = [d.start_angle(altitude, bound)(mach) for bound in bounds]
+        again = [d.start_angle(altitude, bound)(mach) for bound in bounds]
+        after = design_module._start_angle.cache_info()
+        assert (after.misses - before.misses, after.hits - before.hits) == (3, 3)
+        cond = start_condition(mach, d.ball(), d.bore_radius, gamma=d.gamma, altitude_m=altitude)
+        expect = [cond.theta_start, cond.theta_start_late, cond.theta_start_early]
+        assert got == pytest.approx(expect, rel=0.0, abs=0.0, nan_ok=True)
+        assert again == pytest.approx(got, rel=0.0, abs=0.0, nan_ok=True)
+
+
+def test_start_angle_refuses_an_unknown_bound():
+    from obturator.errors import InputError
+    from obturator.model.start import start_angle
+
+    d = ObturatorDesign()
+    with pytest.raises(InputError, match=r"^bound: 'lateish'; allowed: nominal, late, early$"):
+        d.start_angle(0.0, "lateish")
+    with pytest.raises(InputError, match=r"^bound: 'x'; allowed: nominal, late, early$"):
+        start_angle(2.0, d.ball(), d.bore_radius, "x")

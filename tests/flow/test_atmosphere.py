@@ -130,6 +130,24 @@ def test_mach_from_velocity() -> None:
     assert err.value.field == "v"
 
 
+@given(st.lists(st.floats(0.0, 86_000.0), min_size=1, max_size=5))
+@settings(max_examples=60, deadline=None)
+def test_one_altitude_is_the_array_path_to_the_bit_asked_twice(zs: list[float]) -> None:
+    """A scalar altitude is memoised; its record equals the array computation's element to
+    the bit (an independent path through the same formulas), the first call and the
+    memoised second alike, for -0.0 too."""
+    arr = standard_atmosphere(np.array(zs))
+    for k, z in enumerate(zs):
+        for _ in range(2):
+            one = standard_atmosphere(z)
+            for name in ("geopotential_m", "temperature", "pressure", "density"):
+                assert getattr(one, name) == getattr(arr, name)[k]
+            assert isinstance(one.pressure, float)
+    neg = standard_atmosphere(-0.0)
+    assert str(neg.altitude_m) == "-0.0" and str(standard_atmosphere(0.0).altitude_m) == "0.0"
+    assert standard_atmosphere(1000) == standard_atmosphere(1000.0)  # an int is its float
+
+
 @pytest.mark.parametrize("bad", [-1.0, 86_000.5, 1e6, float("nan"), float("inf"), "high"])
 def test_altitude_out_of_range(bad: object) -> None:
     with pytest.raises(InputError) as err:

@@ -20,22 +20,23 @@ from ..flow import pressure_force
 from ..model.case import Case
 from ..model.cases import TABLE1, flight_case
 from ..model.geometry import BoredBall
-from ..model.start import StartCondition, start_condition
+from ..model.start import START_BOUNDS, start_angle
 from ..solve import SolverOptions, convergence_check, opening_time
 from .trajectory import Launch
 
 __all__ = ["ObturatorDesign", "constant_case", "constant_opening"]
 
 
-@functools.lru_cache(maxsize=4096)
-def _start_condition(
-    mach: float, ball: BoredBall, bore_radius: float, gamma: float, altitude_m: float
-) -> StartCondition:
-    """:func:`~obturator.model.start.start_condition` (the bore as capture area), memoised:
-    a pure function of its arguments, asked for the same Mach numbers by every bound
-    (nominal, late, early) and every run of a flight at one altitude; each call solves
-    Eq. 2 for the lens and inverts the turned window (a root search each)."""
-    return start_condition(mach, ball, bore_radius, gamma=gamma, altitude_m=altitude_m)
+@functools.lru_cache(maxsize=8192)
+def _start_angle(
+    mach: float, ball: BoredBall, bore_radius: float, gamma: float, altitude_m: float, bound: str
+) -> float:
+    """:func:`~obturator.model.start.start_angle` (the bore as capture area), memoised:
+    a pure function of its arguments, asked for the same Mach numbers by every run of a
+    flight at one altitude; each call solves Eq. 2 for the lens and inverts the open
+    area (a root search each), the late bound also the friction factor and the Fanno
+    relations, each only what its bound needs."""
+    return start_angle(mach, ball, bore_radius, bound, gamma=gamma, altitude_m=altitude_m)
 
 
 @dataclass(frozen=True)
@@ -154,20 +155,18 @@ class ObturatorDesign:
     ) -> Callable[[float], float]:
         """theta_start(M) [rad] of this design (NaN where the tube cannot start).
 
-        :func:`obturator.model.start.start_condition` with the bore as capture
-        area, memoised per process (:func:`_start_condition`). `bound`
+        :func:`obturator.model.start.start_angle` with the bore as capture
+        area, memoised per process (:func:`_start_angle`). `bound`
         ``"nominal"`` is Eq. 2 on the frictionless lens, ``"late"`` the late bound
         (wall friction and the lowest discharge coefficient; NaN where it never
         starts), ``"early"`` the flow turned through the hole.
         """
         ball = self.ball()
-        key = {"nominal": "theta_start", "late": "theta_start_late", "early": "theta_start_early"}
-        if bound not in key:
-            raise InputError("bound", f"{bound!r}; allowed: {', '.join(key)}")
+        if bound not in START_BOUNDS:
+            raise InputError("bound", f"{bound!r}; allowed: {', '.join(START_BOUNDS)}")
 
         def angle(mach: float) -> float:
-            cond = _start_condition(mach, ball, self.bore_radius, self.gamma, altitude_m)
-            return float(getattr(cond, key[bound]))
+            return _start_angle(mach, ball, self.bore_radius, self.gamma, altitude_m, bound)
 
         return angle
 

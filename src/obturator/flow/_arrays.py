@@ -68,7 +68,18 @@ def checked_array(
     -------
     numpy.ndarray
         ``value`` as float64 (0-d for a scalar).
+
+    Notes
+    -----
+    A Python or NumPy float is checked by :func:`~obturator.errors.check_range` instead
+    of NumPy's masked reductions: the same test and the same error, without the
+    array machinery, which dominated the scalar inversions that call the relations
+    inside root searches (the flight-envelope study's start condition per segment).
     """
+    if isinstance(value, float):
+        return np.array(
+            check_range(field, value, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
+        )
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):

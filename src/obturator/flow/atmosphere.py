@@ -25,6 +25,7 @@ raise :class:`~obturator.errors.InputError` naming the first offending value.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Any
 
@@ -229,6 +230,22 @@ def standard_atmosphere(altitude_m: ArrayLike) -> Atmosphere:
     >>> round(standard_atmosphere(20_000.0).pressure, 1)
     5529.3
     """
+    if isinstance(altitude_m, float | int) and not isinstance(altitude_m, bool):
+        # one altitude: memoised (the flight studies ask for the same few altitudes at
+        # every segment of every trajectory), keyed on its exact bits
+        return _one_altitude(float(altitude_m).hex())
+    return _atmosphere(altitude_m)
+
+
+@functools.lru_cache(maxsize=1024)
+def _one_altitude(altitude_hex: str) -> Atmosphere:
+    """:func:`_atmosphere` at the altitude whose :meth:`float.hex` is `altitude_hex`
+    (immutable: a frozen record of floats)."""
+    return _atmosphere(float.fromhex(altitude_hex))
+
+
+def _atmosphere(altitude_m: ArrayLike) -> Atmosphere:
+    """:func:`standard_atmosphere`, computed."""
     z = checked_array("altitude_m", altitude_m, 0.0, MAX_ALTITUDE, unit="m")
     h = EARTH_RADIUS * z / (EARTH_RADIUS + z)
     # Layer index: the last base at or below H (the top of layer 6 is 84 852 m').

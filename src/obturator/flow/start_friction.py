@@ -172,7 +172,11 @@ def start_friction_range(
         return 64.0 / re, max(64.0 / re, 4.0 * 1.328 * (re * ld) ** -0.5)
     smooth = float(colebrook_friction_factor(reynolds, 0.0))
     low = min(blasius_friction_factor(reynolds), smooth)
-    rough = float(colebrook_friction_factor(reynolds, relative_roughness))
+    rough = (
+        smooth  # the same root: not searched twice
+        if relative_roughness == 0.0
+        else float(colebrook_friction_factor(reynolds, relative_roughness))
+    )
     return low, max(flat_plate_friction_factor(reynolds, l_over_d), rough, smooth)
 
 

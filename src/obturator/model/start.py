@@ -45,10 +45,10 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import asdict, dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 from .._docs import field_docs
-from ..errors import check_range
+from ..errors import InputError, check_range
 from ..flow import (
     choking_mach_freestream,
     normal_shock_pressure_ratio,
@@ -66,7 +66,13 @@ from ..reference import TABLE1
 from .geometry import BoredBall
 from .passage import open_angle, open_area, turned_open_angle
 
-__all__ = ["StartCondition", "start_condition", "full_bore_start_mach"]
+__all__ = [
+    "START_BOUNDS",
+    "StartCondition",
+    "full_bore_start_mach",
+    "start_angle",
+    "start_condition",
+]
 
 
 @field_docs
@@ -270,56 +276,166 @@ def start_condition(
     -------
     StartCondition
     """
-    m = check_range("mach", mach, 1.0, 10.0, lo_open=True)
-    a_c = _capture(bore_radius, capture_area)
-    full = open_area(0.0, ball.radius, ball.hole_radius, bore_radius)
-    ratio = float(swallow_area_ratio(m, gamma))
-    needed = a_c / ratio
-    startable = needed <= full * (1.0 + 1e-12)
-    theta = open_angle(min(needed, full), ball.radius, ball.hole_radius, bore_radius)
-    l_over_d = check_range("tube_length", tube_length, 0.0, 10.0, lo_open=True, unit="m") / (
-        2.0 * bore_radius
-    )
-    choke = _choking_mach(l_over_d, 2.0 * bore_radius, altitude_m, gamma)
-    cd_lo, cd_hi = (
-        check_range("discharge_coefficient", c, 0.0, 1.0, lo_open=True)
-        for c in discharge_coefficients
-    )
-    if cd_lo > cd_hi:
-        cd_lo, cd_hi = cd_hi, cd_lo
-    early = math.nan
-    if startable:
-        early = turned_open_angle(min(needed, full), ball.radius, ball.hole_radius, bore_radius)
-    re2 = post_shock_reynolds(m, 2.0 * bore_radius, altitude_m, gamma)
-    f_lo, f_hi = start_friction_range(re2, l_over_d, relative_roughness)
-    late_ratio = start_area_ratio(m, f_hi * l_over_d, cd_lo, gamma)
-
-    def lens_angle(ratio: float) -> float:
-        if ratio <= 0.0 or a_c / ratio > full * (1.0 + 1e-12):
-            return math.nan
-        return open_angle(min(a_c / ratio, full), ball.radius, ball.hole_radius, bore_radius)
-
-    late = lens_angle(late_ratio)
-    friction_only = lens_angle(start_area_ratio(m, f_hi * l_over_d, 1.0, gamma))
+    inlet = _Inlet.of(mach, ball, bore_radius, capture_area, gamma, tube_length)
+    cd_lo, cd_hi = _discharge(discharge_coefficients)
+    lens = inlet.lens()
+    choke = _choking_mach(inlet.l_over_d, 2.0 * bore_radius, altitude_m, gamma)
+    early = inlet.early(lens)
+    late = inlet.late(altitude_m, relative_roughness, cd_lo)
     return StartCondition(
-        mach=m,
-        theta_start=theta if startable else math.nan,
-        swallow_ratio=ratio,
-        throat_area=needed,
-        capture_area=a_c,
-        full_area=full,
+        mach=inlet.mach,
+        theta_start=lens.theta,
+        swallow_ratio=lens.ratio,
+        throat_area=lens.needed,
+        capture_area=inlet.capture,
+        full_area=inlet.full,
         beta_s=ball.opening_angle,
-        startable=startable,
+        startable=lens.startable,
         choke_mach=choke,
-        choked=m <= choke,
+        choked=inlet.mach <= choke,
         bore_radius=bore_radius,
         gamma=gamma,
         theta_start_early=early,
-        theta_start_late=late,
-        theta_start_friction=friction_only,
-        late_swallow_ratio=late_ratio,
-        reynolds_post_shock=re2,
-        friction_factors=(f_lo, f_hi),
-        friction_fld=f_hi * l_over_d,
+        theta_start_late=late.theta,
+        theta_start_friction=inlet.lens_angle(
+            start_area_ratio(inlet.mach, late.friction_fld, 1.0, gamma)
+        ),
+        late_swallow_ratio=late.ratio,
+        reynolds_post_shock=late.reynolds,
+        friction_factors=late.friction_factors,
+        friction_fld=late.friction_fld,
         discharge_coefficients=(cd_lo, cd_hi),
     )
+
+
+#: The bounds of theta_start (:func:`start_angle`): Eq. 2 on the frictionless lens, the
+#: late bound (wall friction, lowest discharge coefficient), the flow turned through the
+#: hole (early).
+START_BOUNDS: tuple[str, ...] = ("nominal", "late", "early")
+
+
+def start_angle(
+    mach: float,
+    ball: BoredBall,
+    bore_radius: float = TABLE1["bore_radius"],
+    bound: str = "nominal",
+    *,
+    capture_area: float | None = None,
+    gamma: float = TABLE1["gamma"],
+    tube_length: float = TABLE1["projectile_length"],
+    altitude_m: float = 0.0,
+    discharge_coefficients: tuple[float, float] = DISCHARGE_COEFFICIENT_RANGE,
+    relative_roughness: float = 0.0,
+) -> float:
+    """One bound of theta_start(M) [rad] (NaN where the tube cannot start): the field
+    ``theta_start``, ``theta_start_late`` or ``theta_start_early`` of
+    :func:`start_condition` with the same arguments, to the bit, computing only what that
+    bound needs (the flight studies ask for it at every segment of a trajectory).
+
+    Parameters
+    ----------
+    mach, ball, bore_radius, capture_area, gamma, tube_length, altitude_m,
+    discharge_coefficients, relative_roughness
+        As for :func:`start_condition`.
+    bound : {"nominal", "late", "early"}
+        Which bound (:data:`START_BOUNDS`).
+
+    Returns
+    -------
+    float
+        theta_start [rad], or NaN.
+    """
+    if bound not in START_BOUNDS:
+        raise InputError("bound", f"{bound!r}; allowed: {', '.join(START_BOUNDS)}")
+    inlet = _Inlet.of(mach, ball, bore_radius, capture_area, gamma, tube_length)
+    cd_lo, _ = _discharge(discharge_coefficients)
+    if bound == "late":
+        return inlet.late(altitude_m, relative_roughness, cd_lo).theta
+    lens = inlet.lens()
+    return lens.theta if bound == "nominal" else inlet.early(lens)
+
+
+def _discharge(coefficients: tuple[float, float]) -> tuple[float, float]:
+    """(low, high) of a checked range of discharge coefficients."""
+    lo, hi = (check_range("discharge_coefficient", c, 0.0, 1.0, lo_open=True) for c in coefficients)
+    return (hi, lo) if lo > hi else (lo, hi)
+
+
+class _Lens(NamedTuple):
+    """Eq. 2 on the frictionless lens at one Mach number."""
+
+    ratio: float  #: (A_c/A_t)_start
+    needed: float  #: A_c / ratio [m^2]
+    startable: bool
+    theta: float  #: theta_start [rad] (NaN where not startable)
+
+
+class _Late(NamedTuple):
+    """The late bound: Fanno friction of the post-shock flow, lowest C_d."""
+
+    reynolds: float
+    friction_factors: tuple[float, float]
+    friction_fld: float
+    ratio: float
+    theta: float
+
+
+@dataclass(frozen=True)
+class _Inlet:
+    """The checked inputs that every bound of theta_start shares."""
+
+    mach: float
+    ball: BoredBall
+    bore_radius: float
+    capture: float
+    full: float
+    gamma: float
+    l_over_d: float
+
+    @classmethod
+    def of(
+        cls,
+        mach: float,
+        ball: BoredBall,
+        bore_radius: float,
+        capture_area: float | None,
+        gamma: float,
+        tube_length: float,
+    ) -> _Inlet:
+        m = check_range("mach", mach, 1.0, 10.0, lo_open=True)
+        a_c = _capture(bore_radius, capture_area)
+        full = open_area(0.0, ball.radius, ball.hole_radius, bore_radius)
+        length = check_range("tube_length", tube_length, 0.0, 10.0, lo_open=True, unit="m")
+        return cls(m, ball, bore_radius, a_c, full, gamma, length / (2.0 * bore_radius))
+
+    def lens(self) -> _Lens:
+        ratio = float(swallow_area_ratio(self.mach, self.gamma))
+        needed = self.capture / ratio
+        startable = needed <= self.full * (1.0 + 1e-12)
+        theta = self._angle(min(needed, self.full))
+        return _Lens(ratio, needed, startable, theta if startable else math.nan)
+
+    def early(self, lens: _Lens) -> float:
+        if not lens.startable:
+            return math.nan
+        b = self.ball
+        return turned_open_angle(
+            min(lens.needed, self.full), b.radius, b.hole_radius, self.bore_radius
+        )
+
+    def late(self, altitude_m: float, relative_roughness: float, cd_lo: float) -> _Late:
+        re2 = post_shock_reynolds(self.mach, 2.0 * self.bore_radius, altitude_m, self.gamma)
+        f_lo, f_hi = start_friction_range(re2, self.l_over_d, relative_roughness)
+        fld = f_hi * self.l_over_d
+        ratio = start_area_ratio(self.mach, fld, cd_lo, self.gamma)
+        return _Late(re2, (f_lo, f_hi), fld, ratio, self.lens_angle(ratio))
+
+    def lens_angle(self, ratio: float) -> float:
+        """theta where the lens passes A_c / `ratio` (NaN where even A(0) is too small)."""
+        if ratio <= 0.0 or self.capture / ratio > self.full * (1.0 + 1e-12):
+            return math.nan
+        return self._angle(min(self.capture / ratio, self.full))
+
+    def _angle(self, area: float) -> float:
+        b = self.ball
+        return open_angle(area, b.radius, b.hole_radius, self.bore_radius)
