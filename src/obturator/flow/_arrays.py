@@ -33,6 +33,7 @@ __all__ = [
     "check_gamma",
     "check_mach",
     "checked_array",
+    "elementwise",
     "first_bad",
 ]
 
@@ -163,6 +164,18 @@ def check_branch(branch: str) -> str:
     if branch not in _BRANCHES:
         raise InputError("branch", f"{branch!r} is not one of {', '.join(_BRANCHES)}")
     return branch
+
+
+def elementwise(f: Callable[..., float], *arrays: NDArray) -> Any:
+    """`f` of each element of the broadcast `arrays`, as :func:`as_output` gives it.
+
+    The scalar inversions are Python functions of floats; ``np.vectorize`` would call them
+    the same way, but costs more than the inversion itself on one element, so 0-d input
+    calls `f` directly (the flight studies invert one Mach number per segment).
+    """
+    if all(a.ndim == 0 for a in arrays):
+        return float(f(*(float(a) for a in arrays)))
+    return as_output(np.vectorize(f, otypes=[float])(*arrays))
 
 
 def bracketed_root(f: Callable[[float], float], lo: float, hi: float, xtol: float) -> float:

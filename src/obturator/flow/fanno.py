@@ -28,6 +28,7 @@ from ._arrays import (
     check_gamma,
     check_mach,
     checked_array,
+    elementwise,
     first_bad,
     ratio_doc,
 )
@@ -166,8 +167,7 @@ def fanno_mach(fld: ArrayLike, gamma: ArrayLike = 1.4, branch: str = "supersonic
                 f"supersonic entry Mach; allowed range [0, {limit[i]:.6g}) for "
                 f"gamma = {g[i]:g}",
             )
-    solve = np.vectorize(lambda a, c: _fanno_mach_scalar(a, c, b), otypes=[float])
-    return as_output(solve(x, g))
+    return elementwise(lambda a, c: _fanno_mach_scalar(a, c, b), x, g)
 
 
 def _check_reynolds(reynolds: ArrayLike) -> NDArray:
@@ -209,7 +209,7 @@ def colebrook_friction_factor(reynolds: ArrayLike, relative_roughness: ArrayLike
     re, eps = broadcast(
         reynolds=_check_reynolds(reynolds), relative_roughness=_check_roughness(relative_roughness)
     )
-    return as_output(np.vectorize(_colebrook_scalar, otypes=[float])(re, eps))
+    return elementwise(_colebrook_scalar, re, eps)
 
 
 def haaland_friction_factor(reynolds: ArrayLike, relative_roughness: ArrayLike = 0.0) -> Any:

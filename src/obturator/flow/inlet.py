@@ -21,6 +21,7 @@ from ._arrays import (
     check_gamma,
     check_mach,
     checked_array,
+    elementwise,
     first_bad,
     ratio_doc,
 )
@@ -109,8 +110,7 @@ def mach_from_area_ratio(
     g = check_gamma(gamma)
     b = check_branch(branch)
     r, g = broadcast(area_ratio=r, gamma=g)
-    solve = np.vectorize(lambda x, y: _mach_from_area_ratio_scalar(x, y, b), otypes=[float])
-    return as_output(solve(r, g))
+    return elementwise(lambda x, y: _mach_from_area_ratio_scalar(x, y, b), r, g)
 
 
 @fill_doc(params=_FLIGHT)
