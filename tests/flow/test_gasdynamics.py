@@ -450,3 +450,26 @@ def test_array_reports_first_offending_value() -> None:
 def test_shapes_that_do_not_broadcast() -> None:
     with pytest.raises(InputError, match="broadcast"):
         gd.normal_shock([2.0, 3.0], [1.3, 1.4, 1.5])
+
+
+@given(
+    st.lists(st.floats(0.0, 0.8), min_size=2, max_size=4),
+    st.lists(st.floats(3000.0, 1e7), min_size=2, max_size=4),
+    st.lists(st.floats(1.0, 50.0), min_size=2, max_size=4),
+)
+@settings(max_examples=40, deadline=None)
+def test_scalar_inversions_are_the_array_elements_to_the_bit(fld, reynolds, ratio) -> None:
+    """One element is solved without np.vectorize (the flight studies' per-segment calls);
+    the value is the array path's element, bit for bit, and a Python float."""
+    cases = [
+        (lambda x: gd.fanno_mach(x), fld),
+        (lambda x: gd.fanno_mach(3.0 * x, 1.3, "subsonic"), fld),
+        (lambda x: gd.colebrook_friction_factor(x, 1e-3), reynolds),
+        (lambda x: gd.mach_from_area_ratio(x, 1.4, "subsonic"), ratio),
+        (lambda x: gd.mach_from_area_ratio(x), ratio),
+    ]
+    for f, xs in cases:
+        arr = f(np.array(xs))
+        for k, x in enumerate(xs):
+            one = f(x)
+            assert type(one) is float and one == arr[k]
