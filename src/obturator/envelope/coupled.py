@@ -293,15 +293,16 @@ def coupled_openings(
         if not cases:
             break
         out = advance(cases, np.array([r.y for r in now]), options)
+        statuses, nfevs = out.status.tolist(), out.nfev.tolist()  # Python ints, once
         for j, run in enumerate(now):
             if record:
                 _record(hist[run.slot], run, cases[j], options)
             run.k += 1
-            run.nfev += int(out.nfev[j])
-            if out.status[j] == Status.OPENED:
+            run.nfev += nfevs[j]
+            if statuses[j] == STATUS_OPENED:
                 run.t_cr = float(run.starts[run.k - 1]) + float(out.t_cr[j])
                 run.status, run.running = STATUS_OPENED, False
-            elif out.status[j] == Status.T_MAX:
+            elif statuses[j] == STATUS_NOT_OPENED:
                 run.y = out.state[j]
             else:
                 run.status, run.running = STATUS_FAILED, False

@@ -108,6 +108,11 @@ class ObturatorDesign:
 
     def ball(self) -> BoredBall:
         """The bored ball (R_s, r_s, rho)."""
+        return self._ball
+
+    @functools.cached_property
+    def _ball(self) -> BoredBall:
+        # built once per design (immutable): the flight studies build a case a segment
         return BoredBall(self.ball_radius, self.hole_radius, self.density)
 
     @property
@@ -131,7 +136,7 @@ class ObturatorDesign:
         theta_cr : float, optional
             Stop angle [rad]; default first light, beta_s.
         """
-        case = flight_case(
+        return flight_case(
             spin_rate,
             self.mu_s,
             theta0_deg=self.theta0_deg,
@@ -142,13 +147,13 @@ class ObturatorDesign:
             gap=self.gap,
             viscosity=self.viscosity,
             t_max=t_max,
+            theta_cr=theta_cr,
             **{
                 k: v
                 for k, v in (("n_contacts", self.n_contacts), ("patch_radius", self.patch_radius))
                 if v is not None
             },
         )
-        return case if theta_cr is None else case.with_(theta_cr=theta_cr)
 
     def start_angle(
         self, altitude_m: float = 0.0, bound: str = "nominal"

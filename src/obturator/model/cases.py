@@ -207,6 +207,7 @@ def flight_case(
     viscosity: float = TABLE1["viscosity"],
     patch_radius: float | None = None,
     t_max: float = 0.5,
+    theta_cr: float | None = None,
 ) -> Case:
     """Flight case (Table 1 "aerodynamic model", thesis Eqs. 43-55, 63).
 
@@ -224,6 +225,9 @@ def flight_case(
         Contact patch radius of the "coulomb" model [m]; None: the Hertz
         radius of the steel ball in a steel socket under each contact's load;
         0: point contacts. Ignored by "thesis".
+    theta_cr : float or None
+        Stop angle [rad]; None: first light, beta_s (the flight studies stop at the
+        tube's start angle instead).
     """
     _check_model(torque_model)
     from ..flow import flight_pressure_force
@@ -264,6 +268,7 @@ def flight_case(
         spin_mode=spin_mode,
         t_max=t_max,
         name="flight",
+        theta_cr=theta_cr,
     )
 
 

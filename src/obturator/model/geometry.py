@@ -60,6 +60,7 @@ class BoredBall:
     density: float
     gravity: float = STANDARD_GRAVITY
     _u: float = field(init=False, repr=False, compare=False)
+    _ca: tuple[float, float] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         r_big = check_range("radius", self.radius, 0.0, math.inf, lo_open=True, unit="m")
@@ -74,6 +75,8 @@ class BoredBall:
         check_range("density", self.density, 0.0, math.inf, lo_open=True, unit="kg/m^3")
         check_range("gravity", self.gravity, 0.0, math.inf, unit="m/s^2")
         object.__setattr__(self, "_u", r_big**2 - r_small**2)
+        # (C, A) once: every case packs them (the flight studies build a case a segment)
+        object.__setattr__(self, "_ca", self._inertias(self.density))
         self._check_inertia()
 
     def _check_inertia(self) -> None:
@@ -124,12 +127,12 @@ class BoredBall:
     @property
     def axial_inertia(self) -> float:
         """Moment of inertia C about the hole axis z [kg m^2], thesis Eq. (10b)."""
-        return self._inertias(self.density)[0]
+        return self._ca[0]
 
     @property
     def transverse_inertia(self) -> float:
         """Moment of inertia A about a diameter normal to the hole [kg m^2] (thesis A, Eq. 11)."""
-        return self._inertias(self.density)[1]
+        return self._ca[1]
 
     def _inertias(self, density: float) -> tuple[float, float]:
         """(C, A) [kg m^2] of this ball's shape at `density` [kg/m^3] (Eqs. 10b, 11)."""
