@@ -44,3 +44,18 @@ def test_altitude_lowers_the_load_and_delays_opening():
     t10 = opening_time(flight_case(mach=3.0, altitude_m=10_000.0))
     # p(10 km)/p(0) = 0.2615 (US 1976): the load falls ~4x and t_cr grows ~4x
     assert t10 / t0 == pytest.approx(1 / 0.2615, rel=0.05)
+
+
+def test_flight_case_takes_its_stop_angle_as_a_replaced_case_has_it():
+    """theta_cr given to the factory: the same case as built and then replaced (what the
+    flight studies did per segment), and the same refusal of an angle at or above theta_0."""
+    import math
+
+    from obturator.errors import InputError
+
+    kw = dict(pressure_force=812.5, t_max=0.002)
+    built = flight_case(9000.0, 0.35, theta_cr=0.31, **kw)
+    assert built == flight_case(9000.0, 0.35, **kw).with_(theta_cr=0.31)
+    assert built.opening_angle == 0.31 and flight_case(9000.0, 0.35, **kw).theta_cr is None
+    with pytest.raises(InputError, match=r"^theta_cr: .* is outside the allowed range \[0, "):
+        flight_case(9000.0, 0.35, theta_cr=math.radians(88.0), **kw)
