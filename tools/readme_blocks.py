@@ -132,7 +132,7 @@ BLOCKS: dict[str, Block] = {
         keep=(r"^(M0|t_cr|difference)", r"^envelope:"),
         rtol=1e-4,
         slow=True,
-        cost="18 s",
+        cost="11 s",
     ),
     "start": Block(
         ("obturator trajectory --mach 2.5",),
