@@ -34,8 +34,8 @@ def _start_angle(
     """:func:`~obturator.model.start.start_angle` (the bore as capture area), memoised:
     a pure function of its arguments, asked for the same Mach numbers by every run of a
     flight at one altitude. Each call computes only its bound: the nominal one Eq. 2 on
-    the lens and the inverse of the open area, the early one the inverse of the turned
-    window instead, the late one the friction factor and the Fanno relations before the
+    the lens and the inverse of the open area, the early one that and the inverse of
+    the turned window, the late one the friction factor and the Fanno relations before the
     inverse of the open area (a root search each)."""
     return start_angle(mach, ball, bore_radius, bound, gamma=gamma, altitude_m=altitude_m)
 
