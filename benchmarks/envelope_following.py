@@ -1,6 +1,6 @@
 """Envelope following over the ball's revolutions at high spin: what it would save.
 
-``python -m benchmarks.envelope_following [--spins 700,1000] [--json FILE]``
+``python -m benchmarks.envelope_following [--spins 700,1000] [--time-scales] [--json FILE]``
 
 Above ~220 rad/s the rig's ball slips without sticking; a point integrates every
 revolution of the ball with the socket (75 at 700 rad/s, 150 at 1000 rad/s) to follow a
@@ -25,6 +25,14 @@ integrator):
   to the difference of the degree 2K - 1 and 2K - 2 extrapolations, the last
   revolutions integrated with the opening event, against a reference at rtol 1e-12:
   the t_cr error and the evaluations saved.
+
+With ``--time-scales`` (:func:`time_scales`, :func:`per_revolution`), why it saves so
+little: the time scales of an opening (the socket's revolutions to t_cr; the ball's turns
+relative to its socket, one about every eight revolutions, which modulate the drift of
+theta that an extrapolation over revolutions would have to follow; the dip of the
+moment arm twice a revolution), and what a revolution costs when every one is integrated
+(the package's DOP853 at looser tolerances and with no step limit): the floor that a
+strategy which integrates revolutions has to divide.
 """
 
 from __future__ import annotations
@@ -228,13 +236,119 @@ def study(spin: float, tols: tuple[float, ...], pairs: tuple[int, ...]) -> dict[
     return rec
 
 
+#: Full integrations whose cost per revolution :func:`per_revolution` measures, through
+#: the package's front door on the regularised path: (label, rtol, largest step in spin
+#: periods; None: the case's default, a twentieth on the rig). The width is the default
+#: 1e-7 or rtol, whichever is larger (the regularised methods need width >= rtol).
+FULL_SETTINGS: tuple[tuple[str, float, float | None], ...] = (
+    ("rtol 1e-8, step <= T/20 (default)", 1e-8, None),
+    ("rtol 1e-6, no step limit", 1e-6, math.inf),
+    ("rtol 1e-5, no step limit", 1e-5, math.inf),
+)
+
+
+def time_scales(spin: float, samples: int = 256) -> dict[str, float]:
+    """The time scales of one rig opening at `spin` [rad/s] (the package's default
+    regularised run, sampled `samples` times a revolution).
+
+    Returns
+    -------
+    dict
+        ``t_cr_s``; ``revolutions``, t_cr omega_p / (2 pi), the socket's turns; ``turns``,
+        the integral of |omega_r| dt over 2 pi, the ball's turns relative to its socket
+        (thesis Eqs. 35-36), whose slow rotation modulates the drift of theta between
+        revolutions; ``smallest_arm``, the median over revolutions of the smallest moment
+        arm sqrt(1 - u_X^2) in each (thesis Eq. 61, u = omega_r / |omega_r|): the rig's
+        arm dips to about |u_Z| twice a revolution, a feature about |u_Z| / (2 pi) of a
+        revolution wide that any integrator must resolve.
+    """
+    from obturator.model.cases import rig_case
+    from obturator.solve import SolverOptions, opening_time, simulate
+
+    case = rig_case(spin, MU_S)
+    options = SolverOptions(method="regularised")
+    t_cr = opening_time(case, options)
+    period = 2.0 * math.pi / spin
+    t = np.arange(0.0, t_cr, period / samples)
+    run = simulate(case, options, t_eval=t)
+    y = np.asarray(run.state)
+    arm = np.full(y.shape[0], math.nan)
+    for k in range(y.shape[0]):
+        w_r = _rotation(y[k]) @ y[k, 4:7] - y[k, 7] * Z
+        size = float(np.linalg.norm(w_r))
+        if size > 1e-9 * spin:
+            arm[k] = math.sqrt(max(0.0, 1.0 - (w_r[0] / size) ** 2))
+    whole = (y.shape[0] // samples) * samples
+    per_rev = np.nanmin(arm[samples:whole].reshape(-1, samples), axis=1)
+    turns = float(np.trapezoid(np.asarray(run.omega_r), np.asarray(run.t))) / (2.0 * math.pi)
+    return {
+        "t_cr_s": t_cr,
+        "revolutions": t_cr / period,
+        "turns": turns,
+        "smallest_arm": float(np.median(per_rev)),
+    }
+
+
+def per_revolution(spin: float, reference: float | None = None) -> list[dict[str, Any]]:
+    """Right-hand sides per revolution of full integrations of one rig point at `spin`
+    [rad/s] under :data:`FULL_SETTINGS` (the sweep's path, a batch of one), and each one's
+    t_cr error against `reference` [s] (default: rtol 1e-11 with steps <= T/50)."""
+    from obturator.model.cases import rig_case
+    from obturator.solve import SolverOptions, integrate_packed, pack_points
+
+    case = rig_case(spin, MU_S)
+    period = 2.0 * math.pi / spin
+
+    def run(rtol: float, max_step: float | None) -> tuple[float, int]:
+        options = SolverOptions(
+            method="regularised", rtol=rtol, atol=rtol * 1e-2,
+            friction_width=max(1e-7, rtol),
+            max_step=None if max_step is None else min(10.0, max_step * period),
+        )  # fmt: skip
+        nfev = np.zeros(1, dtype=np.int64)
+        t_cr = integrate_packed(pack_points([case], options), options, point_nfev=nfev)[0]
+        return float(t_cr[0]), int(nfev[0])
+
+    if reference is None:
+        reference = run(1e-11, 0.02)[0]
+    rows = []
+    for label, rtol, max_step in FULL_SETTINGS:
+        t_cr, nfev = run(rtol, max_step)
+        rows.append(
+            {"setting": label, "rhs_per_revolution": nfev * period / t_cr,
+             "rel_error": (t_cr - reference) / reference}
+        )  # fmt: skip
+    return rows
+
+
+def _print_time_scales(spins: tuple[float, ...], out: Path | None) -> int:
+    recs = []
+    for w in spins:
+        rec = time_scales(w) | {"spin_rad_s": w, "full": per_revolution(w)}
+        recs.append(rec)
+        print(f"{w:g} rad/s: t_cr {rec['t_cr_s']:.6f} s, {rec['revolutions']:.1f} "
+              f"revolutions, {rec['turns']:.2f} turns of the ball in its socket, smallest "
+              f"arm per revolution {rec['smallest_arm']:.3f} (median)")  # fmt: skip
+        for r in rec["full"]:
+            print(f"  {r['setting']}: {r['rhs_per_revolution']:.0f} right-hand sides per "
+                  f"revolution, t_cr error {r['rel_error']:+.1e}")  # fmt: skip
+    if out is not None:
+        out.write_text(json.dumps(recs, indent=1))
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.envelope_following")
     ap.add_argument("--spins", default="700,1000")
     ap.add_argument("--tols", default="1e-8,1e-6,1e-4")
     ap.add_argument("--pairs", default="3,4")
     ap.add_argument("--json", type=Path, default=None)
+    ap.add_argument("--time-scales", action="store_true",
+                    help="the time scales and the cost per revolution of full integration "
+                    "(time_scales, per_revolution) at --spins instead")  # fmt: skip
     a = ap.parse_args(argv)
+    if a.time_scales:
+        return _print_time_scales(tuple(float(x) for x in a.spins.split(",")), a.json)
     tols = tuple(float(x) for x in a.tols.split(","))
     pairs = tuple(int(x) for x in a.pairs.split(","))
     out = []

@@ -320,6 +320,17 @@ def _envelope_following(quick: bool) -> list[dict[str, Any]]:
     return rows
 
 
+def _time_scales(quick: bool) -> list[dict[str, Any]]:
+    from benchmarks import envelope_following as ef
+
+    rows = []
+    for spin in (520.0, 1000.0) if quick else (300.0, 520.0, 700.0, 1000.0):
+        scales = ef.time_scales(spin)
+        for r in ef.per_revolution(spin):
+            rows.append({"spin": spin} | scales | r)
+    return rows
+
+
 _MS = "ms per point"
 #: The sections, in the document's order.
 SECTIONS: dict[str, Section] = {
@@ -474,6 +485,28 @@ SECTIONS: dict[str, Section] = {
             Column("nfev", "evaluations", "int"),
             Column("fewer", "fewer", "ratio"),
             Column("error", "t_cr error", "error"),
+        ),
+    ),
+    "time_scales": Section(
+        "Time scales of an opening, and what a revolution costs",
+        "python -m benchmarks.envelope_following --time-scales",
+        "Rig, mu_s 0.5473, the default regularised run: the socket's revolutions to t_cr, "
+        "the ball's turns relative to its socket meanwhile (the integral of |omega_r| dt "
+        "over 2 pi), the median of each revolution's smallest moment arm sqrt(1 - u_X^2) "
+        "(thesis Eq. 61; the arm dips to about |u_Z| twice a revolution), and the "
+        "right-hand sides per revolution of a full integration through the front door at "
+        "three settings (width max(1e-7, rtol)), with the t_cr error against rtol 1e-11. "
+        "The floor of integrating every revolution, and the scale separation that skipping "
+        "revolutions would need (``docs/performance.md``).",
+        _time_scales,
+        (
+            Column("spin", "spin [rad/s]", "num"),
+            Column("revolutions", "revolutions to t_cr", "num"),
+            Column("turns", "turns in the socket", "num"),
+            Column("smallest_arm", "smallest arm per revolution", "num"),
+            Column("setting", "full integration"),
+            Column("rhs_per_revolution", "RHS per revolution", "int"),
+            Column("rel_error", "t_cr error", "error"),
         ),
     ),
     "cli_latency": Section(

@@ -86,3 +86,54 @@ def test_whole_sweep_benchmark_times_a_real_sweep_and_reads_its_compute_time():
         (40.0, 1000.0, 10000),
         (100.0, 700.0, 20),
     )
+
+
+def test_time_scales_against_an_independent_integration():
+    """The ball's turns in its socket to the opening at 300 rad/s, against the same
+    integral computed independently: scipy's DOP853 on the package's right-hand side with
+    the integral of |omega_r| as a ninth state (rtol 1e-10), stopped at theta_cr. The
+    ball turns in its socket fewer times than the socket turns; the smallest moment arm
+    of a revolution lies in (0, 1) (thesis Eq. 61)."""
+    from scipy.integrate import solve_ivp
+
+    spin = 300.0
+    rec = ef.time_scales(spin)
+    run = ef.Revolutions(spin, 1e-10)
+    dy = np.empty(8)
+
+    def f(t, y):
+        run._rhs(t, y[:8], run.p, dy)
+        w_r = ef._rotation(y[:8]) @ y[4:7] - y[7] * ef.Z
+        return np.r_[dy, np.linalg.norm(w_r)]
+
+    def opening(t, y):
+        return ef.reduced(y[:8])[0] - run.theta_cr
+
+    opening.terminal, opening.direction = True, -1.0
+    atol = 1e-12 * np.r_[1, 1, 1, 1, spin, spin, spin, spin, 1.0]
+    sol = solve_ivp(f, (0.0, 1.0), np.r_[run.y0, 0.0], method="DOP853", rtol=1e-10,
+                    atol=atol, events=opening)  # fmt: skip
+    t_cr = float(sol.t_events[0][0])
+    turns = float(sol.y_events[0][0][8]) / (2.0 * math.pi)
+    assert rec["t_cr_s"] == pytest.approx(t_cr, rel=1e-6)
+    assert rec["revolutions"] == pytest.approx(t_cr * spin / (2.0 * math.pi), rel=1e-6)
+    # the sampled trapezoid (256 a revolution) against the quadrature state
+    assert rec["turns"] == pytest.approx(turns, rel=1e-4)
+    assert 1.0 < rec["turns"] < rec["revolutions"]
+    assert 0.0 < rec["smallest_arm"] < 1.0
+
+
+def test_cost_per_revolution_of_full_integrations():
+    """At 300 rad/s the default setting is the sweep's count (``rhs_floor.point_rhs``,
+    the front door at the defaults) per revolution and within the package's t_cr accuracy
+    (1e-6); the looser settings cost fewer right-hand sides a revolution."""
+    spin = 300.0
+    rows = ef.per_revolution(spin)
+    assert [r["setting"] for r in rows] == [s[0] for s in ef.FULL_SETTINGS]
+    default = rows[0]
+    assert abs(default["rel_error"]) < 1e-6
+    t_cr = ef.time_scales(spin)["t_cr_s"]
+    n = int(rhs_floor.point_rhs(np.array([spin]))[0])
+    assert default["rhs_per_revolution"] == pytest.approx(n * 2.0 * math.pi / spin / t_cr, rel=1e-9)
+    costs = [r["rhs_per_revolution"] for r in rows]
+    assert costs[0] > costs[1] > costs[2] > 50.0
