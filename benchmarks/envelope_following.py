@@ -242,6 +242,7 @@ def study(spin: float, tols: tuple[float, ...], pairs: tuple[int, ...]) -> dict[
 #: 1e-7 or rtol, whichever is larger (the regularised methods need width >= rtol).
 FULL_SETTINGS: tuple[tuple[str, float, float | None], ...] = (
     ("rtol 1e-8, step <= T/20 (default)", 1e-8, None),
+    ("rtol 1e-7, no step limit", 1e-7, math.inf),
     ("rtol 1e-6, no step limit", 1e-6, math.inf),
     ("rtol 1e-5, no step limit", 1e-5, math.inf),
 )

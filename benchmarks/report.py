@@ -495,7 +495,7 @@ SECTIONS: dict[str, Section] = {
         "over 2 pi), the median of each revolution's smallest moment arm sqrt(1 - u_X^2) "
         "(thesis Eq. 61; the arm dips to about |u_Z| twice a revolution), and the "
         "right-hand sides per revolution of a full integration through the front door at "
-        "three settings (width max(1e-7, rtol)), with the t_cr error against rtol 1e-11. "
+        "four settings (width max(1e-7, rtol)), with the t_cr error against rtol 1e-11. "
         "The floor of integrating every revolution, and the scale separation that skipping "
         "revolutions would need (``docs/performance.md``).",
         _time_scales,
