@@ -136,4 +136,4 @@ def test_cost_per_revolution_of_full_integrations():
     n = int(rhs_floor.point_rhs(np.array([spin]))[0])
     assert default["rhs_per_revolution"] == pytest.approx(n * 2.0 * math.pi / spin / t_cr, rel=1e-9)
     costs = [r["rhs_per_revolution"] for r in rows]
-    assert costs[0] > costs[1] > costs[2] > 50.0
+    assert costs[0] > costs[1] > costs[2] > costs[3] > 50.0
